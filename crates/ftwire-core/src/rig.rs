@@ -1,0 +1,67 @@
+use nalgebra::Vector6;
+use serde::{Deserialize, Serialize};
+
+use crate::Pose;
+
+/// One raw sample of the wrist force/torque sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FtSample {
+    /// Time of the sample \[s\] on the rig's clock.
+    pub time: f64,
+    /// Raw reading `(f1, f2, f3, τ1, τ2, τ3)` — **force first**, as sensors report — in the
+    /// sensor's own frame, in the sensor's units (\[N\], \[N·m\]) before calibration.
+    pub raw: Vector6<f64>,
+}
+
+/// Poses of both grippers in the robot's world frame, as the robot believes them to be.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GripperPoses {
+    /// Base gripper clamp frame (the gripper carrying the F/T sensor), world from clamp.
+    pub base: Pose,
+    /// Second gripper clamp frame, world from clamp.
+    pub tip: Pose,
+}
+
+impl GripperPoses {
+    /// The relative pose `b` of the second gripper in the base gripper's clamp frame.
+    pub fn relative(&self) -> Pose {
+        self.base.inverse() * self.tip
+    }
+}
+
+/// A quasi-static motion command: move both grippers to these clamp poses (world frame).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Command {
+    /// Target pose of the base gripper clamp frame, world from clamp.
+    pub base: Pose,
+    /// Target pose of the second gripper clamp frame, world from clamp.
+    pub tip: Pose,
+}
+
+/// What a real dual-arm robot with one wrist F/T sensor offers the algorithms.
+///
+/// Algorithms (`ftwire-estimate`, `ftwire-control`, `ftwire-plan`) see the world only through
+/// this trait; the simulator implements it, and a ROS 2 bridge will later.
+pub trait Rig {
+    /// The rig's error type.
+    type Error: std::error::Error + Send + Sync + 'static;
+
+    /// Reads one F/T sample (may fail on a sensor dropout).
+    fn read_ft(&mut self) -> Result<FtSample, Self::Error>;
+
+    /// Reads the gripper poses the robot believes it has (the commanded ones, on a robot with
+    /// execution error).
+    fn gripper_poses(&self) -> Result<GripperPoses, Self::Error>;
+
+    /// Moves both grippers quasi-statically to the commanded poses and waits until they arrive.
+    fn command(&mut self, command: &Command) -> Result<(), Self::Error>;
+
+    /// The rig's clock \[s\].
+    fn time(&self) -> f64;
+
+    /// Moves only the second gripper, keeping the base gripper where the robot believes it is.
+    fn move_tip(&mut self, tip: Pose) -> Result<(), Self::Error> {
+        let base = self.gripper_poses()?.base;
+        self.command(&Command { base, tip })
+    }
+}

@@ -1,0 +1,27 @@
+//! Command-line types (clap). One submodule per subcommand.
+
+pub mod robot;
+pub mod sim_equilibrium;
+pub mod solve;
+
+use clap::{Parser, Subcommand};
+
+/// Sense and steer an elastic wire with a dual-arm robot from one wrist force/torque sensor.
+#[derive(Debug, Parser)]
+#[command(name = "ftwire", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve the Kirchhoff model for a configuration a: shape, tip pose, Jacobian, stability.
+    Solve(solve::SolveArgs),
+    /// Find an equilibrium of the ground-truth discrete elastic rod between two clamps.
+    SimEquilibrium(sim_equilibrium::SimEquilibriumArgs),
+    /// Kinematics of the SDA10F dual-arm robot.
+    Robot(robot::RobotArgs),
+}
