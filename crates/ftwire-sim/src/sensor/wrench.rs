@@ -323,7 +323,8 @@ impl FtSensor {
     /// after `time` that is later than the last sample's tick \[s\].
     ///
     /// # Errors
-    /// [`SensingError::Core`] if `time` is not finite.
+    /// [`SensingError::Core`] if `time` is not finite, [`SensingError::OutOfRange`] if it lies
+    /// beyond 2⁵³ clock periods from the clock offset.
     pub fn next_sample_time(&self, time: f64) -> Result<f64, SensingError> {
         Ok(self.tick_time(self.next_tick(time)?))
     }
@@ -336,7 +337,8 @@ impl FtSensor {
     /// [`FtSensor::next_sample_time`]); the bias drifts to that tick first.
     ///
     /// # Errors
-    /// [`SensingError::Core`] if `time` or the wrench is not finite, and
+    /// [`SensingError::Core`] if `time` or the wrench is not finite,
+    /// [`SensingError::OutOfRange`] for a time beyond the clock's range (2⁵³ periods), and
     /// [`SensingError::Dropout`] when the sensor misses this tick (with probability
     /// [`FtSensorConfig::dropout_probability`]); the tick is consumed either way.
     ///
@@ -460,9 +462,19 @@ impl FtSensor {
 
     fn next_tick(&self, time: f64) -> Result<i64, SensingError> {
         ensure_finite("time", &[time])?;
-        // `as` saturates for times far beyond any simulation; no panic.
-        let at_or_after =
-            ((time - self.config.clock_offset) * self.config.rate - TICK_TOLERANCE).ceil() as i64;
+        // Tick indices stay exact integers in f64 up to 2^53.
+        const MAX_TICKS: f64 = 9_007_199_254_740_992.0;
+        let ticks = ((time - self.config.clock_offset) * self.config.rate - TICK_TOLERANCE).ceil();
+        if ticks.abs() >= MAX_TICKS {
+            return Err(SensingError::OutOfRange {
+                field: "time",
+                index: 0,
+                value: time,
+                min: self.tick_time(-(MAX_TICKS as i64) + 1),
+                max: self.tick_time(MAX_TICKS as i64 - 1),
+            });
+        }
+        let at_or_after = ticks as i64;
         Ok(match self.last_tick {
             Some(last) if at_or_after <= last => last.saturating_add(1),
             _ => at_or_after,
