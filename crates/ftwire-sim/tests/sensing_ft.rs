@@ -307,7 +307,7 @@ fn dropouts_happen_at_the_configured_rate_and_consume_their_tick() {
         ..FtSensorConfig::ideal()
     };
     let mut s = sensor(config, 9);
-    let n = 20_000;
+    let n = 100_000;
     let mut dropouts = 0;
     for k in 0..n {
         let t = k as f64 * 1e-3;

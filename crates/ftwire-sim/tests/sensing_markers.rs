@@ -165,7 +165,7 @@ fn marker_noise_has_the_configured_standard_deviation() {
 #[test]
 fn markers_drop_out_at_the_configured_rate() {
     let p = MarkerConfig::default().dropout_probability;
-    let (_, frames) = frames(MarkerConfig::default(), 5, 5000);
+    let (_, frames) = frames(MarkerConfig::default(), 5, 20_000);
     let total = frames.iter().map(|f| f.positions.len()).sum::<usize>() as f64;
     let dropped = frames
         .iter()
