@@ -337,7 +337,8 @@ impl FtSensor {
     /// [`FtSensor::next_sample_time`]); the bias drifts to that tick first.
     ///
     /// # Errors
-    /// [`SensingError::Core`] if `time` or the wrench is not finite,
+    /// [`SensingError::Core`] if `time` or the wrench is not finite, or if the wrench is so
+    /// large (beyond 1e300 or so) that the reading overflows (field `raw`),
     /// [`SensingError::OutOfRange`] for a time beyond the clock's range (2⁵³ periods), and
     /// [`SensingError::Dropout`] when the sensor misses this tick (with probability
     /// [`FtSensorConfig::dropout_probability`]); the tick is consumed either way.
@@ -382,6 +383,9 @@ impl FtSensor {
                 }
             }
         }
+        // Only a wrench far beyond any physical load overflows; refuse it rather than report
+        // an infinite or NaN reading.
+        ensure_finite("raw", raw.as_slice())?;
         Ok(FtReading {
             sample: FtSample {
                 time: tick_time,
@@ -411,7 +415,8 @@ impl FtSensor {
     /// robot.
     ///
     /// # Errors
-    /// [`SensingError::Core`] if `raw` or `bias` is not finite, [`SensingError::NotInvertible`]
+    /// [`SensingError::Core`] if `raw` or `bias` is not finite or the result overflows,
+    /// [`SensingError::NotInvertible`]
     /// if a channel lies beyond the monotone range of a softening nonlinearity.
     ///
     /// # Example
@@ -445,7 +450,9 @@ impl FtSensor {
             Vector3::new(s[3], s[4], s[5]),
             Vector3::new(s[0], s[1], s[2]),
         );
-        Ok(in_sensor.transformed(&self.sensor_from_clamp.inverse()))
+        let wrench = in_sensor.transformed(&self.sensor_from_clamp.inverse());
+        ensure_finite("wrench", wrench.to_vector().as_slice())?;
+        Ok(wrench)
     }
 
     /// The coefficient `a_i = k_i / FS_i²` of the cubic term of channel `i`.
