@@ -45,6 +45,12 @@ pub struct ExecutionErrorConfig {
 
 impl ExecutionErrorConfig {
     /// The gripper noise of the paper's control experiments: 10 mm and 3°.
+    ///
+    /// # Example
+    /// ```
+    /// let paper = ftwire_sim::ExecutionErrorConfig::paper();
+    /// assert!((paper.orientation_std.to_degrees() - 3.0).abs() < 1e-12);
+    /// ```
     #[must_use]
     pub fn paper() -> Self {
         Self {

@@ -85,8 +85,9 @@ pub struct FtSensorConfig {
     /// (default `[0.35, −0.22, 0.61, 0.012, −0.008, 0.005]`).
     pub initial_bias: [f64; 6],
     /// Bias drift intensity `q_i` per channel \[N/√s, N·m/√s\]: over a time `dt ≪ T` the bias
-    /// moves with standard deviation `q_i √dt` (default `[0.0065, 0.0065, 0.0065, 2.6e-4,
-    /// 2.6e-4, 2.6e-4]`, about one noise σ per minute).
+    /// moves with standard deviation `q_i √dt` (default `[0.002, 0.002, 0.002, 8e-5, 8e-5,
+    /// 8e-5]`: about 0.3 noise σ per minute, and a stationary spread of about 0.7 σ with the
+    /// default time constant).
     pub bias_random_walk: [f64; 6],
     /// Time constant `T` of the bias drift \[s\], `> 0`: the bias is a first-order Gauss–Markov
     /// process around the initial bias, with stationary standard deviation `q_i √(T/2)`;
@@ -123,7 +124,7 @@ impl Default for FtSensorConfig {
             full_scale: [500.0, 500.0, 900.0, 20.0, 20.0, 20.0],
             saturation: true,
             initial_bias: [0.35, -0.22, 0.61, 0.012, -0.008, 0.005],
-            bias_random_walk: [0.0065, 0.0065, 0.0065, 2.6e-4, 2.6e-4, 2.6e-4],
+            bias_random_walk: [0.002, 0.002, 0.002, 8e-5, 8e-5, 8e-5],
             bias_time_constant: 600.0,
             noise_std: [0.05, 0.05, 0.05, 0.002, 0.002, 0.002],
             rate: 1000.0,
