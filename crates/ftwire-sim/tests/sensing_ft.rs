@@ -315,6 +315,7 @@ fn dropouts_happen_at_the_configured_rate_and_consume_their_tick() {
             Ok(reading) => assert_abs_diff_eq!(reading.sample.time, t, epsilon = 1e-12),
             Err(SensingError::Dropout { time }) => {
                 assert_abs_diff_eq!(time, t, epsilon = 1e-12);
+                assert_eq!(s.last_sample_time(), Some(time));
                 dropouts += 1;
             }
             Err(e) => panic!("unexpected error {e}"),

@@ -314,6 +314,24 @@ impl FtSensor {
         1.0 / self.config.rate
     }
 
+    /// The time of the last clock tick read \[s\], dropouts included; `None` before the first
+    /// read. A rig can advance its clock to it.
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_core::Wrench;
+    /// use ftwire_sim::{FtSensor, FtSensorConfig};
+    ///
+    /// let mut sensor = FtSensor::new(FtSensorConfig::ideal(), 0)?;
+    /// assert_eq!(sensor.last_sample_time(), None);
+    /// sensor.read(&Wrench::default(), 0.0101)?;
+    /// assert!((sensor.last_sample_time().unwrap_or(0.0) - 0.011).abs() < 1e-12);
+    /// # Ok::<(), ftwire_sim::SensingError>(())
+    /// ```
+    pub fn last_sample_time(&self) -> Option<f64> {
+        self.last_tick.map(|tick| self.tick_time(tick))
+    }
+
     /// The true bias \[N, N·m\], force first, at the last sample (or the initial bias before the
     /// first). Ground truth for tests and experiments; algorithms must not use it.
     pub fn bias(&self) -> Vector6<f64> {
