@@ -1,0 +1,10 @@
+//! Sensors of the simulated bench: the wrist force/torque sensor, and the error type shared by
+//! the sensing and acting models ([`crate::markers`], [`crate::execution`]).
+
+mod error;
+mod wrench;
+
+pub use error::SensingError;
+pub use wrench::{FtReading, FtSensor, FtSensorConfig, MAX_CUBIC_NONLINEARITY};
+
+pub(crate) use error::{all_in_range, in_range};
