@@ -56,16 +56,22 @@ pub enum EndFrame {
 
 /// Transforms from each arm's `tool0` to its gripper clamp frame.
 ///
-/// The clamp frame is where the wire is held, with its **x axis along the wire's tangent**
-/// (ftwire's clamp convention): the wire leaves the gripper along its approach axis (`tool0`'s z),
-/// so at the base gripper (left) x = +z of `tool0`, pointing into the wire, and at the second
-/// gripper (right) x = −z of `tool0`, pointing out of the wire into the gripper. Both keep
-/// `tool0`'s y axis.
+/// **Direction of the flange.** In this URDF (as in ROS-Industrial's `motoman_sda10f_support`)
+/// the `tool0` z axis points back *into* the arm: the outward normal of the flange, along which
+/// the F/T sensor and the gripper stack up, is `−z` of `tool0`. (At the all-zero posture the left
+/// arm stretches along +y and its `tool0` z axis is −y.) The stacks below therefore extend along
+/// `−z` of `tool0`.
 ///
-/// Defaults (coarse figures, not measured on the real cell):
-/// - left: F/T sensor stack `0.045` m plus chuck gripper `0.10` m along `tool0` z, i.e. the
-///   translation `(0, 0, 0.145)` m and the rotation `Ry(−π/2)`;
-/// - right: chuck gripper `0.10` m along `tool0` z: `(0, 0, 0.10)` m and `Ry(+π/2)`.
+/// The clamp frame is where the wire is held, with its **x axis along the wire's tangent**
+/// (ftwire's clamp convention). The wire leaves a gripper along the gripper's approach axis (the
+/// flange's outward normal), so:
+/// - left (base gripper, wire end `t = 0`): x = −z of `tool0`, out of the gripper into the wire;
+/// - right (second gripper, `t = L`): x = +z of `tool0`, out of the wire into the gripper.
+///
+/// Both keep `tool0`'s y axis. Defaults (coarse figures, not measured on the real cell):
+/// - left: F/T sensor stack `0.045` m plus chuck gripper `0.10` m: translation `(0, 0, −0.145)` m,
+///   rotation `Ry(+π/2)`;
+/// - right: chuck gripper `0.10` m: translation `(0, 0, −0.10)` m, rotation `Ry(−π/2)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GripperFrames {
     /// Left `tool0` from the left (base) gripper's clamp frame.
@@ -74,25 +80,27 @@ pub struct GripperFrames {
     pub right: Pose,
 }
 
-/// Default length of the F/T sensor stack (sensor and adapter plates) along `tool0` z \[m\].
+/// Default length of the F/T sensor stack (sensor and adapter plates) on the left flange \[m\].
 pub const DEFAULT_FT_STACK_LENGTH: f64 = 0.045;
 /// Default length of the chuck gripper from its flange to the clamp point \[m\].
 pub const DEFAULT_GRIPPER_LENGTH: f64 = 0.10;
 
 impl GripperFrames {
-    /// Gripper frames for given stack lengths \[m\] along `tool0` z: the F/T sensor stack (left
-    /// arm only) and the chuck gripper (both arms), with the clamp-axis convention above.
+    /// Gripper frames for given stack lengths \[m\] along the flange's outward normal (`−z` of
+    /// `tool0`): the F/T sensor stack (left arm only) and the chuck gripper (both arms), with the
+    /// clamp-axis convention above.
     ///
     /// # Errors
     /// [`RobotError::InvalidParameter`] if a length is negative or not finite.
     ///
     /// # Example
     /// ```
+    /// use nalgebra::Vector3;
     /// let g = ftwire_robot::GripperFrames::from_lengths(0.045, 0.10)?;
-    /// assert!((g.left.translation.vector.z - 0.145).abs() < 1e-12);
-    /// // The left clamp frame's x axis is tool0's z axis.
-    /// let x = g.left.rotation * nalgebra::Vector3::x();
-    /// assert!((x - nalgebra::Vector3::z()).norm() < 1e-12);
+    /// assert!((g.left.translation.vector - Vector3::new(0.0, 0.0, -0.145)).norm() < 1e-12);
+    /// // The left clamp frame's x axis is tool0's −z axis: out of the gripper, into the wire.
+    /// assert!((g.left.rotation * Vector3::x() + Vector3::z()).norm() < 1e-12);
+    /// assert!((g.right.rotation * Vector3::x() - Vector3::z()).norm() < 1e-12);
     /// # Ok::<(), ftwire_robot::RobotError>(())
     /// ```
     pub fn from_lengths(ft_stack: f64, gripper: f64) -> Result<Self, RobotError> {
@@ -105,17 +113,21 @@ impl GripperFrames {
                 });
             }
         }
+        Ok(Self::build(ft_stack, gripper))
+    }
+
+    fn build(ft_stack: f64, gripper: f64) -> Self {
         let half_pi = std::f64::consts::FRAC_PI_2;
-        Ok(Self {
+        Self {
             left: Pose::from_parts(
-                Translation3::new(0.0, 0.0, ft_stack + gripper),
-                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -half_pi),
-            ),
-            right: Pose::from_parts(
-                Translation3::new(0.0, 0.0, gripper),
+                Translation3::new(0.0, 0.0, -(ft_stack + gripper)),
                 UnitQuaternion::from_axis_angle(&Vector3::y_axis(), half_pi),
             ),
-        })
+            right: Pose::from_parts(
+                Translation3::new(0.0, 0.0, -gripper),
+                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -half_pi),
+            ),
+        }
     }
 
     /// The frame of one arm.
@@ -129,17 +141,7 @@ impl GripperFrames {
 
 impl Default for GripperFrames {
     fn default() -> Self {
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        Self {
-            left: Pose::from_parts(
-                Translation3::new(0.0, 0.0, DEFAULT_FT_STACK_LENGTH + DEFAULT_GRIPPER_LENGTH),
-                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -half_pi),
-            ),
-            right: Pose::from_parts(
-                Translation3::new(0.0, 0.0, DEFAULT_GRIPPER_LENGTH),
-                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), half_pi),
-            ),
-        }
+        Self::build(DEFAULT_FT_STACK_LENGTH, DEFAULT_GRIPPER_LENGTH)
     }
 }
 
