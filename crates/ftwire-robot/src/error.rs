@@ -47,7 +47,7 @@ pub enum RobotError {
     /// No inverse-kinematics solution within tolerance was found from any seed.
     #[error(
         "no IK solution for the {arm} arm within tolerance after {attempts} attempts; best residual {position_error:.3e} m, {rotation_error:.3e} rad{}",
-        limited_joint.map(|j| format!(" with joint {} at a limit", j + 1)).unwrap_or_default()
+        limited_joint.map(|j| format!(" with arm joint {} of 7 at a limit", j + 1)).unwrap_or_default()
     )]
     Unreachable {
         /// The arm asked to reach.

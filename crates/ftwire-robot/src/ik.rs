@@ -308,10 +308,16 @@ impl Robot {
         };
         let chain = self.chain(target.arm);
         let mut rng = ChaCha8Rng::seed_from_u64(params.rng_seed);
-        let mut seeds = seed.copied().into_iter().chain(std::iter::once(preferred));
+        // The preferred posture is tried second unless it is the seed itself.
+        let preferred_too = seed.is_none_or(|s| *s != preferred);
+        let mut seeds = seed
+            .copied()
+            .into_iter()
+            .chain(preferred_too.then_some(preferred));
         let mut best: Option<Descent> = None;
         let mut iterations = 0;
-        let total = usize::from(seed.is_some()) + 1 + params.random_restarts;
+        let total =
+            usize::from(seed.is_some()) + usize::from(preferred_too) + params.random_restarts;
         for attempt in 1..=total {
             let start = seeds.next().unwrap_or_else(|| {
                 ArmJoints::from_fn(|i, _| {
