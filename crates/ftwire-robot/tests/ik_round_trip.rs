@@ -15,9 +15,18 @@ fn round_trips(
     n: usize,
     seed_with: impl Fn(&Robot, Arm, &mut ChaCha8Rng) -> ArmJoints,
 ) -> (usize, usize) {
+    round_trips_with(rng_seed, n, &IkParams::default(), seed_with)
+}
+
+fn round_trips_with(
+    rng_seed: u64,
+    n: usize,
+    params: &IkParams,
+    seed_with: impl Fn(&Robot, Arm, &mut ChaCha8Rng) -> ArmJoints,
+) -> (usize, usize) {
+    let params = *params;
     let robot = Robot::sda10f().expect("embedded URDF");
     let mut rng = ChaCha8Rng::seed_from_u64(rng_seed);
-    let params = IkParams::default();
     let mut ok = 0;
     let mut total = 0;
     for arm in Arm::BOTH {
@@ -51,7 +60,7 @@ fn round_trips(
                     );
                     ok += 1;
                 }
-                Err(e @ RobotError::Unreachable { .. }) => eprintln!("{arm}: {e}"),
+                Err(RobotError::Unreachable { .. }) => {}
                 Err(other) => panic!("unexpected error {other}"),
             }
         }
@@ -99,5 +108,14 @@ fn measure_success_rate_over_many_samples() {
         total += n;
     }
     eprintln!("total: preferred seed {ok_p}/{total}, random seed {ok_r}/{total}");
+    // For comparison with solvers without restarts (e.g. k's JacobianIkSolver).
+    let single = IkParams {
+        random_restarts: 0,
+        ..IkParams::default()
+    };
+    let (ok, n) = round_trips_with(1, 2000, &single, |robot, arm, _| {
+        *robot.preferred_posture(arm)
+    });
+    eprintln!("single descent from the preferred posture, no restarts: {ok}/{n}");
     assert!(ok_p * 100 >= total * 99 && ok_r * 100 >= total * 99);
 }
