@@ -5,7 +5,10 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use ftwire_robot::{Arm, ArmJoints, EndFrame, IkParams, IkTarget, Robot};
+use ftwire_robot::{
+    Arm, ArmJoints, EndFrame, IkParams, IkTarget, LinkRadii, OrientedBox, ReachParams, Robot,
+};
+use nalgebra::Point3;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -51,6 +54,34 @@ fn bench(c: &mut Criterion) {
             robot.ik(black_box(target), Some(black_box(seed)), &params)
         })
     });
+    let reach = ReachParams::default();
+    let mut k = 0;
+    c.bench_function("reachability_nearby_seed", |b| {
+        b.iter(|| {
+            let (target, seed) = &cases[k % cases.len()];
+            k += 1;
+            robot.reachability(black_box(target), black_box(seed), &reach)
+        })
+    });
+    let radii = LinkRadii::default();
+    let right = *robot.preferred_posture(Arm::Right);
+    c.bench_function("arms_collision", |b| {
+        b.iter(|| robot.arms_collision(black_box(0.1), black_box(&q), black_box(&right), &radii))
+    });
+    let table = OrientedBox::aabb(Point3::new(0.3, -0.6, -0.2), Point3::new(1.2, 0.6, 0.0));
+    if let Ok(table) = table {
+        c.bench_function("arm_vs_one_box", |b| {
+            b.iter(|| {
+                robot.arm_obstacle_collision(
+                    Arm::Left,
+                    black_box(0.1),
+                    black_box(&q),
+                    &[table],
+                    &radii,
+                )
+            })
+        });
+    }
 }
 
 criterion_group!(benches, bench);

@@ -20,6 +20,9 @@ pub struct DualArmTarget {
     pub relative: Pose,
 }
 
+/// Smallest torso search step \[rad\] (bounds the number of angles tried).
+pub const MIN_TORSO_STEP: f64 = 1e-3;
+
 /// How the shared torso angle is chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum TorsoChoice {
@@ -31,7 +34,7 @@ pub enum TorsoChoice {
     Search {
         /// First angle tried \[rad\].
         start: f64,
-        /// Spacing of the angles tried \[rad\], > 0.
+        /// Spacing of the angles tried \[rad\], at least [`MIN_TORSO_STEP`].
         step: f64,
     },
 }
@@ -179,11 +182,11 @@ impl Robot {
                 Ok(vec![t])
             }
             TorsoChoice::Search { start, step } => {
-                if !(step.is_finite() && step > 0.0) {
+                if !(step.is_finite() && step >= MIN_TORSO_STEP) {
                     return Err(RobotError::InvalidParameter {
                         name: "torso step",
                         value: step,
-                        allowed: "a finite step > 0 rad",
+                        allowed: "a finite step >= 0.001 rad",
                     });
                 }
                 let start = seed.unwrap_or(start);

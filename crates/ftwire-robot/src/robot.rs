@@ -209,6 +209,16 @@ impl Robot {
     ///
     /// # Errors
     /// [`RobotError::Io`] if the file cannot be read, then as [`Robot::from_urdf_str`].
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_robot::{ChainNames, Robot, RobotError};
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/robots/sda10f.urdf");
+    /// assert_eq!(Robot::from_urdf_file(path, &ChainNames::default())?, Robot::sda10f()?);
+    /// let missing = Robot::from_urdf_file("/no/such.urdf", &ChainNames::default());
+    /// assert!(matches!(missing, Err(RobotError::Io { .. })));
+    /// # Ok::<(), RobotError>(())
+    /// ```
     pub fn from_urdf_file(path: impl AsRef<Path>, names: &ChainNames) -> Result<Self, RobotError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
@@ -222,6 +232,18 @@ impl Robot {
     ///
     /// # Errors
     /// [`RobotError::Core`] if a frame is not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_robot::{Arm, EndFrame, GripperFrames, Robot};
+    /// // A bare flange on both arms: the gripper frame then sits at tool0.
+    /// let robot = Robot::sda10f()?.with_grippers(GripperFrames::from_lengths(0.0, 0.0)?)?;
+    /// let q = *robot.preferred_posture(Arm::Left);
+    /// let g = robot.fk(Arm::Left, 0.0, &q, EndFrame::Gripper)?;
+    /// let t = robot.fk(Arm::Left, 0.0, &q, EndFrame::Tool0)?;
+    /// assert!((g.translation.vector - t.translation.vector).norm() < 1e-12);
+    /// # Ok::<(), ftwire_robot::RobotError>(())
+    /// ```
     #[must_use = "returns a new robot"]
     pub fn with_grippers(mut self, grippers: GripperFrames) -> Result<Self, RobotError> {
         for pose in [&grippers.left, &grippers.right] {
@@ -236,7 +258,19 @@ impl Robot {
     /// target and first seed).
     ///
     /// # Errors
-    /// [`RobotError::OutOfLimit`] if the posture violates a limit.
+    /// [`RobotError::Core`] if not finite, [`RobotError::OutOfLimit`] if the posture violates a
+    /// limit.
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_robot::{Arm, Robot, arm_joints};
+    /// let q = arm_joints(&[0.0, 0.8, 0.0, -1.0, 0.0, -0.8, 0.0])?;
+    /// let robot = Robot::sda10f()?.with_preferred_posture(Arm::Right, q)?;
+    /// assert_eq!(robot.preferred_posture(Arm::Right), &q);
+    /// let beyond = arm_joints(&[0.0, 2.5, 0.0, 0.0, 0.0, 0.0, 0.0])?;
+    /// assert!(Robot::sda10f()?.with_preferred_posture(Arm::Left, beyond).is_err());
+    /// # Ok::<(), ftwire_robot::RobotError>(())
+    /// ```
     #[must_use = "returns a new robot"]
     pub fn with_preferred_posture(mut self, arm: Arm, q: ArmJoints) -> Result<Self, RobotError> {
         ftwire_core::ensure_finite("preferred posture", q.as_slice())?;
