@@ -219,3 +219,19 @@ proptest! {
         prop_assert!((j8.column(0) - fd).norm() < 1e-7);
     }
 }
+
+#[test]
+fn the_robot_can_be_shared_between_threads() {
+    fn shareable<T: Send + Sync>() {}
+    shareable::<Robot>();
+    let robot = robot();
+    let q = *robot.preferred_posture(Arm::Left);
+    let here = robot.fk(Arm::Left, 0.0, &q, EndFrame::Gripper).expect("fk");
+    let there = std::thread::scope(|s| {
+        s.spawn(|| robot.fk(Arm::Left, 0.0, &q, EndFrame::Gripper))
+            .join()
+            .expect("thread")
+    })
+    .expect("fk");
+    assert_eq!(here, there);
+}
