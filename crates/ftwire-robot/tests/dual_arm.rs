@@ -23,7 +23,7 @@ fn dual_arm_round_trip_in_a_world_frame() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let world_from_base =
         pose_from_vectors(Vector3::new(0.3, -0.2, 0.8), Vector3::new(0.0, 0.0, 0.4));
-    let n = 60;
+    let n = 100;
     let mut ok = 0;
     for _ in 0..n {
         let torso = rng.random_range(-1.0..=1.0);
@@ -75,7 +75,7 @@ fn dual_arm_round_trip_in_a_world_frame() {
         }
     }
     eprintln!("dual-arm round trip: {ok}/{n}");
-    assert!(ok * 100 >= n * 98, "{ok}/{n}");
+    assert!(ok * 100 >= n * 97, "{ok}/{n}");
 }
 
 #[test]
