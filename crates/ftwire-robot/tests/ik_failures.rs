@@ -207,3 +207,25 @@ fn same_rng_seed_same_answer() {
         .expect("solves");
     assert_eq!(a, b);
 }
+
+#[test]
+fn a_pose_needing_the_elbow_beyond_its_limit_names_the_limit() {
+    // The same robot with the left elbow (joint 4, ±2.36 rad) allowed to ±3.1 rad: fold the elbow
+    // to 3.0 rad, which brings the wrist closer to the shoulder than the real limits allow.
+    let widened = ftwire_robot::SDA10F_URDF.replacen(
+        r#"<axis xyz="0 0 1"/>
+    <limit lower="-2.36" upper="2.36""#,
+        r#"<axis xyz="0 0 1"/>
+    <limit lower="-3.1" upper="3.1""#,
+        1,
+    );
+    assert_ne!(widened, ftwire_robot::SDA10F_URDF, "the edit must apply");
+    let wide = Robot::from_urdf_str(&widened, &Default::default()).expect("valid URDF");
+    assert!((wide.chain(Arm::Left).limits()[3].max - 3.1).abs() < 1e-12);
+    let q = ftwire_robot::arm_joints(&[0.2, 0.5, 0.1, 3.0, 0.2, -0.5, 0.1]).expect("q");
+    let pose = wide.fk(Arm::Left, 0.0, &q, EndFrame::Gripper).expect("fk");
+    match robot().ik(&target(Arm::Left, pose), None, &IkParams::default()) {
+        Err(RobotError::Unreachable { limited_joint, .. }) => assert_eq!(limited_joint, Some(3)),
+        other => panic!("expected Unreachable at the elbow limit, got {other:?}"),
+    }
+}
