@@ -4,6 +4,7 @@ use ftwire_core::Pose;
 use nalgebra::{Matrix3, Point3, Rotation3, UnitQuaternion, Vector3};
 
 use crate::error::{SimError, ensure_finite};
+use crate::projection::project_lengths;
 use crate::rod::Rod;
 use crate::transport::{perpendicular, transport_f64};
 
@@ -88,45 +89,79 @@ impl RodState {
         }
     }
 
-    /// A length-exact smooth guess between two clamps: the cubic Bézier curve
-    /// `p0, p0 + a·t0, p1 − a·t1, p1` whose arm `a` makes its length `L`, sampled at the node arc
-    /// lengths, with the base director parallel-transported along it and the remaining roll
-    /// about the tip tangent spread linearly over the material angles.
+    /// A length-exact smooth guess between two clamps: the cubic Hermite curve with the clamp
+    /// tangents (arms of a third of the chord), plus a bump `b·sin²(πu)·n` perpendicular to the
+    /// chord (towards the side the tangents turn from, or along the softer bending direction for
+    /// a straight chord), with `b` chosen so that the length is `L`. If the Hermite curve alone
+    /// is already too long, its arms are shortened instead. The base director is
+    /// parallel-transported along the curve and the remaining roll about the tip tangent is
+    /// spread linearly over the material angles.
     pub(crate) fn hermite(rod: &Rod, base: &Pose, tip: &Pose) -> Self {
         let l = rod.params().length;
         let n = rod.edges();
         let (p0, p1) = (base.translation.vector, tip.translation.vector);
         let (t0, t1) = (base.rotation * Vector3::x(), tip.rotation * Vector3::x());
+        let chord = p1 - p0;
+        let dist = chord.norm();
+        let axis = if dist > 1e-12 { chord / dist } else { t0 };
+        let c = rod.params().stiffness;
+        let soft = if c[1] <= c[2] {
+            base.rotation * Vector3::z()
+        } else {
+            base.rotation * Vector3::y()
+        };
+        let side = {
+            let d = t0 - t1;
+            let d = d - axis * axis.dot(&d);
+            if d.norm() > 1e-6 {
+                d.normalize()
+            } else {
+                perpendicular(&axis, &soft)
+            }
+        };
         const SAMPLES: usize = 2048;
-        let curve = |a: f64| -> Vec<Vector3<f64>> {
-            let (c1, c2) = (p0 + t0 * a, p1 - t1 * a);
+        let curve = |arm: f64, bump: f64| -> Vec<Vector3<f64>> {
+            let (c1, c2) = (p0 + t0 * arm, p1 - t1 * arm);
             (0..=SAMPLES)
                 .map(|i| {
                     let u = i as f64 / SAMPLES as f64;
                     let v = 1.0 - u;
+                    let b = (std::f64::consts::PI * u).sin();
                     p0 * (v * v * v)
                         + c1 * (3.0 * v * v * u)
                         + c2 * (3.0 * v * u * u)
                         + p1 * (u * u * u)
+                        + side * (bump * b * b)
                 })
                 .collect()
         };
         let length =
             |pts: &[Vector3<f64>]| pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
-        // Bisection on the arm length.
-        let (mut lo, mut hi) = (0.0, l);
-        while length(&curve(hi)) < l && hi < 100.0 * l {
-            hi *= 2.0;
-        }
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if length(&curve(mid)) < l {
-                lo = mid;
-            } else {
-                hi = mid;
+        let full_arm = dist / 3.0;
+        let (arm, bump) = if length(&curve(full_arm, 0.0)) >= l {
+            let (mut lo, mut hi) = (0.0, full_arm);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if length(&curve(mid, 0.0)) < l {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
             }
-        }
-        let pts = curve(0.5 * (lo + hi));
+            (0.5 * (lo + hi), 0.0)
+        } else {
+            let (mut lo, mut hi) = (0.0, l);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if length(&curve(full_arm, mid)) < l {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            (full_arm, 0.5 * (lo + hi))
+        };
+        let pts = curve(arm, bump);
         let mut cum = vec![0.0; pts.len()];
         for i in 1..pts.len() {
             cum[i] = cum[i - 1] + (pts[i] - pts[i - 1]).norm();
@@ -161,6 +196,8 @@ impl RodState {
             state.theta[j] = roll * rod.edge_arc_length(j) / l;
         }
         state.apply_clamps(rod, base, tip);
+        // Chords of a curved guess are shorter than h by (hκ)²/24: restore the lengths.
+        project_lengths(&mut state, rod.edge_length());
         state
     }
 
@@ -214,6 +251,8 @@ impl RodState {
             tip: *tip,
         };
         state.apply_clamps(rod, base, tip);
+        state.rebase();
+        project_lengths(&mut state, rod.edge_length());
         Ok(state)
     }
 
