@@ -182,7 +182,10 @@ fn bad_inputs_get_their_errors() {
         })
     ));
     // Every message names what was wrong.
-    let msg = world.solve_cold(&base, &far).unwrap_err().to_string();
+    let msg = world
+        .solve_cold(&base, &far)
+        .expect_err("too far")
+        .to_string();
     assert!(msg.contains("apart"), "{msg}");
 }
 
