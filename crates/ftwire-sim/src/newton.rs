@@ -132,10 +132,7 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
             }
         })
         .collect();
-    let mut max_step = settings.max_step_fraction * l;
-    if let Some(limit) = world.contact_step_limit() {
-        max_step = max_step.min(limit);
-    }
+    let free_step = settings.max_step_fraction * l;
     // The stretching forces of nodes stored in world coordinates carry rounding noise of about
     // ε·EA·|x|/h; asking for less than a few times that would never terminate.
     let reach = state.nodes.iter().map(|x| x.norm()).fold(l, f64::max);
@@ -233,6 +230,8 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
                 stable,
             });
         }
+        let max_step = energy::contact::step_limit(world, &state)
+            .map_or(free_step, |limit| free_step.min(limit));
         if largest > max_step {
             alpha = max_step / largest;
         }

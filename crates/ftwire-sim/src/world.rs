@@ -11,7 +11,7 @@ use crate::rod::{Rod, RodParams};
 use crate::state::{InitialGuess, RodState};
 
 /// The default contact stiffness \[N/m³\].
-pub const DEFAULT_CONTACT_STIFFNESS: f64 = 1e10;
+pub const DEFAULT_CONTACT_STIFFNESS: f64 = 1e12;
 
 /// A rod with obstacles and solver settings: everything needed to compute equilibria.
 ///

@@ -11,6 +11,8 @@
 use nalgebra::{Matrix3, Point3, Vector3};
 
 use crate::obstacle::Obstacle;
+use crate::state::RodState;
+use crate::world::World;
 
 /// The penalty of one sample: energy \[J\], gradient \[N\] and Hessian \[N/m\] with respect to the
 /// sample point, or `None` if it does not touch the obstacle.
@@ -52,4 +54,37 @@ pub(crate) fn samples(
         let w = if k == 0 || k == count - 1 { 0.5 } else { 1.0 };
         (lo + step * k as f64, w * step * rest)
     })
+}
+
+/// The largest node displacement \[m\] that cannot carry a contact sample across the
+/// mid-plane of the thin dimension of a box: half the smallest `d + t/2` over the samples near a
+/// box (`d` the sample's signed distance, `t` the box's thickness), capped by
+/// [`World::contact_step_limit`]. `None` without boxes.
+pub(crate) fn step_limit(world: &World, state: &RodState) -> Option<f64> {
+    let mut limit = world.contact_step_limit()?;
+    let radius = world.rod().params().radius;
+    let n = state.edges();
+    let count = world.samples_per_edge();
+    for obstacle in world.obstacles() {
+        let Obstacle::Box(b) = obstacle else {
+            continue;
+        };
+        let half = 0.5 * b.thickness();
+        for j in 0..n {
+            let (xa, xb) = (state.nodes[j], state.nodes[j + 1]);
+            let mid = Point3::from((xa + xb) * 0.5);
+            let reach = 0.5 * (xb - xa).norm() + radius + 2.0 * limit;
+            if b.signed_distance(&mid) > reach {
+                continue;
+            }
+            for (s, _) in samples(0.0, 1.0, count, 1.0) {
+                let d = b.signed_distance(&Point3::from(xa * (1.0 - s) + xb * s));
+                let room = d + half;
+                if room > 0.0 {
+                    limit = limit.min(0.5 * room);
+                }
+            }
+        }
+    }
+    Some(limit)
 }
