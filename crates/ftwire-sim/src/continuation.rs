@@ -86,7 +86,8 @@ fn interpolate(a: &Pose, b: &Pose, s: f64) -> Pose {
 /// Carries `state` from its clamp poses to `base` and `tip`: a blend of the two grippers'
 /// rigid motions (exact when they move together), then the linear response of the free degrees
 /// of freedom to the remaining clamp displacement, then a projection onto the edge lengths.
-pub(crate) fn predict(world: &World, state: &RodState, base: &Pose, tip: &Pose) -> RodState {
+pub(crate) fn predict(world: &World, from: &Equilibrium, base: &Pose, tip: &Pose) -> RodState {
+    let state = &from.state;
     let rod = world.rod();
     let n = rod.edges();
     let mut next = state.clone();
@@ -101,11 +102,17 @@ pub(crate) fn predict(world: &World, state: &RodState, base: &Pose, tip: &Pose) 
     }
     next.base = *base;
     next.tip = db * state.tip;
-    // Linear response to the tip's remaining motion: δu = −H_uu⁻¹ H_uf δf.
-    let ev = crate::energy::evaluate(world, &next, crate::energy::Order::Hessian);
+    // Linear response to the tip's remaining motion: δu = −H_uu⁻¹ H_uf δf. The Hessian of the
+    // previous equilibrium is reused when the base (hence everything) did not move.
+    let unmoved = db.translation.vector.norm() == 0.0 && db.rotation.angle() == 0.0;
+    let hessian = if unmoved {
+        Some(from.hessian.clone())
+    } else {
+        crate::energy::evaluate(world, &next, crate::energy::Order::Hessian).hess
+    };
     let mut target = next.clone();
     target.apply_clamps(rod, base, tip);
-    if let Some(mut hess) = ev.hess {
+    if let Some(mut hess) = hessian {
         let fixed = newton::fixed_dofs(n);
         let mut delta = vec![0.0; crate::energy::dof_count(n)];
         for k in [n - 1, n] {
@@ -187,7 +194,7 @@ pub(crate) fn run(
         let next = (progress + step).min(1.0);
         let (bp, tp) = (interpolate(&b0, base, next), interpolate(&t0, tip, next));
         let current = &motion.equilibrium;
-        let guess = predict(world, &current.state, &bp, &tp);
+        let guess = predict(world, current, &bp, &tp);
         let too_far = contact_limit.is_some_and(|lim| guess.max_distance(&current.state) > lim);
         let halve = |step: f64, subdivisions: &mut usize| {
             *subdivisions += 1;

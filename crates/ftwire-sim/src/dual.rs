@@ -65,7 +65,7 @@ pub struct Dual2<const N: usize> {
     pub v: f64,
     /// Gradient.
     pub g: SVector<f64, N>,
-    /// Hessian (symmetric).
+    /// Hessian; only its upper triangle is meaningful (read it with [`Dual2::hess`]).
     pub h: SMatrix<f64, N, N>,
 }
 
@@ -82,14 +82,32 @@ impl<const N: usize> Dual2<N> {
     }
 
     /// Applies a scalar function with value `f0` and derivatives `f1`, `f2` at `self.v`.
+    ///
+    /// Only the upper triangle of the Hessian is kept up to date (see [`Dual2::hess`]).
     #[inline]
     fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
-        let mut h = self.h * f1;
-        h.ger(f2, &self.g, &self.g, 1.0);
+        let mut h = SMatrix::<f64, N, N>::zeros();
+        for j in 0..N {
+            let gj = f2 * self.g[j];
+            for i in 0..=j {
+                h[(i, j)] = f1 * self.h[(i, j)] + gj * self.g[i];
+            }
+        }
         Self {
             v: f0,
             g: self.g * f1,
             h,
+        }
+    }
+
+    /// The Hessian entry `(i, j)`. Products and functions update only the upper triangle,
+    /// so entries are read from there.
+    #[inline]
+    pub fn hess(&self, i: usize, j: usize) -> f64 {
+        if i <= j {
+            self.h[(i, j)]
+        } else {
+            self.h[(j, i)]
         }
     }
 
@@ -163,10 +181,14 @@ impl<const N: usize> Mul for Dual2<N> {
     type Output = Self;
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let mut h = self.h * o.v;
-        h += o.h * self.v;
-        h.ger(1.0, &self.g, &o.g, 1.0);
-        h.ger(1.0, &o.g, &self.g, 1.0);
+        let mut h = SMatrix::<f64, N, N>::zeros();
+        for j in 0..N {
+            let (aj, bj) = (self.g[j], o.g[j]);
+            for i in 0..=j {
+                h[(i, j)] =
+                    self.v * o.h[(i, j)] + o.v * self.h[(i, j)] + self.g[i] * bj + o.g[i] * aj;
+            }
+        }
         Self {
             v: self.v * o.v,
             g: o.g * self.v + self.g * o.v,
@@ -226,6 +248,153 @@ impl<const N: usize> Mul<f64> for Dual2<N> {
             v: self.v * o,
             g: self.g * o,
             h: self.h * o,
+        }
+    }
+}
+
+/// A number with its gradient with respect to `N` variables (first-order forward mode), for
+/// gradient-only evaluations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dual1<const N: usize> {
+    /// Value.
+    pub v: f64,
+    /// Gradient.
+    pub g: SVector<f64, N>,
+}
+
+impl<const N: usize> Dual1<N> {
+    /// The `i`-th seed variable with value `v`.
+    pub fn var(v: f64, i: usize) -> Self {
+        let mut g = SVector::zeros();
+        g[i] = 1.0;
+        Self { v, g }
+    }
+
+    #[inline]
+    fn chain(self, f0: f64, f1: f64) -> Self {
+        Self {
+            v: f0,
+            g: self.g * f1,
+        }
+    }
+}
+
+impl<const N: usize> Scalar for Dual1<N> {
+    fn cst(value: f64) -> Self {
+        Self {
+            v: value,
+            g: SVector::zeros(),
+        }
+    }
+    fn re(&self) -> f64 {
+        self.v
+    }
+    fn sqrt(self) -> Self {
+        let s = self.v.sqrt();
+        self.chain(s, 0.5 / s)
+    }
+    fn sin(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(s, c)
+    }
+    fn cos(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(c, -s)
+    }
+    fn atan2(self, x: Self) -> Self {
+        let r2 = x.v * x.v + self.v * self.v;
+        Self {
+            v: self.v.atan2(x.v),
+            g: (self.g * x.v - x.g * self.v) / r2,
+        }
+    }
+}
+
+impl<const N: usize> Add for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        Self {
+            v: self.v + o.v,
+            g: self.g + o.g,
+        }
+    }
+}
+
+impl<const N: usize> Sub for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        Self {
+            v: self.v - o.v,
+            g: self.g - o.g,
+        }
+    }
+}
+
+impl<const N: usize> Mul for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        Self {
+            v: self.v * o.v,
+            g: o.g * self.v + self.g * o.v,
+        }
+    }
+}
+
+impl<const N: usize> Div for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn div(self, o: Self) -> Self {
+        let r = 1.0 / o.v;
+        Self {
+            v: self.v * r,
+            g: (self.g - o.g * (self.v * r)) * r,
+        }
+    }
+}
+
+impl<const N: usize> Neg for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        Self {
+            v: -self.v,
+            g: -self.g,
+        }
+    }
+}
+
+impl<const N: usize> Add<f64> for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: f64) -> Self {
+        Self {
+            v: self.v + o,
+            ..self
+        }
+    }
+}
+
+impl<const N: usize> Sub<f64> for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn sub(self, o: f64) -> Self {
+        Self {
+            v: self.v - o,
+            ..self
+        }
+    }
+}
+
+impl<const N: usize> Mul<f64> for Dual1<N> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, o: f64) -> Self {
+        Self {
+            v: self.v * o,
+            g: self.g * o,
         }
     }
 }
@@ -299,6 +468,8 @@ mod tests {
     fn derivatives_match_finite_differences() {
         let (x0, y0) = (0.7, -0.4);
         let d = f(Dual2::<2>::var(x0, 0), Dual2::<2>::var(y0, 1));
+        let d1 = f(Dual1::<2>::var(x0, 0), Dual1::<2>::var(y0, 1));
+        assert!((d1.g - d.g).norm() < 1e-14 && (d1.v - d.v).abs() < 1e-15);
         assert!((d.v - f(x0, y0)).abs() < 1e-14);
         let e = 1e-5;
         let gx = (f(x0 + e, y0) - f(x0 - e, y0)) / (2.0 * e);
@@ -308,8 +479,13 @@ mod tests {
         let hxy = (f(x0 + e, y0 + e) - f(x0 + e, y0 - e) - f(x0 - e, y0 + e) + f(x0 - e, y0 - e))
             / (4.0 * e * e);
         let hxx = (f(x0 + e, y0) - 2.0 * f(x0, y0) + f(x0 - e, y0)) / (e * e);
-        assert!((d.h[(0, 1)] - hxy).abs() < 1e-5, "{} {}", d.h[(0, 1)], hxy);
-        assert!((d.h[(1, 0)] - hxy).abs() < 1e-5);
-        assert!((d.h[(0, 0)] - hxx).abs() < 1e-5);
+        assert!(
+            (d.hess(0, 1) - hxy).abs() < 1e-5,
+            "{} {}",
+            d.hess(0, 1),
+            hxy
+        );
+        assert!((d.hess(1, 0) - hxy).abs() < 1e-5);
+        assert!((d.hess(0, 0) - hxx).abs() < 1e-5);
     }
 }

@@ -3,6 +3,7 @@
 use ftwire_core::{Pose, Wrench};
 use nalgebra::{Point3, Rotation3, Vector3};
 
+use crate::banded::BandedSym;
 use crate::energy::{Energies, Evaluation, theta_dof, x_dof};
 use crate::newton::{Convergence, NewtonResult};
 use crate::state::RodState;
@@ -35,6 +36,8 @@ pub struct Equilibrium {
     /// Whether the unregularised Hessian is positive definite on the free degrees of freedom,
     /// i.e. the equilibrium is a stable minimum and not a saddle.
     pub stable_minimum: bool,
+    /// The Hessian at the equilibrium, kept for the next continuation predictor.
+    pub(crate) hessian: BandedSym,
 }
 
 impl Equilibrium {
@@ -42,6 +45,7 @@ impl Equilibrium {
         let NewtonResult {
             state,
             eval,
+            hessian,
             iterations,
             residual,
             stable,
@@ -60,6 +64,7 @@ impl Equilibrium {
                 residual,
             },
             stable_minimum: stable,
+            hessian,
             state,
         }
     }

@@ -12,6 +12,7 @@
 //! equilibrium is then a *stable minimum* if the unregularised Hessian is positive definite on
 //! the free degrees of freedom.
 
+use crate::banded::BandedSym;
 use crate::energy::{self, Evaluation, Order, theta_dof, x_dof};
 use crate::state::RodState;
 use crate::world::World;
@@ -55,6 +56,8 @@ pub struct Convergence {
 pub(crate) struct NewtonResult {
     pub state: RodState,
     pub eval: Evaluation,
+    /// The Hessian at the solution, clamped degrees of freedom not pinned.
+    pub hessian: BandedSym,
     pub iterations: usize,
     pub residual: f64,
     pub stable: bool,
@@ -140,29 +143,46 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
     let tolerance = settings.tolerance.max(noise);
     let mut lambda = 0.0_f64;
     let mut last_residual = f64::INFINITY;
+    // The Hessian of the previous iterate, unpinned: at convergence it stands in for the one at
+    // the solution (which is within the tolerance of it) for the stability check and the next
+    // predictor, saving one Hessian evaluation per solve.
+    let mut previous: Option<BandedSym> = None;
     for iteration in 0..=settings.max_iterations {
-        let mut eval = energy::evaluate(world, &state, Order::Hessian);
-        let mut grad = eval.grad.clone();
+        let probe = energy::evaluate(world, &state, Order::Gradient);
+        let mut grad = probe.grad.clone();
         for &i in &fixed {
             grad[i] = 0.0;
         }
         let res = residual(world, &grad);
         last_residual = res;
+        if res < tolerance {
+            let unpinned = match previous.take() {
+                Some(h) => h,
+                None => match energy::evaluate(world, &state, Order::Hessian).hess {
+                    Some(h) => h,
+                    None => break,
+                },
+            };
+            let mut pinned = unpinned.clone();
+            for &i in &fixed {
+                pinned.pin(i);
+            }
+            return Ok(NewtonResult {
+                state,
+                eval: probe,
+                hessian: unpinned,
+                iterations: iteration,
+                residual: res,
+                stable: pinned.cholesky().is_some(),
+            });
+        }
+        let mut eval = energy::evaluate(world, &state, Order::Hessian);
         let Some(mut hess) = eval.hess.take() else {
             break;
         };
+        let unpinned = hess.clone();
         for &i in &fixed {
             hess.pin(i);
-        }
-        if res < tolerance {
-            let stable = hess.cholesky().is_some();
-            return Ok(NewtonResult {
-                state,
-                eval,
-                iterations: iteration,
-                residual: res,
-                stable,
-            });
         }
         if iteration == settings.max_iterations || !res.is_finite() {
             break;
@@ -225,6 +245,7 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
             return Ok(NewtonResult {
                 state,
                 eval,
+                hessian: unpinned,
                 iterations: iteration,
                 residual: res,
                 stable,
@@ -260,6 +281,7 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
             Some(mut next) => {
                 next.rebase();
                 state = next;
+                previous = Some(unpinned);
             }
             None => {
                 if res < 100.0 * tolerance {
@@ -268,6 +290,7 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
                     return Ok(NewtonResult {
                         state,
                         eval,
+                        hessian: unpinned,
                         iterations: iteration,
                         residual: res,
                         stable,

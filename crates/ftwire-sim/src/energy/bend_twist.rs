@@ -19,21 +19,17 @@
 
 use nalgebra::Vector3;
 
-use crate::dual::{Scalar, V3, add, cross, dot, lin2, scale};
+use crate::dual::{Dual1, Dual2, Scalar, V3, add, cross, dot, lin2, scale};
 use crate::transport::{transport, transport_from_const};
 
 /// Constants of one bending–twisting stencil.
 pub(crate) struct Stencil<'a> {
     /// `(c1, c2, c3)` \[N·m²\].
-    pub c: [f64; 3],
+    pub c: &'a [f64; 3],
     /// Rest strains `(ū1, ū2, ū3)` \[1/m\].
-    pub rest: Vector3<f64>,
+    pub rest: &'a Vector3<f64>,
     /// Rest Voronoi length ℓ \[m\].
     pub voronoi: f64,
-    /// Stored reference tangents of the two edges.
-    pub ref_t: [&'a Vector3<f64>; 2],
-    /// Stored reference directors of the two edges.
-    pub ref_d1: [&'a Vector3<f64>; 2],
 }
 
 fn unit<S: Scalar>(e: &V3<S>) -> V3<S> {
@@ -42,54 +38,88 @@ fn unit<S: Scalar>(e: &V3<S>) -> V3<S> {
     scale(e, inv)
 }
 
+/// An edge's tangent, reference director and material directors.
+#[derive(Clone, Copy)]
+pub(crate) struct EdgeFrame<S> {
+    pub t: V3<S>,
+    pub d1: V3<S>,
+    pub m1: V3<S>,
+    pub m2: V3<S>,
+}
+
 /// The material frame `(t, m1, m2)` of an edge from its vector, stored reference and angle.
-pub(crate) fn material_frame<S: Scalar>(
+pub(crate) fn edge_frame<S: Scalar>(
     e: &V3<S>,
     theta: S,
     ref_t: &Vector3<f64>,
     ref_d1: &Vector3<f64>,
-) -> (V3<S>, V3<S>, V3<S>, V3<S>) {
+) -> EdgeFrame<S> {
     let t = unit(e);
     let d1 = transport_from_const(ref_t, &t, ref_d1);
     let d2 = cross(&t, &d1);
     let (s, c) = (theta.sin(), theta.cos());
     let m1 = lin2(&d1, c, &d2, s);
     let m2 = lin2(&d1, -s, &d2, c);
-    (t, d1, m1, m2)
+    EdgeFrame { t, d1, m1, m2 }
 }
 
-/// The strains `(u1, u2, u3)` \[1/m\] at the vertex.
+/// Lifts a per-edge dual number (variables `e_x, e_y, e_z, θ`) into the stencil's 8 variables
+/// at positions `idx`.
+pub(crate) fn lift(d: &Dual2<4>, idx: [usize; 4]) -> Dual2<8> {
+    let mut out = Dual2::<8>::cst(d.v);
+    for a in 0..4 {
+        out.g[idx[a]] = d.g[a];
+        for b in 0..4 {
+            let (i, j) = (idx[a], idx[b]);
+            if i <= j {
+                out.h[(i, j)] = d.hess(a, b);
+            }
+        }
+    }
+    out
+}
+
+/// Lifts a whole edge frame.
+pub(crate) fn lift_frame(f: &EdgeFrame<Dual2<4>>, idx: [usize; 4]) -> EdgeFrame<Dual2<8>> {
+    let l3 = |v: &V3<Dual2<4>>| [lift(&v[0], idx), lift(&v[1], idx), lift(&v[2], idx)];
+    EdgeFrame {
+        t: l3(&f.t),
+        d1: l3(&f.d1),
+        m1: l3(&f.m1),
+        m2: l3(&f.m2),
+    }
+}
+
+/// The strains `(u1, u2, u3)` \[1/m\] at the vertex between two edges.
 pub(crate) fn strains<S: Scalar>(
-    e0: &V3<S>,
-    e1: &V3<S>,
+    f0: &EdgeFrame<S>,
+    f1: &EdgeFrame<S>,
     th0: S,
     th1: S,
     st: &Stencil<'_>,
 ) -> [S; 3] {
-    let (t0, d1_0, m1_0, m2_0) = material_frame(e0, th0, st.ref_t[0], st.ref_d1[0]);
-    let (t1, d1_1, m1_1, m2_1) = material_frame(e1, th1, st.ref_t[1], st.ref_d1[1]);
-    let denom = dot(&t0, &t1) + 1.0;
-    let kb = scale(&cross(&t0, &t1), S::cst(2.0) / denom);
+    let denom = dot(&f0.t, &f1.t) + 1.0;
+    let kb = scale(&cross(&f0.t, &f1.t), S::cst(2.0) / denom);
     let inv = 0.5 / st.voronoi;
-    let u2 = dot(&kb, &add(&m1_0, &m1_1)) * inv;
-    let u3 = dot(&kb, &add(&m2_0, &m2_1)) * inv;
-    let pd = transport(&t0, &t1, &d1_0);
-    let y = dot(&cross(&pd, &d1_1), &t1);
-    let x = dot(&pd, &d1_1);
+    let u2 = dot(&kb, &add(&f0.m1, &f1.m1)) * inv;
+    let u3 = dot(&kb, &add(&f0.m2, &f1.m2)) * inv;
+    let pd = transport(&f0.t, &f1.t, &f0.d1);
+    let y = dot(&cross(&pd, &f1.d1), &f1.t);
+    let x = dot(&pd, &f1.d1);
     let m_ref = y.atan2(x);
     let u1 = (th1 - th0 + m_ref) * (1.0 / st.voronoi);
     [u1, u2, u3]
 }
 
-/// `(bending, twisting)` energy \[J\] of the vertex.
+/// `(bending, twisting)` energy \[J\] of the vertex between two edges.
 pub(crate) fn energy<S: Scalar>(
-    e0: &V3<S>,
-    e1: &V3<S>,
+    f0: &EdgeFrame<S>,
+    f1: &EdgeFrame<S>,
     th0: S,
     th1: S,
     st: &Stencil<'_>,
 ) -> (S, S) {
-    let [u1, u2, u3] = strains(e0, e1, th0, th1, st);
+    let [u1, u2, u3] = strains(f0, f1, th0, th1, st);
     let half = 0.5 * st.voronoi;
     let d1 = u1 - st.rest.x;
     let d2 = u2 - st.rest.y;
@@ -97,4 +127,24 @@ pub(crate) fn energy<S: Scalar>(
     let bend = (d2 * d2 * st.c[1] + d3 * d3 * st.c[2]) * half;
     let twist = d1 * d1 * (st.c[0] * half);
     (bend, twist)
+}
+
+/// Lifts a per-edge first-order dual number into the stencil's 8 variables at `idx`.
+pub(crate) fn lift1(d: &Dual1<4>, idx: [usize; 4]) -> Dual1<8> {
+    let mut out = Dual1::<8>::cst(d.v);
+    for (a, &i) in idx.iter().enumerate() {
+        out.g[i] = d.g[a];
+    }
+    out
+}
+
+/// Lifts a whole first-order edge frame.
+pub(crate) fn lift_frame1(f: &EdgeFrame<Dual1<4>>, idx: [usize; 4]) -> EdgeFrame<Dual1<8>> {
+    let l3 = |v: &V3<Dual1<4>>| [lift1(&v[0], idx), lift1(&v[1], idx), lift1(&v[2], idx)];
+    EdgeFrame {
+        t: l3(&f.t),
+        d1: l3(&f.d1),
+        m1: l3(&f.m1),
+        m2: l3(&f.m2),
+    }
 }
