@@ -435,6 +435,7 @@ pub fn cross_c<S: Scalar>(a: &V3<S>, b: &nalgebra::Vector3<f64>) -> V3<S> {
 }
 
 /// `a·s + b·t` for scalars `s`, `t`.
+#[cfg(test)]
 #[inline]
 pub fn lin2<S: Scalar>(a: &V3<S>, s: S, b: &V3<S>, t: S) -> V3<S> {
     [
@@ -451,6 +452,7 @@ pub fn scale<S: Scalar>(a: &V3<S>, s: S) -> V3<S> {
 }
 
 /// `a + b`.
+#[cfg(test)]
 #[inline]
 pub fn add<S: Scalar>(a: &V3<S>, b: &V3<S>) -> V3<S> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]

@@ -9,7 +9,9 @@
 
 use nalgebra::Vector3;
 
-use crate::dual::{Scalar, V3, cross, cross_c, dot, dot_c, scale};
+use crate::dual::{Scalar, V3, cross_c, dot_c};
+#[cfg(test)]
+use crate::dual::{cross, dot, scale};
 
 /// `P(a → b) v` for a constant `a`, `v` and a variable `b` (all unit, `a·b > −1`).
 pub(crate) fn transport_from_const<S: Scalar>(
@@ -31,7 +33,9 @@ pub(crate) fn transport_from_const<S: Scalar>(
     ]
 }
 
-/// `P(a → b) v` for variable unit vectors `a`, `b` and a variable `v`.
+/// `P(a → b) v` for variable unit vectors `a`, `b` and a variable `v` (the reference for the
+/// dot-product form of the reference twist).
+#[cfg(test)]
 pub(crate) fn transport<S: Scalar>(a: &V3<S>, b: &V3<S>, v: &V3<S>) -> V3<S> {
     let ab = cross(a, b);
     let c = dot(a, b);

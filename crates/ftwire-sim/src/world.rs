@@ -235,7 +235,7 @@ impl World {
     }
 
     /// Warm start: moves the grippers from the poses of `from` to `base` and `tip` by
-    /// quasi-static continuation (see [`crate::continuation`]).
+    /// quasi-static continuation (see the crate guide, "Continuation").
     ///
     /// # Errors
     /// [`SimError::NonFinite`], [`SimError::GrippersTooFarApart`], [`SimError::NewtonFailed`]

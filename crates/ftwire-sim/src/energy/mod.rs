@@ -126,107 +126,83 @@ pub(crate) fn evaluate(world: &World, state: &RodState, order: Order) -> Evaluat
         }
     }
 
-    // Bending and twisting at the interior vertices 1..N−1. Each edge's frame is computed once
-    // (with its own 4 variables when derivatives are wanted) and shared by its two vertices.
+    // Bending and twisting at the interior vertices 1..N−1. Each edge's directors are computed
+    // (and differentiated, with its own 3 variables) once and shared by its two vertices.
     let st = bend_twist::Stencil {
         c: &p.stiffness,
         rest: &p.rest_strain,
         voronoi: h,
     };
-    if order == Order::Energy {
-        let frames: Vec<bend_twist::EdgeFrame<f64>> = (0..n)
-            .map(|j| {
-                let e = nodes[j + 1] - nodes[j];
-                bend_twist::edge_frame(
-                    &e.into(),
-                    state.theta[j],
-                    &state.ref_tangent[j],
-                    &state.ref_d1[j],
-                )
-            })
-            .collect();
-        for i in 1..n {
-            let (b, t) = bend_twist::energy(
-                &frames[i - 1],
-                &frames[i],
-                state.theta[i - 1],
-                state.theta[i],
-                &st,
-            );
-            en.bend += b;
-            en.twist += t;
+    let edge = |j: usize| nodes[j + 1] - nodes[j];
+    let (rt, rd) = (&state.ref_tangent, &state.ref_d1);
+    match order {
+        Order::Energy => {
+            let dirs: Vec<bend_twist::Directors<f64>> = (0..n)
+                .map(|j| bend_twist::directors(&edge(j).into(), &rt[j], &rd[j]))
+                .collect();
+            for i in 1..n {
+                let dots = bend_twist::dots(&dirs[i - 1], &dirs[i]);
+                let (b, t) = bend_twist::energy(&dots, state.theta[i - 1], state.theta[i], &st);
+                en.bend += b;
+                en.twist += t;
+            }
         }
-    } else if order == Order::Gradient {
-        let frames: Vec<bend_twist::EdgeFrame<Dual1<4>>> = (0..n)
-            .map(|j| {
-                let e = nodes[j + 1] - nodes[j];
-                let ed = [Dual1::var(e.x, 0), Dual1::var(e.y, 1), Dual1::var(e.z, 2)];
-                bend_twist::edge_frame(
-                    &ed,
-                    Dual1::var(state.theta[j], 3),
-                    &state.ref_tangent[j],
-                    &state.ref_d1[j],
-                )
-            })
-            .collect();
-        for i in 1..n {
-            let f0 = bend_twist::lift_frame1(&frames[i - 1], [0, 1, 2, 6]);
-            let f1 = bend_twist::lift_frame1(&frames[i], [3, 4, 5, 7]);
-            let (b, t) = bend_twist::energy::<Dual1<8>>(
-                &f0,
-                &f1,
-                Dual1::var(state.theta[i - 1], 6),
-                Dual1::var(state.theta[i], 7),
-                &st,
-            );
-            en.bend += b.re();
-            en.twist += t.re();
-            let total = b + t;
-            for (a, ma) in stencil_map(i).iter().enumerate() {
-                for &(ga, ca) in ma {
-                    grad[ga] += ca * total.g[a];
+        Order::Gradient => {
+            let dirs: Vec<bend_twist::Directors<Dual1<3>>> = (0..n)
+                .map(|j| {
+                    let e = edge(j);
+                    let ed = [Dual1::var(e.x, 0), Dual1::var(e.y, 1), Dual1::var(e.z, 2)];
+                    bend_twist::directors(&ed, &rt[j], &rd[j])
+                })
+                .collect();
+            for i in 1..n {
+                let dots = bend_twist::dots1(&dirs[i - 1], &dirs[i]);
+                let (b, t) = bend_twist::energy(
+                    &dots,
+                    Dual1::var(state.theta[i - 1], 6),
+                    Dual1::var(state.theta[i], 7),
+                    &st,
+                );
+                en.bend += b.re();
+                en.twist += t.re();
+                let total = b + t;
+                for (a, ma) in stencil_map(i).iter().enumerate() {
+                    for &(ga, ca) in ma {
+                        grad[ga] += ca * total.g[a];
+                    }
                 }
             }
         }
-    } else {
-        let frames: Vec<bend_twist::EdgeFrame<Dual2<4>>> = (0..n)
-            .map(|j| {
-                let e = nodes[j + 1] - nodes[j];
-                bend_twist::edge_frame(
-                    &dual_edge(&e, 0),
-                    Dual2::var(state.theta[j], 3),
-                    &state.ref_tangent[j],
-                    &state.ref_d1[j],
-                )
-            })
-            .collect();
-        for i in 1..n {
-            let f0 = bend_twist::lift_frame(&frames[i - 1], [0, 1, 2, 6]);
-            let f1 = bend_twist::lift_frame(&frames[i], [3, 4, 5, 7]);
-            let (b, t) = bend_twist::energy::<Dual2<8>>(
-                &f0,
-                &f1,
-                Dual2::var(state.theta[i - 1], 6),
-                Dual2::var(state.theta[i], 7),
-                &st,
-            );
-            en.bend += b.re();
-            en.twist += t.re();
-            let total = b + t;
-            let map = stencil_map(i);
-            for (a, ma) in map.iter().enumerate() {
-                for &(ga, ca) in ma {
-                    grad[ga] += ca * total.g[a];
-                }
-            }
-            if let Some(hm) = hess.as_mut() {
+        Order::Hessian => {
+            let dirs: Vec<bend_twist::Directors<Dual2<3>>> = (0..n)
+                .map(|j| bend_twist::directors(&dual_edge(&edge(j), 0), &rt[j], &rd[j]))
+                .collect();
+            for i in 1..n {
+                let dots = bend_twist::dots2(&dirs[i - 1], &dirs[i]);
+                let (b, t) = bend_twist::energy(
+                    &dots,
+                    Dual2::var(state.theta[i - 1], 6),
+                    Dual2::var(state.theta[i], 7),
+                    &st,
+                );
+                en.bend += b.re();
+                en.twist += t.re();
+                let total = b + t;
+                let map = stencil_map(i);
                 for (a, ma) in map.iter().enumerate() {
-                    for (b2, mb) in map.iter().enumerate() {
-                        let v = total.hess(a, b2);
-                        for &(ga, ca) in ma {
-                            for &(gb, cb) in mb {
-                                if ga >= gb && ca != 0.0 && cb != 0.0 {
-                                    hm.add_lower(ga, gb, ca * cb * v);
+                    for &(ga, ca) in ma {
+                        grad[ga] += ca * total.g[a];
+                    }
+                }
+                if let Some(hm) = hess.as_mut() {
+                    for (a, ma) in map.iter().enumerate() {
+                        for (b2, mb) in map.iter().enumerate() {
+                            let v = total.hess(a, b2);
+                            for &(ga, ca) in ma {
+                                for &(gb, cb) in mb {
+                                    if ga >= gb && ca != 0.0 && cb != 0.0 {
+                                        hm.add_lower(ga, gb, ca * cb * v);
+                                    }
                                 }
                             }
                         }
