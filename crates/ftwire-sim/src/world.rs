@@ -218,7 +218,10 @@ impl World {
     }
 
     /// Solves from a user-given initial guess (e.g. the Kirchhoff model's shape), by Newton's
-    /// method without continuation, so that the equilibrium found is the one near the guess.
+    /// method, so that the equilibrium found is the one near the guess. If the guess's end
+    /// edges are not where the clamps are, it is first solved at the clamp poses it implies
+    /// (midpoints of its end edges, end frames aligned with them) and then carried to `base`
+    /// and `tip` by continuation.
     ///
     /// # Errors
     /// [`SimError::GuessSize`], [`SimError::DegenerateGuess`], [`SimError::NonFinite`],
@@ -231,6 +234,17 @@ impl World {
     ) -> Result<Equilibrium, SimError> {
         self.check_poses(base, tip)?;
         let state = RodState::from_guess(&self.rod, guess, base, tip)?;
+        // A guess that ends elsewhere than the clamps is first solved at the clamp poses it
+        // implies, then carried to the requested ones by continuation.
+        if let Some((b0, t0)) = implied_clamps(guess)
+            && (!close(&b0, base, self.rod.edge_length())
+                || !close(&t0, tip, self.rod.edge_length()))
+            && self.check_poses(&b0, &t0).is_ok()
+        {
+            let own = RodState::from_guess(&self.rod, guess, &b0, &t0)?;
+            let start = self.newton_from(own, &b0, &t0)?;
+            return Ok(self.move_grippers(&start, base, tip)?.equilibrium);
+        }
         self.newton_from(state, base, tip)
     }
 
@@ -252,4 +266,32 @@ impl World {
             Some(e) => Err(e),
         }
     }
+}
+
+/// The clamp poses a guess implies: the midpoints of its end edges, with the end frames turned
+/// so that their x axes follow those edges.
+fn implied_clamps(guess: &InitialGuess) -> Option<(Pose, Pose)> {
+    let (p, f) = (&guess.points, &guess.frames);
+    let (n, m) = (p.len(), f.len());
+    if n < 2 || m < 1 || n != m + 1 {
+        return None;
+    }
+    let clamp = |a: usize, b: usize, frame: &nalgebra::UnitQuaternion<f64>| -> Option<Pose> {
+        let e = p[b] - p[a];
+        let t = e.try_normalize(1e-15)?;
+        let turn =
+            nalgebra::UnitQuaternion::rotation_between(&(frame * nalgebra::Vector3::x()), &t)?;
+        Some(Pose::from_parts(
+            nalgebra::Translation3::from(p[a].coords + e * 0.5),
+            turn * frame,
+        ))
+    };
+    Some((clamp(0, 1, &f[0])?, clamp(n - 2, n - 1, &f[m - 1])?))
+}
+
+/// Whether two clamp poses agree to 5 % of an edge and 0.05 rad: close enough for Newton to
+/// absorb the difference when the clamps overwrite the guess's end edges.
+fn close(a: &Pose, b: &Pose, edge: f64) -> bool {
+    (a.translation.vector - b.translation.vector).norm() <= 0.05 * edge
+        && a.rotation.angle_to(&b.rotation) <= 0.05
 }

@@ -217,3 +217,29 @@ fn a_failed_motion_keeps_the_last_good_state() {
     sim.move_grippers(&base, &pose([0.2, 0.3, 0.1], [1.0, 0.5, 2.0]))
         .expect("moves");
 }
+
+/// A guess that ends 3 cm and 0.3 rad away from the requested tip clamp is solved where it ends
+/// and carried over by continuation, landing on the same equilibrium as a cold solve.
+#[test]
+fn a_guess_that_misses_the_clamps_is_carried_to_them() {
+    let world = World::new(anisotropic().without_gravity().with_edges(60)).expect("valid");
+    let l = world.rod().params().length;
+    let (turn, k) = (0.8, 0.8 / l);
+    let arc = |s: f64| {
+        Isometry3::from_parts(
+            Translation3::new((k * s).sin() / k, (1.0 - (k * s).cos()) / k, 0.0),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), k * s),
+        )
+    };
+    let guess = InitialGuess::from_shape(world.rod(), arc);
+    let mut tip = arc(l);
+    tip.translation.vector.x -= 0.03;
+    tip.rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), turn + 0.3);
+    let base = Isometry3::identity();
+    let eq = world.solve_with_guess(&guess, &base, &tip).expect("solves");
+    let cold = world.solve_cold(&base, &tip).expect("solves").equilibrium;
+    let diff = (eq.base_wrench.to_vector() - cold.base_wrench.to_vector()).norm();
+    println!("guess vs cold: {diff:e}");
+    assert!(eq.stable_minimum);
+    assert!(diff < 1e-6 * cold.base_wrench.to_vector().norm());
+}
