@@ -62,7 +62,7 @@ pub enum SimError {
     /// Newton's method found no equilibrium, even after subdividing the motion.
     #[error(
         "no equilibrium found: Newton failed after {iterations} iterations \
-         (residual {residual:e}, step subdivided {subdivisions} times); the last good state is kept"
+         (residual {residual:e}, step halved {subdivisions} times); a Simulator keeps its last good state"
     )]
     NewtonFailed {
         /// Newton iterations in the last attempt.

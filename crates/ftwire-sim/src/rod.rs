@@ -13,6 +13,14 @@ use nalgebra::Vector3;
 use crate::error::{SimError, ensure_finite, ensure_positive};
 
 /// Parameters of a wire, as plain data with defaults (the nitinol 2 mm × 630 mm wire).
+///
+/// # Example
+/// ```
+/// use ftwire_sim::RodParams;
+/// let cable = RodParams::electric_cable_3mm_920();
+/// assert!(cable.stiffness[1] < RodParams::nitinol_2mm_630().stiffness[1]);
+/// assert_eq!(RodParams::default().edges, 100);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RodParams {
     /// Stiffnesses `(c1, c2, c3)` \[N·m²\]: torsion, bending about the body y axis, bending about

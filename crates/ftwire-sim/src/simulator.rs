@@ -98,6 +98,12 @@ impl Simulator {
         }
     }
 
+    /// The clamp poses `(base, tip)` of the current equilibrium, world frame (the ground truth;
+    /// a robot model adds its execution error on top).
+    pub fn gripper_poses(&self) -> (Pose, Pose) {
+        (*self.current.state.base(), *self.current.state.tip())
+    }
+
     /// The current equilibrium.
     pub fn equilibrium(&self) -> &Equilibrium {
         &self.current
