@@ -1,4 +1,31 @@
-//! The ground-truth world of ftwire: a discrete elastic rod with gravity and contact, an F/T sensor, markers and a simulated rig.
+#![doc = include_str!("../README.md")]
+
+// The discrete elastic rod and its solvers.
+mod banded;
+mod continuation;
+mod dual;
+mod energy;
+mod equilibrium;
+mod error;
+mod newton;
+mod obstacle;
+mod projection;
+mod rod;
+mod simulator;
+mod state;
+mod transport;
+mod world;
+
+pub use continuation::{ContinuationSettings, Motion, SnapEvent};
+pub use energy::Energies;
+pub use equilibrium::Equilibrium;
+pub use error::SimError;
+pub use newton::{Convergence, NewtonSettings};
+pub use obstacle::{BoxObstacle, Floor, Obstacle};
+pub use rod::{Rod, RodParams};
+pub use simulator::Simulator;
+pub use state::{InitialGuess, RodState};
+pub use world::{DEFAULT_CONTACT_STIFFNESS, World};
 
 // sensing and acting
 pub mod execution;

@@ -1,0 +1,248 @@
+//! Quasi-static continuation: moving the grippers along a path of equilibria.
+//!
+//! A motion from the current clamp poses to target poses is cut into steps (translations
+//! interpolated linearly, rotations by slerp). Each step starts from a predictor — the previous
+//! equilibrium carried along by a blend of the two grippers' rigid motions, weighted by arc
+//! length, which is exact when both grippers move together — and is corrected by Newton's
+//! method ([`crate::newton`]). A step whose Newton solve fails is halved, up to
+//! [`ContinuationSettings::max_subdivisions`] times. A step whose corrector moves some node by
+//! more than [`ContinuationSettings::snap_distance`] is halved as well; if the jump persists at
+//! `1/16` of the nominal step, the branch has ended: the wire snaps to another branch, as a real
+//! wire does, and the jump is reported as a [`SnapEvent`].
+
+use ftwire_core::{Pose, Wrench};
+use nalgebra::{Isometry3, Translation3};
+
+use crate::equilibrium::Equilibrium;
+use crate::error::SimError;
+use crate::newton;
+use crate::state::RodState;
+use crate::world::World;
+
+/// Settings of the continuation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContinuationSettings {
+    /// Largest gripper translation per step, as a fraction of `L` (default `0.05`).
+    pub max_translation_fraction: f64,
+    /// Largest gripper rotation per step \[rad\] (default `0.15`, about 8.6°).
+    pub max_rotation: f64,
+    /// How many times a step may be halved before the motion fails (default `12`).
+    pub max_subdivisions: usize,
+    /// Node jump between predictor and equilibrium above which a step is suspected to snap,
+    /// as a fraction of `L` (default `0.02`).
+    pub snap_distance_fraction: f64,
+}
+
+impl Default for ContinuationSettings {
+    fn default() -> Self {
+        Self {
+            max_translation_fraction: 0.05,
+            max_rotation: 0.15,
+            max_subdivisions: 12,
+            snap_distance_fraction: 0.02,
+        }
+    }
+}
+
+/// A sudden jump of the wire to another equilibrium branch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SnapEvent {
+    /// Where along the motion the snap happened, from 0 (start) to 1 (target).
+    pub progress: f64,
+    /// Largest node jump \[m\] between the predicted and the new equilibrium.
+    pub max_node_jump: f64,
+    /// Total energy before \[J\].
+    pub energy_before: f64,
+    /// Total energy after \[J\].
+    pub energy_after: f64,
+    /// Base wrench before (base clamp frame).
+    pub base_wrench_before: Wrench,
+    /// Base wrench after (base clamp frame).
+    pub base_wrench_after: Wrench,
+}
+
+/// The result of a gripper motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motion {
+    /// The equilibrium at the target poses.
+    pub equilibrium: Equilibrium,
+    /// Snaps met on the way, in order.
+    pub snaps: Vec<SnapEvent>,
+    /// Continuation steps taken.
+    pub steps: usize,
+    /// Newton iterations summed over all steps (including rejected ones).
+    pub iterations: usize,
+}
+
+fn interpolate(a: &Pose, b: &Pose, s: f64) -> Pose {
+    let t = a.translation.vector.lerp(&b.translation.vector, s);
+    let r = a
+        .rotation
+        .try_slerp(&b.rotation, s, 1e-12)
+        .unwrap_or(if s < 0.5 { a.rotation } else { b.rotation });
+    Isometry3::from_parts(Translation3::from(t), r)
+}
+
+/// Carries `state` from its clamp poses to `base` and `tip`: a blend of the two grippers'
+/// rigid motions (exact when they move together), then the linear response of the free degrees
+/// of freedom to the remaining clamp displacement, then a projection onto the edge lengths.
+pub(crate) fn predict(world: &World, from: &Equilibrium, base: &Pose, tip: &Pose) -> RodState {
+    let state = &from.state;
+    let rod = world.rod();
+    let n = rod.edges();
+    let mut next = state.clone();
+    // Rigid part: the motion both grippers share (that of the base), applied to everything.
+    let db = base * state.base.inverse();
+    for x in next.nodes.iter_mut() {
+        *x = (db * nalgebra::Point3::from(*x)).coords;
+    }
+    for j in 0..n {
+        next.ref_tangent[j] = db.rotation * next.ref_tangent[j];
+        next.ref_d1[j] = db.rotation * next.ref_d1[j];
+    }
+    next.base = *base;
+    next.tip = db * state.tip;
+    // Linear response to the tip's remaining motion: δu = −H_uu⁻¹ H_uf δf. The Hessian of the
+    // previous equilibrium is reused when the base (hence everything) did not move.
+    let unmoved = db.translation.vector.norm() == 0.0 && db.rotation.angle() == 0.0;
+    let hessian = if unmoved {
+        Some(from.hessian.clone())
+    } else {
+        crate::energy::evaluate(world, &next, crate::energy::Order::Hessian).hess
+    };
+    let mut target = next.clone();
+    target.apply_clamps(rod, base, tip);
+    if let Some(mut hess) = hessian {
+        let fixed = newton::fixed_dofs(n);
+        let mut delta = vec![0.0; crate::energy::dof_count(n)];
+        for k in [n - 1, n] {
+            for c in 0..3 {
+                delta[crate::energy::x_dof(k, c)] = target.nodes[k][c] - next.nodes[k][c];
+            }
+        }
+        let turn = tip.rotation * next.tip.rotation.inverse();
+        delta[crate::energy::theta_dof(n - 1)] = turn
+            .scaled_axis()
+            .dot(&(next.tip.rotation * nalgebra::Vector3::x()));
+        let r = hess.mul_vec(&delta);
+        for &i in &fixed {
+            hess.pin(i);
+        }
+        if let Some(chol) = hess.cholesky() {
+            let mut rhs: Vec<f64> = r.iter().map(|v| -v).collect();
+            for &i in &fixed {
+                rhs[i] = 0.0;
+            }
+            let du = chol.solve(&rhs);
+            if du.iter().all(|v| v.is_finite()) {
+                for (k, x) in next.nodes.iter_mut().enumerate() {
+                    for c in 0..3 {
+                        x[c] += du[crate::energy::x_dof(k, c)];
+                    }
+                }
+                for (j, th) in next.theta.iter_mut().enumerate() {
+                    *th += du[crate::energy::theta_dof(j)];
+                }
+            }
+        }
+    }
+    next.apply_clamps(rod, base, tip);
+    next.rebase();
+    crate::projection::project_lengths(&mut next, rod.edge_length());
+    next
+}
+
+/// Runs a motion; returns the furthest equilibrium reached and the error that stopped it, if any.
+pub(crate) fn run(
+    world: &World,
+    from: &Equilibrium,
+    base: &Pose,
+    tip: &Pose,
+) -> (Motion, Option<SimError>) {
+    let mut motion = Motion {
+        equilibrium: from.clone(),
+        snaps: Vec::new(),
+        steps: 0,
+        iterations: 0,
+    };
+    if let Err(e) = world.check_poses(base, tip) {
+        return (motion, Some(e));
+    }
+    let settings = *world.continuation_settings();
+    let l = world.rod().params().length;
+    let (b0, t0) = (from.state.base, from.state.tip);
+    let trans = (base.translation.vector - b0.translation.vector)
+        .norm()
+        .max((tip.translation.vector - t0.translation.vector).norm());
+    let rot = b0
+        .rotation
+        .angle_to(&base.rotation)
+        .max(t0.rotation.angle_to(&tip.rotation));
+    let steps = (trans / (settings.max_translation_fraction * l))
+        .max(rot / settings.max_rotation)
+        .ceil()
+        .max(1.0);
+    let nominal = 1.0 / steps;
+    let smallest = nominal / f64::powi(2.0, settings.max_subdivisions as i32);
+    let snap_confirm = nominal / 16.0;
+    let snap_distance = settings.snap_distance_fraction * l;
+    let contact_limit = world.contact_step_limit();
+    let mut progress = 0.0;
+    let mut step = nominal;
+    let mut subdivisions = 0;
+    while progress < 1.0 {
+        let next = (progress + step).min(1.0);
+        let (bp, tp) = (interpolate(&b0, base, next), interpolate(&t0, tip, next));
+        let current = &motion.equilibrium;
+        let guess = predict(world, current, &bp, &tp);
+        let too_far = contact_limit.is_some_and(|lim| guess.max_distance(&current.state) > lim);
+        let halve = |step: f64, subdivisions: &mut usize| {
+            *subdivisions += 1;
+            step * 0.5
+        };
+        if too_far && step > smallest {
+            step = halve(step, &mut subdivisions);
+            continue;
+        }
+        match newton::solve(world, guess.clone()) {
+            Ok(result) => {
+                motion.iterations += result.iterations;
+                let jump = result.state.max_distance(&guess);
+                if jump > snap_distance && step > snap_confirm.max(smallest) {
+                    step = halve(step, &mut subdivisions);
+                    continue;
+                }
+                let eq = Equilibrium::from_newton(result);
+                if jump > snap_distance {
+                    motion.snaps.push(SnapEvent {
+                        progress: next,
+                        max_node_jump: jump,
+                        energy_before: current.energy(),
+                        energy_after: eq.energy(),
+                        base_wrench_before: current.base_wrench,
+                        base_wrench_after: eq.base_wrench,
+                    });
+                }
+                motion.equilibrium = eq;
+                motion.steps += 1;
+                progress = next;
+                step = (step * 2.0).min(nominal);
+            }
+            Err(failure) => {
+                motion.iterations += failure.iterations;
+                if step <= smallest {
+                    let error = SimError::NewtonFailed {
+                        iterations: failure.iterations,
+                        residual: failure.residual,
+                        subdivisions,
+                    };
+                    motion.equilibrium.convergence.iterations = motion.iterations;
+                    return (motion, Some(error));
+                }
+                step = halve(step, &mut subdivisions);
+            }
+        }
+    }
+    motion.equilibrium.convergence.iterations = motion.iterations;
+    (motion, None)
+}

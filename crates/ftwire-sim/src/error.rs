@@ -1,0 +1,117 @@
+//! The error type of the simulator.
+
+use thiserror::Error;
+
+/// Everything that can go wrong when building or solving the simulated world.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// A parameter that must be finite and strictly positive is not.
+    #[error("{field} = {value} must be finite and > 0")]
+    NotPositive {
+        /// Name of the offending parameter.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A value that must be finite is NaN or infinite.
+    #[error("{field}[{index}] = {value} is not finite; every component must be a finite number")]
+    NonFinite {
+        /// Name of the offending input.
+        field: &'static str,
+        /// Index of the offending component (0 for scalars).
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Too few edges to discretise the rod.
+    #[error("the rod needs at least {min} edges, got {edges}")]
+    TooFewEdges {
+        /// Requested number of edges.
+        edges: usize,
+        /// Smallest number allowed.
+        min: usize,
+    },
+    /// The clamp points are farther apart than the wire is long.
+    #[error(
+        "the grippers are {distance} m apart but the wire is only {length} m long; \
+         move them to at most {length} m apart"
+    )]
+    GrippersTooFarApart {
+        /// Distance between the clamp points \[m\].
+        distance: f64,
+        /// Wire length \[m\].
+        length: f64,
+    },
+    /// An initial guess has the wrong number of points or frames.
+    #[error("the initial guess has {got} {what}, the rod needs {expected}")]
+    GuessSize {
+        /// What was counted ("points" or "frames").
+        what: &'static str,
+        /// Number given.
+        got: usize,
+        /// Number needed.
+        expected: usize,
+    },
+    /// An initial guess has an edge of (nearly) zero length.
+    #[error("edge {edge} of the initial guess has zero length")]
+    DegenerateGuess {
+        /// Index of the degenerate edge.
+        edge: usize,
+    },
+    /// Newton's method found no equilibrium, even after subdividing the motion.
+    #[error(
+        "no equilibrium found: Newton failed after {iterations} iterations \
+         (residual {residual:e}, step halved {subdivisions} times); a Simulator keeps its last good state"
+    )]
+    NewtonFailed {
+        /// Newton iterations in the last attempt.
+        iterations: usize,
+        /// Scaled gradient norm at the end of the last attempt.
+        residual: f64,
+        /// How many times the motion step was halved before giving up.
+        subdivisions: usize,
+    },
+    /// The operation needs a solved equilibrium but there is none yet.
+    #[error("no equilibrium has been solved yet; call a solve method first")]
+    NotSolved,
+}
+
+impl From<ftwire_core::CoreError> for SimError {
+    fn from(e: ftwire_core::CoreError) -> Self {
+        match e {
+            ftwire_core::CoreError::NotPositive { field, value } => {
+                SimError::NotPositive { field, value }
+            }
+            ftwire_core::CoreError::NonFinite {
+                field,
+                index,
+                value,
+            } => SimError::NonFinite {
+                field,
+                index,
+                value,
+            },
+            // CoreError is non-exhaustive; a future variant is reported as a non-finite input.
+            _ => SimError::NonFinite {
+                field: "input",
+                index: 0,
+                value: f64::NAN,
+            },
+        }
+    }
+}
+
+/// Checks that every component is finite, naming `field` in the error.
+pub(crate) fn ensure_finite(field: &'static str, values: &[f64]) -> Result<(), SimError> {
+    Ok(ftwire_core::ensure_finite(field, values)?)
+}
+
+/// Checks that a value is finite and strictly positive.
+pub(crate) fn ensure_positive(field: &'static str, value: f64) -> Result<(), SimError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::NotPositive { field, value })
+    }
+}
