@@ -75,6 +75,19 @@ pub enum SimError {
     /// The operation needs a solved equilibrium but there is none yet.
     #[error("no equilibrium has been solved yet; call a solve method first")]
     NotSolved,
+    /// A sensing or acting model failed: a bad setting, or a sensor dropout.
+    #[error(transparent)]
+    Sensing(#[from] crate::sensor::SensingError),
+    /// A rig setting is out of its allowed range.
+    #[error("rig setting {field} = {value} is not allowed: {allowed}")]
+    RigSetting {
+        /// Name of the setting.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
 }
 
 impl From<ftwire_core::CoreError> for SimError {

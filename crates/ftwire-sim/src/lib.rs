@@ -30,7 +30,9 @@ pub use world::{DEFAULT_CONTACT_STIFFNESS, World};
 // sensing and acting
 pub mod execution;
 pub mod markers;
+pub mod rig;
 pub mod sensor;
 pub use execution::{ExecutionErrorConfig, ExecutionErrorModel};
 pub use markers::{MarkerConfig, MarkerFrame, MotionCapture, point_at_arc_length};
+pub use rig::{RigConfig, SimRig};
 pub use sensor::{FtReading, FtSensor, FtSensorConfig, SensingError};

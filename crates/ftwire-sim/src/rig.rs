@@ -1,0 +1,279 @@
+//! The simulated rig: the ground-truth world behind the [`Rig`] trait.
+//!
+//! [`SimRig`] is what the algorithms see instead of a robot: F/T samples from the
+//! [`FtSensor`] model, the gripper poses the robot *believes* it has (the commanded ones), and
+//! quasi-static moves that land with the [`ExecutionErrorModel`]'s error. The ground truth — the
+//! actual gripper poses, the equilibrium, the true wrench, motion-capture markers — is read
+//! through the sim-only methods of [`SimRig`], never through [`Rig`].
+//!
+//! Time: each F/T read takes the sensor's next clock tick; each move advances the clock by the
+//! time the grippers need at [`RigConfig::linear_speed`] and [`RigConfig::angular_speed`],
+//! plus [`RigConfig::settle_time`].
+
+use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
+
+use crate::continuation::Motion;
+use crate::equilibrium::Equilibrium;
+use crate::error::SimError;
+use crate::execution::{ExecutionErrorConfig, ExecutionErrorModel};
+use crate::markers::{MarkerConfig, MarkerFrame, MotionCapture};
+use crate::sensor::{FtReading, FtSensor, FtSensorConfig};
+use crate::simulator::Simulator;
+use crate::world::World;
+
+/// Settings of a [`SimRig`]: its sensing and acting models, its motion timing and its seed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigConfig {
+    /// The F/T sensor on the base gripper (default: [`FtSensorConfig::default`], the character
+    /// of a SensONE-class sensor; [`FtSensorConfig::ideal`] switches distortions off).
+    pub sensor: FtSensorConfig,
+    /// Motion capture (default: 11 markers, σ = 0.3 mm, 2 % dropouts).
+    pub markers: MarkerConfig,
+    /// Robot execution error (default: none; [`ExecutionErrorConfig::paper`] is 10 mm and 3°).
+    pub execution: ExecutionErrorConfig,
+    /// Gripper speed used to time a move \[m/s\] (default `0.05`).
+    pub linear_speed: f64,
+    /// Gripper angular speed used to time a move \[rad/s\] (default `0.5`).
+    pub angular_speed: f64,
+    /// Time to settle after each move \[s\] (default `0.1`).
+    pub settle_time: f64,
+    /// Seed of every random choice of the rig: sensor noise, drift and dropouts, marker noise
+    /// and dropouts, execution error (default `0`). Same seed, same run.
+    pub seed: u64,
+}
+
+impl Default for RigConfig {
+    fn default() -> Self {
+        Self {
+            sensor: FtSensorConfig::default(),
+            markers: MarkerConfig::default(),
+            execution: ExecutionErrorConfig::default(),
+            linear_speed: 0.05,
+            angular_speed: 0.5,
+            settle_time: 0.1,
+            seed: 0,
+        }
+    }
+}
+
+impl RigConfig {
+    /// A rig with no distortion at all: ideal sensor, ideal markers, no execution error.
+    pub fn ideal() -> Self {
+        Self {
+            sensor: FtSensorConfig::ideal(),
+            markers: MarkerConfig::ideal(),
+            ..Self::default()
+        }
+    }
+
+    fn validate(&self) -> Result<(), SimError> {
+        for (field, value) in [
+            ("linear_speed", self.linear_speed),
+            ("angular_speed", self.angular_speed),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(SimError::RigSetting {
+                    field,
+                    value,
+                    allowed: "a finite speed > 0",
+                });
+            }
+        }
+        if !(self.settle_time.is_finite() && self.settle_time >= 0.0) {
+            return Err(SimError::RigSetting {
+                field: "settle_time",
+                value: self.settle_time,
+                allowed: "a finite time ≥ 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Independent streams for the rig's models, derived from one user seed (SplitMix64 finaliser).
+fn stream_seed(seed: u64, stream: u64) -> u64 {
+    let mut z = seed ^ stream.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The simulated dual-arm rig: the discrete elastic rod between two grippers, a wrist F/T
+/// sensor, motion capture and robot execution error.
+///
+/// # Example
+/// ```
+/// use ftwire_core::{GripperPoses, Rig};
+/// use ftwire_sim::{RigConfig, RodParams, SimRig, World};
+/// use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+///
+/// let world = World::new(RodParams::nitinol_2mm_630().with_edges(40))?;
+/// let start = GripperPoses {
+///     base: Isometry3::identity(),
+///     tip: Isometry3::from_parts(Translation3::new(0.5, 0.1, 0.0), UnitQuaternion::identity()),
+/// };
+/// let mut rig = SimRig::new(world, start, RigConfig::ideal())?;
+/// let sample = rig.read_ft()?;
+/// // The ideal sensor reports the true base wrench, force first.
+/// let truth = rig.equilibrium().base_wrench;
+/// assert!((sample.raw[0] - truth.force.x).abs() < 1e-12);
+/// assert!((sample.raw[5] - truth.torque.z).abs() < 1e-12);
+/// # Ok::<(), ftwire_sim::SimError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct SimRig {
+    sim: Simulator,
+    sensor: FtSensor,
+    markers: MotionCapture,
+    execution: ExecutionErrorModel,
+    believed: GripperPoses,
+    time: f64,
+    config: RigConfig,
+}
+
+impl SimRig {
+    /// Places the wire between grippers at `start` (world frame, exactly: the initial placement
+    /// has no execution error) by a cold solve, and builds the rig around it.
+    ///
+    /// # Errors
+    /// [`SimError::RigSetting`] or [`SimError::Sensing`] for a bad setting, and the errors of
+    /// [`Simulator::new`].
+    pub fn new(world: World, start: GripperPoses, config: RigConfig) -> Result<Self, SimError> {
+        config.validate()?;
+        let sim = Simulator::new(world, &start.base, &start.tip)?;
+        Self::from_simulator(sim, config)
+    }
+
+    /// Builds the rig around a simulator that already holds an equilibrium; the robot believes
+    /// it is exactly where the grippers are.
+    ///
+    /// # Errors
+    /// [`SimError::RigSetting`] or [`SimError::Sensing`] for a bad setting.
+    pub fn from_simulator(sim: Simulator, config: RigConfig) -> Result<Self, SimError> {
+        config.validate()?;
+        let (base, tip) = sim.gripper_poses();
+        Ok(Self {
+            sensor: FtSensor::new(config.sensor.clone(), stream_seed(config.seed, 1))?,
+            markers: MotionCapture::new(config.markers.clone(), stream_seed(config.seed, 2))?,
+            execution: ExecutionErrorModel::new(config.execution, stream_seed(config.seed, 3))?,
+            believed: GripperPoses { base, tip },
+            sim,
+            time: 0.0,
+            config,
+        })
+    }
+
+    /// Reads one F/T sample with its saturation flags (the [`Rig::read_ft`] sample plus which
+    /// channels clipped).
+    ///
+    /// # Errors
+    /// [`SimError::Sensing`] with [`crate::SensingError::Dropout`] when the sensor misses a tick
+    /// (the tick and its time are consumed, as on a real bus).
+    pub fn read_ft_full(&mut self) -> Result<FtReading, SimError> {
+        let wrench = self.sim.equilibrium().base_wrench;
+        let tick = self.sensor.next_sample_time(self.time)?;
+        let result = self.sensor.read(&wrench, self.time);
+        self.time = tick;
+        Ok(result?)
+    }
+
+    /// Observes the motion-capture markers at the current time, in the world frame
+    /// (ground truth with marker noise and dropouts).
+    ///
+    /// # Errors
+    /// [`SimError::Sensing`] if the marker model rejects the centreline.
+    pub fn observe_markers(&mut self) -> Result<MarkerFrame, SimError> {
+        let equilibrium = self.sim.equilibrium();
+        let rod = self.sim.world().rod();
+        let arc_lengths: Vec<f64> = (0..rod.nodes()).map(|k| rod.node_arc_length(k)).collect();
+        let frame = self.markers.observe(
+            self.time,
+            &equilibrium.centreline(),
+            &arc_lengths,
+            rod.params().length,
+        )?;
+        Ok(frame)
+    }
+
+    /// Ground truth: the current equilibrium (true base wrench, shape, energy, contacts).
+    pub fn equilibrium(&self) -> &Equilibrium {
+        self.sim.equilibrium()
+    }
+
+    /// Ground truth: where the grippers actually are (world frame), execution error included.
+    pub fn actual_poses(&self) -> GripperPoses {
+        let (base, tip) = self.sim.gripper_poses();
+        GripperPoses { base, tip }
+    }
+
+    /// Ground truth: the simulator (world, equilibrium, snap events).
+    pub fn simulator(&self) -> &Simulator {
+        &self.sim
+    }
+
+    /// Ground truth: the F/T sensor model (its true bias, and the exact inverse of its
+    /// deterministic part, which algorithms must not use).
+    pub fn sensor(&self) -> &FtSensor {
+        &self.sensor
+    }
+
+    /// The rig's settings.
+    pub fn config(&self) -> &RigConfig {
+        &self.config
+    }
+
+    /// Moves the grippers and returns the motion (with its snap events). As [`Rig::command`].
+    ///
+    /// # Errors
+    /// As [`Rig::command`].
+    pub fn command_motion(&mut self, command: &Command) -> Result<&Motion, SimError> {
+        for (field, pose) in [
+            ("command.base", &command.base),
+            ("command.tip", &command.tip),
+        ] {
+            ensure_finite(field, pose.translation.vector.as_slice())?;
+            ensure_finite(field, pose.rotation.coords.as_slice())?;
+        }
+        let actual = self.execution.actual_poses(command)?;
+        let before = self.actual_poses();
+        let duration = self
+            .move_duration(&before.base, &actual.base)
+            .max(self.move_duration(&before.tip, &actual.tip));
+        let motion = self.sim.move_grippers(&actual.base, &actual.tip);
+        // Whether or not the wire followed, the arms moved (a failure leaves the last good
+        // equilibrium in the simulator), so the clock advances.
+        self.time += duration + self.config.settle_time;
+        let motion = motion?;
+        self.believed = GripperPoses {
+            base: command.base,
+            tip: command.tip,
+        };
+        Ok(motion)
+    }
+
+    fn move_duration(&self, from: &Pose, to: &Pose) -> f64 {
+        let distance = (to.translation.vector - from.translation.vector).norm();
+        let angle = from.rotation.angle_to(&to.rotation);
+        (distance / self.config.linear_speed).max(angle / self.config.angular_speed)
+    }
+}
+
+impl Rig for SimRig {
+    type Error = SimError;
+
+    fn read_ft(&mut self) -> Result<FtSample, SimError> {
+        Ok(self.read_ft_full()?.sample)
+    }
+
+    fn gripper_poses(&self) -> Result<GripperPoses, SimError> {
+        Ok(self.believed)
+    }
+
+    fn command(&mut self, command: &Command) -> Result<(), SimError> {
+        self.command_motion(command).map(|_| ())
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+}

@@ -1,0 +1,246 @@
+//! The simulated rig: what the `Rig` trait reports against the ground truth.
+
+use ftwire_core::{Command, GripperPoses, Pose, Rig};
+use ftwire_sim::{
+    ExecutionErrorConfig, FtSensorConfig, RigConfig, RodParams, SensingError, SimError, SimRig,
+    World,
+};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+fn pose(x: f64, y: f64, z: f64, yaw: f64) -> Pose {
+    Isometry3::from_parts(
+        Translation3::new(x, y, z),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw),
+    )
+}
+
+fn start() -> GripperPoses {
+    GripperPoses {
+        base: Pose::identity(),
+        tip: pose(0.5, 0.12, 0.0, 0.4),
+    }
+}
+
+fn world() -> World {
+    World::new(RodParams::nitinol_2mm_630().with_edges(40)).expect("valid preset")
+}
+
+fn rig(config: RigConfig) -> SimRig {
+    SimRig::new(world(), start(), config).expect("the start pose has an equilibrium")
+}
+
+#[test]
+fn ideal_sensor_reports_the_true_base_wrench_force_first_on_clock_ticks() {
+    let mut rig = rig(RigConfig::ideal());
+    let truth = rig.equilibrium().base_wrench;
+    let period = 1.0 / rig.config().sensor.rate;
+    let mut last = f64::NEG_INFINITY;
+    for _ in 0..5 {
+        let sample = rig.read_ft().expect("ideal sensor never drops out");
+        let expected = [
+            truth.force.x,
+            truth.force.y,
+            truth.force.z,
+            truth.torque.x,
+            truth.torque.y,
+            truth.torque.z,
+        ];
+        for (got, want) in sample.raw.iter().zip(expected) {
+            assert!((got - want).abs() < 1e-12, "raw {got} vs true {want}");
+        }
+        assert!((sample.time - rig.time()).abs() < 1e-15);
+        assert!(sample.time > last, "samples must move forward in time");
+        assert!(last.is_infinite() || sample.time - last <= period * (1.0 + 1e-9));
+        last = sample.time;
+    }
+    // A bent wire pushes on the gripper: the wrench is not trivially zero.
+    assert!(truth.torque.norm() > 1e-3);
+}
+
+#[test]
+fn command_moves_the_wire_and_the_robot_reports_the_command() {
+    let mut rig = rig(RigConfig::ideal());
+    let before = rig.equilibrium().base_wrench;
+    let t0 = rig.time();
+    let target = Command {
+        base: Pose::identity(),
+        tip: pose(0.45, 0.15, 0.02, 0.6),
+    };
+    rig.command(&target)
+        .expect("a small move has an equilibrium");
+    let believed = rig.gripper_poses().expect("poses");
+    assert_eq!(believed.tip, target.tip);
+    // No execution error: the wire's tip clamp is exactly where it was sent.
+    let actual = rig.actual_poses();
+    assert!((actual.tip.translation.vector - target.tip.translation.vector).norm() < 1e-12);
+    assert!((rig.equilibrium().base_wrench.torque - before.torque).norm() > 1e-4);
+    // 5 cm or so at 5 cm/s plus settling: the clock moved by about a second.
+    assert!(
+        rig.time() - t0 > 0.5 && rig.time() - t0 < 3.0,
+        "{}",
+        rig.time() - t0
+    );
+}
+
+#[test]
+fn execution_error_moves_the_wire_elsewhere_than_the_robot_believes() {
+    let config = RigConfig {
+        execution: ExecutionErrorConfig::paper(),
+        seed: 7,
+        ..RigConfig::ideal()
+    };
+    let mut rig = rig(config);
+    let target = Command {
+        base: Pose::identity(),
+        tip: pose(0.47, 0.14, 0.0, 0.5),
+    };
+    rig.command(&target).expect("move");
+    let believed = rig.gripper_poses().expect("poses");
+    let actual = rig.actual_poses();
+    assert_eq!(believed.tip, target.tip);
+    let miss = (actual.tip.translation.vector - believed.tip.translation.vector).norm()
+        + (actual.base.translation.vector - believed.base.translation.vector).norm();
+    assert!(
+        miss > 1e-4,
+        "10 mm execution error left the grippers {miss} m off"
+    );
+    assert!(miss < 0.15, "{miss}");
+}
+
+#[test]
+fn same_seed_same_run_other_seed_other_run() {
+    let run = |seed| {
+        let mut rig = rig(RigConfig {
+            execution: ExecutionErrorConfig::paper(),
+            seed,
+            ..RigConfig::default()
+        });
+        let mut out = Vec::new();
+        for _ in 0..3 {
+            match rig.read_ft() {
+                Ok(sample) => out.extend(sample.raw.iter().copied()),
+                Err(_) => out.push(f64::MAX),
+            }
+        }
+        rig.command(&Command {
+            base: Pose::identity(),
+            tip: pose(0.48, 0.13, 0.0, 0.45),
+        })
+        .expect("move");
+        out.extend(rig.actual_poses().tip.translation.vector.iter().copied());
+        out
+    };
+    assert_eq!(run(3), run(3));
+    assert_ne!(run(3), run(4));
+}
+
+#[test]
+fn a_dropout_is_an_error_that_consumes_the_tick_and_keeps_the_state() {
+    let config = RigConfig {
+        sensor: FtSensorConfig {
+            dropout_probability: 1.0 - f64::EPSILON,
+            ..FtSensorConfig::ideal()
+        },
+        ..RigConfig::ideal()
+    };
+    let mut rig = rig(config);
+    let before = rig.equilibrium().clone();
+    let mut ticks = Vec::new();
+    for _ in 0..2 {
+        match rig.read_ft() {
+            Err(SimError::Sensing(SensingError::Dropout { time })) => {
+                assert!((time - rig.time()).abs() < 1e-15);
+                ticks.push(time);
+            }
+            other => panic!("expected a dropout, got {other:?}"),
+        }
+    }
+    assert!(ticks[1] > ticks[0], "a dropped tick is consumed: {ticks:?}");
+    assert_eq!(rig.equilibrium(), &before);
+}
+
+#[test]
+fn bad_commands_are_refused_and_nothing_moves() {
+    let mut rig = rig(RigConfig::ideal());
+    let before = rig.equilibrium().clone();
+    let believed = rig.gripper_poses().expect("poses");
+
+    let nan = Command {
+        base: Pose::identity(),
+        tip: pose(f64::NAN, 0.0, 0.0, 0.0),
+    };
+    assert!(matches!(rig.command(&nan), Err(SimError::NonFinite { .. })));
+
+    let too_far = Command {
+        base: Pose::identity(),
+        tip: pose(0.9, 0.0, 0.0, 0.0),
+    };
+    assert!(matches!(
+        rig.command(&too_far),
+        Err(SimError::GrippersTooFarApart { .. })
+    ));
+    assert_eq!(rig.equilibrium(), &before);
+    assert_eq!(rig.gripper_poses().expect("poses"), believed);
+}
+
+#[test]
+fn bad_rig_settings_are_named() {
+    for (config, field) in [
+        (
+            RigConfig {
+                linear_speed: 0.0,
+                ..RigConfig::ideal()
+            },
+            "linear_speed",
+        ),
+        (
+            RigConfig {
+                angular_speed: f64::NAN,
+                ..RigConfig::ideal()
+            },
+            "angular_speed",
+        ),
+        (
+            RigConfig {
+                settle_time: -1.0,
+                ..RigConfig::ideal()
+            },
+            "settle_time",
+        ),
+    ] {
+        match SimRig::new(world(), start(), config) {
+            Err(SimError::RigSetting { field: f, .. }) => assert_eq!(f, field),
+            other => panic!("expected a RigSetting error for {field}, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn ideal_markers_sit_on_the_wire_from_base_to_tip() {
+    let mut rig = rig(RigConfig::ideal());
+    let frame = rig.observe_markers().expect("markers");
+    assert_eq!(frame.positions.len(), 11);
+    let first = frame.positions[0].expect("no dropouts in the ideal config");
+    let last = frame.positions[10].expect("no dropouts in the ideal config");
+    let tip = rig.actual_poses().tip.translation.vector;
+    assert!(
+        first.coords.norm() < 1e-9,
+        "first marker at the base clamp: {first}"
+    );
+    assert!(
+        (last.coords - tip).norm() < 1e-9,
+        "last marker at the tip clamp: {last}"
+    );
+    // Interior markers lie on the simulated centreline (within the chord sagitta of an edge).
+    let centreline = rig.equilibrium().centreline();
+    for marker in frame.positions.iter().flatten() {
+        let nearest = centreline
+            .iter()
+            .map(|p| (p - marker).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 0.63 / 39.0,
+            "marker {marker} is {nearest} m from every node"
+        );
+    }
+}
