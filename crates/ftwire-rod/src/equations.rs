@@ -24,7 +24,7 @@
 //! instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an independent
 //! integration of the full system (eq. 3 and `M' = F M`) and `J` against finite differences.
 
-use nalgebra::{Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::se3::hat;
 
@@ -157,66 +157,72 @@ pub(crate) struct FrameState {
     pub p: Vector3<f64>,
 }
 
-/// Frame and Jacobian: `q = (R, p)` and `J = [[jt], [jb]]` (angular rows, then linear).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct FullState {
-    pub frame: FrameState,
-    pub jt: Matrix3x6<f64>,
-    pub jb: Matrix3x6<f64>,
-}
+/// The flat integration state of the frame: `R` column-major (9), then `p` (3).
+pub(crate) type FrameArray = [f64; 12];
+/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the angular
+/// rows of `J` column-major (3×6), then its linear rows (3×6).
+pub(crate) type FullArray = [f64; 48];
+
+const JT: usize = 12;
+const JB: usize = 30;
 
 impl FrameState {
-    pub const IDENTITY: Self = Self {
-        r: Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-        p: Vector3::new(0.0, 0.0, 0.0),
-    };
-}
-
-impl FullState {
-    pub fn initial() -> Self {
+    /// The frame of a flat state (its first 12 numbers).
+    pub fn from_slice(y: &[f64]) -> Self {
         Self {
-            frame: FrameState::IDENTITY,
-            jt: Matrix3x6::zeros(),
-            jb: Matrix3x6::zeros(),
+            r: Matrix3::from_column_slice(&y[0..9]),
+            p: Vector3::new(y[9], y[10], y[11]),
         }
     }
 
-    pub fn jacobian(&self) -> Matrix6<f64> {
-        let mut j = Matrix6::zeros();
-        j.fixed_view_mut::<3, 6>(0, 0).copy_from(&self.jt);
-        j.fixed_view_mut::<3, 6>(3, 0).copy_from(&self.jb);
-        j
+    /// The initial flat state `q = I` (and `J = 0`).
+    pub fn initial<const D: usize>() -> [f64; D] {
+        let mut y = [0.0; D];
+        y[0] = 1.0;
+        y[4] = 1.0;
+        y[8] = 1.0;
+        y
     }
 }
 
-/// A state that explicit Runge–Kutta methods can combine.
-pub(crate) trait RkState: Copy {
-    /// `self += s · k`.
-    fn axpy(&mut self, s: f64, k: &Self);
+/// `J` from a flat full state.
+pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
+    Matrix6::from_fn(|row, col| {
+        if row < 3 {
+            y[JT + 3 * col + row]
+        } else {
+            y[JB + 3 * col + row - 3]
+        }
+    })
 }
 
 #[inline(always)]
-fn axpy_slice(y: &mut [f64], s: f64, k: &[f64]) {
-    for (y, k) in y.iter_mut().zip(k) {
-        *y += s * k;
-    }
+fn v3(y: &[f64], i: usize) -> [f64; 3] {
+    [y[i], y[i + 1], y[i + 2]]
 }
 
-impl RkState for FrameState {
-    #[inline(always)]
-    fn axpy(&mut self, s: f64, k: &Self) {
-        axpy_slice(self.r.as_mut_slice(), s, k.r.as_slice());
-        axpy_slice(self.p.as_mut_slice(), s, k.p.as_slice());
-    }
+#[inline(always)]
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-impl RkState for FullState {
-    #[inline(always)]
-    fn axpy(&mut self, s: f64, k: &Self) {
-        self.frame.axpy(s, &k.frame);
-        axpy_slice(self.jt.as_mut_slice(), s, k.jt.as_slice());
-        axpy_slice(self.jb.as_mut_slice(), s, k.jb.as_slice());
-    }
+#[inline(always)]
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// What the right-hand sides share: the columns of `R`, `p`, `μ = (m, n)` by closed form (A),
+/// and `u`.
+struct Local {
+    c: [[f64; 3]; 3],
+    p: [f64; 3],
+    m: [f64; 3],
+    n: [f64; 3],
+    u: [f64; 3],
 }
 
 /// Frame derivatives up to second order at one point, for Hermite dense output.
@@ -267,55 +273,82 @@ impl Kirchhoff {
         Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z)
     }
 
-    /// Eq. 1: `R' = R û`, `p' = R e1`.
     #[inline(always)]
-    pub fn frame_rate(&self, q: &FrameState) -> FrameState {
-        let (m, _) = self.costate(q);
-        let u = m.component_mul(&self.inv_c);
-        FrameState {
-            r: q.r * hat(&u),
-            p: q.r.column(0).into_owned(),
+    fn local(&self, y: &[f64]) -> Local {
+        let c = [v3(y, 0), v3(y, 3), v3(y, 6)];
+        let p = v3(y, 9);
+        let n0 = [self.n0.x, self.n0.y, self.n0.z];
+        let pn = cross(&p, &n0);
+        let mw = [self.m0.x - pn[0], self.m0.y - pn[1], self.m0.z - pn[2]];
+        let m = [dot(&c[0], &mw), dot(&c[1], &mw), dot(&c[2], &mw)];
+        let n = [dot(&c[0], &n0), dot(&c[1], &n0), dot(&c[2], &n0)];
+        let u = [
+            m[0] * self.inv_c.x,
+            m[1] * self.inv_c.y,
+            m[2] * self.inv_c.z,
+        ];
+        Local { c, p, m, n, u }
+    }
+
+    /// Eq. 1 for `R` and `p` from the local quantities, into `out[0..12]`.
+    #[inline(always)]
+    fn frame_part(l: &Local, out: &mut [f64]) {
+        let [c0, c1, c2] = &l.c;
+        let u = &l.u;
+        for i in 0..3 {
+            // R û: columns u_z c1 − u_y c2, −u_z c0 + u_x c2, u_y c0 − u_x c1.
+            out[i] = u[2] * c1[i] - u[1] * c2[i];
+            out[3 + i] = -u[2] * c0[i] + u[0] * c2[i];
+            out[6 + i] = u[1] * c0[i] - u[0] * c1[i];
+            out[9 + i] = c0[i];
         }
     }
 
-    /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B).
+    /// Eq. 1: `R' = R û`, `p' = R e1`, on the flat frame state.
     #[inline(always)]
-    pub fn full_rate(&self, s: &FullState) -> FullState {
-        let q = &s.frame;
-        let (m, n) = self.costate(q);
-        let u = m.component_mul(&self.inv_c);
-        let uh = hat(&u);
-        // M_top = [Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot.
-        let rt = q.r.transpose();
-        let rtph = rt * hat(&q.p);
-        let mut mtop = hat(&m) * s.jt + hat(&n) * s.jb;
-        for col in 0..3 {
-            for row in 0..3 {
-                mtop[(row, col)] += rt[(row, col)];
-                mtop[(row, col + 3)] -= rtph[(row, col)];
-            }
-        }
-        // J'_top = C⁻¹ M_top − û J_top;  J'_bot = −ê1 J_top − û J_bot.
-        let mut djt = -uh * s.jt;
-        for row in 0..3 {
-            let ic = self.inv_c[row];
-            for col in 0..6 {
-                djt[(row, col)] += ic * mtop[(row, col)];
-            }
-        }
-        let mut djb = -uh * s.jb;
+    pub fn frame_rate(&self, y: &FrameArray) -> FrameArray {
+        let l = self.local(y);
+        let mut out = [0.0; 12];
+        Self::frame_part(&l, &mut out);
+        out
+    }
+
+    /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
+    /// state: `J'_top = C⁻¹ ([Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot) − û J_top` and
+    /// `J'_bot = −ê1 J_top − û J_bot`.
+    #[inline(always)]
+    pub fn full_rate(&self, y: &FullArray) -> FullArray {
+        let l = self.local(y);
+        let mut out = [0.0; 48];
+        Self::frame_part(&l, &mut out);
+        let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
+        let [c0, c1, c2] = &l.c;
+        let p = &l.p;
+        // p × e_k for k = x, y, z.
+        let pxe = [[0.0, p[2], -p[1]], [-p[2], 0.0, p[0]], [p[1], -p[0], 0.0]];
         for col in 0..6 {
-            djb[(1, col)] += s.jt[(2, col)];
-            djb[(2, col)] -= s.jt[(1, col)];
+            let jt = v3(y, JT + 3 * col);
+            let jb = v3(y, JB + 3 * col);
+            // Column `col` of [Rᵀ, −Rᵀ p̂]; Rᵀ p̂ e_k = Rᵀ (p × e_k).
+            let base = if col < 3 {
+                [c0[col], c1[col], c2[col]]
+            } else {
+                let v = &pxe[col - 3];
+                [-dot(c0, v), -dot(c1, v), -dot(c2, v)]
+            };
+            let mj = cross(&l.m, &jt);
+            let nj = cross(&l.n, &jb);
+            let ujt = cross(&l.u, &jt);
+            let ujb = cross(&l.u, &jb);
+            for i in 0..3 {
+                out[JT + 3 * col + i] = ic[i] * (base[i] + mj[i] + nj[i]) - ujt[i];
+            }
+            // −ê1 v = (0, v_z, −v_y).
+            out[JB + 3 * col] = -ujb[0];
+            out[JB + 3 * col + 1] = jt[2] - ujb[1];
+            out[JB + 3 * col + 2] = -jt[1] - ujb[2];
         }
-        FullState {
-            frame: FrameState {
-                r: q.r * uh,
-                p: q.r.column(0).into_owned(),
-            },
-            jt: djt,
-            jb: djb,
-        }
+        out
     }
 
     /// `q, q', q''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`, with `u'` from eq. 3.

@@ -12,9 +12,9 @@ pub enum RodError {
     Core(#[from] CoreError),
     /// The configuration lies on the excluded plane `a2 = a3 = a5 = a6 = 0`, outside `A`.
     #[error(
-        "configuration a = {a:?} is outside A: (a2, a3, a5, a6) are all zero, a straight \
-         untwisted-bending-free wire whose shape is not determined by a; at least one of \
-         a2, a3, a5, a6 must be non-zero"
+        "configuration a = {a:?} is outside A: a2 = a3 = a5 = a6 = 0 is the plane excluded by \
+         eq. 2, where a does not determine the shape; at least one of a2, a3, a5, a6 must be \
+         non-zero"
     )]
     OutsideA {
         /// The offending configuration `(τ1, τ2, τ3, f1, f2, f3)`.

@@ -49,7 +49,6 @@
 //! re-orthonormalised by Gram–Schmidt from the tangent: error `O(h⁶)`.
 
 use crate::RodError;
-use crate::equations::RkState;
 
 /// An explicit Runge–Kutta method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -238,7 +237,12 @@ impl Integrator {
 
     /// One step of size `h` from `y` of the autonomous ODE `y' = f(y)`.
     #[inline(always)]
-    pub(crate) fn step<S: RkState>(&self, y: &S, h: f64, f: impl Fn(&S) -> S) -> S {
+    pub(crate) fn step<const D: usize>(
+        &self,
+        y: &[f64; D],
+        h: f64,
+        f: impl Fn(&[f64; D]) -> [f64; D],
+    ) -> [f64; D] {
         match self.method {
             Method::Rk4 => rk_step(&RK4_A, &RK4_B, y, h, f),
             Method::Rk6 => rk_step(&RK6_A, &RK6_B, y, h, f),
@@ -247,28 +251,36 @@ impl Integrator {
     }
 }
 
+/// One explicit RK step on a flat state of `D` numbers (fixed size, so the stage sums
+/// vectorise).
 #[inline(always)]
-fn rk_step<S: RkState, const N: usize>(
+fn rk_step<const D: usize, const N: usize>(
     a: &[[f64; N]; N],
     b: &[f64; N],
-    y: &S,
+    y: &[f64; D],
     h: f64,
-    f: impl Fn(&S) -> S,
-) -> S {
-    let mut k: [S; N] = [*y; N];
+    f: impl Fn(&[f64; D]) -> [f64; D],
+) -> [f64; D] {
+    let mut k = [[0.0; D]; N];
     for i in 0..N {
         let mut yi = *y;
         for j in 0..i {
-            if a[i][j] != 0.0 {
-                yi.axpy(h * a[i][j], &k[j]);
+            let c = h * a[i][j];
+            if c != 0.0 {
+                for (y, k) in yi.iter_mut().zip(&k[j]) {
+                    *y += c * k;
+                }
             }
         }
         k[i] = f(&yi);
     }
     let mut out = *y;
     for i in 0..N {
-        if b[i] != 0.0 {
-            out.axpy(h * b[i], &k[i]);
+        let c = h * b[i];
+        if c != 0.0 {
+            for (y, k) in out.iter_mut().zip(&k[i]) {
+                *y += c * k;
+            }
         }
     }
     out
@@ -465,25 +477,16 @@ pub(crate) fn quintic_hermite(theta: f64) -> [f64; 6] {
 mod tests {
     use super::*;
 
-    #[derive(Clone, Copy)]
-    struct Scalar2([f64; 2]);
-    impl RkState for Scalar2 {
-        fn axpy(&mut self, s: f64, k: &Self) {
-            self.0[0] += s * k.0[0];
-            self.0[1] += s * k.0[1];
-        }
-    }
-
     /// Empirical order on a nonlinear autonomous system with a known solution: the
     /// pendulum-free Lotka–Volterra-like system y' = (y1², 1) with y1(x) = 1/(1 − x).
     fn error(method: Method, steps: usize) -> f64 {
         let integ = Integrator::new(method, steps).expect("valid");
         let h = 0.5 / steps as f64;
-        let mut y = Scalar2([1.0, 0.0]);
+        let mut y = [1.0, 0.0];
         for _ in 0..steps {
-            y = integ.step(&y, h, |s| Scalar2([s.0[0] * s.0[0], 1.0]));
+            y = integ.step(&y, h, |s| [s[0] * s[0], 1.0]);
         }
-        (y.0[0] - 2.0).abs()
+        (y[0] - 2.0).abs()
     }
 
     #[test]

@@ -8,7 +8,7 @@
 use ftwire_core::{Pose, WireParams};
 use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
 
-use crate::equations::{FrameJet, FrameState, FullState, Kirchhoff};
+use crate::equations::{FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_of};
 use crate::integrator::{Integrator, quintic_hermite};
 use crate::intersection::self_contact;
 use crate::stability::{SignTracker, Stability};
@@ -188,15 +188,15 @@ impl Rod {
         mut knots: Option<&mut Vec<FrameJet>>,
         record_det: bool,
         early_exit: bool,
-    ) -> (FullState, SignTracker) {
+    ) -> (FullArray, SignTracker) {
         let steps = self.steps_for(model);
         let h = self.wire.length() / steps as f64;
         let mut tracker = SignTracker::new(h, record_det);
-        let mut y = FullState::initial();
+        let mut y: FullArray = FrameState::initial();
         if let Some(k) = knots.as_deref_mut() {
-            k.push(model.frame_jet(&y.frame));
+            k.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
-        let f = |s: &FullState| model.full_rate(s);
+        let f = |s: &FullArray| model.full_rate(s);
         let substeps = self.integrator.first_step_substeps();
         let sub = h / substeps as f64;
         for _ in 0..substeps {
@@ -207,9 +207,9 @@ impl Rod {
                 y = self.integrator.step(&y, h, f);
             }
             if let Some(k) = knots.as_deref_mut() {
-                k.push(model.frame_jet(&y.frame));
+                k.push(model.frame_jet(&FrameState::from_slice(&y)));
             }
-            let det = y.jacobian().determinant();
+            let det = jacobian_of(&y).determinant();
             if !tracker.push(k as f64 * h, det) && early_exit {
                 break;
             }
@@ -221,11 +221,12 @@ impl Rod {
         &self,
         a: &Vector6<f64>,
         model: &Kirchhoff,
-        y: &FullState,
+        y: &FullArray,
         tracker: SignTracker,
     ) -> Result<JacobianSolution, RodError> {
-        let tip = pose_of(&y.frame);
-        let jacobian = y.jacobian();
+        let frame = FrameState::from_slice(y);
+        let tip = pose_of(&frame);
+        let jacobian = jacobian_of(y);
         if !(jacobian.iter().all(|v| v.is_finite())
             && tip.translation.vector.iter().all(|v| v.is_finite()))
         {
@@ -234,7 +235,7 @@ impl Rod {
                 steps: self.steps_for(model),
             });
         }
-        let costate_tip = model.costate6(&y.frame);
+        let costate_tip = model.costate6(&frame);
         let m = crate::m_matrix(&tip, &costate_tip, &jacobian);
         Ok(JacobianSolution {
             tip,
@@ -310,13 +311,13 @@ impl Rod {
         let steps = self.steps_for(&model);
         let h = self.wire.length() / steps as f64;
         let mut knots = Vec::with_capacity(steps + 1);
-        let mut y = FrameState::IDENTITY;
-        knots.push(model.frame_jet(&y));
+        let mut y: FrameArray = FrameState::initial();
+        knots.push(model.frame_jet(&FrameState::from_slice(&y)));
         for _ in 0..steps {
             y = self.integrator.step(&y, h, |s| model.frame_rate(s));
-            knots.push(model.frame_jet(&y));
+            knots.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
-        if !y.p.iter().chain(y.r.iter()).all(|v| v.is_finite()) {
+        if !y.iter().all(|v| v.is_finite()) {
             return Err(RodError::Diverged {
                 a: (*a).into(),
                 steps,
