@@ -306,21 +306,18 @@ impl Kirchhoff {
 
     /// Eq. 1: `R' = R û`, `p' = R e1`, on the flat frame state.
     #[inline(always)]
-    pub fn frame_rate(&self, y: &FrameArray) -> FrameArray {
+    pub fn frame_rate(&self, y: &FrameArray, out: &mut FrameArray) {
         let l = self.local(y);
-        let mut out = [0.0; 12];
-        Self::frame_part(&l, &mut out);
-        out
+        Self::frame_part(&l, out);
     }
 
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
     /// state: `J'_top = C⁻¹ ([Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot) − û J_top` and
     /// `J'_bot = −ê1 J_top − û J_bot`.
     #[inline(always)]
-    pub fn full_rate(&self, y: &FullArray) -> FullArray {
+    pub fn full_rate(&self, y: &FullArray, out: &mut FullArray) {
         let l = self.local(y);
-        let mut out = [0.0; 48];
-        Self::frame_part(&l, &mut out);
+        Self::frame_part(&l, out);
         let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
         let [c0, c1, c2] = &l.c;
         let p = &l.p;
@@ -348,7 +345,6 @@ impl Kirchhoff {
             out[JB + 3 * col + 1] = jt[2] - ujb[1];
             out[JB + 3 * col + 2] = -jt[1] - ujb[2];
         }
-        out
     }
 
     /// `q, q', q''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`, with `u'` from eq. 3.

@@ -241,7 +241,7 @@ impl Integrator {
         &self,
         y: &[f64; D],
         h: f64,
-        f: impl Fn(&[f64; D]) -> [f64; D],
+        f: impl Fn(&[f64; D], &mut [f64; D]),
     ) -> [f64; D] {
         match self.method {
             Method::Rk4 => rk_step(&RK4_A, &RK4_B, y, h, f),
@@ -259,20 +259,24 @@ fn rk_step<const D: usize, const N: usize>(
     b: &[f64; N],
     y: &[f64; D],
     h: f64,
-    f: impl Fn(&[f64; D]) -> [f64; D],
+    f: impl Fn(&[f64; D], &mut [f64; D]),
 ) -> [f64; D] {
     let mut k = [[0.0; D]; N];
+    let mut yi = *y;
     for i in 0..N {
-        let mut yi = *y;
-        for j in 0..i {
-            let c = h * a[i][j];
-            if c != 0.0 {
-                for (y, k) in yi.iter_mut().zip(&k[j]) {
-                    *y += c * k;
+        if i > 0 {
+            yi = *y;
+            let (done, _) = k.split_at(i);
+            for (j, kj) in done.iter().enumerate() {
+                let c = h * a[i][j];
+                if c != 0.0 {
+                    for (y, k) in yi.iter_mut().zip(kj) {
+                        *y += c * k;
+                    }
                 }
             }
         }
-        k[i] = f(&yi);
+        f(&yi, &mut k[i]);
     }
     let mut out = *y;
     for i in 0..N {
@@ -484,7 +488,7 @@ mod tests {
         let h = 0.5 / steps as f64;
         let mut y = [1.0, 0.0];
         for _ in 0..steps {
-            y = integ.step(&y, h, |s| [s[0] * s[0], 1.0]);
+            y = integ.step(&y, h, |s, out| *out = [s[0] * s[0], 1.0]);
         }
         (y[0] - 2.0).abs()
     }

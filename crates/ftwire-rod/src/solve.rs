@@ -196,7 +196,7 @@ impl Rod {
         if let Some(k) = knots.as_deref_mut() {
             k.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
-        let f = |s: &FullArray| model.full_rate(s);
+        let f = |s: &FullArray, out: &mut FullArray| model.full_rate(s, out);
         let substeps = self.integrator.first_step_substeps();
         let sub = h / substeps as f64;
         for _ in 0..substeps {
@@ -314,7 +314,9 @@ impl Rod {
         let mut y: FrameArray = FrameState::initial();
         knots.push(model.frame_jet(&FrameState::from_slice(&y)));
         for _ in 0..steps {
-            y = self.integrator.step(&y, h, |s| model.frame_rate(s));
+            y = self
+                .integrator
+                .step(&y, h, |s, out| model.frame_rate(s, out));
             knots.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
         if !y.iter().all(|v| v.is_finite()) {
