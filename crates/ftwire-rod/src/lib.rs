@@ -1,1 +1,36 @@
-//! The Kirchhoff elastic-rod model of a wire: configuration space A, shape, Jacobian, stability, self-intersection.
+#![doc = include_str!("../README.md")]
+//!
+//! # Modules
+//!
+//! - [`configuration`]: the set `A` (paper eq. 2), validation, normalised units.
+//! - [`equations`]: eq. 1, 3, 4 and the closed forms for `μ(t)` and `M(t)`.
+//! - [`integrator`]: fixed-step Runge–Kutta, the convergence study, dense output.
+//! - [`solve`]: [`Rod`], the entry point: [`Rod::solve`], [`Rod::shape`], [`Rod::jacobian`],
+//!   [`Rod::is_stable`], [`Rod::tip`].
+//! - [`stability`]: the `det J` sign test and the first-step pitfall.
+//! - [`intersection`]: self-contact of the centreline.
+//! - [`perturbation`]: the perturbation map of paper eq. 8–11.
+//! - [`sampling`]: seeded uniform sampling of `A`, `A_stable`, `A_free`.
+//! - [`batch`]: many solves at once (parallel with the `parallel` feature).
+//! - [`se3`]: hat/vee, se(3) exp/log, adjoints.
+
+pub mod batch;
+pub mod configuration;
+pub mod equations;
+mod error;
+pub mod integrator;
+pub mod intersection;
+pub mod perturbation;
+pub mod sampling;
+pub mod se3;
+pub mod solve;
+pub mod stability;
+
+pub use configuration::{from_normalised, to_normalised, validate_configuration};
+pub use equations::{costate_rate, f_matrix, g_matrix, h_matrix, m_matrix};
+pub use error::RodError;
+pub use ftwire_core::{CoreError, Pose, WireParams};
+pub use integrator::{Integrator, Method};
+pub use intersection::{Contact, segment_distance, self_contact};
+pub use solve::{DEFAULT_NODES, JacobianSolution, Rod, Shape, Solution};
+pub use stability::Stability;

@@ -1,0 +1,370 @@
+//! The equations of the Kirchhoff wire (paper §II-A, eq. 1, 3, 4; Bretl & McCarthy 2014).
+//!
+//! Conventions (DESIGN.md "The model"): `q(t) = (R(t), p(t))` is the wire frame at arc length
+//! `t` relative to the base clamp, `q(0) = I`, x axis along the tangent; `μ(t) = (m, n)` is the
+//! internal wrench (torque first) in the body frame; `u = (μ1/c1, μ2/c2, μ3/c3)`.
+//!
+//! # Closed forms used by the solver (derived here, checked by tests)
+//!
+//! The wrench is constant in the base frame (`n' = 0`, `m' + p' × n = 0` there), so with
+//! `a = (m0, n0)`:
+//!
+//! ```text
+//! μ(t) = Ad_{q(t)}ᵀ a = ( Rᵀ (m0 − p × n0),  Rᵀ n0 )                          (A)
+//! ```
+//!
+//! which satisfies eq. 3 identically. Perturbing `a` moves `q` to `q exp(ĵ)` with `j = J δa`,
+//! and differentiating (A) gives `M(t) = ∂μ(t)/∂a` algebraically:
+//!
+//! ```text
+//! M(t) = Ad_{q(t)}ᵀ + K(μ(t)) J(t),   K(m, n) = [[m̂, n̂], [n̂, 0]]                (B)
+//! ```
+//!
+//! so the solver integrates only `q` and `J` (eq. 1 and `J' = G M + H J` of eq. 4), 48 states
+//! instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an independent
+//! integration of the full system (eq. 3 and `M' = F M`) and `J` against finite differences.
+
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+
+use crate::se3::hat;
+
+/// The right-hand side of the costate ODE, paper eq. 3: `μ'` for stiffnesses `c` \[N·m²\].
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector6;
+/// // A pure force along the tangent (a straight wire under tension) is an equilibrium.
+/// let rate = ftwire_rod::costate_rate([1.0, 2.0, 3.0], &Vector6::new(0.0, 0.0, 0.0, 1.0, 0.0, 0.0));
+/// assert_eq!(rate, Vector6::zeros());
+/// ```
+pub fn costate_rate(c: [f64; 3], mu: &Vector6<f64>) -> Vector6<f64> {
+    let u = [mu[0] / c[0], mu[1] / c[1], mu[2] / c[2]];
+    Vector6::new(
+        u[2] * mu[1] - u[1] * mu[2],
+        mu[5] + u[0] * mu[2] - u[2] * mu[0],
+        -mu[4] + u[1] * mu[0] - u[0] * mu[1],
+        u[2] * mu[4] - u[1] * mu[5],
+        u[0] * mu[5] - u[2] * mu[3],
+        u[1] * mu[3] - u[0] * mu[4],
+    )
+}
+
+/// `F(μ) = ∂μ'/∂μ` of paper eq. 4 (DESIGN.md lists it entry by entry).
+pub fn f_matrix(c: [f64; 3], mu: &Vector6<f64>) -> Matrix6<f64> {
+    let [c1, c2, c3] = c;
+    let m = mu;
+    let (d32, d13, d21) = (
+        1.0 / c3 - 1.0 / c2,
+        1.0 / c1 - 1.0 / c3,
+        1.0 / c2 - 1.0 / c1,
+    );
+    Matrix6::from_row_slice(&[
+        0.0,
+        d32 * m[2],
+        d32 * m[1],
+        0.0,
+        0.0,
+        0.0, //
+        d13 * m[2],
+        0.0,
+        d13 * m[0],
+        0.0,
+        0.0,
+        1.0, //
+        d21 * m[1],
+        d21 * m[0],
+        0.0,
+        0.0,
+        -1.0,
+        0.0, //
+        0.0,
+        -m[5] / c2,
+        m[4] / c3,
+        0.0,
+        m[2] / c3,
+        -m[1] / c2, //
+        m[5] / c1,
+        0.0,
+        -m[3] / c3,
+        -m[2] / c3,
+        0.0,
+        m[0] / c1, //
+        -m[4] / c1,
+        m[3] / c2,
+        0.0,
+        m[1] / c2,
+        -m[0] / c1,
+        0.0,
+    ])
+}
+
+/// `G = [[diag(1/c1, 1/c2, 1/c3), 0], [0, 0]]` of paper eq. 4.
+pub fn g_matrix(c: [f64; 3]) -> Matrix6<f64> {
+    let mut g = Matrix6::zeros();
+    for (i, ci) in c.iter().enumerate() {
+        g[(i, i)] = 1.0 / ci;
+    }
+    g
+}
+
+/// `H(μ) = −ad_ξ` of paper eq. 4 for the body twist `ξ = (u, e1)`.
+pub fn h_matrix(c: [f64; 3], mu: &Vector6<f64>) -> Matrix6<f64> {
+    let xi = Vector6::new(mu[0] / c[0], mu[1] / c[1], mu[2] / c[2], 1.0, 0.0, 0.0);
+    -crate::se3::ad(&xi)
+}
+
+/// `M(t) = ∂μ(t)/∂a` from the frame, costate and Jacobian at `t`, by the closed form (B) of
+/// this module: `M = Ad_qᵀ + [[m̂, n̂], [n̂, 0]] J`.
+pub fn m_matrix(q: &ftwire_core::Pose, mu: &Vector6<f64>, j: &Matrix6<f64>) -> Matrix6<f64> {
+    let mut k = Matrix6::zeros();
+    let mh = hat(&mu.fixed_rows::<3>(0).into_owned());
+    let nh = hat(&mu.fixed_rows::<3>(3).into_owned());
+    k.fixed_view_mut::<3, 3>(0, 0).copy_from(&mh);
+    k.fixed_view_mut::<3, 3>(0, 3).copy_from(&nh);
+    k.fixed_view_mut::<3, 3>(3, 0).copy_from(&nh);
+    crate::se3::adjoint(q).transpose() + k * j
+}
+
+/// An a-priori bound `σ` \[1/m\] on how fast the solution turns: the larger of the
+/// curvature bound and the load wavenumber,
+///
+/// ```text
+/// |u(t)| ≤ √(2 (H + |n|) / c_min),   H = ½ Σ μi²/ci + μ4 (conserved),   and   √(|n| / c_min),
+/// ```
+///
+/// both constant along the wire (`½ Σ μi²/ci = H − μ4 ≤ H + |n|`). The adaptive integrator
+/// takes steps in proportion to `σ L`.
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector6;
+/// // Pure bending: the bound is the exact curvature τ / c3.
+/// let s = ftwire_rod::equations::turning_scale([1.0, 1.0, 0.5], &Vector6::new(0.0, 0.0, 2.0, 0.0, 0.0, 0.0));
+/// assert!((s - 4.0).abs() < 1e-12);
+/// ```
+pub fn turning_scale(c: [f64; 3], a: &Vector6<f64>) -> f64 {
+    let c_min = c[0].min(c[1]).min(c[2]);
+    let h = 0.5 * (a[0] * a[0] / c[0] + a[1] * a[1] / c[1] + a[2] * a[2] / c[2]) + a[3];
+    let n = (a[3] * a[3] + a[4] * a[4] + a[5] * a[5]).sqrt();
+    let curvature = (2.0 * (h + n).max(0.0) / c_min).sqrt();
+    curvature.max((n / c_min).sqrt())
+}
+
+/// The frame part of the state: `q = (R, p)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct FrameState {
+    pub r: Matrix3<f64>,
+    pub p: Vector3<f64>,
+}
+
+/// The flat integration state of the frame: `R` column-major (9), then `p` (3).
+pub(crate) type FrameArray = [f64; 12];
+/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the angular
+/// rows of `J` column-major (3×6), then its linear rows (3×6).
+pub(crate) type FullArray = [f64; 48];
+
+const JT: usize = 12;
+const JB: usize = 30;
+
+impl FrameState {
+    /// The frame of a flat state (its first 12 numbers).
+    pub fn from_slice(y: &[f64]) -> Self {
+        Self {
+            r: Matrix3::from_column_slice(&y[0..9]),
+            p: Vector3::new(y[9], y[10], y[11]),
+        }
+    }
+
+    /// The initial flat state `q = I` (and `J = 0`).
+    pub fn initial<const D: usize>() -> [f64; D] {
+        let mut y = [0.0; D];
+        y[0] = 1.0;
+        y[4] = 1.0;
+        y[8] = 1.0;
+        y
+    }
+}
+
+/// `J` from a flat full state.
+pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
+    Matrix6::from_fn(|row, col| {
+        if row < 3 {
+            y[JT + 3 * col + row]
+        } else {
+            y[JB + 3 * col + row - 3]
+        }
+    })
+}
+
+#[inline(always)]
+fn v3(y: &[f64], i: usize) -> [f64; 3] {
+    [y[i], y[i + 1], y[i + 2]]
+}
+
+#[inline(always)]
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// What the right-hand sides share: the columns of `R`, `p`, `μ = (m, n)` by closed form (A),
+/// and `u`.
+struct Local {
+    c: [[f64; 3]; 3],
+    p: [f64; 3],
+    m: [f64; 3],
+    n: [f64; 3],
+    u: [f64; 3],
+}
+
+/// Frame derivatives up to second order at one point, for Hermite dense output.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrameJet {
+    pub frame: FrameState,
+    pub d1: FrameState,
+    pub d2: FrameState,
+}
+
+/// The right-hand sides for one configuration `a` and stiffnesses `c`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Kirchhoff {
+    c: [f64; 3],
+    inv_c: Vector3<f64>,
+    m0: Vector3<f64>,
+    n0: Vector3<f64>,
+}
+
+impl Kirchhoff {
+    pub fn new(c: [f64; 3], a: &Vector6<f64>) -> Self {
+        Self {
+            c,
+            inv_c: Vector3::new(1.0 / c[0], 1.0 / c[1], 1.0 / c[2]),
+            m0: Vector3::new(a[0], a[1], a[2]),
+            n0: Vector3::new(a[3], a[4], a[5]),
+        }
+    }
+
+    /// [`turning_scale`] of this configuration.
+    pub fn turning_scale(&self) -> f64 {
+        let a = Vector6::new(
+            self.m0.x, self.m0.y, self.m0.z, self.n0.x, self.n0.y, self.n0.z,
+        );
+        turning_scale(self.c, &a)
+    }
+
+    /// `μ = Ad_qᵀ a` (closed form (A)), as `(m, n)`.
+    #[inline(always)]
+    pub fn costate(&self, q: &FrameState) -> (Vector3<f64>, Vector3<f64>) {
+        let mw = self.m0 - q.p.cross(&self.n0);
+        (q.r.tr_mul(&mw), q.r.tr_mul(&self.n0))
+    }
+
+    /// `μ` as a 6-vector.
+    pub fn costate6(&self, q: &FrameState) -> Vector6<f64> {
+        let (m, n) = self.costate(q);
+        Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z)
+    }
+
+    #[inline(always)]
+    fn local(&self, y: &[f64]) -> Local {
+        let c = [v3(y, 0), v3(y, 3), v3(y, 6)];
+        let p = v3(y, 9);
+        let n0 = [self.n0.x, self.n0.y, self.n0.z];
+        let pn = cross(&p, &n0);
+        let mw = [self.m0.x - pn[0], self.m0.y - pn[1], self.m0.z - pn[2]];
+        let m = [dot(&c[0], &mw), dot(&c[1], &mw), dot(&c[2], &mw)];
+        let n = [dot(&c[0], &n0), dot(&c[1], &n0), dot(&c[2], &n0)];
+        let u = [
+            m[0] * self.inv_c.x,
+            m[1] * self.inv_c.y,
+            m[2] * self.inv_c.z,
+        ];
+        Local { c, p, m, n, u }
+    }
+
+    /// Eq. 1 for `R` and `p` from the local quantities, into `out[0..12]`.
+    #[inline(always)]
+    fn frame_part(l: &Local, out: &mut [f64]) {
+        let [c0, c1, c2] = &l.c;
+        let u = &l.u;
+        for i in 0..3 {
+            // R û: columns u_z c1 − u_y c2, −u_z c0 + u_x c2, u_y c0 − u_x c1.
+            out[i] = u[2] * c1[i] - u[1] * c2[i];
+            out[3 + i] = -u[2] * c0[i] + u[0] * c2[i];
+            out[6 + i] = u[1] * c0[i] - u[0] * c1[i];
+            out[9 + i] = c0[i];
+        }
+    }
+
+    /// Eq. 1: `R' = R û`, `p' = R e1`, on the flat frame state.
+    #[inline(always)]
+    pub fn frame_rate(&self, y: &FrameArray, out: &mut FrameArray) {
+        let l = self.local(y);
+        Self::frame_part(&l, out);
+    }
+
+    /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
+    /// state: `J'_top = C⁻¹ ([Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot) − û J_top` and
+    /// `J'_bot = −ê1 J_top − û J_bot`.
+    #[inline(always)]
+    pub fn full_rate(&self, y: &FullArray, out: &mut FullArray) {
+        let l = self.local(y);
+        Self::frame_part(&l, out);
+        let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
+        let [c0, c1, c2] = &l.c;
+        let p = &l.p;
+        // p × e_k for k = x, y, z.
+        let pxe = [[0.0, p[2], -p[1]], [-p[2], 0.0, p[0]], [p[1], -p[0], 0.0]];
+        for col in 0..6 {
+            let jt = v3(y, JT + 3 * col);
+            let jb = v3(y, JB + 3 * col);
+            // Column `col` of [Rᵀ, −Rᵀ p̂]; Rᵀ p̂ e_k = Rᵀ (p × e_k).
+            let base = if col < 3 {
+                [c0[col], c1[col], c2[col]]
+            } else {
+                let v = &pxe[col - 3];
+                [-dot(c0, v), -dot(c1, v), -dot(c2, v)]
+            };
+            let mj = cross(&l.m, &jt);
+            let nj = cross(&l.n, &jb);
+            let ujt = cross(&l.u, &jt);
+            let ujb = cross(&l.u, &jb);
+            for i in 0..3 {
+                out[JT + 3 * col + i] = ic[i] * (base[i] + mj[i] + nj[i]) - ujt[i];
+            }
+            // −ê1 v = (0, v_z, −v_y).
+            out[JB + 3 * col] = -ujb[0];
+            out[JB + 3 * col + 1] = jt[2] - ujb[1];
+            out[JB + 3 * col + 2] = -jt[1] - ujb[2];
+        }
+    }
+
+    /// `q, q', q''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`, with `u'` from eq. 3.
+    pub fn frame_jet(&self, q: &FrameState) -> FrameJet {
+        let mu = self.costate6(q);
+        let u = mu.fixed_rows::<3>(0).component_mul(&self.inv_c);
+        let du = costate_rate(self.c, &mu)
+            .fixed_rows::<3>(0)
+            .component_mul(&self.inv_c);
+        let uh = hat(&u);
+        FrameJet {
+            frame: *q,
+            d1: FrameState {
+                r: q.r * uh,
+                p: q.r.column(0).into_owned(),
+            },
+            d2: FrameState {
+                r: q.r * (uh * uh + hat(&du)),
+                p: q.r * Vector3::new(0.0, u.z, -u.y),
+            },
+        }
+    }
+}

@@ -1,0 +1,447 @@
+//! Solving the wire for a configuration `a` (paper §II-A): shape `q(t)`, costate `μ(t)`,
+//! `Γ(a) = q(L)`, `J(L)`, `M(L)`, `det J(t)` along the wire, stability and self-intersection.
+//!
+//! [`Rod::solve`] does everything; the hot paths do less: [`Rod::shape`] (frames only),
+//! [`Rod::jacobian`] (`J(L)`, tip and stability, no shape) and [`Rod::is_stable`] (stops at
+//! the first sign change of `det J`).
+
+use ftwire_core::{Pose, WireParams};
+use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
+
+use crate::equations::{FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_of};
+use crate::integrator::{Integrator, quintic_hermite};
+use crate::intersection::self_contact;
+use crate::stability::{SignTracker, Stability};
+use crate::{RodError, validate_configuration};
+
+/// Default number of shape nodes (both ends included).
+pub const DEFAULT_NODES: usize = 64;
+/// Fewest shape nodes accepted (the two ends).
+pub const MIN_NODES: usize = 2;
+/// Most shape nodes accepted.
+pub const MAX_NODES: usize = 1_000_000;
+
+/// A wire and the settings to solve it: the model's entry point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rod {
+    wire: WireParams,
+    integrator: Integrator,
+}
+
+/// The wire's shape at `N` nodes uniformly spaced in arc length from `t = 0` to `t = L`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Shape {
+    /// Arc length `t_i = i L / (N − 1)` of each node \[m\].
+    pub arc_length: Vec<f64>,
+    /// Node positions `p(t_i)` \[m\] in the base clamp frame.
+    pub positions: Vec<Vector3<f64>>,
+    /// Material frames `R(t_i)` (columns: tangent, then the bending axes of `c2`, `c3`), base
+    /// clamp frame from body frame.
+    pub rotations: Vec<Rotation3<f64>>,
+}
+
+impl Shape {
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Whether there are no nodes.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// The frame `q(t_i)` of node `i` as a pose (base clamp from body), if it exists.
+    pub fn pose(&self, i: usize) -> Option<Pose> {
+        let p = self.positions.get(i)?;
+        let r = self.rotations.get(i)?;
+        Some(Pose::from_parts(
+            Translation3::from(*p),
+            UnitQuaternion::from_rotation_matrix(r),
+        ))
+    }
+
+    /// Arc-length spacing of the nodes \[m\].
+    pub fn spacing(&self) -> f64 {
+        match (self.arc_length.first(), self.arc_length.last()) {
+            (Some(a), Some(b)) if self.len() > 1 => (b - a) / (self.len() - 1) as f64,
+            _ => 0.0,
+        }
+    }
+}
+
+/// `J(L)`, the tip pose and stability, without the shape ([`Rod::jacobian`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JacobianSolution {
+    /// `Γ(a) = q(L)`: the second gripper's clamp pose in the base clamp frame.
+    pub tip: Pose,
+    /// `J(L)`: `δb ≈ J(L) δa`, rows `(δω, δv)` (body twist at the tip), columns `δa`.
+    pub jacobian: Matrix6<f64>,
+    /// `M(L) = ∂μ(L)/∂a`.
+    pub m: Matrix6<f64>,
+    /// `μ(L)`: the internal wrench at the tip, body frame, torque first.
+    pub costate_tip: Vector6<f64>,
+    /// The stability test along the grid.
+    pub stability: Stability,
+}
+
+/// Everything about one configuration ([`Rod::solve`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// The shape at the requested nodes.
+    pub shape: Shape,
+    /// `μ(t_i)` at the shape nodes (body frame, torque first).
+    pub costate: Vec<Vector6<f64>>,
+    /// Tip pose, `J(L)`, `M(L)` and stability.
+    pub jacobian: JacobianSolution,
+    /// Whether non-adjacent parts of the wire are closer than its diameter
+    /// (see [`crate::intersection`]).
+    pub self_intersecting: bool,
+}
+
+impl Solution {
+    /// Whether `a ∈ A_free`: stable and free of self-intersection.
+    pub fn is_free(&self) -> bool {
+        self.jacobian.stability.stable && !self.self_intersecting
+    }
+}
+
+impl Rod {
+    /// A rod with the default integrator ([`Integrator::default`]).
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Vector6;
+    /// use ftwire_rod::{Rod, WireParams};
+    /// let rod = Rod::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
+    /// // A small bending moment about z curls the wire toward +y.
+    /// let shape = rod.shape(&Vector6::new(0.0, 0.0, 0.01, 0.0, 0.0, 0.0), 64)?;
+    /// assert_eq!(shape.len(), 64);
+    /// assert!(shape.positions[63].y > 0.0);
+    /// # Ok::<(), ftwire_rod::RodError>(())
+    /// ```
+    #[must_use]
+    pub fn new(wire: WireParams) -> Self {
+        Self {
+            wire,
+            integrator: Integrator::default(),
+        }
+    }
+
+    /// The same rod with other integration settings.
+    #[must_use]
+    pub fn with_integrator(self, integrator: Integrator) -> Self {
+        Self { integrator, ..self }
+    }
+
+    /// The wire.
+    pub fn wire(&self) -> &WireParams {
+        &self.wire
+    }
+
+    /// The integration settings.
+    pub fn integrator(&self) -> &Integrator {
+        &self.integrator
+    }
+
+    fn model(&self, a: &Vector6<f64>) -> Result<Kirchhoff, RodError> {
+        validate_configuration(a)?;
+        Ok(Kirchhoff::new(self.wire.c(), a))
+    }
+
+    /// The number of integration steps used for a model.
+    fn steps_for(&self, model: &Kirchhoff) -> usize {
+        self.integrator
+            .steps_for(model.turning_scale() * self.wire.length())
+    }
+
+    /// The number of integration steps the solver uses for `a` (fixed, or adapted to `a`; see
+    /// [`Integrator::adaptive`]). Also the number of grid points of the stability test.
+    ///
+    /// # Errors
+    /// As [`Rod::solve`].
+    pub fn steps_for_configuration(&self, a: &Vector6<f64>) -> Result<usize, RodError> {
+        Ok(self.steps_for(&self.model(a)?))
+    }
+
+    fn check_nodes(nodes: usize) -> Result<(), RodError> {
+        if nodes < MIN_NODES {
+            return Err(RodError::TooFewNodes {
+                nodes,
+                min: MIN_NODES,
+            });
+        }
+        if nodes > MAX_NODES {
+            return Err(RodError::TooManyNodes {
+                nodes,
+                max: MAX_NODES,
+            });
+        }
+        Ok(())
+    }
+
+    /// Integrates `q` and `J` over the grid, tracking `det J`. Pushes the frame jets at the
+    /// grid points into `knots` if given. Stops early at the first sign change if asked.
+    fn integrate_full(
+        &self,
+        model: &Kirchhoff,
+        mut knots: Option<&mut Vec<FrameJet>>,
+        record_det: bool,
+        early_exit: bool,
+    ) -> (FullArray, SignTracker) {
+        let steps = self.steps_for(model);
+        let h = self.wire.length() / steps as f64;
+        let mut tracker = SignTracker::new(h, record_det);
+        let mut y: FullArray = FrameState::initial();
+        if let Some(k) = knots.as_deref_mut() {
+            k.push(model.frame_jet(&FrameState::from_slice(&y)));
+        }
+        let f = |s: &FullArray, out: &mut FullArray| model.full_rate(s, out);
+        let substeps = self.integrator.first_step_substeps();
+        let sub = h / substeps as f64;
+        for _ in 0..substeps {
+            y = self.integrator.step(&y, sub, f);
+        }
+        for k in 1..=steps {
+            if k > 1 {
+                y = self.integrator.step(&y, h, f);
+            }
+            if let Some(k) = knots.as_deref_mut() {
+                k.push(model.frame_jet(&FrameState::from_slice(&y)));
+            }
+            let det = jacobian_of(&y).determinant();
+            if !tracker.push(k as f64 * h, det) && early_exit {
+                break;
+            }
+        }
+        (y, tracker)
+    }
+
+    fn jacobian_solution(
+        &self,
+        a: &Vector6<f64>,
+        model: &Kirchhoff,
+        y: &FullArray,
+        tracker: SignTracker,
+    ) -> Result<JacobianSolution, RodError> {
+        let frame = FrameState::from_slice(y);
+        let tip = pose_of(&frame);
+        let jacobian = jacobian_of(y);
+        if !(jacobian.iter().all(|v| v.is_finite())
+            && tip.translation.vector.iter().all(|v| v.is_finite()))
+        {
+            return Err(RodError::Diverged {
+                a: (*a).into(),
+                steps: self.steps_for(model),
+            });
+        }
+        let costate_tip = model.costate6(&frame);
+        let m = crate::m_matrix(&tip, &costate_tip, &jacobian);
+        Ok(JacobianSolution {
+            tip,
+            jacobian,
+            m,
+            costate_tip,
+            stability: tracker.finish(),
+        })
+    }
+
+    /// Solves everything for `a`: the shape at `nodes` nodes, `μ` at the nodes, the tip pose
+    /// `Γ(a)`, `J(L)`, `M(L)`, `det J` along the grid, stability and self-intersection.
+    ///
+    /// Self-intersection is tested on the returned shape, or on [`DEFAULT_NODES`] nodes if
+    /// fewer were asked for.
+    ///
+    /// # Errors
+    /// [`RodError::Core`] for a non-finite `a`, [`RodError::OutsideA`] for `a ∉ A`,
+    /// [`RodError::TooFewNodes`]/[`RodError::TooManyNodes`], [`RodError::Diverged`] if the
+    /// integration overflows.
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Vector6;
+    /// use ftwire_rod::{Rod, WireParams};
+    /// let rod = Rod::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
+    /// let solution = rod.solve(&Vector6::new(0.0, 0.2, 0.1, -0.5, 0.3, 0.0), 64)?;
+    /// assert_eq!(solution.shape.len(), 64);
+    /// // The last node is the tip Γ(a).
+    /// let tip = solution.jacobian.tip.translation.vector;
+    /// assert!((solution.shape.positions[63] - tip).norm() < 1e-12);
+    /// # Ok::<(), ftwire_rod::RodError>(())
+    /// ```
+    pub fn solve(&self, a: &Vector6<f64>, nodes: usize) -> Result<Solution, RodError> {
+        Self::check_nodes(nodes)?;
+        let model = self.model(a)?;
+        let mut knots = Vec::with_capacity(self.steps_for(&model) + 1);
+        let (y, tracker) = self.integrate_full(&model, Some(&mut knots), true, false);
+        let jacobian = self.jacobian_solution(a, &model, &y, tracker)?;
+        let shape = self.shape_from_knots(&knots, nodes);
+        let self_intersecting = if nodes >= DEFAULT_NODES {
+            self_contact(&shape.positions, shape.spacing(), self.wire.radius()).is_some()
+        } else {
+            let dense = self.shape_from_knots(&knots, DEFAULT_NODES);
+            self_contact(&dense.positions, dense.spacing(), self.wire.radius()).is_some()
+        };
+        let costate = shape
+            .positions
+            .iter()
+            .zip(&shape.rotations)
+            .map(|(p, r)| {
+                model.costate6(&FrameState {
+                    r: *r.matrix(),
+                    p: *p,
+                })
+            })
+            .collect();
+        Ok(Solution {
+            shape,
+            costate,
+            jacobian,
+            self_intersecting,
+        })
+    }
+
+    /// The shape only (frames at `nodes` nodes): the cheapest solve.
+    ///
+    /// # Errors
+    /// As [`Rod::solve`].
+    pub fn shape(&self, a: &Vector6<f64>, nodes: usize) -> Result<Shape, RodError> {
+        Self::check_nodes(nodes)?;
+        let model = self.model(a)?;
+        let steps = self.steps_for(&model);
+        let h = self.wire.length() / steps as f64;
+        let mut knots = Vec::with_capacity(steps + 1);
+        let mut y: FrameArray = FrameState::initial();
+        knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        for _ in 0..steps {
+            y = self
+                .integrator
+                .step(&y, h, |s, out| model.frame_rate(s, out));
+            knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        }
+        if !y.iter().all(|v| v.is_finite()) {
+            return Err(RodError::Diverged {
+                a: (*a).into(),
+                steps,
+            });
+        }
+        Ok(self.shape_from_knots(&knots, nodes))
+    }
+
+    /// `Γ(a) = q(L)`: the second gripper's pose for configuration `a` (frames only).
+    ///
+    /// # Errors
+    /// As [`Rod::solve`].
+    pub fn tip(&self, a: &Vector6<f64>) -> Result<Pose, RodError> {
+        let shape = self.shape(a, MIN_NODES)?;
+        shape.pose(1).ok_or(RodError::TooFewNodes {
+            nodes: 1,
+            min: MIN_NODES,
+        })
+    }
+
+    /// `J(L)`, `M(L)`, the tip pose and the full stability record, without the shape.
+    ///
+    /// # Errors
+    /// As [`Rod::solve`].
+    pub fn jacobian(&self, a: &Vector6<f64>) -> Result<JacobianSolution, RodError> {
+        let model = self.model(a)?;
+        let (y, tracker) = self.integrate_full(&model, None, true, false);
+        self.jacobian_solution(a, &model, &y, tracker)
+    }
+
+    /// Whether `a ∈ A_stable`, stopping at the first sign change of `det J`.
+    ///
+    /// # Errors
+    /// [`RodError::Core`] for a non-finite `a`, [`RodError::OutsideA`] for `a ∉ A`.
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Vector6;
+    /// use ftwire_rod::{Rod, WireParams};
+    /// let rod = Rod::new(WireParams::new([1.0, 1.0, 1.0], 1.0, 0.001)?);
+    /// // Compressed beyond the clamped–clamped Euler load 4π² c2 / L² ≈ 39.5 N: buckled.
+    /// assert!(rod.is_stable(&Vector6::new(0.0, 0.0, 1e-4, -30.0, 0.0, 0.0))?);
+    /// assert!(!rod.is_stable(&Vector6::new(0.0, 0.0, 1e-4, -50.0, 0.0, 0.0))?);
+    /// # Ok::<(), ftwire_rod::RodError>(())
+    /// ```
+    pub fn is_stable(&self, a: &Vector6<f64>) -> Result<bool, RodError> {
+        let model = self.model(a)?;
+        let (_, tracker) = self.integrate_full(&model, None, false, true);
+        Ok(tracker.finish().stable)
+    }
+
+    fn shape_from_knots(&self, knots: &[FrameJet], nodes: usize) -> Shape {
+        let length = self.wire.length();
+        let steps = knots.len().saturating_sub(1).max(1);
+        let h = length / steps as f64;
+        let mut shape = Shape {
+            arc_length: Vec::with_capacity(nodes),
+            positions: Vec::with_capacity(nodes),
+            rotations: Vec::with_capacity(nodes),
+        };
+        let last = nodes.saturating_sub(1).max(1) as f64;
+        for i in 0..nodes {
+            let t = length * i as f64 / last;
+            let x = i as f64 * steps as f64 / last;
+            let k = (x.floor() as usize).min(steps - 1);
+            let theta = (x - k as f64).clamp(0.0, 1.0);
+            let (p, r) = match (knots.get(k), knots.get(k + 1)) {
+                (Some(k0), Some(k1)) => interpolate(k0, k1, h, theta),
+                _ => (Vector3::zeros(), Rotation3::identity()),
+            };
+            shape.arc_length.push(t);
+            shape.positions.push(p);
+            shape.rotations.push(r);
+        }
+        shape
+    }
+}
+
+/// Quintic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
+fn interpolate(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> (Vector3<f64>, Rotation3<f64>) {
+    if theta == 0.0 {
+        return (
+            k0.frame.p,
+            Rotation3::from_matrix_unchecked(orthonormalise(&k0.frame.r)),
+        );
+    }
+    if theta == 1.0 {
+        return (
+            k1.frame.p,
+            Rotation3::from_matrix_unchecked(orthonormalise(&k1.frame.r)),
+        );
+    }
+    let w = quintic_hermite(theta);
+    let (w1, w2, w4, w5) = (w[1] * h, w[2] * h * h, w[4] * h, w[5] * h * h);
+    let p = k0.frame.p * w[0]
+        + k0.d1.p * w1
+        + k0.d2.p * w2
+        + k1.frame.p * w[3]
+        + k1.d1.p * w4
+        + k1.d2.p * w5;
+    let r = k0.frame.r * w[0]
+        + k0.d1.r * w1
+        + k0.d2.r * w2
+        + k1.frame.r * w[3]
+        + k1.d1.r * w4
+        + k1.d2.r * w5;
+    (p, Rotation3::from_matrix_unchecked(orthonormalise(&r)))
+}
+
+/// Gram–Schmidt on the columns, keeping the tangent's direction.
+fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
+    let x = r.column(0).normalize();
+    let y1 = r.column(1) - x * x.dot(&r.column(1));
+    let y = y1.normalize();
+    let z = x.cross(&y);
+    Matrix3::from_columns(&[x, y, z])
+}
+
+fn pose_of(q: &FrameState) -> Pose {
+    let r = Rotation3::from_matrix_unchecked(orthonormalise(&q.r));
+    Pose::from_parts(
+        Translation3::from(q.p),
+        UnitQuaternion::from_rotation_matrix(&r),
+    )
+}
