@@ -97,8 +97,12 @@ fn bad_inputs_exit_with_code_2_and_a_message() {
         (run(ok_c, "0.7,0,0", &[]), "apart"),
         (run(ok_c, "0.5,0,0", &["--nodes", "2"]), "edges"),
         (
-            run(ok_c, "0.5,0,0", &["--initial-a", "0,0,0.1,0,0,0"]),
-            "not wired",
+            run(ok_c, "0.5,0,0", &["--initial-a", "0,0,0.1,0,0"]),
+            "exactly 6",
+        ),
+        (
+            run(ok_c, "0.5,0,0", &["--initial-a", "1,0,0,1,0,0"]),
+            "not a valid wire configuration",
         ),
     ];
     for (out, expected) in cases {
@@ -106,4 +110,55 @@ fn bad_inputs_exit_with_code_2_and_a_message() {
         assert_eq!(out.status.code(), Some(2), "{expected}: {err}");
         assert!(err.contains(expected), "{expected}: {err}");
     }
+}
+
+#[test]
+fn initial_a_starts_newton_on_the_kirchhoff_branch() {
+    // Pure bending a = (0, 0, τ, 0, 0, 0) is an arc of radius c3/τ; with the tip on that arc
+    // and Newton started from the Kirchhoff shape, the base wrench is a again.
+    let (c3, tau, l) = (0.055_f64, 0.12_f64, 0.6_f64);
+    let r = c3 / tau;
+    let turn = l / r;
+    let out = ftwire(&[
+        "sim-equilibrium",
+        "--c",
+        "0.042,0.055,0.055",
+        "--length",
+        &l.to_string(),
+        "--tip-position",
+        &format!("{},{},0", r * turn.sin(), r * (1.0 - turn.cos())),
+        "--tip-rotation",
+        &format!("0,0,{turn}"),
+        "--gravity",
+        "0,0,0",
+        "--initial-a",
+        &format!("0,0,{tau},0,0,0"),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let wrench: Vec<f64> = v["base_wrench"]
+        .as_array()
+        .expect("base_wrench")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect();
+    assert!((wrench[2] - tau).abs() < 1e-3 * tau, "{wrench:?}");
+    // Other components vanish up to the simulator's discretisation error (N = 100): 0.1 % of τ
+    // for torques, 1 % of the force scale c3/L² for forces.
+    let force_scale = c3 / (l * l);
+    for i in [0, 1] {
+        assert!(wrench[i].abs() < 1e-3 * tau, "torque {i}: {wrench:?}");
+    }
+    for i in [3, 4, 5] {
+        assert!(
+            wrench[i].abs() < 1e-2 * force_scale,
+            "force {i}: {wrench:?}"
+        );
+    }
+    assert_eq!(v["stable_minimum"], true);
 }

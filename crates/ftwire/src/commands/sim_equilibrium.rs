@@ -8,8 +8,10 @@
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
+use ftwire::bridge::kirchhoff_guess;
+use ftwire_core::WireParams;
 use ftwire_sim::{Equilibrium, RodParams, World};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3, Vector6};
 
 use crate::cli::sim_equilibrium::SimEquilibriumArgs;
 
@@ -52,26 +54,29 @@ fn solve(args: &SimEquilibriumArgs) -> anyhow::Result<Equilibrium> {
         ..RodParams::default()
     };
     let world = World::new(params).context("invalid wire parameters")?;
-    if let Some(a) = &args.initial_a {
-        if a.len() != 6 {
-            bail!(
-                "--initial-a needs exactly 6 comma-separated numbers, got {}",
-                a.len()
-            );
-        }
-        bail!(
-            "--initial-a is not wired to the Kirchhoff model yet; \
-             omit it to start from the smooth cold-start guess"
-        );
-    }
     let tip = Isometry3::from_parts(
         Translation3::from(Vector3::from(position)),
         UnitQuaternion::from_scaled_axis(Vector3::from(rotation)),
     );
-    let motion = world
-        .solve_cold(&Isometry3::identity(), &tip)
-        .context("no equilibrium for this tip pose")?;
-    Ok(motion.equilibrium)
+    let Some(a) = &args.initial_a else {
+        let motion = world
+            .solve_cold(&Isometry3::identity(), &tip)
+            .context("no equilibrium for this tip pose")?;
+        return Ok(motion.equilibrium);
+    };
+    let a: [f64; 6] = a.as_slice().try_into().map_err(|_| {
+        anyhow::anyhow!(
+            "--initial-a needs exactly 6 comma-separated numbers (τ1,τ2,τ3,f1,f2,f3), got {}",
+            a.len()
+        )
+    })?;
+    let wire = WireParams::new(c, args.length, args.radius).context("invalid wire parameters")?;
+    let model = ftwire_rod::Rod::new(wire);
+    let guess = kirchhoff_guess(&model, &Vector6::from(a), world.rod())
+        .context("--initial-a is not a valid wire configuration")?;
+    world
+        .solve_with_guess(&guess, &Isometry3::identity(), &tip)
+        .context("no equilibrium for this tip pose from the Kirchhoff shape of --initial-a")
 }
 
 fn print(args: &SimEquilibriumArgs, eq: &Equilibrium) -> anyhow::Result<()> {
