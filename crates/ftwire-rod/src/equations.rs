@@ -159,8 +159,8 @@ pub(crate) struct FrameState {
 
 /// The flat integration state of the frame: `R` column-major (9), then `p` (3).
 pub(crate) type FrameArray = [f64; 12];
-/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the angular
-/// rows of `J` column-major (3×6), then its linear rows (3×6).
+/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the six rows
+/// of `J` (angular rows first), each row's 6 numbers contiguous.
 pub(crate) type FullArray = [f64; 48];
 
 const JT: usize = 12;
@@ -189,11 +189,52 @@ impl FrameState {
 pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
     Matrix6::from_fn(|row, col| {
         if row < 3 {
-            y[JT + 3 * col + row]
+            y[JT + 6 * row + col]
         } else {
-            y[JB + 3 * col + row - 3]
+            y[JB + 6 * (row - 3) + col]
         }
     })
+}
+
+/// `det J` from a flat full state, by Gaussian elimination with partial pivoting on the rows
+/// of `J` (as nalgebra's LU, without building a `Matrix6`).
+pub(crate) fn jacobian_determinant(y: &FullArray) -> f64 {
+    let mut a = [[0.0; 6]; 6];
+    for (r, row) in a.iter_mut().enumerate() {
+        row.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
+    }
+    determinant6(a)
+}
+
+/// The determinant of a 6×6 matrix given by rows (Gaussian elimination, partial pivoting).
+pub(crate) fn determinant6(mut a: [[f64; 6]; 6]) -> f64 {
+    let mut det = 1.0;
+    for c in 0..6 {
+        let mut p = c;
+        for r in c + 1..6 {
+            if a[r][c].abs() > a[p][c].abs() {
+                p = r;
+            }
+        }
+        if p != c {
+            a.swap(p, c);
+            det = -det;
+        }
+        let pivot = a[c][c];
+        det *= pivot;
+        if pivot == 0.0 {
+            return det;
+        }
+        let (top, rest) = a.split_at_mut(c + 1);
+        let prow = &top[c];
+        for row in rest.iter_mut() {
+            let factor = row[c] / pivot;
+            for k in c + 1..6 {
+                row[k] -= factor * prow[k];
+            }
+        }
+    }
+    det
 }
 
 #[inline(always)]
@@ -314,36 +355,56 @@ impl Kirchhoff {
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
     /// state: `J'_top = C⁻¹ ([Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot) − û J_top` and
     /// `J'_bot = −ê1 J_top − û J_bot`.
+    ///
+    /// Written on the rows of `J` (6 numbers each, contiguous): with `P = C⁻¹ m̂ − û` and
+    /// `Q = C⁻¹ n̂` (both with zero diagonal), row `i` of `J'_top` is
+    /// `c_i⁻¹ (Rᵀ e_i, p × R e_i) + Σ_k P_ik J_top,k + Σ_k Q_ik J_bot,k`, so the whole update
+    /// is scalar-times-row sums that vectorise (`Rᵀ p̂` row `i` is `−(R e_i × p)ᵀ`).
     #[inline(always)]
     pub fn full_rate(&self, y: &FullArray, out: &mut FullArray) {
         let l = self.local(y);
         Self::frame_part(&l, out);
         let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
-        let [c0, c1, c2] = &l.c;
-        let p = &l.p;
-        // p × e_k for k = x, y, z.
-        let pxe = [[0.0, p[2], -p[1]], [-p[2], 0.0, p[0]], [p[1], -p[0], 0.0]];
-        for col in 0..6 {
-            let jt = v3(y, JT + 3 * col);
-            let jb = v3(y, JB + 3 * col);
-            // Column `col` of [Rᵀ, −Rᵀ p̂]; Rᵀ p̂ e_k = Rᵀ (p × e_k).
-            let base = if col < 3 {
-                [c0[col], c1[col], c2[col]]
-            } else {
-                let v = &pxe[col - 3];
-                [-dot(c0, v), -dot(c1, v), -dot(c2, v)]
-            };
-            let mj = cross(&l.m, &jt);
-            let nj = cross(&l.n, &jb);
-            let ujt = cross(&l.u, &jt);
-            let ujb = cross(&l.u, &jb);
-            for i in 0..3 {
-                out[JT + 3 * col + i] = ic[i] * (base[i] + mj[i] + nj[i]) - ujt[i];
+        let (m, n, u) = (&l.m, &l.n, &l.u);
+        // Off-diagonal entries of P = C⁻¹ m̂ − û and Q = C⁻¹ n̂, row by row.
+        let pm = [
+            [(1, u[2] - ic[0] * m[2]), (2, ic[0] * m[1] - u[1])],
+            [(0, ic[1] * m[2] - u[2]), (2, u[0] - ic[1] * m[0])],
+            [(0, u[1] - ic[2] * m[1]), (1, ic[2] * m[0] - u[0])],
+        ];
+        let qm = [
+            [(1, -ic[0] * n[2]), (2, ic[0] * n[1])],
+            [(0, ic[1] * n[2]), (2, -ic[1] * n[0])],
+            [(0, -ic[2] * n[1]), (1, ic[2] * n[0])],
+        ];
+        let row = |r: usize| -> [f64; 6] {
+            let mut v = [0.0; 6];
+            v.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
+            v
+        };
+        let jt = [row(0), row(1), row(2)];
+        let jb = [row(3), row(4), row(5)];
+        for i in 0..3 {
+            let ci = &l.c[i];
+            let pc = cross(&l.p, ci);
+            let base = [ci[0], ci[1], ci[2], pc[0], pc[1], pc[2]];
+            let [(k0, p0), (k1, p1)] = pm[i];
+            let [(l0, q0), (l1, q1)] = qm[i];
+            let o = &mut out[JT + 6 * i..JT + 6 * i + 6];
+            for col in 0..6 {
+                o[col] = ic[i] * base[col]
+                    + p0 * jt[k0][col]
+                    + p1 * jt[k1][col]
+                    + q0 * jb[l0][col]
+                    + q1 * jb[l1][col];
             }
-            // −ê1 v = (0, v_z, −v_y).
-            out[JB + 3 * col] = -ujb[0];
-            out[JB + 3 * col + 1] = jt[2] - ujb[1];
-            out[JB + 3 * col + 2] = -jt[1] - ujb[2];
+        }
+        // −ê1 v = (0, v_z, −v_y); −û v = v × u.
+        for col in 0..6 {
+            let (b0, b1, b2) = (jb[0][col], jb[1][col], jb[2][col]);
+            out[JB + col] = u[2] * b1 - u[1] * b2;
+            out[JB + 6 + col] = jt[2][col] - u[2] * b0 + u[0] * b2;
+            out[JB + 12 + col] = -jt[1][col] + u[1] * b0 - u[0] * b1;
         }
     }
 
@@ -365,6 +426,40 @@ impl Kirchhoff {
                 r: q.r * (uh * uh + hat(&du)),
                 p: q.r * Vector3::new(0.0, u.z, -u.y),
             },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The elimination determinant agrees with nalgebra's LU on random and singular matrices,
+    /// and `jacobian_determinant` reads `J` as `jacobian_of` does.
+    #[test]
+    fn determinant_matches_nalgebra() {
+        let mut x = 0.123_f64;
+        let mut next = || {
+            x = (x * 997.0 + 0.618).fract();
+            2.0 * x - 1.0
+        };
+        for trial in 0..50 {
+            let mut y: FullArray = [0.0; 48];
+            for v in y.iter_mut() {
+                *v = next();
+            }
+            if trial % 10 == 0 {
+                // Two equal rows: singular.
+                let (a, b) = y.split_at_mut(JT + 6);
+                b[..6].copy_from_slice(&a[JT..JT + 6]);
+            }
+            let j = jacobian_of(&y);
+            let expected = j.determinant();
+            let got = jacobian_determinant(&y);
+            assert!(
+                (got - expected).abs() <= 1e-12 * (1.0 + expected.abs()),
+                "{got} vs {expected}"
+            );
         }
     }
 }

@@ -8,8 +8,10 @@
 use ftwire_core::{Pose, WireParams};
 use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
 
-use crate::equations::{FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_of};
-use crate::integrator::{Integrator, quintic_hermite};
+use crate::equations::{
+    FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_determinant, jacobian_of,
+};
+use crate::integrator::{Integrator, Workspace, quintic_hermite};
 use crate::intersection::self_contact;
 use crate::stability::{SignTracker, Stability};
 use crate::{RodError, validate_configuration};
@@ -197,19 +199,20 @@ impl Rod {
             k.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
         let f = |s: &FullArray, out: &mut FullArray| model.full_rate(s, out);
+        let mut work = Workspace::new();
         let substeps = self.integrator.first_step_substeps();
         let sub = h / substeps as f64;
         for _ in 0..substeps {
-            y = self.integrator.step(&y, sub, f);
+            self.integrator.step_in_place(&mut y, sub, f, &mut work);
         }
         for k in 1..=steps {
             if k > 1 {
-                y = self.integrator.step(&y, h, f);
+                self.integrator.step_in_place(&mut y, h, f, &mut work);
             }
             if let Some(k) = knots.as_deref_mut() {
                 k.push(model.frame_jet(&FrameState::from_slice(&y)));
             }
-            let det = jacobian_of(&y).determinant();
+            let det = jacobian_determinant(&y);
             if !tracker.push(k as f64 * h, det) && early_exit {
                 break;
             }
@@ -313,10 +316,10 @@ impl Rod {
         let mut knots = Vec::with_capacity(steps + 1);
         let mut y: FrameArray = FrameState::initial();
         knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        let mut work = Workspace::new();
         for _ in 0..steps {
-            y = self
-                .integrator
-                .step(&y, h, |s, out| model.frame_rate(s, out));
+            self.integrator
+                .step_in_place(&mut y, h, |s, out| model.frame_rate(s, out), &mut work);
             knots.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
         if !y.iter().all(|v| v.is_finite()) {
