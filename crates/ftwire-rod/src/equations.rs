@@ -272,6 +272,7 @@ pub(crate) struct FrameJet {
     pub frame: FrameState,
     pub d1: FrameState,
     pub d2: FrameState,
+    pub d3: FrameState,
 }
 
 /// The right-hand sides for one configuration `a` and stiffnesses `c`.
@@ -408,14 +409,22 @@ impl Kirchhoff {
         }
     }
 
-    /// `q, q', q''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`, with `u'` from eq. 3.
+    /// `q, q', q'', q'''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`,
+    /// `R''' = R (û³ + 2 û û' + û' û + û'')`, `p''' = R (û² + û') e1`, with `u'` from eq. 3 and
+    /// `u''` from `μ'' = F(μ) μ'` (eq. 4's `F`).
     pub fn frame_jet(&self, q: &FrameState) -> FrameJet {
         let mu = self.costate6(q);
+        let dmu = costate_rate(self.c, &mu);
+        let ddmu = f_matrix(self.c, &mu) * dmu;
         let u = mu.fixed_rows::<3>(0).component_mul(&self.inv_c);
-        let du = costate_rate(self.c, &mu)
-            .fixed_rows::<3>(0)
-            .component_mul(&self.inv_c);
+        let du = dmu.fixed_rows::<3>(0).component_mul(&self.inv_c);
+        let ddu = ddmu.fixed_rows::<3>(0).component_mul(&self.inv_c);
         let uh = hat(&u);
+        let duh = hat(&du);
+        let uu = uh * uh;
+        let second = uu + duh;
+        let uduh = uh * duh;
+        let third = uu * uh + uduh + uduh + duh * uh + hat(&ddu);
         FrameJet {
             frame: *q,
             d1: FrameState {
@@ -423,8 +432,12 @@ impl Kirchhoff {
                 p: q.r.column(0).into_owned(),
             },
             d2: FrameState {
-                r: q.r * (uh * uh + hat(&du)),
+                r: q.r * second,
                 p: q.r * Vector3::new(0.0, u.z, -u.y),
+            },
+            d3: FrameState {
+                r: q.r * third,
+                p: q.r * second.column(0),
             },
         }
     }

@@ -11,7 +11,7 @@ use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector
 use crate::equations::{
     FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_determinant, jacobian_of,
 };
-use crate::integrator::{Integrator, Workspace, quintic_hermite};
+use crate::integrator::{Integrator, Workspace, septic_hermite};
 use crate::intersection::self_contact;
 use crate::stability::{SignTracker, Stability};
 use crate::{RodError, validate_configuration};
@@ -401,7 +401,7 @@ impl Rod {
     }
 }
 
-/// Quintic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
+/// Septic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
 fn interpolate(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> (Vector3<f64>, Rotation3<f64>) {
     if theta == 0.0 {
         return (
@@ -415,20 +415,26 @@ fn interpolate(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> (Vector3<f64
             Rotation3::from_matrix_unchecked(orthonormalise(&k1.frame.r)),
         );
     }
-    let w = quintic_hermite(theta);
-    let (w1, w2, w4, w5) = (w[1] * h, w[2] * h * h, w[4] * h, w[5] * h * h);
+    let w = septic_hermite(theta);
+    let (h2, h3) = (h * h, h * h * h);
+    let (w1, w2, w3) = (w[1] * h, w[2] * h2, w[3] * h3);
+    let (w5, w6, w7) = (w[5] * h, w[6] * h2, w[7] * h3);
     let p = k0.frame.p * w[0]
         + k0.d1.p * w1
         + k0.d2.p * w2
-        + k1.frame.p * w[3]
-        + k1.d1.p * w4
-        + k1.d2.p * w5;
+        + k0.d3.p * w3
+        + k1.frame.p * w[4]
+        + k1.d1.p * w5
+        + k1.d2.p * w6
+        + k1.d3.p * w7;
     let r = k0.frame.r * w[0]
         + k0.d1.r * w1
         + k0.d2.r * w2
-        + k1.frame.r * w[3]
-        + k1.d1.r * w4
-        + k1.d2.r * w5;
+        + k0.d3.r * w3
+        + k1.frame.r * w[4]
+        + k1.d1.r * w5
+        + k1.d2.r * w6
+        + k1.d3.r * w7;
     (p, Rotation3::from_matrix_unchecked(orthonormalise(&r)))
 }
 
