@@ -387,7 +387,8 @@ impl Rod {
         for i in 0..nodes {
             let t = length * i as f64 / last;
             let x = i as f64 * steps as f64 / last;
-            let k = (x.floor() as usize).min(steps - 1);
+            // x ≥ 0, so truncation is the floor (and needs no libm call).
+            let k = (x as usize).min(steps - 1);
             let theta = (x - k as f64).clamp(0.0, 1.0);
             let (p, r) = match (knots.get(k), knots.get(k + 1)) {
                 (Some(k0), Some(k1)) => interpolate(k0, k1, h, theta),

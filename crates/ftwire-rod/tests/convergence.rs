@@ -105,6 +105,7 @@ fn study() {
             (Method::Rk8, 8, 3.0),
             (Method::Dop853, 8, 1.25),
             (Method::Dop853, 8, 1.5),
+            (Method::Dop853, 8, 1.6),
             (Method::Dop853, 8, 1.75),
             (Method::Dop853, 8, 2.0),
             (Method::Dop853, 8, 2.5),
