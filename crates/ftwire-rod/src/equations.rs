@@ -310,6 +310,7 @@ impl Kirchhoff {
     }
 
     /// `μ` as a 6-vector.
+    #[inline]
     pub fn costate6(&self, q: &FrameState) -> Vector6<f64> {
         let (m, n) = self.costate(q);
         Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z)
