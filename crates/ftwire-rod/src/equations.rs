@@ -159,8 +159,8 @@ pub(crate) struct FrameState {
 
 /// The flat integration state of the frame: `R` column-major (9), then `p` (3).
 pub(crate) type FrameArray = [f64; 12];
-/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the angular
-/// rows of `J` column-major (3×6), then its linear rows (3×6).
+/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the six rows
+/// of `J` (angular rows first), each row's 6 numbers contiguous.
 pub(crate) type FullArray = [f64; 48];
 
 const JT: usize = 12;
@@ -189,11 +189,52 @@ impl FrameState {
 pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
     Matrix6::from_fn(|row, col| {
         if row < 3 {
-            y[JT + 3 * col + row]
+            y[JT + 6 * row + col]
         } else {
-            y[JB + 3 * col + row - 3]
+            y[JB + 6 * (row - 3) + col]
         }
     })
+}
+
+/// `det J` from a flat full state, by Gaussian elimination with partial pivoting on the rows
+/// of `J` (as nalgebra's LU, without building a `Matrix6`).
+pub(crate) fn jacobian_determinant(y: &FullArray) -> f64 {
+    let mut a = [[0.0; 6]; 6];
+    for (r, row) in a.iter_mut().enumerate() {
+        row.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
+    }
+    determinant6(a)
+}
+
+/// The determinant of a 6×6 matrix given by rows (Gaussian elimination, partial pivoting).
+pub(crate) fn determinant6(mut a: [[f64; 6]; 6]) -> f64 {
+    let mut det = 1.0;
+    for c in 0..6 {
+        let mut p = c;
+        for r in c + 1..6 {
+            if a[r][c].abs() > a[p][c].abs() {
+                p = r;
+            }
+        }
+        if p != c {
+            a.swap(p, c);
+            det = -det;
+        }
+        let pivot = a[c][c];
+        det *= pivot;
+        if pivot == 0.0 {
+            return det;
+        }
+        let (top, rest) = a.split_at_mut(c + 1);
+        let prow = &top[c];
+        for row in rest.iter_mut() {
+            let factor = row[c] / pivot;
+            for k in c + 1..6 {
+                row[k] -= factor * prow[k];
+            }
+        }
+    }
+    det
 }
 
 #[inline(always)]
@@ -231,6 +272,7 @@ pub(crate) struct FrameJet {
     pub frame: FrameState,
     pub d1: FrameState,
     pub d2: FrameState,
+    pub d3: FrameState,
 }
 
 /// The right-hand sides for one configuration `a` and stiffnesses `c`.
@@ -268,6 +310,7 @@ impl Kirchhoff {
     }
 
     /// `μ` as a 6-vector.
+    #[inline]
     pub fn costate6(&self, q: &FrameState) -> Vector6<f64> {
         let (m, n) = self.costate(q);
         Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z)
@@ -314,47 +357,87 @@ impl Kirchhoff {
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
     /// state: `J'_top = C⁻¹ ([Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot) − û J_top` and
     /// `J'_bot = −ê1 J_top − û J_bot`.
+    ///
+    /// Written on the rows of `J` (6 numbers each, contiguous): with `P = C⁻¹ m̂ − û` and
+    /// `Q = C⁻¹ n̂` (both with zero diagonal), row `i` of `J'_top` is
+    /// `c_i⁻¹ (Rᵀ e_i, p × R e_i) + Σ_k P_ik J_top,k + Σ_k Q_ik J_bot,k`, so the whole update
+    /// is scalar-times-row sums that vectorise (`Rᵀ p̂` row `i` is `−(R e_i × p)ᵀ`).
     #[inline(always)]
     pub fn full_rate(&self, y: &FullArray, out: &mut FullArray) {
         let l = self.local(y);
         Self::frame_part(&l, out);
         let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
-        let [c0, c1, c2] = &l.c;
-        let p = &l.p;
-        // p × e_k for k = x, y, z.
-        let pxe = [[0.0, p[2], -p[1]], [-p[2], 0.0, p[0]], [p[1], -p[0], 0.0]];
-        for col in 0..6 {
-            let jt = v3(y, JT + 3 * col);
-            let jb = v3(y, JB + 3 * col);
-            // Column `col` of [Rᵀ, −Rᵀ p̂]; Rᵀ p̂ e_k = Rᵀ (p × e_k).
-            let base = if col < 3 {
-                [c0[col], c1[col], c2[col]]
-            } else {
-                let v = &pxe[col - 3];
-                [-dot(c0, v), -dot(c1, v), -dot(c2, v)]
-            };
-            let mj = cross(&l.m, &jt);
-            let nj = cross(&l.n, &jb);
-            let ujt = cross(&l.u, &jt);
-            let ujb = cross(&l.u, &jb);
-            for i in 0..3 {
-                out[JT + 3 * col + i] = ic[i] * (base[i] + mj[i] + nj[i]) - ujt[i];
+        let (m, n, u) = (&l.m, &l.n, &l.u);
+        // Off-diagonal entries of P = C⁻¹ m̂ − û and Q = C⁻¹ n̂, row by row.
+        let pm = [
+            [(1, u[2] - ic[0] * m[2]), (2, ic[0] * m[1] - u[1])],
+            [(0, ic[1] * m[2] - u[2]), (2, u[0] - ic[1] * m[0])],
+            [(0, u[1] - ic[2] * m[1]), (1, ic[2] * m[0] - u[0])],
+        ];
+        let qm = [
+            [(1, -ic[0] * n[2]), (2, ic[0] * n[1])],
+            [(0, ic[1] * n[2]), (2, -ic[1] * n[0])],
+            [(0, -ic[2] * n[1]), (1, ic[2] * n[0])],
+        ];
+        let row = |r: usize| -> [f64; 6] {
+            let mut v = [0.0; 6];
+            v.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
+            v
+        };
+        let jt = [row(0), row(1), row(2)];
+        let jb = [row(3), row(4), row(5)];
+        for i in 0..3 {
+            let ci = &l.c[i];
+            let pc = cross(&l.p, ci);
+            let base = [ci[0], ci[1], ci[2], pc[0], pc[1], pc[2]];
+            let [(k0, p0), (k1, p1)] = pm[i];
+            let [(l0, q0), (l1, q1)] = qm[i];
+            let o = &mut out[JT + 6 * i..JT + 6 * i + 6];
+            for col in 0..6 {
+                o[col] = ic[i] * base[col]
+                    + p0 * jt[k0][col]
+                    + p1 * jt[k1][col]
+                    + q0 * jb[l0][col]
+                    + q1 * jb[l1][col];
             }
-            // −ê1 v = (0, v_z, −v_y).
-            out[JB + 3 * col] = -ujb[0];
-            out[JB + 3 * col + 1] = jt[2] - ujb[1];
-            out[JB + 3 * col + 2] = -jt[1] - ujb[2];
+        }
+        // −ê1 v = (0, v_z, −v_y); −û v = v × u.
+        for col in 0..6 {
+            let (b0, b1, b2) = (jb[0][col], jb[1][col], jb[2][col]);
+            out[JB + col] = u[2] * b1 - u[1] * b2;
+            out[JB + 6 + col] = jt[2][col] - u[2] * b0 + u[0] * b2;
+            out[JB + 12 + col] = -jt[1][col] + u[1] * b0 - u[0] * b1;
         }
     }
 
-    /// `q, q', q''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`, with `u'` from eq. 3.
+    /// `q, q', q'', q'''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`,
+    /// `R''' = R (û³ + 2 û û' + û' û + û'')`, `p''' = R (û² + û') e1`, with `u'` from eq. 3 and
+    /// `u''` from `μ'' = F(μ) μ'` (eq. 4's `F`).
     pub fn frame_jet(&self, q: &FrameState) -> FrameJet {
         let mu = self.costate6(q);
+        let dmu = costate_rate(self.c, &mu);
+        // The top rows of F(μ) μ' (see `f_matrix`): only u'' is needed.
+        let [c1, c2, c3] = self.c;
+        let (d32, d13, d21) = (
+            1.0 / c3 - 1.0 / c2,
+            1.0 / c1 - 1.0 / c3,
+            1.0 / c2 - 1.0 / c1,
+        );
+        let (m, v) = (&mu, &dmu);
+        let ddm = Vector3::new(
+            d32 * (m[2] * v[1] + m[1] * v[2]),
+            d13 * (m[2] * v[0] + m[0] * v[2]) + v[5],
+            d21 * (m[1] * v[0] + m[0] * v[1]) - v[4],
+        );
         let u = mu.fixed_rows::<3>(0).component_mul(&self.inv_c);
-        let du = costate_rate(self.c, &mu)
-            .fixed_rows::<3>(0)
-            .component_mul(&self.inv_c);
+        let du = dmu.fixed_rows::<3>(0).component_mul(&self.inv_c);
+        let ddu = ddm.component_mul(&self.inv_c);
         let uh = hat(&u);
+        let duh = hat(&du);
+        let uu = uh * uh;
+        let second = uu + duh;
+        let uduh = uh * duh;
+        let third = uu * uh + uduh + uduh + duh * uh + hat(&ddu);
         FrameJet {
             frame: *q,
             d1: FrameState {
@@ -362,9 +445,78 @@ impl Kirchhoff {
                 p: q.r.column(0).into_owned(),
             },
             d2: FrameState {
-                r: q.r * (uh * uh + hat(&du)),
+                r: q.r * second,
                 p: q.r * Vector3::new(0.0, u.z, -u.y),
             },
+            d3: FrameState {
+                r: q.r * third,
+                p: q.r * second.column(0),
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The jet's second and third derivatives are the central differences of the lower ones
+    /// along the solution.
+    #[test]
+    fn frame_jet_matches_finite_differences() {
+        let model = Kirchhoff::new(
+            [1.3, 1.0, 0.6],
+            &Vector6::new(0.3, -0.7, 1.2, -2.0, 1.5, 0.4),
+        );
+        let integ = crate::Integrator::new(crate::Method::Rk8, 1).expect("valid");
+        let f = |s: &FrameArray, o: &mut FrameArray| model.frame_rate(s, o);
+        let mut y: FrameArray = FrameState::initial();
+        for _ in 0..300 {
+            y = integ.step(&y, 1e-3, f);
+        }
+        let eps = 1e-4;
+        let jet = |y: &FrameArray| model.frame_jet(&FrameState::from_slice(y));
+        let (j0, jp, jm) = (
+            jet(&y),
+            jet(&integ.step(&y, eps, f)),
+            jet(&integ.step(&y, -eps, f)),
+        );
+        // max |(a − b) / 2ε − exact| over R and p.
+        let error = |a: FrameState, b: FrameState, exact: FrameState| {
+            let r = (a.r - b.r) / (2.0 * eps) - exact.r;
+            let p = (a.p - b.p) / (2.0 * eps) - exact.p;
+            r.amax().max(p.amax())
+        };
+        assert!(error(jp.d1, jm.d1, j0.d2) < 1e-6, "q''");
+        assert!(error(jp.d2, jm.d2, j0.d3) < 1e-6, "q'''");
+    }
+
+    /// The elimination determinant agrees with nalgebra's LU on random and singular matrices,
+    /// and `jacobian_determinant` reads `J` as `jacobian_of` does.
+    #[test]
+    fn determinant_matches_nalgebra() {
+        let mut x = 0.123_f64;
+        let mut next = || {
+            x = (x * 997.0 + 0.618).fract();
+            2.0 * x - 1.0
+        };
+        for trial in 0..50 {
+            let mut y: FullArray = [0.0; 48];
+            for v in y.iter_mut() {
+                *v = next();
+            }
+            if trial % 10 == 0 {
+                // Two equal rows: singular.
+                let (a, b) = y.split_at_mut(JT + 6);
+                b[..6].copy_from_slice(&a[JT..JT + 6]);
+            }
+            let j = jacobian_of(&y);
+            let expected = j.determinant();
+            let got = jacobian_determinant(&y);
+            assert!(
+                (got - expected).abs() <= 1e-12 * (1.0 + expected.abs()),
+                "{got} vs {expected}"
+            );
         }
     }
 }

@@ -14,10 +14,13 @@
 //!
 //! # Speed
 //!
-//! Instead of a BVH, the test walks the pairs with a conservative skip: midpoints of
-//! consecutive segments are at most `Δ` apart, so once a pair's bound
-//! `|m_i − m_j| − ½|s_i| − ½|s_j|` exceeds `2r` by `k Δ`, the next `k − 1` segments cannot be
-//! in contact either. A wire without near passes costs `O(N)` bound checks.
+//! A two-level bounding-ball filter instead of a BVH: the segments are grouped in chunks of 8
+//! consecutive ones, each inside a ball around the mean of its nodes; only pairs of chunks
+//! whose balls are closer than `2r` are searched, and within them a pair of segments is
+//! measured only if the balls around their midpoints (radius half the segment) are closer
+//! than `2r`. Both tests compare squared distances (no square roots) and are conservative, so
+//! the result is that of the plain pair walk (test `skip_agrees_with_brute_force`): the first
+//! contact in the order of `i`, then `j`.
 
 use nalgebra::Vector3;
 
@@ -124,37 +127,71 @@ pub fn self_contact(positions: &[Vector3<f64>], spacing: f64, radius: f64) -> Op
         .windows(2)
         .map(|w| 0.5 * (w[1] - w[0]).norm())
         .collect();
+    // Bounding balls of chunks of CHUNK consecutive segments (centre: mean of the chunk's
+    // nodes; radius: farthest node, so the chunk's segments lie inside).
+    let chunks = segments.div_ceil(CHUNK);
+    let balls: Vec<(Vector3<f64>, f64)> = (0..chunks)
+        .map(|c| {
+            let nodes = &positions[c * CHUNK..=((c + 1) * CHUNK).min(segments)];
+            let centre = nodes.iter().sum::<Vector3<f64>>() / nodes.len() as f64;
+            let r2 = nodes
+                .iter()
+                .map(|p| (p - centre).norm_squared())
+                .fold(0.0, f64::max);
+            (centre, r2.sqrt())
+        })
+        .collect();
+    // near[a * chunks + b]: chunks a and b may hold segments closer than the diameter.
+    let mut near = vec![false; chunks * chunks];
+    for a in 0..chunks {
+        for b in a..chunks {
+            let (ca, ra) = &balls[a];
+            let (cb, rb) = &balls[b];
+            let limit = diameter + ra + rb;
+            // Not "far" rather than "near", so that NaN counts as near (and is then measured).
+            let far = (ca - cb).norm_squared() >= limit * limit;
+            near[a * chunks + b] = !far;
+            near[b * chunks + a] = !far;
+        }
+    }
     for i in 0..segments {
-        let mut j = i + min_offset;
-        while j < segments {
-            let centre = (mid[i] - mid[j]).norm();
-            let bound = centre - half[i] - half[j];
-            if bound >= diameter {
-                let room = (centre - half[i] - 0.5 * spacing - diameter) / spacing;
-                j += if room >= 2.0 {
-                    room.floor() as usize
-                } else {
-                    1
-                };
-                continue;
+        let first = i + min_offset;
+        if first >= segments {
+            break;
+        }
+        let row = &near[(i / CHUNK) * chunks..(i / CHUNK + 1) * chunks];
+        for (b, _) in row
+            .iter()
+            .enumerate()
+            .skip(first / CHUNK)
+            .filter(|(_, n)| **n)
+        {
+            for j in first.max(b * CHUNK)..((b + 1) * CHUNK).min(segments) {
+                // Segment i lies within half[i] of mid[i]: no contact if the balls are apart.
+                let limit = diameter + half[i] + half[j];
+                if (mid[i] - mid[j]).norm_squared() >= limit * limit {
+                    continue;
+                }
+                let distance = segment_distance(
+                    &positions[i],
+                    &positions[i + 1],
+                    &positions[j],
+                    &positions[j + 1],
+                );
+                if distance < diameter {
+                    return Some(Contact {
+                        segments: (i, j),
+                        distance,
+                    });
+                }
             }
-            let distance = segment_distance(
-                &positions[i],
-                &positions[i + 1],
-                &positions[j],
-                &positions[j + 1],
-            );
-            if distance < diameter {
-                return Some(Contact {
-                    segments: (i, j),
-                    distance,
-                });
-            }
-            j += 1;
         }
     }
     None
 }
+
+/// Segments per chunk of the bounding-ball filter of [`self_contact`].
+const CHUNK: usize = 8;
 
 #[cfg(test)]
 mod tests {

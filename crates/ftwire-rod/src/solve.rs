@@ -8,8 +8,10 @@
 use ftwire_core::{Pose, WireParams};
 use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
 
-use crate::equations::{FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_of};
-use crate::integrator::{Integrator, quintic_hermite};
+use crate::equations::{
+    FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_determinant, jacobian_of,
+};
+use crate::integrator::{Integrator, Workspace, septic_hermite};
 use crate::intersection::self_contact;
 use crate::stability::{SignTracker, Stability};
 use crate::{RodError, validate_configuration};
@@ -197,19 +199,20 @@ impl Rod {
             k.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
         let f = |s: &FullArray, out: &mut FullArray| model.full_rate(s, out);
+        let mut work = Workspace::new();
         let substeps = self.integrator.first_step_substeps();
         let sub = h / substeps as f64;
         for _ in 0..substeps {
-            y = self.integrator.step(&y, sub, f);
+            self.integrator.step_in_place(&mut y, sub, f, &mut work);
         }
         for k in 1..=steps {
             if k > 1 {
-                y = self.integrator.step(&y, h, f);
+                self.integrator.step_in_place(&mut y, h, f, &mut work);
             }
             if let Some(k) = knots.as_deref_mut() {
                 k.push(model.frame_jet(&FrameState::from_slice(&y)));
             }
-            let det = jacobian_of(&y).determinant();
+            let det = jacobian_determinant(&y);
             if !tracker.push(k as f64 * h, det) && early_exit {
                 break;
             }
@@ -313,10 +316,10 @@ impl Rod {
         let mut knots = Vec::with_capacity(steps + 1);
         let mut y: FrameArray = FrameState::initial();
         knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        let mut work = Workspace::new();
         for _ in 0..steps {
-            y = self
-                .integrator
-                .step(&y, h, |s, out| model.frame_rate(s, out));
+            self.integrator
+                .step_in_place(&mut y, h, |s, out| model.frame_rate(s, out), &mut work);
             knots.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
         if !y.iter().all(|v| v.is_finite()) {
@@ -384,7 +387,8 @@ impl Rod {
         for i in 0..nodes {
             let t = length * i as f64 / last;
             let x = i as f64 * steps as f64 / last;
-            let k = (x.floor() as usize).min(steps - 1);
+            // x ≥ 0, so truncation is the floor (and needs no libm call).
+            let k = (x as usize).min(steps - 1);
             let theta = (x - k as f64).clamp(0.0, 1.0);
             let (p, r) = match (knots.get(k), knots.get(k + 1)) {
                 (Some(k0), Some(k1)) => interpolate(k0, k1, h, theta),
@@ -398,7 +402,7 @@ impl Rod {
     }
 }
 
-/// Quintic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
+/// Septic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
 fn interpolate(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> (Vector3<f64>, Rotation3<f64>) {
     if theta == 0.0 {
         return (
@@ -412,20 +416,26 @@ fn interpolate(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> (Vector3<f64
             Rotation3::from_matrix_unchecked(orthonormalise(&k1.frame.r)),
         );
     }
-    let w = quintic_hermite(theta);
-    let (w1, w2, w4, w5) = (w[1] * h, w[2] * h * h, w[4] * h, w[5] * h * h);
+    let w = septic_hermite(theta);
+    let (h2, h3) = (h * h, h * h * h);
+    let (w1, w2, w3) = (w[1] * h, w[2] * h2, w[3] * h3);
+    let (w5, w6, w7) = (w[5] * h, w[6] * h2, w[7] * h3);
     let p = k0.frame.p * w[0]
         + k0.d1.p * w1
         + k0.d2.p * w2
-        + k1.frame.p * w[3]
-        + k1.d1.p * w4
-        + k1.d2.p * w5;
+        + k0.d3.p * w3
+        + k1.frame.p * w[4]
+        + k1.d1.p * w5
+        + k1.d2.p * w6
+        + k1.d3.p * w7;
     let r = k0.frame.r * w[0]
         + k0.d1.r * w1
         + k0.d2.r * w2
-        + k1.frame.r * w[3]
-        + k1.d1.r * w4
-        + k1.d2.r * w5;
+        + k0.d3.r * w3
+        + k1.frame.r * w[4]
+        + k1.d1.r * w5
+        + k1.d2.r * w6
+        + k1.d3.r * w7;
     (p, Rotation3::from_matrix_unchecked(orthonormalise(&r)))
 }
 

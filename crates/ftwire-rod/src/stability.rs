@@ -7,8 +7,8 @@
 //! first order), so its sign at the first grid point is decided by high-order terms of `J`.
 //! One RK4 step from `J(0) = 0` is exact only for polynomials of degree 4 and gets that sign
 //! wrong, which makes a naive test call every configuration unstable. The default
-//! [`Method::Rk8`](crate::Method::Rk8) is exact to degree 8 on the first step, and its sign at
-//! the first grid point agrees with a fine reference over random configurations (test
+//! [`Method::Dop853`](crate::Method::Dop853) (as [`Method::Rk8`](crate::Method::Rk8)) is exact
+//! to degree 8 on the first step, and its sign at the first grid point agrees with a fine reference over random configurations (test
 //! `first_step_sign_matches_a_fine_reference` in `tests/stability.rs`, which also shows the RK4
 //! failure). In addition the first step is always split into [`FIRST_STEP_SUBSTEPS`] substeps.
 

@@ -85,6 +85,9 @@ fn study() {
             (Method::Rk8, 32),
             (Method::Rk8, 40),
             (Method::Rk8, 48),
+            (Method::Dop853, 16),
+            (Method::Dop853, 24),
+            (Method::Dop853, 32),
         ] {
             settings.push((
                 format!("{steps}"),
@@ -100,6 +103,12 @@ fn study() {
             (Method::Rk8, 8, 2.0),
             (Method::Rk8, 8, 2.5),
             (Method::Rk8, 8, 3.0),
+            (Method::Dop853, 8, 1.25),
+            (Method::Dop853, 8, 1.5),
+            (Method::Dop853, 8, 1.6),
+            (Method::Dop853, 8, 1.75),
+            (Method::Dop853, 8, 2.0),
+            (Method::Dop853, 8, 2.5),
         ] {
             settings.push((
                 format!("max({min}, ⌈{per}·σL⌉)"),
