@@ -171,9 +171,11 @@ impl SimRig {
     /// (the tick and its time are consumed, as on a real bus).
     pub fn read_ft_full(&mut self) -> Result<FtReading, SimError> {
         let wrench = self.sim.equilibrium().base_wrench;
-        let tick = self.sensor.next_sample_time(self.time)?;
         let result = self.sensor.read(&wrench, self.time);
-        self.time = tick;
+        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
+        if let Some(tick) = self.sensor.last_sample_time() {
+            self.time = self.time.max(tick);
+        }
         Ok(result?)
     }
 
