@@ -18,7 +18,7 @@ use crate::cli::solve::{DEFAULT_RADIUS, SolveArgs};
 /// Runs `ftwire solve`.
 pub fn run(args: SolveArgs) -> anyhow::Result<ExitCode> {
     match &args.batch {
-        Some(path) => run_batch(path, args.json),
+        Some(path) => run_batch(path),
         None => run_single(&args),
     }
 }
@@ -53,7 +53,8 @@ fn run_single(args: &SolveArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn run_batch(path: &std::path::Path, _json: bool) -> anyhow::Result<ExitCode> {
+/// A batch always prints JSON Lines, so `--json` changes nothing there.
+fn run_batch(path: &std::path::Path) -> anyhow::Result<ExitCode> {
     let input: Box<dyn BufRead> = if path.as_os_str() == "-" {
         Box::new(BufReader::new(io::stdin().lock()))
     } else {
