@@ -26,6 +26,7 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
+use crate::arith::MulAdd;
 use crate::se3::hat;
 
 /// The right-hand side of the costate ODE, paper eq. 3: `μ'` for stiffnesses `c` \[N·m²\].
@@ -243,16 +244,16 @@ fn v3(y: &[f64], i: usize) -> [f64; 3] {
 }
 
 #[inline(always)]
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+fn dot<A: MulAdd>(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    A::mul_add(a[2], b[2], A::mul_add(a[1], b[1], a[0] * b[0]))
 }
 
 #[inline(always)]
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+fn cross<A: MulAdd>(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
+        A::mul_add(a[1], b[2], -(a[2] * b[1])),
+        A::mul_add(a[2], b[0], -(a[0] * b[2])),
+        A::mul_add(a[0], b[1], -(a[1] * b[0])),
     ]
 }
 
@@ -264,6 +265,48 @@ struct Local {
     m: [f64; 3],
     n: [f64; 3],
     u: [f64; 3],
+}
+
+/// [`Kirchhoff::full_rate`] as an [`crate::integrator::Rhs`], multiply–adding with `A`.
+#[derive(Debug)]
+pub(crate) struct FullRhs<'a, A> {
+    pub model: &'a Kirchhoff,
+    pub arith: std::marker::PhantomData<A>,
+}
+
+/// [`Kirchhoff::frame_rate`] as an [`crate::integrator::Rhs`], multiply–adding with `A`.
+#[derive(Debug)]
+pub(crate) struct FrameRhs<'a, A> {
+    pub model: &'a Kirchhoff,
+    pub arith: std::marker::PhantomData<A>,
+}
+
+// Manual impls: derives would require `A: Copy`.
+impl<A> Clone for FullRhs<'_, A> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<A> Copy for FullRhs<'_, A> {}
+impl<A> Clone for FrameRhs<'_, A> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<A> Copy for FrameRhs<'_, A> {}
+
+impl<A: MulAdd> crate::integrator::Rhs<48> for FullRhs<'_, A> {
+    #[inline(always)]
+    fn rate(&self, y: &FullArray, out: &mut FullArray) {
+        self.model.full_rate::<A>(y, out);
+    }
+}
+
+impl<A: MulAdd> crate::integrator::Rhs<12> for FrameRhs<'_, A> {
+    #[inline(always)]
+    fn rate(&self, y: &FrameArray, out: &mut FrameArray) {
+        self.model.frame_rate::<A>(y, out);
+    }
 }
 
 /// Frame derivatives up to second order at one point, for Hermite dense output.
@@ -317,14 +360,22 @@ impl Kirchhoff {
     }
 
     #[inline(always)]
-    fn local(&self, y: &[f64]) -> Local {
+    fn local<A: MulAdd>(&self, y: &[f64]) -> Local {
         let c = [v3(y, 0), v3(y, 3), v3(y, 6)];
         let p = v3(y, 9);
         let n0 = [self.n0.x, self.n0.y, self.n0.z];
-        let pn = cross(&p, &n0);
+        let pn = cross::<A>(&p, &n0);
         let mw = [self.m0.x - pn[0], self.m0.y - pn[1], self.m0.z - pn[2]];
-        let m = [dot(&c[0], &mw), dot(&c[1], &mw), dot(&c[2], &mw)];
-        let n = [dot(&c[0], &n0), dot(&c[1], &n0), dot(&c[2], &n0)];
+        let m = [
+            dot::<A>(&c[0], &mw),
+            dot::<A>(&c[1], &mw),
+            dot::<A>(&c[2], &mw),
+        ];
+        let n = [
+            dot::<A>(&c[0], &n0),
+            dot::<A>(&c[1], &n0),
+            dot::<A>(&c[2], &n0),
+        ];
         let u = [
             m[0] * self.inv_c.x,
             m[1] * self.inv_c.y,
@@ -335,23 +386,23 @@ impl Kirchhoff {
 
     /// Eq. 1 for `R` and `p` from the local quantities, into `out[0..12]`.
     #[inline(always)]
-    fn frame_part(l: &Local, out: &mut [f64]) {
+    fn frame_part<A: MulAdd>(l: &Local, out: &mut [f64]) {
         let [c0, c1, c2] = &l.c;
         let u = &l.u;
         for i in 0..3 {
             // R û: columns u_z c1 − u_y c2, −u_z c0 + u_x c2, u_y c0 − u_x c1.
-            out[i] = u[2] * c1[i] - u[1] * c2[i];
-            out[3 + i] = -u[2] * c0[i] + u[0] * c2[i];
-            out[6 + i] = u[1] * c0[i] - u[0] * c1[i];
+            out[i] = A::mul_add(u[2], c1[i], -(u[1] * c2[i]));
+            out[3 + i] = A::mul_add(u[0], c2[i], -(u[2] * c0[i]));
+            out[6 + i] = A::mul_add(u[1], c0[i], -(u[0] * c1[i]));
             out[9 + i] = c0[i];
         }
     }
 
     /// Eq. 1: `R' = R û`, `p' = R e1`, on the flat frame state.
     #[inline(always)]
-    pub fn frame_rate(&self, y: &FrameArray, out: &mut FrameArray) {
-        let l = self.local(y);
-        Self::frame_part(&l, out);
+    pub fn frame_rate<A: MulAdd>(&self, y: &FrameArray, out: &mut FrameArray) {
+        let l = self.local::<A>(y);
+        Self::frame_part::<A>(&l, out);
     }
 
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
@@ -363,56 +414,87 @@ impl Kirchhoff {
     /// `c_i⁻¹ (Rᵀ e_i, p × R e_i) + Σ_k P_ik J_top,k + Σ_k Q_ik J_bot,k`, so the whole update
     /// is scalar-times-row sums that vectorise (`Rᵀ p̂` row `i` is `−(R e_i × p)ᵀ`).
     #[inline(always)]
-    pub fn full_rate(&self, y: &FullArray, out: &mut FullArray) {
-        let l = self.local(y);
-        Self::frame_part(&l, out);
+    pub fn full_rate<A: MulAdd>(&self, y: &FullArray, out: &mut FullArray) {
+        let l = self.local::<A>(y);
+        Self::frame_part::<A>(&l, out);
         let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
         let (m, n, u) = (&l.m, &l.n, &l.u);
-        // Off-diagonal entries of P = C⁻¹ m̂ − û and Q = C⁻¹ n̂, row by row.
-        let pm = [
-            [(1, u[2] - ic[0] * m[2]), (2, ic[0] * m[1] - u[1])],
-            [(0, ic[1] * m[2] - u[2]), (2, u[0] - ic[1] * m[0])],
-            [(0, u[1] - ic[2] * m[1]), (1, ic[2] * m[0] - u[0])],
-        ];
-        let qm = [
-            [(1, -ic[0] * n[2]), (2, ic[0] * n[1])],
-            [(0, ic[1] * n[2]), (2, -ic[1] * n[0])],
-            [(0, -ic[2] * n[1]), (1, ic[2] * n[0])],
-        ];
         let row = |r: usize| -> [f64; 6] {
             let mut v = [0.0; 6];
             v.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
             v
         };
-        let jt = [row(0), row(1), row(2)];
-        let jb = [row(3), row(4), row(5)];
-        for i in 0..3 {
+        let (t0, t1, t2) = (row(0), row(1), row(2));
+        let (b0, b1, b2) = (row(3), row(4), row(5));
+        // `ic_i (Rᵀ e_i, p × R e_i)`: row i of C⁻¹ [Rᵀ, −Rᵀ p̂].
+        let base = |i: usize| -> [f64; 6] {
             let ci = &l.c[i];
-            let pc = cross(&l.p, ci);
-            let base = [ci[0], ci[1], ci[2], pc[0], pc[1], pc[2]];
-            let [(k0, p0), (k1, p1)] = pm[i];
-            let [(l0, q0), (l1, q1)] = qm[i];
-            let o = &mut out[JT + 6 * i..JT + 6 * i + 6];
-            for col in 0..6 {
-                o[col] = ic[i] * base[col]
-                    + p0 * jt[k0][col]
-                    + p1 * jt[k1][col]
-                    + q0 * jb[l0][col]
-                    + q1 * jb[l1][col];
+            let pc = cross::<A>(&l.p, ci);
+            [
+                ic[i] * ci[0],
+                ic[i] * ci[1],
+                ic[i] * ci[2],
+                ic[i] * pc[0],
+                ic[i] * pc[1],
+                ic[i] * pc[2],
+            ]
+        };
+        // Row i of J'_top: base_i + Σ_k P_ik t_k + Σ_k Q_ik b_k with the off-diagonal entries
+        // of P = C⁻¹ m̂ − û and Q = C⁻¹ n̂ (both have zero diagonals).
+        let combine = |base: [f64; 6], x: [(f64, &[f64; 6]); 4]| -> [f64; 6] {
+            let mut v = base;
+            for (s, r) in x {
+                for col in 0..6 {
+                    v[col] = A::mul_add(s, r[col], v[col]);
+                }
             }
-        }
-        // −ê1 v = (0, v_z, −v_y); −û v = v × u.
+            v
+        };
+        let o0 = combine(
+            base(0),
+            [
+                (u[2] - ic[0] * m[2], &t1),
+                (ic[0] * m[1] - u[1], &t2),
+                (-ic[0] * n[2], &b1),
+                (ic[0] * n[1], &b2),
+            ],
+        );
+        let o1 = combine(
+            base(1),
+            [
+                (ic[1] * m[2] - u[2], &t0),
+                (u[0] - ic[1] * m[0], &t2),
+                (ic[1] * n[2], &b0),
+                (-ic[1] * n[0], &b2),
+            ],
+        );
+        let o2 = combine(
+            base(2),
+            [
+                (u[1] - ic[2] * m[1], &t0),
+                (ic[2] * m[0] - u[0], &t1),
+                (-ic[2] * n[1], &b0),
+                (ic[2] * n[0], &b1),
+            ],
+        );
+        // J'_bot = −ê1 J_top − û J_bot: −ê1 v = (0, v_z, −v_y); −û v = v × u.
+        let mut o3 = [0.0; 6];
+        let mut o4 = [0.0; 6];
+        let mut o5 = [0.0; 6];
         for col in 0..6 {
-            let (b0, b1, b2) = (jb[0][col], jb[1][col], jb[2][col]);
-            out[JB + col] = u[2] * b1 - u[1] * b2;
-            out[JB + 6 + col] = jt[2][col] - u[2] * b0 + u[0] * b2;
-            out[JB + 12 + col] = -jt[1][col] + u[1] * b0 - u[0] * b1;
+            o3[col] = A::mul_add(u[2], b1[col], -(u[1] * b2[col]));
+            o4[col] = A::mul_add(u[0], b2[col], A::mul_add(-u[2], b0[col], t2[col]));
+            o5[col] = A::mul_add(-u[0], b1[col], A::mul_add(u[1], b0[col], -t1[col]));
+        }
+        for (r, o) in [o0, o1, o2, o3, o4, o5].iter().enumerate() {
+            out[JT + 6 * r..JT + 6 * r + 6].copy_from_slice(o);
         }
     }
 
     /// `q, q', q'', q'''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`,
     /// `R''' = R (û³ + 2 û û' + û' û + û'')`, `p''' = R (û² + û') e1`, with `u'` from eq. 3 and
     /// `u''` from `μ'' = F(μ) μ'` (eq. 4's `F`).
+    #[inline(always)]
     pub fn frame_jet(&self, q: &FrameState) -> FrameJet {
         let mu = self.costate6(q);
         let dmu = costate_rate(self.c, &mu);
@@ -459,6 +541,7 @@ impl Kirchhoff {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::arith::Separate;
 
     /// The jet's second and third derivatives are the central differences of the lower ones
     /// along the solution.
@@ -469,7 +552,7 @@ mod tests {
             &Vector6::new(0.3, -0.7, 1.2, -2.0, 1.5, 0.4),
         );
         let integ = crate::Integrator::new(crate::Method::Rk8, 1).expect("valid");
-        let f = |s: &FrameArray, o: &mut FrameArray| model.frame_rate(s, o);
+        let f = |s: &FrameArray, o: &mut FrameArray| model.frame_rate::<Separate>(s, o);
         let mut y: FrameArray = FrameState::initial();
         for _ in 0..300 {
             y = integ.step(&y, 1e-3, f);

@@ -15,30 +15,31 @@
 //! turning scale of [`crate::equations::turning_scale`], mean 11–12 rad, max 19–20 rad over
 //! the sample). Worst case over the three wires of the study (c = (0.042, 0.055, 0.055),
 //! L = 0.63; c = (0.214, 0.278, 0.278), L = 0.91; c = (1.3, 1.0, 0.6), L = 1); "evals" is the
-//! mean number of right-hand-side evaluations per solve:
+//! mean number of right-hand-side evaluations per solve on the third wire (the one with the
+//! largest errors), counting the one extra step of the default two first-step substeps:
 //!
 //! | method | steps | evals | tip pos / L | tip rot \[rad\] | J(L) rel |
 //! | --- | --- | --- | --- | --- | --- |
-//! | RK4 | 120 | 492 | 9.7e-6 | 6.2e-5 | 5.2e-5 |
-//! | RK4 | 240 | 972 | 5.2e-7 | 3.3e-6 | 2.8e-6 |
-//! | RK6 | 48 | 357 | 4.0e-6 | 2.6e-5 | 2.2e-5 |
-//! | RK8 | 24 | 297 | 9.9e-6 | 6.3e-5 | 5.2e-5 |
-//! | RK8 | 32 | 385 | 9.1e-7 | 5.8e-6 | 4.8e-6 |
-//! | RK8 | 40 | 473 | 1.4e-7 | 8.9e-7 | 7.4e-7 |
-//! | RK8 | 48 | 561 | 3.0e-8 | 1.9e-7 | 1.6e-7 |
-//! | DOP853 | 16 | 228 | 1.4e-6 | 1.1e-5 | 7.9e-6 |
-//! | DOP853 | 24 | 324 | 5.8e-8 | 3.7e-7 | 3.1e-7 |
-//! | DOP853 | 32 | 420 | 5.2e-9 | 3.3e-8 | 2.8e-8 |
-//! | RK4 | max(16, ⌈8 σL⌉) | 399 | 8.2e-6 | 5.2e-5 | 4.4e-5 |
-//! | RK6 | max(8, ⌈3 σL⌉) | 277 | 4.6e-6 | 3.0e-5 | 2.5e-5 |
-//! | RK8 | max(8, ⌈2 σL⌉) | 303 | 9.1e-7 | 5.8e-6 | 4.8e-6 |
-//! | RK8 | max(8, ⌈2.5 σL⌉) | 369 | 1.4e-7 | 8.9e-7 | 7.4e-7 |
-//! | RK8 | max(8, ⌈3 σL⌉) (previous default) | 436 | 3.5e-8 | 2.3e-7 | 1.9e-7 |
-//! | DOP853 | max(8, ⌈1.25 σL⌉) | 223 | 2.5e-7 | 1.6e-6 | 1.7e-6 |
-//! | DOP853 | max(8, ⌈1.5 σL⌉) | 259 | 5.8e-8 | 3.7e-7 | 3.5e-7 |
-//! | DOP853 | max(8, ⌈1.6 σL⌉) | 273 | 4.1e-8 | 2.6e-7 | 2.2e-7 |
-//! | **DOP853** | **max(8, ⌈1.75 σL⌉)** (default) | **295** | **1.6e-8** | **1.0e-7** | **9.1e-8** |
-//! | DOP853 | max(8, ⌈2 σL⌉) | 331 | 5.5e-9 | 3.3e-8 | 3.6e-8 |
+//! | RK4 | 120 | 484 | 9.7e-6 | 6.2e-5 | 5.2e-5 |
+//! | RK4 | 240 | 964 | 5.2e-7 | 3.3e-6 | 2.8e-6 |
+//! | RK6 | 48 | 343 | 4.0e-6 | 2.6e-5 | 2.2e-5 |
+//! | RK8 | 24 | 275 | 9.9e-6 | 6.3e-5 | 5.2e-5 |
+//! | RK8 | 32 | 363 | 9.1e-7 | 5.8e-6 | 4.8e-6 |
+//! | RK8 | 40 | 451 | 1.4e-7 | 8.9e-7 | 7.4e-7 |
+//! | RK8 | 48 | 539 | 3.0e-8 | 1.9e-7 | 1.6e-7 |
+//! | DOP853 | 16 | 204 | 1.4e-6 | 1.1e-5 | 7.9e-6 |
+//! | DOP853 | 24 | 300 | 5.8e-8 | 3.7e-7 | 3.1e-7 |
+//! | DOP853 | 32 | 396 | 5.2e-9 | 3.3e-8 | 2.8e-8 |
+//! | RK4 | max(16, ⌈8 σL⌉) | 391 | 8.2e-6 | 5.2e-5 | 4.4e-5 |
+//! | RK6 | max(8, ⌈3 σL⌉) | 263 | 4.6e-6 | 3.0e-5 | 2.5e-5 |
+//! | RK8 | max(8, ⌈2 σL⌉) | 281 | 9.1e-7 | 5.8e-6 | 4.8e-6 |
+//! | RK8 | max(8, ⌈2.5 σL⌉) | 347 | 1.4e-7 | 8.9e-7 | 7.4e-7 |
+//! | RK8 | max(8, ⌈3 σL⌉) (previous default) | 414 | 3.5e-8 | 2.3e-7 | 1.9e-7 |
+//! | DOP853 | max(8, ⌈1.25 σL⌉) | 199 | 2.5e-7 | 1.6e-6 | 1.7e-6 |
+//! | **DOP853** | **max(8, ⌈1.5 σL⌉)** (default) | **235** | **5.8e-8** | **3.7e-7** | **3.5e-7** |
+//! | DOP853 | max(8, ⌈1.6 σL⌉) | 249 | 4.1e-8 | 2.6e-7 | 2.2e-7 |
+//! | DOP853 | max(8, ⌈1.75 σL⌉) (default until the FMA work) | 271 | 1.6e-8 | 1.0e-7 | 9.1e-8 |
+//! | DOP853 | max(8, ⌈2 σL⌉) | 307 | 5.5e-9 | 3.3e-8 | 3.6e-8 |
 //!
 //! The tip rotation is the binding requirement. Both order-8 methods converge at their order
 //! (×2 steps ≈ ×250 less error), but DOP853's error constant is about 170 times smaller than
@@ -48,9 +49,12 @@
 //! `σL` on how far the frame turns, saves about a fifth against the fixed step count with the
 //! same worst case, and keeps the accuracy on configurations more bent than the sample's.
 //!
-//! The default, [`Method::Dop853`] with `max(8, ⌈1.75 σL⌉)` steps ([`Integrator::default`]),
-//! meets the requirement with a margin of 10 on the rotation (the previous default, RK8 with
-//! `⌈3 σL⌉` steps, had 4) at 0.68 times its evaluations. Reproduce with
+//! The default, [`Method::Dop853`] with `max(8, ⌈1.5 σL⌉)` steps ([`Integrator::default`]),
+//! meets the requirement with a margin of 2.7 on the rotation (the binding error; 17 on the
+//! position and 29 on `J(L)`) at 0.57 times the evaluations of the first default (RK8 with
+//! `⌈3 σL⌉` steps, margin 4). `⌈1.75 σL⌉` (margin 10) costs 15 % more evaluations. The
+//! numbers are the same, to the digits shown, with and without the fused multiply–adds of
+//! [`crate::arith`] (`FTWIRE_NO_SIMD=1`). Reproduce with
 //! `cargo test -p ftwire-rod --release --test convergence -- --ignored --nocapture study`;
 //! the non-ignored test `default_meets_the_accuracy_requirement` in the same file guards it.
 //!
@@ -65,9 +69,12 @@
 //! The explicit steps are written out stage by stage ([`Method::Rk8`], [`Method::Dop853`]):
 //! only nonzero Butcher coefficients, each stage sum one fused pass over the flat state, the
 //! stage derivatives kept in a workspace reused across steps (nothing zeroed or copied per
-//! step).
+//! step). The stage sums and the right-hand sides are generic over the multiply–add, and the
+//! solver's loops run compiled for AVX2 with hardware FMA when the CPU has them
+//! ([`crate::arith`]).
 
 use crate::RodError;
+use crate::arith::{MulAdd, Separate};
 
 /// An explicit Runge–Kutta method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -128,7 +135,7 @@ struct PerRadian {
 }
 
 impl Default for Integrator {
-    /// [`Method::Dop853`] with `max(8, ⌈1.75 σL⌉)` steps (see the study in the module docs).
+    /// [`Method::Dop853`] with `max(8, ⌈1.5 σL⌉)` steps (see the study in the module docs).
     fn default() -> Self {
         Self {
             method: Method::Dop853,
@@ -145,7 +152,7 @@ impl Integrator {
     /// Default (smallest) number of steps (see the convergence study in the module docs).
     pub const DEFAULT_STEPS: usize = 8;
     /// Default steps per radian of turning scale, in thousandths.
-    const DEFAULT_STEPS_PER_RADIAN_MILLIS: u32 = 1750;
+    const DEFAULT_STEPS_PER_RADIAN_MILLIS: u32 = 1500;
     /// Cap of the adaptive step count.
     pub const MAX_ADAPTIVE_STEPS: usize = 20_000;
     /// Largest number of steps accepted.
@@ -261,26 +268,38 @@ impl Integrator {
 
     /// One step of size `h` from `y` of the autonomous ODE `y' = f(y)`.
     #[inline(always)]
-    pub(crate) fn step<const D: usize>(
-        &self,
-        y: &[f64; D],
-        h: f64,
-        f: impl Fn(&[f64; D], &mut [f64; D]),
-    ) -> [f64; D] {
+    pub(crate) fn step<const D: usize>(&self, y: &[f64; D], h: f64, f: impl Rhs<D>) -> [f64; D] {
         match self.method {
             Method::Rk4 => rk_step(&RK4_A, &RK4_B, y, h, f),
             Method::Rk6 => rk_step(&RK6_A, &RK6_B, y, h, f),
             Method::Dop853 => {
                 let mut out = *y;
-                dop853_step(&mut out, h, f, &mut Workspace::new());
+                dop853_step::<Separate, D>(&mut out, h, f, &mut Workspace::new());
                 out
             }
             Method::Rk8 => {
                 let mut out = *y;
-                rk8_step(&mut out, h, f, &mut Workspace::new());
+                rk8_step::<Separate, D>(&mut out, h, f, &mut Workspace::new());
                 out
             }
         }
+    }
+}
+
+/// The right-hand side `f` of an autonomous ODE `y' = f(y)` on a flat state of `D` numbers.
+///
+/// Closures implement it; the solver's hot paths use small structs whose `rate` is
+/// `#[inline(always)]`, so that it is compiled into the AVX2+FMA loops of
+/// [`crate::arith`] (a closure would be compiled on its own, without those features).
+pub(crate) trait Rhs<const D: usize>: Copy {
+    /// Writes `f(y)` into `out`.
+    fn rate(&self, y: &[f64; D], out: &mut [f64; D]);
+}
+
+impl<const D: usize, F: Fn(&[f64; D], &mut [f64; D]) + Copy> Rhs<D> for F {
+    #[inline(always)]
+    fn rate(&self, y: &[f64; D], out: &mut [f64; D]) {
+        self(y, out)
     }
 }
 
@@ -303,18 +322,19 @@ impl<const D: usize> Workspace<D> {
 }
 
 impl Integrator {
-    /// One step of size `h` of the autonomous ODE `y' = f(y)`, in place, with scratch `w`.
+    /// One step of size `h` of the autonomous ODE `y' = f(y)`, in place, with scratch `w`,
+    /// the stage sums multiply–added by `A`.
     #[inline(always)]
-    pub(crate) fn step_in_place<const D: usize>(
+    pub(crate) fn step_in_place<A: MulAdd, const D: usize>(
         &self,
         y: &mut [f64; D],
         h: f64,
-        f: impl Fn(&[f64; D], &mut [f64; D]),
+        f: impl Rhs<D>,
         w: &mut Workspace<D>,
     ) {
         match self.method {
-            Method::Rk8 => rk8_step(y, h, f, w),
-            Method::Dop853 => dop853_step(y, h, f, w),
+            Method::Rk8 => rk8_step::<A, D>(y, h, f, w),
+            Method::Dop853 => dop853_step::<A, D>(y, h, f, w),
             _ => *y = self.step(y, h, f),
         }
     }
@@ -328,12 +348,12 @@ macro_rules! rk_stage {
         let js = [$( $j ),+];
         for d in 0..D {
             let mut sum = $y[d];
-            for (cj, &j) in c.iter().zip(&js) {
-                sum += cj * $w.k[j][d];
+            for (&cj, &j) in c.iter().zip(&js) {
+                sum = A::mul_add(cj, $w.k[j][d], sum);
             }
             $w.yi[d] = sum;
         }
-        $f(&$w.yi, &mut $w.k[$i]);
+        $f.rate(&$w.yi, &mut $w.k[$i]);
     }};
 }
 
@@ -341,13 +361,13 @@ macro_rules! rk_stage {
 /// the nonzero Butcher coefficients are used, each stage sum is a single fused pass, and the
 /// stages live in the caller's [`Workspace`] (nothing zeroed or copied per step).
 #[inline(always)]
-fn rk8_step<const D: usize>(
+fn rk8_step<A: MulAdd, const D: usize>(
     y: &mut [f64; D],
     h: f64,
-    f: impl Fn(&[f64; D], &mut [f64; D]),
+    f: impl Rhs<D>,
     w: &mut Workspace<D>,
 ) {
-    f(y, &mut w.k[0]);
+    f.rate(y, &mut w.k[0]);
     rk_stage!(RK8_A, w, y, h, f, 1; 0);
     rk_stage!(RK8_A, w, y, h, f, 2; 0, 1);
     rk_stage!(RK8_A, w, y, h, f, 3; 0, 1, 2);
@@ -362,7 +382,7 @@ fn rk8_step<const D: usize>(
     for (d, yd) in y.iter_mut().enumerate() {
         let mut sum = *yd;
         for &(j, cj) in &c {
-            sum += cj * w.k[j][d];
+            sum = A::mul_add(cj, w.k[j][d], sum);
         }
         *yd = sum;
     }
@@ -370,13 +390,13 @@ fn rk8_step<const D: usize>(
 
 /// One step of [`Method::Dop853`], written out as [`rk8_step`] is (nonzero coefficients only).
 #[inline(always)]
-fn dop853_step<const D: usize>(
+fn dop853_step<A: MulAdd, const D: usize>(
     y: &mut [f64; D],
     h: f64,
-    f: impl Fn(&[f64; D], &mut [f64; D]),
+    f: impl Rhs<D>,
     w: &mut Workspace<D>,
 ) {
-    f(y, &mut w.k[0]);
+    f.rate(y, &mut w.k[0]);
     rk_stage!(DOP853_A, w, y, h, f, 1; 0);
     rk_stage!(DOP853_A, w, y, h, f, 2; 0, 1);
     rk_stage!(DOP853_A, w, y, h, f, 3; 0, 2);
@@ -392,7 +412,7 @@ fn dop853_step<const D: usize>(
     for (d, yd) in y.iter_mut().enumerate() {
         let mut sum = *yd;
         for &(j, cj) in &c {
-            sum += cj * w.k[j][d];
+            sum = A::mul_add(cj, w.k[j][d], sum);
         }
         *yd = sum;
     }
@@ -406,7 +426,7 @@ fn rk_step<const D: usize, const N: usize>(
     b: &[f64; N],
     y: &[f64; D],
     h: f64,
-    f: impl Fn(&[f64; D], &mut [f64; D]),
+    f: impl Rhs<D>,
 ) -> [f64; D] {
     let mut k = [[0.0; D]; N];
     let mut yi = *y;
@@ -423,7 +443,7 @@ fn rk_step<const D: usize, const N: usize>(
                 }
             }
         }
-        f(&yi, &mut k[i]);
+        f.rate(&yi, &mut k[i]);
     }
     let mut out = *y;
     for i in 0..N {
@@ -831,7 +851,9 @@ mod tests {
         let h = 0.5 / steps as f64;
         let mut y = [1.0, 0.0];
         for _ in 0..steps {
-            y = integ.step(&y, h, |s, out| *out = [s[0] * s[0], 1.0]);
+            y = integ.step(&y, h, |s: &[f64; 2], out: &mut [f64; 2]| {
+                *out = [s[0] * s[0], 1.0]
+            });
         }
         (y[0] - 2.0).abs()
     }
@@ -858,13 +880,13 @@ mod tests {
         let y = [0.3, -0.7, 1.1];
         for h in [0.05, 0.4] {
             let mut fused = y;
-            rk8_step(&mut fused, h, f, &mut Workspace::new());
+            rk8_step::<Separate, 3>(&mut fused, h, f, &mut Workspace::new());
             let table = rk_step(&RK8_A, &RK8_B, &y, h, f);
             for (a, b) in fused.iter().zip(&table) {
                 assert!((a - b).abs() < 1e-14, "h = {h}: {a} vs {b}");
             }
             let mut fused = y;
-            dop853_step(&mut fused, h, f, &mut Workspace::new());
+            dop853_step::<Separate, 3>(&mut fused, h, f, &mut Workspace::new());
             let table = rk_step(&DOP853_A, &DOP853_B, &y, h, f);
             for (a, b) in fused.iter().zip(&table) {
                 assert!((a - b).abs() < 1e-14, "DOP853, h = {h}: {a} vs {b}");

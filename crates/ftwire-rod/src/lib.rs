@@ -14,6 +14,7 @@
 //! - [`batch`]: many solves at once (parallel with the `parallel` feature).
 //! - [`se3`]: hat/vee, se(3) exp/log, adjoints.
 
+mod arith;
 pub mod batch;
 pub mod configuration;
 pub mod equations;

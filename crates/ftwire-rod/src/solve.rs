@@ -5,11 +5,17 @@
 //! [`Rod::jacobian`] (`J(L)`, tip and stability, no shape) and [`Rod::is_stable`] (stops at
 //! the first sign change of `det J`).
 
+use std::marker::PhantomData;
+
 use ftwire_core::{Pose, WireParams};
 use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
 
+#[cfg(target_arch = "x86_64")]
+use crate::arith::Fused;
+use crate::arith::{MulAdd, Separate};
 use crate::equations::{
-    FrameArray, FrameJet, FrameState, FullArray, Kirchhoff, jacobian_determinant, jacobian_of,
+    FrameArray, FrameJet, FrameRhs, FrameState, FullArray, FullRhs, Kirchhoff,
+    jacobian_determinant, jacobian_of,
 };
 use crate::integrator::{Integrator, Workspace, septic_hermite};
 use crate::intersection::self_contact;
@@ -184,7 +190,40 @@ impl Rod {
 
     /// Integrates `q` and `J` over the grid, tracking `det J`. Pushes the frame jets at the
     /// grid points into `knots` if given. Stops early at the first sign change if asked.
+    ///
+    /// Runs the AVX2+FMA build of the loop when the CPU has it ([`crate::arith`]).
     fn integrate_full(
+        &self,
+        model: &Kirchhoff,
+        knots: Option<&mut Vec<FrameJet>>,
+        record_det: bool,
+        early_exit: bool,
+    ) -> (FullArray, SignTracker) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::arith::fast_path() {
+            // SAFETY: `fast_path` has checked that this CPU supports AVX2 and FMA, the only
+            // requirement of the `#[target_feature]` function.
+            #[allow(unsafe_code)]
+            return unsafe { self.integrate_full_fma(model, knots, record_det, early_exit) };
+        }
+        self.integrate_full_with::<Separate>(model, knots, record_det, early_exit)
+    }
+
+    /// [`Rod::integrate_full`] compiled for AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn integrate_full_fma(
+        &self,
+        model: &Kirchhoff,
+        knots: Option<&mut Vec<FrameJet>>,
+        record_det: bool,
+        early_exit: bool,
+    ) -> (FullArray, SignTracker) {
+        self.integrate_full_with::<Fused>(model, knots, record_det, early_exit)
+    }
+
+    #[inline(always)]
+    fn integrate_full_with<A: MulAdd>(
         &self,
         model: &Kirchhoff,
         mut knots: Option<&mut Vec<FrameJet>>,
@@ -198,16 +237,21 @@ impl Rod {
         if let Some(k) = knots.as_deref_mut() {
             k.push(model.frame_jet(&FrameState::from_slice(&y)));
         }
-        let f = |s: &FullArray, out: &mut FullArray| model.full_rate(s, out);
+        let f = FullRhs::<A> {
+            model,
+            arith: PhantomData,
+        };
         let mut work = Workspace::new();
         let substeps = self.integrator.first_step_substeps();
         let sub = h / substeps as f64;
         for _ in 0..substeps {
-            self.integrator.step_in_place(&mut y, sub, f, &mut work);
+            self.integrator
+                .step_in_place::<A, 48>(&mut y, sub, f, &mut work);
         }
         for k in 1..=steps {
             if k > 1 {
-                self.integrator.step_in_place(&mut y, h, f, &mut work);
+                self.integrator
+                    .step_in_place::<A, 48>(&mut y, h, f, &mut work);
             }
             if let Some(k) = knots.as_deref_mut() {
                 k.push(model.frame_jet(&FrameState::from_slice(&y)));
@@ -218,6 +262,61 @@ impl Rod {
             }
         }
         (y, tracker)
+    }
+
+    /// Integrates `q` alone over `steps` uniform steps, pushing the frame jets at the grid
+    /// points into `knots`; returns the tip state. AVX2+FMA when the CPU has it.
+    fn integrate_frame(
+        &self,
+        model: &Kirchhoff,
+        steps: usize,
+        knots: &mut Vec<FrameJet>,
+    ) -> FrameArray {
+        #[cfg(target_arch = "x86_64")]
+        if crate::arith::fast_path() {
+            // SAFETY: as in `integrate_full`.
+            #[allow(unsafe_code)]
+            return unsafe { self.integrate_frame_fma(model, steps, knots) };
+        }
+        self.integrate_frame_with::<Separate>(model, steps, knots)
+    }
+
+    /// [`Rod::integrate_frame`] compiled for AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn integrate_frame_fma(
+        &self,
+        model: &Kirchhoff,
+        steps: usize,
+        knots: &mut Vec<FrameJet>,
+    ) -> FrameArray {
+        self.integrate_frame_with::<Fused>(model, steps, knots)
+    }
+
+    #[inline(always)]
+    fn integrate_frame_with<A: MulAdd>(
+        &self,
+        model: &Kirchhoff,
+        steps: usize,
+        knots: &mut Vec<FrameJet>,
+    ) -> FrameArray {
+        let h = self.wire.length() / steps as f64;
+        let mut y: FrameArray = FrameState::initial();
+        knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        let mut work = Workspace::new();
+        for _ in 0..steps {
+            self.integrator.step_in_place::<A, 12>(
+                &mut y,
+                h,
+                FrameRhs::<A> {
+                    model,
+                    arith: PhantomData,
+                },
+                &mut work,
+            );
+            knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        }
+        y
     }
 
     fn jacobian_solution(
@@ -312,16 +411,8 @@ impl Rod {
         Self::check_nodes(nodes)?;
         let model = self.model(a)?;
         let steps = self.steps_for(&model);
-        let h = self.wire.length() / steps as f64;
         let mut knots = Vec::with_capacity(steps + 1);
-        let mut y: FrameArray = FrameState::initial();
-        knots.push(model.frame_jet(&FrameState::from_slice(&y)));
-        let mut work = Workspace::new();
-        for _ in 0..steps {
-            self.integrator
-                .step_in_place(&mut y, h, |s, out| model.frame_rate(s, out), &mut work);
-            knots.push(model.frame_jet(&FrameState::from_slice(&y)));
-        }
+        let y = self.integrate_frame(&model, steps, &mut knots);
         if !y.iter().all(|v| v.is_finite()) {
             return Err(RodError::Diverged {
                 a: (*a).into(),
@@ -374,7 +465,27 @@ impl Rod {
         Ok(tracker.finish().stable)
     }
 
+    /// The shape at `nodes` nodes from the frame jets at the grid points (septic Hermite
+    /// dense output). AVX2+FMA when the CPU has it.
     fn shape_from_knots(&self, knots: &[FrameJet], nodes: usize) -> Shape {
+        #[cfg(target_arch = "x86_64")]
+        if crate::arith::fast_path() {
+            // SAFETY: as in `integrate_full`.
+            #[allow(unsafe_code)]
+            return unsafe { self.shape_from_knots_fma(knots, nodes) };
+        }
+        self.shape_from_knots_with::<Separate>(knots, nodes)
+    }
+
+    /// [`Rod::shape_from_knots`] compiled for AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn shape_from_knots_fma(&self, knots: &[FrameJet], nodes: usize) -> Shape {
+        self.shape_from_knots_with::<Fused>(knots, nodes)
+    }
+
+    #[inline(always)]
+    fn shape_from_knots_with<A: MulAdd>(&self, knots: &[FrameJet], nodes: usize) -> Shape {
         let length = self.wire.length();
         let steps = knots.len().saturating_sub(1).max(1);
         let h = length / steps as f64;
@@ -391,7 +502,7 @@ impl Rod {
             let k = (x as usize).min(steps - 1);
             let theta = (x - k as f64).clamp(0.0, 1.0);
             let (p, r) = match (knots.get(k), knots.get(k + 1)) {
-                (Some(k0), Some(k1)) => interpolate(k0, k1, h, theta),
+                (Some(k0), Some(k1)) => interpolate::<A>(k0, k1, h, theta),
                 _ => (Vector3::zeros(), Rotation3::identity()),
             };
             shape.arc_length.push(t);
@@ -403,43 +514,64 @@ impl Rod {
 }
 
 /// Septic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
-fn interpolate(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> (Vector3<f64>, Rotation3<f64>) {
+/// Only the position and the first two columns of `R` are interpolated: Gram–Schmidt
+/// rebuilds the third as their cross product.
+#[inline(always)]
+fn interpolate<A: MulAdd>(
+    k0: &FrameJet,
+    k1: &FrameJet,
+    h: f64,
+    theta: f64,
+) -> (Vector3<f64>, Rotation3<f64>) {
     if theta == 0.0 {
-        return (
-            k0.frame.p,
-            Rotation3::from_matrix_unchecked(orthonormalise(&k0.frame.r)),
-        );
+        return (k0.frame.p, rotation_from_columns::<A>(&k0.frame.r));
     }
     if theta == 1.0 {
-        return (
-            k1.frame.p,
-            Rotation3::from_matrix_unchecked(orthonormalise(&k1.frame.r)),
-        );
+        return (k1.frame.p, rotation_from_columns::<A>(&k1.frame.r));
     }
     let w = septic_hermite(theta);
     let (h2, h3) = (h * h, h * h * h);
-    let (w1, w2, w3) = (w[1] * h, w[2] * h2, w[3] * h3);
-    let (w5, w6, w7) = (w[5] * h, w[6] * h2, w[7] * h3);
-    let p = k0.frame.p * w[0]
-        + k0.d1.p * w1
-        + k0.d2.p * w2
-        + k0.d3.p * w3
-        + k1.frame.p * w[4]
-        + k1.d1.p * w5
-        + k1.d2.p * w6
-        + k1.d3.p * w7;
-    let r = k0.frame.r * w[0]
-        + k0.d1.r * w1
-        + k0.d2.r * w2
-        + k0.d3.r * w3
-        + k1.frame.r * w[4]
-        + k1.d1.r * w5
-        + k1.d2.r * w6
-        + k1.d3.r * w7;
-    (p, Rotation3::from_matrix_unchecked(orthonormalise(&r)))
+    let terms = [
+        (&k0.frame, w[0]),
+        (&k0.d1, w[1] * h),
+        (&k0.d2, w[2] * h2),
+        (&k0.d3, w[3] * h3),
+        (&k1.frame, w[4]),
+        (&k1.d1, w[5] * h),
+        (&k1.d2, w[6] * h2),
+        (&k1.d3, w[7] * h3),
+    ];
+    // Columns 0 and 1 of R (column-major: its first 6 numbers), then p.
+    let mut acc = [0.0; 9];
+    for (f, wi) in terms {
+        let r = f.r.as_slice();
+        for j in 0..6 {
+            acc[j] = A::mul_add(wi, r[j], acc[j]);
+        }
+        for j in 0..3 {
+            acc[6 + j] = A::mul_add(wi, f.p[j], acc[6 + j]);
+        }
+    }
+    let r = Matrix3::new(
+        acc[0], acc[3], 0.0, //
+        acc[1], acc[4], 0.0, //
+        acc[2], acc[5], 0.0,
+    );
+    (
+        Vector3::new(acc[6], acc[7], acc[8]),
+        rotation_from_columns::<A>(&r),
+    )
+}
+
+/// Gram–Schmidt on the first two columns, keeping the tangent's direction; the third column
+/// is their cross product.
+#[inline(always)]
+fn rotation_from_columns<A: MulAdd>(r: &Matrix3<f64>) -> Rotation3<f64> {
+    Rotation3::from_matrix_unchecked(orthonormalise(r))
 }
 
 /// Gram–Schmidt on the columns, keeping the tangent's direction.
+#[inline(always)]
 fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
     let x = r.column(0).normalize();
     let y1 = r.column(1) - x * x.dot(&r.column(1));
@@ -454,4 +586,50 @@ fn pose_of(q: &FrameState) -> Pose {
         Translation3::from(q.p),
         UnitQuaternion::from_rotation_matrix(&r),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    /// The dispatched loops (AVX2+FMA on a CPU that has them) and the portable ones agree to
+    /// rounding: same grid, same stability record, frames, `J` and shape within 1e-12.
+    #[test]
+    fn fast_and_portable_paths_agree() {
+        let wire = WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001).expect("valid");
+        let rod = Rod::new(wire);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let sampler = Sampler::default();
+        for _ in 0..40 {
+            let a = sampler.sample_a(&rod, &mut rng);
+            let model = rod.model(&a).expect("in A");
+            let (mut k_fast, mut k_plain) = (Vec::new(), Vec::new());
+            let (y_fast, t_fast) = rod.integrate_full(&model, Some(&mut k_fast), true, false);
+            let (y_plain, t_plain) =
+                rod.integrate_full_with::<Separate>(&model, Some(&mut k_plain), true, false);
+            let scale = y_plain.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (f, p) in y_fast.iter().zip(&y_plain) {
+                assert!((f - p).abs() <= 1e-12 * scale, "a = {a}: {f} vs {p}");
+            }
+            let (s_fast, s_plain) = (t_fast.finish(), t_plain.finish());
+            assert_eq!(s_fast.stable, s_plain.stable, "a = {a}");
+            assert_eq!(s_fast.det_j.len(), s_plain.det_j.len());
+            let shape_fast = rod.shape_from_knots(&k_fast, 64);
+            let shape_plain = rod.shape_from_knots_with::<Separate>(&k_plain, 64);
+            for (f, p) in shape_fast.positions.iter().zip(&shape_plain.positions) {
+                assert!((f - p).norm() <= 1e-12 * wire.length(), "a = {a}");
+            }
+            let steps = rod.steps_for(&model);
+            let (mut kf, mut kp) = (Vec::new(), Vec::new());
+            rod.integrate_frame(&model, steps, &mut kf);
+            rod.integrate_frame_with::<Separate>(&model, steps, &mut kp);
+            for (f, p) in kf.iter().zip(&kp) {
+                assert!((f.frame.p - p.frame.p).norm() <= 1e-12 * wire.length());
+                assert!((f.frame.r - p.frame.r).amax() <= 1e-12);
+            }
+        }
+    }
 }

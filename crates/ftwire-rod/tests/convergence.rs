@@ -121,7 +121,11 @@ fn study() {
             let stages = integrator.method().stages() as f64;
             let evals = sample
                 .iter()
-                .map(|a| (rod.steps_for_configuration(a).expect("valid") + 3) as f64 * stages)
+                .map(|a| {
+                    // The first step's substeps add `substeps − 1` steps.
+                    let extra = integrator.first_step_substeps() - 1;
+                    (rod.steps_for_configuration(a).expect("valid") + extra) as f64 * stages
+                })
                 .sum::<f64>()
                 / sample.len() as f64;
             println!(
