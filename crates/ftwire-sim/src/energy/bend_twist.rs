@@ -246,11 +246,7 @@ mod tests {
         // The plain DER's averaged director is shorter by cos(Δ/2): the artefact corrected.
         let avg = add(&m10, &m11);
         assert!((dot(&b, &avg) - 2.0 * (twist / 2.0).cos() * mid.cos()).abs() < 1e-12);
-        [
-            twist / l,
-            phi / l * mid.cos(),
-            phi / l * mid.sin(),
-        ]
+        [twist / l, phi / l * mid.cos(), phi / l * mid.sin()]
     }
 
     #[test]
