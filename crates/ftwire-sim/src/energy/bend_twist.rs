@@ -172,12 +172,29 @@ pub(crate) fn strains<S: Scalar>(dots: &[S; 7], th0: S, th1: S, st: &Stencil<'_>
     let u1 = twist * (1.0 / st.voronoi);
     // Turning angle instead of 2·tan(φ/2), and the mid-vertex material frame instead of the
     // averaged directors (whose length is cos(Δ/2)); see the module docs.
-    let x2 = twist * twist * 0.25;
-    let sec = x2 * (x2 * (5.0 / 24.0) + 0.5) + 1.0;
-    let k = k * half_angle_ratio(c) * sec;
+    // Both factors are scalar functions of one stencil quantity; they are differentiated with
+    // one-variable duals and applied as exact second-order Taylor expansions, which keeps the
+    // stencil's eight-variable dual arithmetic (the Hessian cost) to four products.
+    let g = taylor2(c, half_angle_ratio(Dual2::<1>::var(c.re(), 0)));
+    let sec = taylor2(twist, half_twist_secant(Dual2::<1>::var(twist.re(), 0)));
+    let k = k * (g * sec);
     let u2 = (s0 * p - c0 * q + c1 * s - s1 * r) * k;
     let u3 = (s0 * q + c0 * p - s1 * s - c1 * r) * k;
     [u1, u2, u3]
+}
+
+/// `f(x)` from its value and first two derivatives at `x.re()` (in `f`): exact for every
+/// scalar type here, which carries at most second derivatives.
+fn taylor2<S: Scalar>(x: S, f: Dual2<1>) -> S {
+    let d = x - x.re();
+    d * (d * (0.5 * f.hess(0, 0)) + f.g[0]) + f.v
+}
+
+/// `sec(Δ/2)` as its Taylor polynomial `1 + x²/2 + 5x⁴/24` (`x = Δ/2`): error `O(Δ⁶)`,
+/// smooth and bounded for any `Δ`.
+fn half_twist_secant<S: Scalar>(twist: S) -> S {
+    let x2 = twist * twist * 0.25;
+    x2 * (x2 * (5.0 / 24.0) + 0.5) + 1.0
 }
 
 /// `(φ/2)/tan(φ/2)` for `c = cos φ`, smooth in `c` on `(−1, 1]`.
