@@ -1,23 +1,37 @@
 //! The Kirchhoff model against the independent discrete-elastic-rod simulator (issue 3).
 //!
 //! Setup: configurations `a` sampled in `A_stable` (uniform in normalised units, torque · L/c2
-//! and force · L²/c2), gravity off, straight rest shape; the simulated wire is clamped at the
-//! identity and at `b = Γ(a)`, and Newton starts from the Kirchhoff shape (the same tip pose can
-//! hold several stable equilibria).
+//! and force · L²/c2), gravity off, straight rest shape; the simulated wire (N = 100 edges, the
+//! issue's resolution) is clamped at the identity and at `b = Γ(a)`, and Newton starts from the
+//! Kirchhoff shape (the same tip pose can hold several stable equilibria). The pass conditions
+//! are the issue's: base wrench within 1 % of `|a|` (torque and force each, normalised) and
+//! centreline within 0.5 mm of the model.
 //!
 //! What agreement means here. The simulator is a discretisation, so it differs from the model
-//! by an `O(h²)` error; that error is amplified where the wrench is ill-conditioned in the tip
-//! pose (a taut, nearly straight wire, whose tension is hypersensitive to the end distance; and
-//! near the stability boundary, where `J(L)` is nearly singular). Two tests:
-//! - [`bounds_at_moderate_loads`]: the issue's pass conditions over `A_stable ∩ [−5, 5]⁶`: the
-//!   centreline within 0.5 mm at N = 100, and the base wrench within 1 % of `|a|` (torque and
-//!   force each, normalised) at N = 200. (At N = 100 the worst force error of a taut wire is
-//!   about 2 %, the discretisation error of its tension.)
+//! by an `O(h²)` error, amplified where the wrench is ill-conditioned in the tip pose (near the
+//! stability boundary, where the equilibrium is nearly critical). The DER's bending strain is
+//! the turning angle in the mid-vertex material frame (`ftwire-sim`, `energy/bend_twist.rs`),
+//! which removed the two largest `O(h²)` terms (worst gaps over `[−30, 30]⁶` at N = 100: force
+//! 3.6 % → 0.9 %, shape 6.7 mm → 1.4 mm). What is asserted:
+//! - [`bounds_at_moderate_loads`]: every sample of `A_stable ∩ [−5, 5]⁶` (two seeds × 20, both
+//!   wires) meets the issue's bounds at N = 100 (worst measured: force 0.997 % — a thin margin —,
+//!   torque 0.03 %, shape 0.07 mm).
+//! - [`bounds_over_the_default_range`]: over the default sampler's range `[−30, 30]⁶` (two
+//!   seeds × 20, both wires), at least 90 % of the samples meet all three bounds at N = 100,
+//!   and the medians are an order of magnitude inside them. Not every sample does: the worst
+//!   few percent, strongly loaded and close to the stability boundary, miss the shape bound by
+//!   up to ~9× (4.4 mm) and the force bound by up to 1.22 % (3 of 40 here; see [`survey`]); and
+//!   very near the boundary the N = 100 rod can have no stable equilibrium near the model's, so
+//!   Newton lands on another branch (1 of 40 samples at survey seed 2). The normalised `σ_min`
+//!   of `J(L)` does not predict these cases (the survey prints it). No sample is excluded; the
+//!   misses are counted and printed.
 //! - [`the_gap_is_second_order_discretisation_error`]: over strongly bent configurations
 //!   (`[−10, 10]⁶`), doubling N divides the wrench and shape gaps by about 4.
 //!
 //! Worst cases are printed:
-//! `cargo test --release -p ftwire --test model_vs_sim -- --nocapture`.
+//! `cargo test --release -p ftwire --test model_vs_sim -- --nocapture`; the survey by
+//! half-width (ignored, seconds):
+//! `cargo test --release -p ftwire --test model_vs_sim -- --ignored survey --nocapture`.
 
 use ftwire::bridge::kirchhoff_guess;
 use ftwire_core::{Pose, WireParams};
@@ -115,22 +129,70 @@ fn samples(model: &ftwire_rod::Rod, half_width: f64, count: usize, seed: u64) ->
         .collect()
 }
 
+/// The issue's pass conditions.
+fn within_bounds(g: &Gap) -> bool {
+    g.torque < 0.01 && g.force < 0.01 && g.shape_mm < 0.5
+}
+
 #[test]
 fn bounds_at_moderate_loads() {
     for (name, preset) in wires() {
-        let (model, world_100) = setup(preset, 100);
-        let (_, world_200) = setup(preset, 200);
-        let mut worst_100 = Gap::default();
-        let mut worst_200 = Gap::default();
-        for a in samples(&model, 5.0, 20, 2026) {
-            worst_100 = worst_100.max(gap(&model, &world_100, &a));
-            worst_200 = worst_200.max(gap(&model, &world_200, &a));
+        let (model, world) = setup(preset, 100);
+        let mut worst = Gap::default();
+        for seed in [2026, 7] {
+            for a in samples(&model, 5.0, 20, seed) {
+                worst = worst.max(gap(&model, &world, &a));
+            }
         }
-        eprintln!("{name}: worst over A_stable ∩ [−5, 5]⁶, N = 100: {worst_100:?}");
-        eprintln!("{name}: worst over A_stable ∩ [−5, 5]⁶, N = 200: {worst_200:?}");
-        assert!(worst_100.shape_mm < 0.5, "{name}: {worst_100:?}");
-        assert!(worst_200.torque < 0.01, "{name}: {worst_200:?}");
-        assert!(worst_200.force < 0.01, "{name}: {worst_200:?}");
+        eprintln!("{name}: worst over A_stable ∩ [−5, 5]⁶, N = 100: {worst:?}");
+        assert!(within_bounds(&worst), "{name}: {worst:?}");
+    }
+}
+
+#[test]
+fn bounds_over_the_default_range() {
+    let half_width = Sampler::default().half_width;
+    for (name, preset) in wires() {
+        let (model, world) = setup(preset, 100);
+        let mut gaps = Vec::new();
+        let mut misses = Vec::new();
+        for seed in [2026, 7] {
+            for a in samples(&model, half_width, 20, seed) {
+                let an = ftwire_rod::to_normalised(model.wire(), &a);
+                match try_gap(&model, &world, &a) {
+                    Ok(g) if within_bounds(&g) => gaps.push(g),
+                    Ok(g) => {
+                        misses.push(format!("{g:?} at a_n = {:.2?}", an.as_slice()));
+                        gaps.push(g);
+                    }
+                    Err(e) => misses.push(format!("{e} at a_n = {:.2?}", an.as_slice())),
+                }
+            }
+        }
+        let total = gaps.len() + misses.len() - gaps.iter().filter(|g| !within_bounds(g)).count();
+        let median = |f: fn(&Gap) -> f64| quantiles(gaps.iter().map(f).collect())[0];
+        let (torque, force, shape) = (
+            median(|g| g.torque),
+            median(|g| g.force),
+            median(|g| g.shape_mm),
+        );
+        eprintln!(
+            "{name}: [−{half_width}, {half_width}]⁶, N = 100: {} of {total} within the bounds; \
+             medians torque {torque:.1e}, force {force:.1e}, shape {shape:.3} mm",
+            total - misses.len()
+        );
+        for m in &misses {
+            eprintln!("  outside: {m}");
+        }
+        assert!(
+            misses.len() * 10 <= total,
+            "{name}: {} of {total} samples outside the bounds",
+            misses.len()
+        );
+        assert!(
+            torque < 1e-3 && force < 1e-3 && shape < 0.15,
+            "{name}: medians {torque:.1e}, {force:.1e}, {shape:.3} mm"
+        );
     }
 }
 
@@ -160,5 +222,137 @@ fn the_gap_is_second_order_discretisation_error() {
             }
         }
         eprintln!("{name}: worst over A_stable ∩ [−10, 10]⁶, N = 100: {worst_100:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Survey (diagnostic, ignored).
+
+/// Conditioning of `J(L)` in normalised units: rows `(δω, δv/L)`, columns `δa` normalised.
+/// Returns `(σ_min, σ_max)`.
+fn normalised_singular_values(model: &ftwire_rod::Rod, a: &Vector6<f64>) -> (f64, f64, f64) {
+    let wire = model.wire();
+    let sol = model.jacobian(a).expect("a is in A");
+    let l = wire.length();
+    let (ts, fs) = (wire.torque_scale(), wire.force_scale());
+    let mut j = sol.jacobian;
+    for r in 3..6 {
+        for c in 0..6 {
+            j[(r, c)] /= l;
+        }
+    }
+    for c in 0..6 {
+        let s = if c < 3 { ts } else { fs };
+        for r in 0..6 {
+            j[(r, c)] *= s;
+        }
+    }
+    let sv = j.singular_values();
+    let (lo, hi) = sv.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &v| {
+        (lo.min(v), hi.max(v))
+    });
+    (lo, hi, sol.stability.det_j_min)
+}
+
+fn env_f64(name: &str, default: f64) -> f64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+fn try_gap(model: &ftwire_rod::Rod, world: &World, a: &Vector6<f64>) -> Result<Gap, String> {
+    let b = model.tip(a).map_err(|e| e.to_string())?;
+    let guess = kirchhoff_guess(model, a, world.rod()).map_err(|e| e.to_string())?;
+    let eq = world
+        .solve_with_guess(&guess, &Pose::identity(), &b)
+        .map_err(|e| e.to_string())?;
+    if !eq.stable_minimum {
+        return Err("saddle".into());
+    }
+    Ok(gap(model, world, a))
+}
+
+fn quantiles(mut v: Vec<f64>) -> [f64; 3] {
+    if v.is_empty() {
+        return [f64::NAN; 3];
+    }
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
+    [q(0.5), q(0.9), q(1.0)]
+}
+
+/// Survey of the gaps at N = 100 (`FTWIRE_N`), `FTWIRE_COUNT` (40) samples per half-width
+/// 3, 5, 10, 30, seed `FTWIRE_SEED` (1), axial stiffness × `FTWIRE_EA` (1):
+/// `cargo test --release -p ftwire --test model_vs_sim -- --ignored survey --nocapture`.
+#[test]
+#[ignore = "survey, seconds; run by hand"]
+fn survey() {
+    let edges = env_f64("FTWIRE_N", 100.0) as usize;
+    let count = env_f64("FTWIRE_COUNT", 40.0) as usize;
+    let seed = env_f64("FTWIRE_SEED", 1.0) as u64;
+    let ea = env_f64("FTWIRE_EA", 1.0);
+    for (name, preset) in wires() {
+        let (model, world) = setup(preset, edges);
+        let params = RodParams {
+            axial_stiffness: Some(world.rod().axial_stiffness() * ea),
+            ..*world.rod().params()
+        };
+        let world = World::new(params).expect("valid");
+        for hw in [3.0, 5.0, 10.0, 30.0] {
+            let mut rows = Vec::new();
+            let mut failures = 0;
+            for a in samples(&model, hw, count, seed) {
+                let an = ftwire_rod::to_normalised(model.wire(), &a);
+                let (smin, smax, det_min) = normalised_singular_values(&model, &a);
+                match try_gap(&model, &world, &a) {
+                    Ok(g) => rows.push((g, an, smin, smax, det_min)),
+                    Err(e) => {
+                        failures += 1;
+                        eprintln!("  failure at a_n = {:?}: {e}", an.as_slice());
+                    }
+                }
+            }
+            let tq = quantiles(rows.iter().map(|r| r.0.torque).collect());
+            let fq = quantiles(rows.iter().map(|r| r.0.force).collect());
+            let sq = quantiles(rows.iter().map(|r| r.0.shape_mm).collect());
+            println!(
+                "{name}, N = {edges}, half-width {hw}: {} ok, {failures} failed; \
+                 torque med/p90/max {:.2e} {:.2e} {:.2e}; force {:.2e} {:.2e} {:.2e}; \
+                 shape mm {:.3} {:.3} {:.3}",
+                rows.len(),
+                tq[0],
+                tq[1],
+                tq[2],
+                fq[0],
+                fq[1],
+                fq[2],
+                sq[0],
+                sq[1],
+                sq[2]
+            );
+            rows.sort_by(|x, y| {
+                let kx = x.0.torque.max(x.0.force).max(x.0.shape_mm / 50.0);
+                let ky = y.0.torque.max(y.0.force).max(y.0.shape_mm / 50.0);
+                ky.total_cmp(&kx)
+            });
+            for (g, an, smin, smax, det_min) in rows.iter().take(4) {
+                println!(
+                    "    torque {:.2e} force {:.2e} shape {:.3} mm | |a_n| {:.1} σmin {:.2e} \
+                     σmax {:.2e} detmin {:.1e} | a_n [{}]",
+                    g.torque,
+                    g.force,
+                    g.shape_mm,
+                    an.norm(),
+                    smin,
+                    smax,
+                    det_min,
+                    an.iter()
+                        .map(|v| format!("{v:.2}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+            }
+        }
     }
 }
