@@ -13,6 +13,7 @@
 use ftwire_core::{Pose, Wrench};
 use nalgebra::{Isometry3, Translation3};
 
+use crate::cold_start::ColdStart;
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
 use crate::newton;
@@ -31,6 +32,10 @@ pub struct ContinuationSettings {
     /// Node jump between predictor and equilibrium above which a step is suspected to snap,
     /// as a fraction of `L` (default `0.02`).
     pub snap_distance_fraction: f64,
+    /// Newton tolerance (scaled residual, as [`crate::NewtonSettings::tolerance`]) of the
+    /// intermediate steps of a motion (default `1e-5`); the last step is solved to the world's
+    /// Newton tolerance. The intermediate equilibria only carry the branch to the next step.
+    pub path_tolerance: f64,
 }
 
 impl Default for ContinuationSettings {
@@ -40,6 +45,7 @@ impl Default for ContinuationSettings {
             max_rotation: 0.15,
             max_subdivisions: 12,
             snap_distance_fraction: 0.02,
+            path_tolerance: 1e-5,
         }
     }
 }
@@ -72,6 +78,9 @@ pub struct Motion {
     pub steps: usize,
     /// Newton iterations summed over all steps (including rejected ones).
     pub iterations: usize,
+    /// For a cold start ([`crate::World::solve_cold`]), the route it took; `None` for a move
+    /// from a previous equilibrium.
+    pub cold_start: Option<ColdStart>,
 }
 
 fn interpolate(a: &Pose, b: &Pose, s: f64) -> Pose {
@@ -159,11 +168,24 @@ pub(crate) fn run(
     base: &Pose,
     tip: &Pose,
 ) -> (Motion, Option<SimError>) {
+    run_to(world, from, base, tip, world.newton_settings().tolerance)
+}
+
+/// As [`run`], with the last step solved to the scaled residual `last_tolerance` (the path
+/// tolerance for a motion that is itself one leg of a longer path).
+pub(crate) fn run_to(
+    world: &World,
+    from: &Equilibrium,
+    base: &Pose,
+    tip: &Pose,
+    last_tolerance: f64,
+) -> (Motion, Option<SimError>) {
     let mut motion = Motion {
         equilibrium: from.clone(),
         snaps: Vec::new(),
         steps: 0,
         iterations: 0,
+        cold_start: None,
     };
     if let Err(e) = world.check_poses(base, tip) {
         return (motion, Some(e));
@@ -204,7 +226,14 @@ pub(crate) fn run(
             step = halve(step, &mut subdivisions);
             continue;
         }
-        match newton::solve(world, guess.clone()) {
+        let tolerance = if next < 1.0 {
+            settings
+                .path_tolerance
+                .max(world.newton_settings().tolerance)
+        } else {
+            last_tolerance
+        };
+        match newton::solve_to(world, guess.clone(), tolerance) {
             Ok(result) => {
                 motion.iterations += result.iterations;
                 let jump = result.state.max_distance(&guess);

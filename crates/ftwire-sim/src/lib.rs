@@ -2,6 +2,7 @@
 
 // The discrete elastic rod and its solvers.
 mod banded;
+mod cold_start;
 mod continuation;
 mod dual;
 mod energy;
@@ -16,6 +17,7 @@ mod state;
 mod transport;
 mod world;
 
+pub use cold_start::{ColdStart, MAX_BEND};
 pub use continuation::{ContinuationSettings, Motion, SnapEvent};
 pub use energy::Energies;
 pub use equilibrium::Equilibrium;

@@ -115,7 +115,16 @@ fn apply_step(state: &RodState, dx: &[f64], alpha: f64) -> RodState {
 }
 
 /// Runs Newton's method from `state` (whose clamped edges must already be placed).
-pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, NewtonFailure> {
+pub(crate) fn solve(world: &World, state: RodState) -> Result<NewtonResult, NewtonFailure> {
+    solve_to(world, state, world.newton_settings().tolerance)
+}
+
+/// As [`solve`], to the scaled residual `tolerance` instead of the world's.
+pub(crate) fn solve_to(
+    world: &World,
+    mut state: RodState,
+    tolerance: f64,
+) -> Result<NewtonResult, NewtonFailure> {
     let settings = world.newton_settings();
     let rod = world.rod();
     let n = rod.edges();
@@ -140,7 +149,7 @@ pub(crate) fn solve(world: &World, mut state: RodState) -> Result<NewtonResult, 
     // ε·EA·|x|/h; asking for less than a few times that would never terminate.
     let reach = state.nodes.iter().map(|x| x.norm()).fold(l, f64::max);
     let noise = 16.0 * f64::EPSILON * rod.axial_stiffness() * reach / h / (cmax / (l * l));
-    let tolerance = settings.tolerance.max(noise);
+    let tolerance = tolerance.max(noise);
     let mut lambda = 0.0_f64;
     let mut last_residual = f64::INFINITY;
     // The Hessian of the previous iterate, unpinned: at convergence it stands in for the one at

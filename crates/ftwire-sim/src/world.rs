@@ -2,6 +2,7 @@
 
 use ftwire_core::Pose;
 
+use crate::cold_start::{self, ColdStart};
 use crate::continuation::{self, ContinuationSettings, Motion};
 use crate::equilibrium::Equilibrium;
 use crate::error::{SimError, ensure_finite, ensure_positive};
@@ -194,17 +195,63 @@ impl World {
             })
     }
 
-    /// Cold start: Newton's method from a smooth, length-exact guess between the clamps (a cubic
-    /// Bézier curve with the clamp tangents, its roll spread evenly), without continuation.
+    /// Cold start: a straight wire bent into place by continuation.
     ///
-    /// A straight wire cannot be bent by continuation from a taut start: with the clamps `L`
-    /// apart the straight shape is the only admissible one and every inward move starts on a
-    /// bifurcation. The smooth guess avoids that and usually lands on the least-bent branch.
+    /// From the straight, untwisted wire (tip clamp `L` along the base tangent), the tip clamp
+    /// first follows the ends of planar arcs bent towards the target (an exact path of
+    /// equilibria of the weightless rod, regular from its first step, unlike a straight inward
+    /// move, which starts on the taut wire's buckling bifurcation), then moves to `tip` by the
+    /// ordinary continuation, which follows the branch and reports snaps (module
+    /// `cold_start`). The result reports the continuation steps, the total Newton iterations
+    /// (also in [`crate::Convergence::iterations`]) and the route in [`Motion::cold_start`].
+    ///
+    /// If the continuation fails, or ends on a saddle, Newton from a smooth guess
+    /// ([`World::solve_smooth_guess`]) is tried, and
+    /// [`ColdStart::SmoothGuess`](crate::ColdStart::SmoothGuess) says so; if that fails too,
+    /// the continuation's error is returned.
     ///
     /// # Errors
     /// [`SimError::NonFinite`] for a non-finite pose, [`SimError::GrippersTooFarApart`],
     /// [`SimError::NewtonFailed`].
     pub fn solve_cold(&self, base: &Pose, tip: &Pose) -> Result<Motion, SimError> {
+        self.check_poses(base, tip)?;
+        let continuation_error = match cold_start::bend_and_carry(self, base, tip) {
+            Ok((motion, _)) if motion.equilibrium.stable_minimum => return Ok(motion),
+            Ok((motion, _)) => {
+                // A saddle: the smooth guess may find the minimum; otherwise keep the saddle.
+                return Ok(match self.solve_smooth_guess(base, tip) {
+                    Ok(mut smooth) if smooth.equilibrium.stable_minimum => {
+                        smooth.cold_start = Some(ColdStart::SmoothGuess {
+                            continuation_error: None,
+                        });
+                        smooth
+                    }
+                    _ => motion,
+                });
+            }
+            Err(e) => e,
+        };
+        match self.solve_smooth_guess(base, tip) {
+            Ok(mut smooth) => {
+                smooth.cold_start = Some(ColdStart::SmoothGuess {
+                    continuation_error: Some(continuation_error),
+                });
+                Ok(smooth)
+            }
+            Err(_) => Err(continuation_error),
+        }
+    }
+
+    /// Newton's method from a smooth, length-exact guess between the clamps (a cubic Bézier
+    /// curve with the clamp tangents, bulged to length `L`, its roll spread evenly), without
+    /// continuation: the fallback of [`World::solve_cold`]. It is fast and usually lands on the
+    /// least-bent branch, but which branch it lands on is not the end of a path of equilibria.
+    /// The returned motion has no steps and [`Motion::cold_start`] `None`.
+    ///
+    /// # Errors
+    /// [`SimError::NonFinite`] for a non-finite pose, [`SimError::GrippersTooFarApart`],
+    /// [`SimError::NewtonFailed`].
+    pub fn solve_smooth_guess(&self, base: &Pose, tip: &Pose) -> Result<Motion, SimError> {
         self.check_poses(base, tip)?;
         let guess = RodState::hermite(&self.rod, base, tip);
         let equilibrium = self.newton_from(guess, base, tip)?;
@@ -214,6 +261,7 @@ impl World {
             snaps: Vec::new(),
             steps: 0,
             iterations,
+            cold_start: None,
         })
     }
 

@@ -38,7 +38,9 @@ fn json_output_has_every_field_and_the_arc_moment() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(v["converged"], true);
     assert_eq!(v["stable_minimum"], true);
-    assert!(v["iterations"].as_u64().is_some());
+    // Without --initial-a the wire is bent from straight by continuation: `iterations` is the
+    // total over its steps, far more than one Newton solve takes.
+    assert!(v["iterations"].as_u64().is_some_and(|n| n > 20), "{v}");
     assert!(v["energy"].as_f64().is_some_and(|e| e > 0.0));
     let base: Vec<f64> = serde_json::from_value(v["base_wrench"].clone()).expect("6 numbers");
     let tip: Vec<f64> = serde_json::from_value(v["tip_wrench"].clone()).expect("6 numbers");

@@ -2,8 +2,10 @@
 //!
 //! The base clamp is at the identity; the tip clamp is at `--tip-position` with orientation
 //! `--tip-rotation` (a rotation vector). Wrenches follow `ftwire_sim::Equilibrium`: the wrench
-//! the wire exerts on each gripper, in that gripper's clamp frame, torque first. Errors print a
-//! message and exit with code 2.
+//! the wire exerts on each gripper, in that gripper's clamp frame, torque first. Without
+//! `--initial-a` the wire starts straight and is bent into place by continuation
+//! (`World::solve_cold`); `iterations` is then the total Newton iterations over all steps.
+//! Errors print a message and exit with code 2.
 
 use std::process::ExitCode;
 
