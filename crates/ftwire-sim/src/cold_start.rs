@@ -26,6 +26,15 @@
 //!    ordinary continuation path (translation interpolated linearly, rotation by slerp),
 //!    following the branch and reporting snaps.
 //!
+//! **Coarse, then fine.** Both legs cost a few hundred Newton iterations, each linear in the
+//! number of edges, so for `N > 2·`[`COARSE_EDGES`] they run on the same world discretised with
+//! [`COARSE_EDGES`] edges; the coarse equilibrium, interpolated along its arc length (positions
+//! linearly between nodes, material frames by slerp between edges), is then the initial guess
+//! of a Newton solve at the full `N` ([`crate::World::solve_with_guess`]). The coarse and fine
+//! rods differ by an `O(h²)` discretisation error, small against the basin of the equilibrium,
+//! so the fine solve lands on the same branch. If that fine solve fails, or ends on a saddle,
+//! the whole path is run again at full resolution.
+//!
 //! Everything is built in the base clamp frame, so the result is covariant under a rigid
 //! motion of both clamps. If the continuation fails, or ends on a saddle,
 //! [`crate::World::solve_cold`] falls back to Newton from a smooth length-exact guess
@@ -43,6 +52,9 @@ use crate::world::World;
 
 /// Largest turning angle \[rad\] of the bend leg.
 pub const MAX_BEND: f64 = 1.0;
+
+/// Edges of the coarse discretisation on which the cold start's path runs (module docs).
+pub const COARSE_EDGES: usize = 25;
 
 /// How a cold start reached its equilibrium.
 #[derive(Debug, Clone, PartialEq)]
@@ -197,4 +209,76 @@ pub(crate) fn bend_and_carry(
     total.equilibrium.convergence.iterations = total.iterations;
     total.cold_start = Some(ColdStart::Continuation { bend });
     Ok((total, bend))
+}
+
+/// The cold start's path run on a coarse copy of `world` ([`COARSE_EDGES`] edges), then one
+/// Newton solve at full resolution from the coarse equilibrium (module docs). Runs the path at
+/// full resolution instead when `world` has at most `2·COARSE_EDGES` edges, or when the fine
+/// solve fails or ends on a saddle.
+pub(crate) fn coarse_then_fine(
+    world: &World,
+    base: &Pose,
+    tip: &Pose,
+) -> Result<(Motion, f64), SimError> {
+    let n = world.rod().edges();
+    if n <= 2 * COARSE_EDGES {
+        return bend_and_carry(world, base, tip);
+    }
+    let coarse = world.with_edge_count(COARSE_EDGES)?;
+    let (path, bend) = match bend_and_carry(&coarse, base, tip) {
+        Ok(done) => done,
+        Err(_) => return bend_and_carry(world, base, tip),
+    };
+    let guess = refine(&path.equilibrium, coarse.rod(), world.rod());
+    match world.solve_with_guess(&guess, base, tip) {
+        Ok(mut fine) if fine.stable_minimum => {
+            let iterations = path.iterations + fine.convergence.iterations;
+            fine.convergence.iterations = iterations;
+            Ok((
+                Motion {
+                    steps: path.steps,
+                    iterations,
+                    snaps: path.snaps,
+                    equilibrium: fine,
+                    cold_start: Some(ColdStart::Continuation { bend }),
+                },
+                bend,
+            ))
+        }
+        _ => bend_and_carry(world, base, tip),
+    }
+}
+
+/// An initial guess for `fine` from an equilibrium of `coarse` (the same wire, fewer edges):
+/// node positions interpolated linearly in arc length, material frames by slerp.
+fn refine(
+    eq: &Equilibrium,
+    coarse: &crate::rod::Rod,
+    fine: &crate::rod::Rod,
+) -> crate::state::InitialGuess {
+    let points = eq.centreline();
+    let frames: Vec<UnitQuaternion<f64>> = eq
+        .state
+        .material_frames()
+        .iter()
+        .map(UnitQuaternion::from_rotation_matrix)
+        .collect();
+    let h = coarse.edge_length();
+    let (nodes, edges) = (points.len(), frames.len());
+    crate::state::InitialGuess::from_shape(fine, |s| {
+        // Nodes sit at (k − ½)h, edges (frames) at j·h.
+        let x = (s / h + 0.5).clamp(0.0, (nodes - 1) as f64);
+        let k = (x.floor() as usize).min(nodes - 2);
+        let p = points[k].coords.lerp(&points[k + 1].coords, x - k as f64);
+        let y = (s / h).clamp(0.0, (edges - 1) as f64);
+        let j = (y.floor() as usize).min(edges.saturating_sub(2));
+        let r = if edges < 2 {
+            frames[0]
+        } else {
+            frames[j]
+                .try_slerp(&frames[j + 1], y - j as f64, 1e-12)
+                .unwrap_or(frames[j])
+        };
+        Pose::from_parts(Translation3::from(p), r)
+    })
 }

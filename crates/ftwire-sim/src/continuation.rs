@@ -33,7 +33,7 @@ pub struct ContinuationSettings {
     /// as a fraction of `L` (default `0.02`).
     pub snap_distance_fraction: f64,
     /// Newton tolerance (scaled residual, as [`crate::NewtonSettings::tolerance`]) of the
-    /// intermediate steps of a motion (default `1e-5`); the last step is solved to the world's
+    /// intermediate steps of a motion (default `1e-3`); the last step is solved to the world's
     /// Newton tolerance. The intermediate equilibria only carry the branch to the next step.
     pub path_tolerance: f64,
 }
@@ -45,7 +45,7 @@ impl Default for ContinuationSettings {
             max_rotation: 0.15,
             max_subdivisions: 12,
             snap_distance_fraction: 0.02,
-            path_tolerance: 1e-5,
+            path_tolerance: 1e-3,
         }
     }
 }

@@ -17,7 +17,7 @@ mod state;
 mod transport;
 mod world;
 
-pub use cold_start::{ColdStart, MAX_BEND};
+pub use cold_start::{COARSE_EDGES, ColdStart, MAX_BEND};
 pub use continuation::{ContinuationSettings, Motion, SnapEvent};
 pub use energy::Energies;
 pub use equilibrium::Equilibrium;

@@ -108,6 +108,16 @@ impl World {
         self
     }
 
+    /// The same world (obstacles, settings) with its rod discretised into `edges` edges.
+    pub(crate) fn with_edge_count(&self, edges: usize) -> Result<Self, SimError> {
+        let mut world = Self {
+            rod: Rod::new(self.rod.params().with_edges(edges))?,
+            ..self.clone()
+        };
+        world.update_sampling();
+        Ok(world)
+    }
+
     fn update_sampling(&mut self) {
         let r = self.rod.params().radius;
         let thinnest = self.thinnest_obstacle();
@@ -202,7 +212,8 @@ impl World {
     /// equilibria of the weightless rod, regular from its first step, unlike a straight inward
     /// move, which starts on the taut wire's buckling bifurcation), then moves to `tip` by the
     /// ordinary continuation, which follows the branch and reports snaps (module
-    /// `cold_start`). The result reports the continuation steps, the total Newton iterations
+    /// `cold_start`). For more than 50 edges the path runs on a 25-edge copy of the world and
+    /// its end starts one Newton solve at full resolution. The result reports the continuation steps, the total Newton iterations
     /// (also in [`crate::Convergence::iterations`]) and the route in [`Motion::cold_start`].
     ///
     /// If the continuation fails, or ends on a saddle, Newton from a smooth guess
@@ -215,7 +226,7 @@ impl World {
     /// [`SimError::NewtonFailed`].
     pub fn solve_cold(&self, base: &Pose, tip: &Pose) -> Result<Motion, SimError> {
         self.check_poses(base, tip)?;
-        let continuation_error = match cold_start::bend_and_carry(self, base, tip) {
+        let continuation_error = match cold_start::coarse_then_fine(self, base, tip) {
             Ok((motion, _)) if motion.equilibrium.stable_minimum => return Ok(motion),
             Ok((motion, _)) => {
                 // A saddle: the smooth guess may find the minimum; otherwise keep the saddle.
