@@ -524,10 +524,10 @@ fn interpolate<A: MulAdd>(
     theta: f64,
 ) -> (Vector3<f64>, Rotation3<f64>) {
     if theta == 0.0 {
-        return (k0.frame.p, rotation_from_columns::<A>(&k0.frame.r));
+        return (k0.frame.p, rotation_from_columns(&k0.frame.r));
     }
     if theta == 1.0 {
-        return (k1.frame.p, rotation_from_columns::<A>(&k1.frame.r));
+        return (k1.frame.p, rotation_from_columns(&k1.frame.r));
     }
     let w = septic_hermite(theta);
     let (h2, h3) = (h * h, h * h * h);
@@ -559,14 +559,14 @@ fn interpolate<A: MulAdd>(
     );
     (
         Vector3::new(acc[6], acc[7], acc[8]),
-        rotation_from_columns::<A>(&r),
+        rotation_from_columns(&r),
     )
 }
 
 /// Gram–Schmidt on the first two columns, keeping the tangent's direction; the third column
 /// is their cross product.
 #[inline(always)]
-fn rotation_from_columns<A: MulAdd>(r: &Matrix3<f64>) -> Rotation3<f64> {
+fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(orthonormalise(r))
 }
 
