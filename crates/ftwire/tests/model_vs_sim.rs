@@ -33,28 +33,14 @@
 //! half-width (ignored, seconds):
 //! `cargo test --release -p ftwire --test model_vs_sim -- --ignored survey --nocapture`.
 
+mod common;
+
+use common::{samples, setup, wires};
 use ftwire::bridge::kirchhoff_guess;
-use ftwire_core::{Pose, WireParams};
+use ftwire_core::Pose;
 use ftwire_rod::sampling::Sampler;
 use ftwire_sim::{RodParams, World};
 use nalgebra::Vector6;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-
-fn wires() -> [(&'static str, RodParams); 2] {
-    [
-        ("nitinol 2 mm × 630 mm", RodParams::nitinol_2mm_630()),
-        ("nitinol 3 mm × 820 mm", RodParams::nitinol_3mm_820()),
-    ]
-}
-
-/// Model and simulator for one wire at `edges`, gravity off.
-fn setup(preset: RodParams, edges: usize) -> (ftwire_rod::Rod, World) {
-    let params = RodParams { edges, ..preset }.without_gravity();
-    let wire = WireParams::new(params.stiffness, params.length, params.radius).expect("preset");
-    let world = World::new(params).expect("preset is valid");
-    (ftwire_rod::Rod::new(wire), world)
-}
 
 /// The gaps between simulator and model for one configuration.
 #[derive(Debug, Clone, Copy, Default)]
@@ -115,18 +101,6 @@ fn gap(model: &ftwire_rod::Rod, world: &World, a: &Vector6<f64>) -> Gap {
         force,
         shape_mm,
     }
-}
-
-fn samples(model: &ftwire_rod::Rod, half_width: f64, count: usize, seed: u64) -> Vec<Vector6<f64>> {
-    let sampler = Sampler::new(half_width).expect("positive half-width");
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..count)
-        .map(|_| {
-            sampler
-                .sample_stable(model, &mut rng)
-                .expect("A_stable is not empty")
-        })
-        .collect()
 }
 
 /// The pass conditions.

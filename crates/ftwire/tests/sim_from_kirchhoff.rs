@@ -30,39 +30,13 @@
 //! Survey:
 //! `cargo test --release -p ftwire --test sim_from_kirchhoff -- --ignored --nocapture`.
 
+mod common;
+
+use common::{samples, setup, wires};
 use ftwire::bridge::kirchhoff_guess;
-use ftwire_core::{Pose, WireParams};
-use ftwire_rod::sampling::Sampler;
+use ftwire_core::Pose;
 use ftwire_sim::{RodParams, World};
 use nalgebra::Vector6;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-
-fn wires() -> [(&'static str, RodParams); 2] {
-    [
-        ("nitinol 2 mm × 630 mm", RodParams::nitinol_2mm_630()),
-        ("nitinol 3 mm × 820 mm", RodParams::nitinol_3mm_820()),
-    ]
-}
-
-fn setup(preset: RodParams) -> (ftwire_rod::Rod, World) {
-    let params = preset.without_gravity();
-    let wire = WireParams::new(params.stiffness, params.length, params.radius).expect("preset");
-    let world = World::new(params).expect("preset is valid");
-    (ftwire_rod::Rod::new(wire), world)
-}
-
-fn samples(model: &ftwire_rod::Rod, half_width: f64, count: usize, seed: u64) -> Vec<Vector6<f64>> {
-    let sampler = Sampler::new(half_width).expect("positive half-width");
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..count)
-        .map(|_| {
-            sampler
-                .sample_stable(model, &mut rng)
-                .expect("A_stable is not empty")
-        })
-        .collect()
-}
 
 /// One solve from the Kirchhoff guess.
 #[derive(Debug, Clone)]
@@ -185,7 +159,7 @@ fn report(model: &ftwire_rod::Rod, world: &World, configs: &[Vector6<f64>]) -> R
 /// within 5 % of the stability boundary.
 #[test]
 fn the_reported_configurations_fail_only_at_the_boundary() {
-    let (model, world) = setup(RodParams::nitinol_2mm_630());
+    let (model, world) = setup(RodParams::nitinol_2mm_630(), 100);
     let r = report(&model, &world, &samples(&model, 30.0, 40, 7));
     println!("seed 7, 40 configurations: {r:#?}");
     assert!(r.inside.failures.is_empty(), "{:#?}", r.inside.failures);
@@ -197,7 +171,7 @@ fn the_reported_configurations_fail_only_at_the_boundary() {
 #[test]
 fn strongly_bent_configurations_converge_on_both_wires() {
     for (name, preset) in wires() {
-        let (model, world) = setup(preset);
+        let (model, world) = setup(preset, 100);
         for seed in [11, 12] {
             let r = report(&model, &world, &samples(&model, 30.0, 50, seed));
             println!("{name}, seed {seed}: {r:#?}");
@@ -224,7 +198,7 @@ fn strongly_bent_configurations_converge_on_both_wires() {
 #[ignore = "survey: 2 wires × 2 seeds × 250 configurations, about a minute in release"]
 fn survey_from_kirchhoff() {
     for (name, preset) in wires() {
-        let (model, world) = setup(preset);
+        let (model, world) = setup(preset, 100);
         for seed in [21, 22] {
             let start = std::time::Instant::now();
             let r = report(&model, &world, &samples(&model, 30.0, 250, seed));
