@@ -386,14 +386,7 @@ fn rk8_step<A: MulAdd, const D: usize>(
     rk_stage!(RK8_A, w, y, h, f, 8; 0, 4, 5, 6, 7);
     rk_stage!(RK8_A, w, y, h, f, 9; 0, 4, 5, 6, 7, 8);
     rk_stage!(RK8_A, w, y, h, f, 10; 4, 5, 6, 7, 8, 9);
-    let c = [0, 7, 8, 9, 10].map(|j| (j, h * RK8_B[j]));
-    for (d, yd) in y.iter_mut().enumerate() {
-        let mut sum = *yd;
-        for &(j, cj) in &c {
-            sum = A::mul_add(cj, w.k[j][d], sum);
-        }
-        *yd = sum;
-    }
+    finish::<A, D, 5>(y, [0, 7, 8, 9, 10].map(|j| (j, h * RK8_B[j])), w);
 }
 
 /// One step of [`Method::Dop853`], written out as [`rk8_step`] is (nonzero coefficients only).
@@ -416,7 +409,20 @@ fn dop853_step<A: MulAdd, const D: usize>(
     rk_stage!(DOP853_A, w, y, h, f, 9; 0, 3, 4, 5, 6, 7, 8);
     rk_stage!(DOP853_A, w, y, h, f, 10; 0, 3, 4, 5, 6, 7, 8, 9);
     rk_stage!(DOP853_A, w, y, h, f, 11; 0, 3, 4, 5, 6, 7, 8, 9, 10);
-    let c = [0, 5, 6, 7, 8, 9, 10, 11].map(|j| (j, h * DOP853_B[j]));
+    finish::<A, D, 8>(
+        y,
+        [0, 5, 6, 7, 8, 9, 10, 11].map(|j| (j, h * DOP853_B[j])),
+        w,
+    );
+}
+
+/// The step's result `y + Σ_j c_j k_j` over the nonzero weights `(j, h·b_j)`, in place.
+#[inline(always)]
+fn finish<A: MulAdd, const D: usize, const N: usize>(
+    y: &mut [f64; D],
+    c: [(usize, f64); N],
+    w: &Workspace<D>,
+) {
     for (d, yd) in y.iter_mut().enumerate() {
         let mut sum = *yd;
         for &(j, cj) in &c {
