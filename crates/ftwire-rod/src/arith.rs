@@ -46,6 +46,97 @@ impl MulAdd for Fused {
     }
 }
 
+/// Four lanes of `f64`, for code written once over 4-wide vectors: LLVM compiles the
+/// lane-wise operations to single AVX instructions inside the AVX2+FMA functions, and to
+/// pairs of SSE2 instructions elsewhere.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct V4(pub [f64; 4]);
+
+impl V4 {
+    /// Lanes `i..i + 4` of `y`.
+    #[inline(always)]
+    pub fn load(y: &[f64], i: usize) -> Self {
+        Self([y[i], y[i + 1], y[i + 2], y[i + 3]])
+    }
+
+    /// Writes the lanes to `y[i..i + 4]`.
+    #[inline(always)]
+    pub fn store(self, y: &mut [f64], i: usize) {
+        y[i..i + 4].copy_from_slice(&self.0);
+    }
+
+    /// All lanes `x`.
+    #[inline(always)]
+    pub fn splat(x: f64) -> Self {
+        Self([x; 4])
+    }
+
+    /// Lane-wise `self + b`.
+    #[inline(always)]
+    pub fn add(self, b: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] + b.0[i]))
+    }
+
+    /// Lane-wise `self · b`.
+    #[inline(always)]
+    pub fn mul(self, b: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] * b.0[i]))
+    }
+
+    /// Lane-wise `self · s`.
+    #[inline(always)]
+    pub fn scale(self, s: f64) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] * s))
+    }
+
+    /// Lane-wise `self · b + c`, multiply–added by `A`.
+    #[inline(always)]
+    pub fn mul_add<A: MulAdd>(self, b: Self, c: Self) -> Self {
+        Self(std::array::from_fn(|i| {
+            A::mul_add(self.0[i], b.0[i], c.0[i])
+        }))
+    }
+
+    /// Lane-wise `s · self + c`, multiply–added by `A`.
+    #[inline(always)]
+    pub fn scale_add<A: MulAdd>(self, s: f64, c: Self) -> Self {
+        Self(std::array::from_fn(|i| A::mul_add(s, self.0[i], c.0[i])))
+    }
+
+    /// The lanes in the order `idx` (lane `k` of the result is lane `idx[k]` of `self`).
+    #[inline(always)]
+    pub fn permute(self, idx: [usize; 4]) -> Self {
+        Self(idx.map(|k| self.0[k]))
+    }
+}
+
+/// Two lanes of `f64`, as [`V4`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct V2(pub [f64; 2]);
+
+impl V2 {
+    /// Lanes `i..i + 2` of `y`.
+    #[inline(always)]
+    pub fn load(y: &[f64], i: usize) -> Self {
+        Self([y[i], y[i + 1]])
+    }
+
+    /// Lane-wise `self · s`.
+    #[inline(always)]
+    pub fn scale(self, s: f64) -> Self {
+        Self([self.0[0] * s, self.0[1] * s])
+    }
+
+    /// Lane-wise `s · self + c`, multiply–added by `A`.
+    #[inline(always)]
+    pub fn scale_add<A: MulAdd>(self, s: f64, c: Self) -> Self {
+        Self([
+            A::mul_add(s, self.0[0], c.0[0]),
+            A::mul_add(s, self.0[1], c.0[1]),
+        ])
+    }
+}
+
 /// Whether the AVX2+FMA versions of the hot loops may run: the CPU has AVX2 and FMA, and
 /// `FTWIRE_NO_SIMD` is not set (checked once per process).
 pub(crate) fn fast_path() -> bool {

@@ -26,7 +26,7 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
-use crate::arith::MulAdd;
+use crate::arith::{MulAdd, Separate, V2, V4};
 use crate::se3::hat;
 
 /// The right-hand side of the costate ODE, paper eq. 3: `μ'` for stiffnesses `c` \[N·m²\].
@@ -158,21 +158,28 @@ pub(crate) struct FrameState {
     pub p: Vector3<f64>,
 }
 
-/// The flat integration state of the frame: `R` column-major (9), then `p` (3).
+/// The flat integration state of the frame, by rows: row `i` of `R`, then `p_i`, for
+/// `i = 0, 1, 2` (`y[4i + j] = R_ij`, `y[4i + 3] = p_i`).
+///
+/// This layout makes eq. 1 three 4-lane operations: row `i` of `R' = R û` is `r_i × u`, and
+/// `p_i' = R_i0` is lane 0 of the same row ([`Kirchhoff::frame_rate`]).
 pub(crate) type FrameArray = [f64; 12];
-/// The flat integration state of frame and Jacobian: the frame's 12 numbers, then the six rows
-/// of `J` (angular rows first), each row's 6 numbers contiguous.
+/// The flat integration state of frame and Jacobian: the frame's 12 numbers
+/// ([`FrameArray`]), then columns 0–3 of the six rows of `J` (4 numbers a row, angular rows
+/// first), then columns 4–5 of the six rows (2 numbers a row).
 pub(crate) type FullArray = [f64; 48];
 
-const JT: usize = 12;
-const JB: usize = 30;
+/// Where columns 0–3 of row `i` of `J` start: `JL + 4 i`.
+const JL: usize = 12;
+/// Where columns 4–5 of row `i` of `J` start: `JR + 2 i`.
+const JR: usize = 36;
 
 impl FrameState {
     /// The frame of a flat state (its first 12 numbers).
     pub fn from_slice(y: &[f64]) -> Self {
         Self {
-            r: Matrix3::from_column_slice(&y[0..9]),
-            p: Vector3::new(y[9], y[10], y[11]),
+            r: Matrix3::from_fn(|i, j| y[4 * i + j]),
+            p: Vector3::new(y[3], y[7], y[11]),
         }
     }
 
@@ -180,31 +187,34 @@ impl FrameState {
     pub fn initial<const D: usize>() -> [f64; D] {
         let mut y = [0.0; D];
         y[0] = 1.0;
-        y[4] = 1.0;
-        y[8] = 1.0;
+        y[5] = 1.0;
+        y[10] = 1.0;
         y
     }
 }
 
+/// The frame part (first 12 numbers) of a flat state.
+#[inline(always)]
+pub(crate) fn frame_of(y: &[f64]) -> FrameArray {
+    std::array::from_fn(|i| y[i])
+}
+
+/// Row `i` of `J` from a flat full state.
+#[inline(always)]
+fn jacobian_row(y: &FullArray, i: usize) -> [f64; 6] {
+    let (l, r) = (JL + 4 * i, JR + 2 * i);
+    [y[l], y[l + 1], y[l + 2], y[l + 3], y[r], y[r + 1]]
+}
+
 /// `J` from a flat full state.
 pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
-    Matrix6::from_fn(|row, col| {
-        if row < 3 {
-            y[JT + 6 * row + col]
-        } else {
-            y[JB + 6 * (row - 3) + col]
-        }
-    })
+    Matrix6::from_fn(|row, col| jacobian_row(y, row)[col])
 }
 
 /// `det J` from a flat full state, by Gaussian elimination with partial pivoting on the rows
 /// of `J` (as nalgebra's LU, without building a `Matrix6`).
 pub(crate) fn jacobian_determinant(y: &FullArray) -> f64 {
-    let mut a = [[0.0; 6]; 6];
-    for (r, row) in a.iter_mut().enumerate() {
-        row.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
-    }
-    determinant6(a)
+    determinant6(std::array::from_fn(|r| jacobian_row(y, r)))
 }
 
 /// The determinant of a 6×6 matrix given by rows (Gaussian elimination, partial pivoting).
@@ -238,33 +248,38 @@ pub(crate) fn determinant6(mut a: [[f64; 6]; 6]) -> f64 {
     det
 }
 
+/// `(a × b, a_0)` on the first three lanes of `a` and `b`, given `b` permuted as
+/// `b_zxy1 = (b2, b0, b1, 1)` and `b_yzx0 = (b1, b2, b0, 0)`: row `i` of `R û` and
+/// `p_i' = R_i0` when `a` is a row `(R_i0, R_i1, R_i2, p_i)` of the frame state and `b = u`.
+///
+/// (`(a × b)_k = a_{k+1} b_{k+2} − a_{k+2} b_{k+1}`; lane 3 is `a_0 · 1 − a_0 · 0`.)
 #[inline(always)]
-fn v3(y: &[f64], i: usize) -> [f64; 3] {
-    [y[i], y[i + 1], y[i + 2]]
+fn cross_lane0<A: MulAdd>(a: V4, b_zxy1: V4, b_yzx0: V4) -> V4 {
+    let a_yzx0 = a.permute([1, 2, 0, 0]);
+    let a_zxy0 = a.permute([2, 0, 1, 0]);
+    a_yzx0.mul_add::<A>(b_zxy1, a_zxy0.mul(b_yzx0).scale(-1.0))
 }
 
+/// `b` permuted for [`cross_lane0`], from `b = (b0, b1, b2, 0)` and `e3 = (0, 0, 0, 1)`:
+/// `(b2, b0, b1, 1)` and `(b1, b2, b0, 0)`.
+///
+/// `e3` and the zero lane 3 of `b` are run-time values (from [`Kirchhoff`]'s fields), so
+/// that the compiler keeps all four lanes in one vector operation (with constants in lane 3
+/// it splits the lanes into scalar and 2-lane pieces, and the stores that follow defeat
+/// store-to-load forwarding).
 #[inline(always)]
-fn dot<A: MulAdd>(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    A::mul_add(a[2], b[2], A::mul_add(a[1], b[1], a[0] * b[0]))
+fn cross_operands(b: V4, e3: V4) -> (V4, V4) {
+    (b.permute([2, 0, 1, 3]).add(e3), b.permute([1, 2, 0, 3]))
 }
 
-#[inline(always)]
-fn cross<A: MulAdd>(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [
-        A::mul_add(a[1], b[2], -(a[2] * b[1])),
-        A::mul_add(a[2], b[0], -(a[0] * b[2])),
-        A::mul_add(a[0], b[1], -(a[1] * b[0])),
-    ]
-}
-
-/// What the right-hand sides share: the columns of `R`, `p`, `μ = (m, n)` by closed form (A),
-/// and `u`.
+/// What the right-hand sides share: the rows of the frame state, `p`, `μ = (m, n)` by closed
+/// form (A), and `u` (lane 3 of `m`, `n` and `u` is unused).
 struct Local {
-    c: [[f64; 3]; 3],
+    rows: [V4; 3],
     p: [f64; 3],
-    m: [f64; 3],
-    n: [f64; 3],
-    u: [f64; 3],
+    m: V4,
+    n: V4,
+    u: V4,
 }
 
 /// [`Kirchhoff::full_rate`] as an [`crate::integrator::Rhs`], multiply–adding with `A`.
@@ -309,13 +324,18 @@ impl<A: MulAdd> crate::integrator::Rhs<12> for FrameRhs<'_, A> {
     }
 }
 
-/// Frame derivatives up to second order at one point, for Hermite dense output.
+/// The frame and its first three derivatives along the wire at one point, as flat frame
+/// states ([`FrameArray`] layout), for Hermite dense output: `d[k]` is `q⁽ᵏ⁾`.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FrameJet {
-    pub frame: FrameState,
-    pub d1: FrameState,
-    pub d2: FrameState,
-    pub d3: FrameState,
+    pub d: [FrameArray; 4],
+}
+
+impl FrameJet {
+    /// The frame itself.
+    pub fn frame(&self) -> FrameState {
+        FrameState::from_slice(&self.d[0])
+    }
 }
 
 /// The right-hand sides for one configuration `a` and stiffnesses `c`.
@@ -325,6 +345,10 @@ pub(crate) struct Kirchhoff {
     inv_c: Vector3<f64>,
     m0: Vector3<f64>,
     n0: Vector3<f64>,
+    /// `(1/c1, 1/c2, 1/c3, 0)`.
+    inv_c4: V4,
+    /// `(0, 0, 0, 1)` (see [`cross_operands`]).
+    e3: V4,
 }
 
 impl Kirchhoff {
@@ -334,6 +358,8 @@ impl Kirchhoff {
             inv_c: Vector3::new(1.0 / c[0], 1.0 / c[1], 1.0 / c[2]),
             m0: Vector3::new(a[0], a[1], a[2]),
             n0: Vector3::new(a[3], a[4], a[5]),
+            inv_c4: V4([1.0 / c[0], 1.0 / c[1], 1.0 / c[2], 0.0]),
+            e3: V4([0.0, 0.0, 0.0, 1.0]),
         }
     }
 
@@ -359,42 +385,29 @@ impl Kirchhoff {
         Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z)
     }
 
+    /// `μ = (Rᵀ (m0 − p × n0), Rᵀ n0)` and `u` from the frame rows: `Rᵀ v = Σ_i v_i r_i`.
     #[inline(always)]
     fn local<A: MulAdd>(&self, y: &[f64]) -> Local {
-        let c = [v3(y, 0), v3(y, 3), v3(y, 6)];
-        let p = v3(y, 9);
-        let n0 = [self.n0.x, self.n0.y, self.n0.z];
-        let pn = cross::<A>(&p, &n0);
-        let mw = [self.m0.x - pn[0], self.m0.y - pn[1], self.m0.z - pn[2]];
-        let m = [
-            dot::<A>(&c[0], &mw),
-            dot::<A>(&c[1], &mw),
-            dot::<A>(&c[2], &mw),
+        let rows = [V4::load(y, 0), V4::load(y, 4), V4::load(y, 8)];
+        let p = [y[3], y[7], y[11]];
+        let (m0, n0) = (&self.m0, &self.n0);
+        let mw = [
+            m0.x - A::mul_add(p[1], n0.z, -(p[2] * n0.y)),
+            m0.y - A::mul_add(p[2], n0.x, -(p[0] * n0.z)),
+            m0.z - A::mul_add(p[0], n0.y, -(p[1] * n0.x)),
         ];
-        let n = [
-            dot::<A>(&c[0], &n0),
-            dot::<A>(&c[1], &n0),
-            dot::<A>(&c[2], &n0),
-        ];
-        let u = [
-            m[0] * self.inv_c.x,
-            m[1] * self.inv_c.y,
-            m[2] * self.inv_c.z,
-        ];
-        Local { c, p, m, n, u }
+        let n = rows[2].scale_add::<A>(n0.z, rows[1].scale_add::<A>(n0.y, rows[0].scale(n0.x)));
+        let m = rows[2].scale_add::<A>(mw[2], rows[1].scale_add::<A>(mw[1], rows[0].scale(mw[0])));
+        let u = m.mul(self.inv_c4);
+        Local { rows, p, m, n, u }
     }
 
-    /// Eq. 1 for `R` and `p` from the local quantities, into `out[0..12]`.
+    /// Eq. 1 for the frame rows from the local quantities, into `out[0..12]`.
     #[inline(always)]
-    fn frame_part<A: MulAdd>(l: &Local, out: &mut [f64]) {
-        let [c0, c1, c2] = &l.c;
-        let u = &l.u;
-        for i in 0..3 {
-            // R û: columns u_z c1 − u_y c2, −u_z c0 + u_x c2, u_y c0 − u_x c1.
-            out[i] = A::mul_add(u[2], c1[i], -(u[1] * c2[i]));
-            out[3 + i] = A::mul_add(u[0], c2[i], -(u[2] * c0[i]));
-            out[6 + i] = A::mul_add(u[1], c0[i], -(u[0] * c1[i]));
-            out[9 + i] = c0[i];
+    fn frame_part<A: MulAdd>(&self, l: &Local, out: &mut [f64]) {
+        let (u_zxy1, u_yzx0) = cross_operands(l.u, self.e3);
+        for (i, row) in l.rows.iter().enumerate() {
+            cross_lane0::<A>(*row, u_zxy1, u_yzx0).store(out, 4 * i);
         }
     }
 
@@ -402,101 +415,104 @@ impl Kirchhoff {
     #[inline(always)]
     pub fn frame_rate<A: MulAdd>(&self, y: &FrameArray, out: &mut FrameArray) {
         let l = self.local::<A>(y);
-        Self::frame_part::<A>(&l, out);
+        self.frame_part::<A>(&l, out);
     }
 
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
     /// state: `J'_top = C⁻¹ ([Rᵀ, −Rᵀ p̂] + m̂ J_top + n̂ J_bot) − û J_top` and
     /// `J'_bot = −ê1 J_top − û J_bot`.
     ///
-    /// Written on the rows of `J` (6 numbers each, contiguous): with `P = C⁻¹ m̂ − û` and
-    /// `Q = C⁻¹ n̂` (both with zero diagonal), row `i` of `J'_top` is
+    /// Written on the rows of `J` (columns 0–3 and 4–5 of each row contiguous): with
+    /// `P = C⁻¹ m̂ − û` and `Q = C⁻¹ n̂` (both with zero diagonal), row `i` of `J'_top` is
     /// `c_i⁻¹ (Rᵀ e_i, p × R e_i) + Σ_k P_ik J_top,k + Σ_k Q_ik J_bot,k`, so the whole update
     /// is scalar-times-row sums that vectorise (`Rᵀ p̂` row `i` is `−(R e_i × p)ᵀ`).
     #[inline(always)]
     pub fn full_rate<A: MulAdd>(&self, y: &FullArray, out: &mut FullArray) {
         let l = self.local::<A>(y);
-        Self::frame_part::<A>(&l, out);
+        self.frame_part::<A>(&l, out);
         let ic = [self.inv_c.x, self.inv_c.y, self.inv_c.z];
-        let (m, n, u) = (&l.m, &l.n, &l.u);
-        let row = |r: usize| -> [f64; 6] {
-            let mut v = [0.0; 6];
-            v.copy_from_slice(&y[JT + 6 * r..JT + 6 * r + 6]);
-            v
-        };
-        let (t0, t1, t2) = (row(0), row(1), row(2));
-        let (b0, b1, b2) = (row(3), row(4), row(5));
-        // `ic_i (Rᵀ e_i, p × R e_i)`: row i of C⁻¹ [Rᵀ, −Rᵀ p̂].
-        let base = |i: usize| -> [f64; 6] {
-            let ci = &l.c[i];
-            let pc = cross::<A>(&l.p, ci);
+        let ([m0, m1, m2, _], [n0, n1, n2, _], [u0, u1, u2, _]) = (l.m.0, l.n.0, l.u.0);
+        let [r0, r1, r2] = l.rows;
+        let p = l.p;
+        // Lane i of s_k is (p × R e_i)_k: s_0 = p1 r_2 − p2 r_1 and cyclically.
+        let s0 = r2.scale_add::<A>(p[1], r1.scale(-p[2]));
+        let s1 = r0.scale_add::<A>(p[2], r2.scale(-p[0]));
+        let s2 = r1.scale_add::<A>(p[0], r0.scale(-p[1]));
+        // Row i of C⁻¹ [Rᵀ, −Rᵀ p̂]: c_i⁻¹ (R_0i, R_1i, R_2i, s_0i | s_1i, s_2i).
+        let base_l = |i: usize| V4([r0.0[i], r1.0[i], r2.0[i], s0.0[i]]).scale(ic[i]);
+        let base_r = |i: usize| V2([s1.0[i], s2.0[i]]).scale(ic[i]);
+        let tl: [V4; 6] = std::array::from_fn(|i| V4::load(y, JL + 4 * i));
+        let tr: [V2; 6] = std::array::from_fn(|i| V2::load(y, JR + 2 * i));
+        // Row i of J'_top: base_i + Σ_k P_ik t_k + Σ_k Q_ik b_k over the off-diagonal entries
+        // of P and Q (rows 0–2 of J are t, rows 3–5 are b).
+        let coefficients = [
             [
-                ic[i] * ci[0],
-                ic[i] * ci[1],
-                ic[i] * ci[2],
-                ic[i] * pc[0],
-                ic[i] * pc[1],
-                ic[i] * pc[2],
-            ]
-        };
-        // Row i of J'_top: base_i + Σ_k P_ik t_k + Σ_k Q_ik b_k with the off-diagonal entries
-        // of P = C⁻¹ m̂ − û and Q = C⁻¹ n̂ (both have zero diagonals).
-        let combine = |base: [f64; 6], x: [(f64, &[f64; 6]); 4]| -> [f64; 6] {
-            let mut v = base;
-            for (s, r) in x {
-                for col in 0..6 {
-                    v[col] = A::mul_add(s, r[col], v[col]);
-                }
+                (u2 - ic[0] * m2, 1),
+                (ic[0] * m1 - u1, 2),
+                (-ic[0] * n2, 4),
+                (ic[0] * n1, 5),
+            ],
+            [
+                (ic[1] * m2 - u2, 0),
+                (u0 - ic[1] * m0, 2),
+                (ic[1] * n2, 3),
+                (-ic[1] * n0, 5),
+            ],
+            [
+                (u1 - ic[2] * m1, 0),
+                (ic[2] * m0 - u0, 1),
+                (-ic[2] * n1, 3),
+                (ic[2] * n0, 4),
+            ],
+        ];
+        // Columns 4–5 of the six output rows, stored in pairs of rows at the end: one 4-lane
+        // store per pair, as the stage sums read them (two 2-lane stores read back as one
+        // 4-lane load would defeat store-to-load forwarding).
+        let mut right = [V2([0.0; 2]); 6];
+        for (i, terms) in coefficients.iter().enumerate() {
+            let (mut vl, mut vr) = (base_l(i), base_r(i));
+            for &(s, k) in terms {
+                vl = tl[k].scale_add::<A>(s, vl);
+                vr = tr[k].scale_add::<A>(s, vr);
             }
-            v
-        };
-        let o0 = combine(
-            base(0),
-            [
-                (u[2] - ic[0] * m[2], &t1),
-                (ic[0] * m[1] - u[1], &t2),
-                (-ic[0] * n[2], &b1),
-                (ic[0] * n[1], &b2),
-            ],
-        );
-        let o1 = combine(
-            base(1),
-            [
-                (ic[1] * m[2] - u[2], &t0),
-                (u[0] - ic[1] * m[0], &t2),
-                (ic[1] * n[2], &b0),
-                (-ic[1] * n[0], &b2),
-            ],
-        );
-        let o2 = combine(
-            base(2),
-            [
-                (u[1] - ic[2] * m[1], &t0),
-                (ic[2] * m[0] - u[0], &t1),
-                (-ic[2] * n[1], &b0),
-                (ic[2] * n[0], &b1),
-            ],
-        );
-        // J'_bot = −ê1 J_top − û J_bot: −ê1 v = (0, v_z, −v_y); −û v = v × u.
-        let mut o3 = [0.0; 6];
-        let mut o4 = [0.0; 6];
-        let mut o5 = [0.0; 6];
-        for col in 0..6 {
-            o3[col] = A::mul_add(u[2], b1[col], -(u[1] * b2[col]));
-            o4[col] = A::mul_add(u[0], b2[col], A::mul_add(-u[2], b0[col], t2[col]));
-            o5[col] = A::mul_add(-u[0], b1[col], A::mul_add(u[1], b0[col], -t1[col]));
+            vl.store(out, JL + 4 * i);
+            right[i] = vr;
         }
-        for (r, o) in [o0, o1, o2, o3, o4, o5].iter().enumerate() {
-            out[JT + 6 * r..JT + 6 * r + 6].copy_from_slice(o);
+        // J'_bot = −ê1 J_top − û J_bot: −ê1 v = (0, v_z, −v_y); −û v = v × u (rows 3–5 are
+        // b_0..b_2): b_0' = u2 b_1 − u1 b_2, b_1' = t_2 + u0 b_2 − u2 b_0,
+        // b_2' = −t_1 + u1 b_0 − u0 b_1.
+        let bottom = [
+            (tl[4].scale(u2), tr[4].scale(u2), [(-u1, 5)]),
+            (tl[2], tr[2], [(u0, 5)]),
+            (tl[1].scale(-1.0), tr[1].scale(-1.0), [(u1, 3)]),
+        ];
+        let last = [(0.0, 0), (-u2, 3), (-u0, 4)];
+        for (i, ((mut vl, mut vr, [(s, k)]), (s2, k2))) in bottom.into_iter().zip(last).enumerate()
+        {
+            vl = tl[k].scale_add::<A>(s, vl);
+            vr = tr[k].scale_add::<A>(s, vr);
+            if i > 0 {
+                vl = tl[k2].scale_add::<A>(s2, vl);
+                vr = tr[k2].scale_add::<A>(s2, vr);
+            }
+            vl.store(out, JL + 4 * (3 + i));
+            right[3 + i] = vr;
+        }
+        for pair in 0..3 {
+            let (a, b) = (right[2 * pair].0, right[2 * pair + 1].0);
+            V4([a[0], a[1], b[0], b[1]]).store(out, JR + 4 * pair);
         }
     }
 
-    /// `q, q', q'', q'''` at one point: `R'' = R (û² + û')`, `p'' = R û e1`,
-    /// `R''' = R (û³ + 2 û û' + û' û + û'')`, `p''' = R (û² + û') e1`, with `u'` from eq. 3 and
-    /// `u''` from `μ'' = F(μ) μ'` (eq. 4's `F`).
+    /// `q, q', q'', q'''` at one point, on the frame rows `r` (`r û = r × u`):
+    /// `R' = R û`, `R'' = R (û² + û')`, `R''' = R (û³ + 2 û û' + û' û + û'')`, so with
+    /// `W1 = r × u` and `W2 = W1 × u + r × u'` the rows are `W1`, `W2` and
+    /// `W2 × u + 2 W1 × u' + r × u''`; `p⁽ᵏ⁺¹⁾ = R⁽ᵏ⁾ e1` is lane 0 of the row before. `u'` is
+    /// from eq. 3 and `u''` from `μ'' = F(μ) μ'` (eq. 4's `F`).
     #[inline(always)]
-    pub fn frame_jet(&self, q: &FrameState) -> FrameJet {
-        let mu = self.costate6(q);
+    pub fn frame_jet(&self, y: &FrameArray) -> FrameJet {
+        let l = self.local::<Separate>(y);
+        let mu = Vector6::new(l.m.0[0], l.m.0[1], l.m.0[2], l.n.0[0], l.n.0[1], l.n.0[2]);
         let dmu = costate_rate(self.c, &mu);
         // The top rows of F(μ) μ' (see `f_matrix`): only u'' is needed.
         let [c1, c2, c3] = self.c;
@@ -506,35 +522,33 @@ impl Kirchhoff {
             1.0 / c2 - 1.0 / c1,
         );
         let (m, v) = (&mu, &dmu);
-        let ddm = Vector3::new(
+        let ddm = [
             d32 * (m[2] * v[1] + m[1] * v[2]),
             d13 * (m[2] * v[0] + m[0] * v[2]) + v[5],
             d21 * (m[1] * v[0] + m[0] * v[1]) - v[4],
-        );
-        let u = mu.fixed_rows::<3>(0).component_mul(&self.inv_c);
-        let du = dmu.fixed_rows::<3>(0).component_mul(&self.inv_c);
-        let ddu = ddm.component_mul(&self.inv_c);
-        let uh = hat(&u);
-        let duh = hat(&du);
-        let uu = uh * uh;
-        let second = uu + duh;
-        let uduh = uh * duh;
-        let third = uu * uh + uduh + uduh + duh * uh + hat(&ddu);
-        FrameJet {
-            frame: *q,
-            d1: FrameState {
-                r: q.r * uh,
-                p: q.r.column(0).into_owned(),
-            },
-            d2: FrameState {
-                r: q.r * second,
-                p: q.r * Vector3::new(0.0, u.z, -u.y),
-            },
-            d3: FrameState {
-                r: q.r * third,
-                p: q.r * second.column(0),
-            },
+        ];
+        let du = V4([v[0], v[1], v[2], 0.0]).mul(self.inv_c4);
+        let ddu = V4([ddm[0], ddm[1], ddm[2], 0.0]).mul(self.inv_c4);
+        let (u_a, u_b) = cross_operands(l.u, self.e3);
+        let (du_a, du_b) = cross_operands(du, self.e3);
+        let (ddu_a, ddu_b) = cross_operands(ddu, self.e3);
+        // `cross_lane0` puts lane 0 of its first argument into lane 3, which is p⁽ᵏ⁺¹⁾ for
+        // the W × u terms; the added terms must not add to lane 3, so theirs is cleared.
+        let no_lane3 = |v: V4| V4([v.0[0], v.0[1], v.0[2], 0.0]);
+        let mut jet = FrameJet { d: [*y; 4] };
+        for (i, r) in l.rows.iter().enumerate() {
+            let w1 = cross_lane0::<Separate>(*r, u_a, u_b);
+            let w2 = cross_lane0::<Separate>(w1, u_a, u_b)
+                .add(no_lane3(cross_lane0::<Separate>(*r, du_a, du_b)));
+            let w1du = no_lane3(cross_lane0::<Separate>(w1, du_a, du_b));
+            let w3 = cross_lane0::<Separate>(w2, u_a, u_b)
+                .add(w1du.add(w1du))
+                .add(no_lane3(cross_lane0::<Separate>(*r, ddu_a, ddu_b)));
+            w1.store(&mut jet.d[1], 4 * i);
+            w2.store(&mut jet.d[2], 4 * i);
+            w3.store(&mut jet.d[3], 4 * i);
         }
+        jet
     }
 }
 
@@ -558,20 +572,30 @@ mod tests {
             y = integ.step(&y, 1e-3, f);
         }
         let eps = 1e-4;
-        let jet = |y: &FrameArray| model.frame_jet(&FrameState::from_slice(y));
+        let jet = |y: &FrameArray| model.frame_jet(y);
         let (j0, jp, jm) = (
             jet(&y),
             jet(&integ.step(&y, eps, f)),
             jet(&integ.step(&y, -eps, f)),
         );
-        // max |(a − b) / 2ε − exact| over R and p.
-        let error = |a: FrameState, b: FrameState, exact: FrameState| {
-            let r = (a.r - b.r) / (2.0 * eps) - exact.r;
-            let p = (a.p - b.p) / (2.0 * eps) - exact.p;
-            r.amax().max(p.amax())
+        // max |(a − b) / 2ε − exact| over R and p (the flat layout holds both).
+        let error = |a: &FrameArray, b: &FrameArray, exact: &FrameArray| {
+            (0..12)
+                .map(|i| ((a[i] - b[i]) / (2.0 * eps) - exact[i]).abs())
+                .fold(0.0, f64::max)
         };
-        assert!(error(jp.d1, jm.d1, j0.d2) < 1e-6, "q''");
-        assert!(error(jp.d2, jm.d2, j0.d3) < 1e-6, "q'''");
+        for k in 0..3 {
+            let e = error(&jp.d[k], &jm.d[k], &j0.d[k + 1]);
+            assert!(e < 1e-6, "derivative {}: {e:e}", k + 1);
+        }
+        // The jet's frame is the state, and its derivative is eq. 1's rate.
+        let mut rate = [0.0; 12];
+        model.frame_rate::<Separate>(&y, &mut rate);
+        assert_eq!(j0.d[0], y);
+        let gap = (0..12)
+            .map(|i| (rate[i] - j0.d[1][i]).abs())
+            .fold(0.0, f64::max);
+        assert!(gap <= 1e-14, "{gap:e}");
     }
 
     /// The elimination determinant agrees with nalgebra's LU on random and singular matrices,
@@ -590,8 +614,11 @@ mod tests {
             }
             if trial % 10 == 0 {
                 // Two equal rows: singular.
-                let (a, b) = y.split_at_mut(JT + 6);
-                b[..6].copy_from_slice(&a[JT..JT + 6]);
+                for k in 0..4 {
+                    y[JL + 4 + k] = y[JL + k];
+                }
+                y[JR + 2] = y[JR];
+                y[JR + 3] = y[JR + 1];
             }
             let j = jacobian_of(&y);
             let expected = j.determinant();

@@ -12,9 +12,9 @@ use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector
 
 #[cfg(target_arch = "x86_64")]
 use crate::arith::Fused;
-use crate::arith::{MulAdd, Separate};
+use crate::arith::{MulAdd, Separate, V4};
 use crate::equations::{
-    FrameArray, FrameJet, FrameRhs, FrameState, FullArray, FullRhs, Kirchhoff,
+    FrameArray, FrameJet, FrameRhs, FrameState, FullArray, FullRhs, Kirchhoff, frame_of,
     jacobian_determinant, jacobian_of,
 };
 use crate::integrator::{Integrator, Workspace, septic_hermite};
@@ -235,29 +235,30 @@ impl Rod {
         let mut tracker = SignTracker::new(h, record_det);
         let mut y: FullArray = FrameState::initial();
         if let Some(k) = knots.as_deref_mut() {
-            k.push(model.frame_jet(&FrameState::from_slice(&y)));
+            k.push(model.frame_jet(&frame_of(&y)));
         }
         let f = FullRhs::<A> {
             model,
             arith: PhantomData,
         };
         let mut work = Workspace::new();
+        // The first grid step is taken in `substeps` substeps; one loop over all the steps
+        // keeps a single copy of the (large, inlined) step in the code.
         let substeps = self.integrator.first_step_substeps();
         let sub = h / substeps as f64;
-        for _ in 0..substeps {
+        for s in 0..substeps + steps - 1 {
+            let step = if s < substeps { sub } else { h };
             self.integrator
-                .step_in_place::<A, 48>(&mut y, sub, f, &mut work);
-        }
-        for k in 1..=steps {
-            if k > 1 {
-                self.integrator
-                    .step_in_place::<A, 48>(&mut y, h, f, &mut work);
+                .step_in_place::<A, 48>(&mut y, step, f, &mut work);
+            if s + 1 < substeps {
+                continue;
             }
+            let grid_point = s + 2 - substeps;
             if let Some(k) = knots.as_deref_mut() {
-                k.push(model.frame_jet(&FrameState::from_slice(&y)));
+                k.push(model.frame_jet(&frame_of(&y)));
             }
             let det = jacobian_determinant(&y);
-            if !tracker.push(k as f64 * h, det) && early_exit {
+            if !tracker.push(grid_point as f64 * h, det) && early_exit {
                 break;
             }
         }
@@ -302,7 +303,7 @@ impl Rod {
     ) -> FrameArray {
         let h = self.wire.length() / steps as f64;
         let mut y: FrameArray = FrameState::initial();
-        knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+        knots.push(model.frame_jet(&y));
         let mut work = Workspace::new();
         for _ in 0..steps {
             self.integrator.step_in_place::<A, 12>(
@@ -314,7 +315,7 @@ impl Rod {
                 },
                 &mut work,
             );
-            knots.push(model.frame_jet(&FrameState::from_slice(&y)));
+            knots.push(model.frame_jet(&y));
         }
         y
     }
@@ -514,8 +515,8 @@ impl Rod {
 }
 
 /// Septic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
-/// Only the position and the first two columns of `R` are interpolated: Gram–Schmidt
-/// rebuilds the third as their cross product.
+/// The whole flat frame state is interpolated (three 4-lane sums); Gram–Schmidt uses the
+/// first two columns of `R` and rebuilds the third as their cross product.
 #[inline(always)]
 fn interpolate<A: MulAdd>(
     k0: &FrameJet,
@@ -523,44 +524,35 @@ fn interpolate<A: MulAdd>(
     h: f64,
     theta: f64,
 ) -> (Vector3<f64>, Rotation3<f64>) {
+    let exact = |k: &FrameJet| {
+        let f = k.frame();
+        (f.p, rotation_from_columns(&f.r))
+    };
     if theta == 0.0 {
-        return (k0.frame.p, rotation_from_columns(&k0.frame.r));
+        return exact(k0);
     }
     if theta == 1.0 {
-        return (k1.frame.p, rotation_from_columns(&k1.frame.r));
+        return exact(k1);
     }
     let w = septic_hermite(theta);
     let (h2, h3) = (h * h, h * h * h);
-    let terms = [
-        (&k0.frame, w[0]),
-        (&k0.d1, w[1] * h),
-        (&k0.d2, w[2] * h2),
-        (&k0.d3, w[3] * h3),
-        (&k1.frame, w[4]),
-        (&k1.d1, w[5] * h),
-        (&k1.d2, w[6] * h2),
-        (&k1.d3, w[7] * h3),
-    ];
-    // Columns 0 and 1 of R (column-major: its first 6 numbers), then p.
-    let mut acc = [0.0; 9];
-    for (f, wi) in terms {
-        let r = f.r.as_slice();
-        for j in 0..6 {
-            acc[j] = A::mul_add(wi, r[j], acc[j]);
-        }
-        for j in 0..3 {
-            acc[6 + j] = A::mul_add(wi, f.p[j], acc[6 + j]);
+    let scale = [1.0, h, h2, h3];
+    let mut acc = [V4::splat(0.0); 3];
+    for (side, knot) in [k0, k1].into_iter().enumerate() {
+        for (order, d) in knot.d.iter().enumerate() {
+            let wi = w[4 * side + order] * scale[order];
+            for (row, a) in acc.iter_mut().enumerate() {
+                *a = V4::load(d, 4 * row).scale_add::<A>(wi, *a);
+            }
         }
     }
+    let [r0, r1, r2] = acc.map(|v| v.0);
     let r = Matrix3::new(
-        acc[0], acc[3], 0.0, //
-        acc[1], acc[4], 0.0, //
-        acc[2], acc[5], 0.0,
+        r0[0], r0[1], 0.0, //
+        r1[0], r1[1], 0.0, //
+        r2[0], r2[1], 0.0,
     );
-    (
-        Vector3::new(acc[6], acc[7], acc[8]),
-        rotation_from_columns(&r),
-    )
+    (Vector3::new(r0[3], r1[3], r2[3]), rotation_from_columns(&r))
 }
 
 /// Gram–Schmidt on the first two columns, keeping the tangent's direction; the third column
@@ -627,8 +619,8 @@ mod tests {
             rod.integrate_frame(&model, steps, &mut kf);
             rod.integrate_frame_with::<Separate>(&model, steps, &mut kp);
             for (f, p) in kf.iter().zip(&kp) {
-                assert!((f.frame.p - p.frame.p).norm() <= 1e-12 * wire.length());
-                assert!((f.frame.r - p.frame.r).amax() <= 1e-12);
+                assert!((f.frame().p - p.frame().p).norm() <= 1e-12 * wire.length());
+                assert!((f.frame().r - p.frame().r).amax() <= 1e-12);
             }
         }
     }
