@@ -65,12 +65,6 @@ impl V4 {
         y[i..i + 4].copy_from_slice(&self.0);
     }
 
-    /// All lanes `x`.
-    #[inline(always)]
-    pub fn splat(x: f64) -> Self {
-        Self([x; 4])
-    }
-
     /// Lane-wise `self + b`.
     #[inline(always)]
     pub fn add(self, b: Self) -> Self {

@@ -23,6 +23,12 @@
 //! so the solver integrates only `q` and `J` (eq. 1 and `J' = G M + H J` of eq. 4), 48 states
 //! instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an independent
 //! integration of the full system (eq. 3 and `M' = F M`) and `J` against finite differences.
+//!
+//! # Layout
+//!
+//! The flat states are laid out for 4-lane arithmetic (`arith::V4`): the frame by rows
+//! `(R_i0, R_i1, R_i2, p_i)`, so that row `i` of `R û` is `r_i × u` and `p_i' = R_i0`; `J` by
+//! rows, columns 0–3 then columns 4–5.
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
@@ -212,18 +218,23 @@ pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
 }
 
 /// `det J` from a flat full state, by Gaussian elimination with partial pivoting on the rows
-/// of `J` (as nalgebra's LU, without building a `Matrix6`).
+/// of `J` (as nalgebra's LU, without building a `Matrix6`). Inlined, so that the solver's
+/// AVX2+FMA loops get an AVX2 copy.
+#[inline(always)]
 pub(crate) fn jacobian_determinant(y: &FullArray) -> f64 {
     determinant6(std::array::from_fn(|r| jacobian_row(y, r)))
 }
 
 /// The determinant of a 6×6 matrix given by rows (Gaussian elimination, partial pivoting).
+#[inline(always)]
 pub(crate) fn determinant6(mut a: [[f64; 6]; 6]) -> f64 {
     let mut det = 1.0;
     for c in 0..6 {
         let mut p = c;
-        for r in c + 1..6 {
-            if a[r][c].abs() > a[p][c].abs() {
+        let mut largest = a[c][c].abs();
+        for (r, row) in a.iter().enumerate().skip(c + 1) {
+            if row[c].abs() > largest {
+                largest = row[c].abs();
                 p = r;
             }
         }
@@ -236,12 +247,14 @@ pub(crate) fn determinant6(mut a: [[f64; 6]; 6]) -> f64 {
         if pivot == 0.0 {
             return det;
         }
-        let (top, rest) = a.split_at_mut(c + 1);
-        let prow = &top[c];
-        for row in rest.iter_mut() {
-            let factor = row[c] / pivot;
-            for k in c + 1..6 {
-                row[k] -= factor * prow[k];
+        // Whole rows are updated (columns left of `c` are zeros, or finished, and never read
+        // again): fixed-length loops that vectorise.
+        let prow = a[c];
+        let inverse = 1.0 / pivot;
+        for row in a.iter_mut().skip(c + 1) {
+            let factor = row[c] * inverse;
+            for (v, pv) in row.iter_mut().zip(&prow) {
+                *v -= factor * pv;
             }
         }
     }

@@ -41,6 +41,12 @@
 //! | DOP853 | max(8, ⌈1.75 σL⌉) (default until the FMA work) | 271 | 1.6e-8 | 1.0e-7 | 9.1e-8 |
 //! | DOP853 | max(8, ⌈2 σL⌉) | 307 | 5.5e-9 | 3.3e-8 | 3.6e-8 |
 //!
+//! The frame-only solves (`Rod::shape`, `Rod::tip`) run the same grid, first-step substeps
+//! included, and so give the same frames bit for bit (a unit test checks it); the study and the
+//! requirement test check their tips against the reference too. (Before this was enforced, the
+//! frame-only path skipped the substeps, and its worst tip rotation on the third wire was
+//! 7.6e-7 rad instead of 3.7e-7.)
+//!
 //! The tip rotation is the binding requirement. Both order-8 methods converge at their order
 //! (×2 steps ≈ ×250 less error), but DOP853's error constant is about 170 times smaller than
 //! Cooper–Verner's on this problem (same step count, 170 times less error), so it needs about
@@ -54,7 +60,7 @@
 //! position and 29 on `J(L)`) at 0.57 times the evaluations of the first default (RK8 with
 //! `⌈3 σL⌉` steps, margin 4). `⌈1.75 σL⌉` (margin 10) costs 15 % more evaluations. The
 //! numbers are the same, to the digits shown, with and without the fused multiply–adds of
-//! [`crate::arith`] (`FTWIRE_NO_SIMD=1`). Reproduce with
+//! the `arith` module (`FTWIRE_NO_SIMD=1`). Reproduce with
 //! `cargo test -p ftwire-rod --release --test convergence -- --ignored --nocapture study`;
 //! the non-ignored test `default_meets_the_accuracy_requirement` in the same file guards it.
 //!
@@ -81,7 +87,7 @@
 //! compiled once per step, and the step's code fits the CPU's instruction caches (written out,
 //! the 48-state step was about 60 KB of code and 30 % slower). The stage sums and the
 //! right-hand sides are generic over the multiply–add, and the solver's loops run compiled
-//! for AVX2 with hardware FMA when the CPU has them ([`crate::arith`]).
+//! for AVX2 with hardware FMA when the CPU has them (the crate's `arith` module).
 
 use crate::RodError;
 use crate::arith::{MulAdd, Separate};

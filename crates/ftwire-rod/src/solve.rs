@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector
 
 #[cfg(target_arch = "x86_64")]
 use crate::arith::Fused;
-use crate::arith::{MulAdd, Separate, V4};
+use crate::arith::{MulAdd, Separate};
 use crate::equations::{
     FrameArray, FrameJet, FrameRhs, FrameState, FullArray, FullRhs, Kirchhoff, frame_of,
     jacobian_determinant, jacobian_of,
@@ -265,8 +265,9 @@ impl Rod {
         (y, tracker)
     }
 
-    /// Integrates `q` alone over `steps` uniform steps, pushing the frame jets at the grid
-    /// points into `knots`; returns the tip state. AVX2+FMA when the CPU has it.
+    /// Integrates `q` alone over `steps` uniform steps (the first in substeps, as
+    /// [`Rod::integrate_full`]), pushing the frame jets at the grid points into `knots`;
+    /// returns the tip state. AVX2+FMA when the CPU has it.
     fn integrate_frame(
         &self,
         model: &Kirchhoff,
@@ -304,18 +305,22 @@ impl Rod {
         let h = self.wire.length() / steps as f64;
         let mut y: FrameArray = FrameState::initial();
         knots.push(model.frame_jet(&y));
+        let f = FrameRhs::<A> {
+            model,
+            arith: PhantomData,
+        };
         let mut work = Workspace::new();
-        for _ in 0..steps {
-            self.integrator.step_in_place::<A, 12>(
-                &mut y,
-                h,
-                FrameRhs::<A> {
-                    model,
-                    arith: PhantomData,
-                },
-                &mut work,
-            );
-            knots.push(model.frame_jet(&y));
+        // The same grid as `integrate_full`, first step in substeps included, so that the
+        // frames are those of the Jacobian solves.
+        let substeps = self.integrator.first_step_substeps();
+        let sub = h / substeps as f64;
+        for s in 0..substeps + steps - 1 {
+            let step = if s < substeps { sub } else { h };
+            self.integrator
+                .step_in_place::<A, 12>(&mut y, step, f, &mut work);
+            if s + 1 >= substeps {
+                knots.push(model.frame_jet(&y));
+            }
         }
         y
     }
@@ -537,16 +542,17 @@ fn interpolate<A: MulAdd>(
     let w = septic_hermite(theta);
     let (h2, h3) = (h * h, h * h * h);
     let scale = [1.0, h, h2, h3];
-    let mut acc = [V4::splat(0.0); 3];
+    // One pass over the 12 contiguous numbers per term (as the stage sums: it vectorises).
+    let mut acc = [0.0; 12];
     for (side, knot) in [k0, k1].into_iter().enumerate() {
         for (order, d) in knot.d.iter().enumerate() {
             let wi = w[4 * side + order] * scale[order];
-            for (row, a) in acc.iter_mut().enumerate() {
-                *a = V4::load(d, 4 * row).scale_add::<A>(wi, *a);
+            for (a, v) in acc.iter_mut().zip(d) {
+                *a = A::mul_add(wi, *v, *a);
             }
         }
     }
-    let [r0, r1, r2] = acc.map(|v| v.0);
+    let (r0, r1, r2) = (&acc[0..4], &acc[4..8], &acc[8..12]);
     let r = Matrix3::new(
         r0[0], r0[1], 0.0, //
         r1[0], r1[1], 0.0, //
@@ -562,14 +568,29 @@ fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(orthonormalise(r))
 }
 
-/// Gram–Schmidt on the columns, keeping the tangent's direction.
+/// Gram–Schmidt on the columns, keeping the tangent's direction (one square root and one
+/// division per column).
 #[inline(always)]
 fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
-    let x = r.column(0).normalize();
-    let y1 = r.column(1) - x * x.dot(&r.column(1));
-    let y = y1.normalize();
-    let z = x.cross(&y);
-    Matrix3::from_columns(&[x, y, z])
+    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let c0 = [r[(0, 0)], r[(1, 0)], r[(2, 0)]];
+    let c1 = [r[(0, 1)], r[(1, 1)], r[(2, 1)]];
+    let s0 = 1.0 / dot(&c0, &c0).sqrt();
+    let x = c0.map(|v| v * s0);
+    let d = dot(&x, &c1);
+    let y1 = [c1[0] - d * x[0], c1[1] - d * x[1], c1[2] - d * x[2]];
+    let s1 = 1.0 / dot(&y1, &y1).sqrt();
+    let y = y1.map(|v| v * s1);
+    let z = [
+        x[1] * y[2] - x[2] * y[1],
+        x[2] * y[0] - x[0] * y[2],
+        x[0] * y[1] - x[1] * y[0],
+    ];
+    Matrix3::new(
+        x[0], y[0], z[0], //
+        x[1], y[1], z[1], //
+        x[2], y[2], z[2],
+    )
 }
 
 fn pose_of(q: &FrameState) -> Pose {
@@ -621,6 +642,11 @@ mod tests {
             for (f, p) in kf.iter().zip(&kp) {
                 assert!((f.frame().p - p.frame().p).norm() <= 1e-12 * wire.length());
                 assert!((f.frame().r - p.frame().r).amax() <= 1e-12);
+            }
+            // The frame-only path runs the Jacobian path's grid: the same frames.
+            assert_eq!(kf.len(), k_fast.len());
+            for (f, j) in kf.iter().zip(&k_fast) {
+                assert_eq!(f.d, j.d, "a = {a}");
             }
         }
     }

@@ -23,12 +23,27 @@ fn stable_sample(wire: &WireParams, count: usize, seed: u64) -> Vec<Vector6<f64>
         .collect()
 }
 
-fn worst(rod: &Rod, sample: &[Vector6<f64>], refs: &[common::Reference]) -> (f64, f64, f64) {
-    let mut worst = (0.0f64, 0.0f64, 0.0f64);
+/// Worst errors over the sample: tip position / L, tip rotation and J(L) of `Rod::jacobian`
+/// (the q + J integration), then tip position / L and rotation of `Rod::tip` (the frame-only
+/// integration of q and μ).
+fn worst(
+    rod: &Rod,
+    sample: &[Vector6<f64>],
+    refs: &[common::Reference],
+) -> (f64, f64, f64, f64, f64) {
+    let mut worst = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for (a, r) in sample.iter().zip(refs) {
         let s = rod.jacobian(a).expect("solves");
         let e = common::errors(rod.wire(), &s.tip, &s.jacobian, r);
-        worst = (worst.0.max(e.0), worst.1.max(e.1), worst.2.max(e.2));
+        let tip = rod.tip(a).expect("solves");
+        let f = common::errors(rod.wire(), &tip, &s.jacobian, r);
+        worst = (
+            worst.0.max(e.0),
+            worst.1.max(e.1),
+            worst.2.max(e.2),
+            worst.3.max(f.0),
+            worst.4.max(f.1),
+        );
     }
     worst
 }
@@ -46,10 +61,18 @@ fn default_meets_the_accuracy_requirement() {
     for (w, wire) in wires().iter().enumerate() {
         let sample = stable_sample(wire, 40, 100 + w as u64);
         let refs: Vec<_> = sample.iter().map(|a| common::reference(wire, a)).collect();
-        let (dp, dr, dj) = worst(&Rod::new(*wire), &sample, &refs);
+        let (dp, dr, dj, fp, fr) = worst(&Rod::new(*wire), &sample, &refs);
         assert!(dp < 1e-6, "wire {w}: tip position error {dp:e} L");
         assert!(dr < 1e-6, "wire {w}: tip rotation error {dr:e} rad");
         assert!(dj < 1e-5, "wire {w}: J(L) relative error {dj:e}");
+        assert!(
+            fp < 1e-6,
+            "wire {w}: frame-only tip position error {fp:e} L"
+        );
+        assert!(
+            fr < 1e-6,
+            "wire {w}: frame-only tip rotation error {fr:e} rad"
+        );
     }
 }
 
@@ -74,7 +97,9 @@ fn study() {
         let mean_sigma = sigma.iter().sum::<f64>() / sigma.len() as f64;
         let max_sigma = sigma.iter().cloned().fold(0.0, f64::max);
         println!("σL: mean {mean_sigma:.1}, max {max_sigma:.1}");
-        println!("| method | steps | mean evals | tip pos / L | tip rot [rad] | J(L) rel |");
+        println!(
+            "| method | steps | mean evals | tip pos / L | tip rot [rad] | J(L) rel | frame-only pos / L | frame-only rot [rad] |"
+        );
         let mut settings: Vec<(String, Integrator)> = Vec::new();
         for (method, steps) in [
             (Method::Rk4, 120),
@@ -117,7 +142,7 @@ fn study() {
         }
         for (label, integrator) in settings {
             let rod = Rod::new(*wire).with_integrator(integrator);
-            let (dp, dr, dj) = worst(&rod, &sample, &refs);
+            let (dp, dr, dj, fp, fr) = worst(&rod, &sample, &refs);
             let stages = integrator.method().stages() as f64;
             let evals = sample
                 .iter()
@@ -129,7 +154,7 @@ fn study() {
                 .sum::<f64>()
                 / sample.len() as f64;
             println!(
-                "| {:?} | {label} | {evals:.0} | {dp:.1e} | {dr:.1e} | {dj:.1e} |",
+                "| {:?} | {label} | {evals:.0} | {dp:.1e} | {dr:.1e} | {dj:.1e} | {fp:.1e} | {fr:.1e} |",
                 integrator.method()
             );
         }
