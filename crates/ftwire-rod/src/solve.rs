@@ -520,8 +520,9 @@ impl Rod {
 }
 
 /// Septic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
-/// The whole flat frame state is interpolated (three 4-lane sums); Gram–Schmidt uses the
-/// first two columns of `R` and rebuilds the third as their cross product.
+/// The whole flat frame state is interpolated (one pass over its 12 numbers per term);
+/// Gram–Schmidt uses the first two columns of `R` and rebuilds the third as their cross
+/// product.
 #[inline(always)]
 fn interpolate<A: MulAdd>(
     k0: &FrameJet,
