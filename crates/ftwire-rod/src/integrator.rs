@@ -272,6 +272,20 @@ impl Integrator {
         self.first_substeps
     }
 
+    /// The steps of a grid of `steps` uniform steps of size `h`, the first split into
+    /// [`Integrator::first_step_substeps`] substeps: each step's size, and the index (1 to
+    /// `steps`) of the grid point it ends on, if it ends on one. Every solve path walks this
+    /// one sequence, so all of them give the same frames; as one loop, it also keeps a single
+    /// copy of the (large, inlined) step in the code.
+    pub(crate) fn grid(&self, h: f64, steps: usize) -> impl Iterator<Item = (f64, Option<usize>)> {
+        let substeps = self.first_substeps;
+        let sub = h / substeps as f64;
+        (0..substeps + steps - 1).map(move |s| {
+            let step = if s < substeps { sub } else { h };
+            (step, (s + 1 >= substeps).then(|| s + 2 - substeps))
+        })
+    }
+
     /// The method.
     pub fn method(&self) -> Method {
         self.method

@@ -242,18 +242,12 @@ impl Rod {
             arith: PhantomData,
         };
         let mut work = Workspace::new();
-        // The first grid step is taken in `substeps` substeps; one loop over all the steps
-        // keeps a single copy of the (large, inlined) step in the code.
-        let substeps = self.integrator.first_step_substeps();
-        let sub = h / substeps as f64;
-        for s in 0..substeps + steps - 1 {
-            let step = if s < substeps { sub } else { h };
+        for (step, grid_point) in self.integrator.grid(h, steps) {
             self.integrator
                 .step_in_place::<A, 48>(&mut y, step, f, &mut work);
-            if s + 1 < substeps {
+            let Some(grid_point) = grid_point else {
                 continue;
-            }
-            let grid_point = s + 2 - substeps;
+            };
             if let Some(k) = knots.as_deref_mut() {
                 k.push(model.frame_jet(&frame_of(&y)));
             }
@@ -310,15 +304,10 @@ impl Rod {
             arith: PhantomData,
         };
         let mut work = Workspace::new();
-        // The same grid as `integrate_full`, first step in substeps included, so that the
-        // frames are those of the Jacobian solves.
-        let substeps = self.integrator.first_step_substeps();
-        let sub = h / substeps as f64;
-        for s in 0..substeps + steps - 1 {
-            let step = if s < substeps { sub } else { h };
+        for (step, grid_point) in self.integrator.grid(h, steps) {
             self.integrator
                 .step_in_place::<A, 12>(&mut y, step, f, &mut work);
-            if s + 1 >= substeps {
+            if grid_point.is_some() {
                 knots.push(model.frame_jet(&y));
             }
         }
