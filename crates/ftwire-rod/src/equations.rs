@@ -20,9 +20,11 @@
 //! M(t) = Ad_{q(t)}ᵀ + K(μ(t)) J(t),   K(m, n) = [[m̂, n̂], [n̂, 0]]                (B)
 //! ```
 //!
-//! so the solver integrates only `q` and `J` (eq. 1 and `J' = G M + H J` of eq. 4), 48 states
-//! instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an independent
-//! integration of the full system (eq. 3 and `M' = F M`) and `J` against finite differences.
+//! so the Jacobian solves integrate only `q` and `J` (eq. 1 and `J' = G M + H J` of eq. 4),
+//! 48 states instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an
+//! independent integration of the full system (eq. 3 and `M' = F M`) and `J` against finite
+//! differences. The shape-only solves integrate `q` and `μ` (eq. 1 and 3, [`ShapeArray`]):
+//! with `μ` a state, each stage's chain of dependent operations is shorter than through (A).
 //!
 //! # Layout
 //!
@@ -168,8 +170,16 @@ pub(crate) struct FrameState {
 /// `i = 0, 1, 2` (`y[4i + j] = R_ij`, `y[4i + 3] = p_i`).
 ///
 /// This layout makes eq. 1 three 4-lane operations: row `i` of `R' = R û` is `r_i × u`, and
-/// `p_i' = R_i0` is lane 0 of the same row ([`Kirchhoff::frame_rate`]).
+/// `p_i' = R_i0` is lane 0 of the same row ([`Kirchhoff::shape_rate`]).
 pub(crate) type FrameArray = [f64; 12];
+/// The flat integration state of the shape-only solves: the frame's 12 numbers
+/// ([`FrameArray`]), then `m = (m1, m2, m3, 0)` and `n = (n1, n2, n3, 0)`.
+///
+/// Here `μ` is integrated by eq. 3 alongside the frame instead of being read from the frame
+/// by closed form (A): the frame's rates then depend on `u` alone, and `u` on `μ` alone, so
+/// the step's longest chain of dependent operations is `μ`'s short one (the frame rows run
+/// beside it), where closed form (A) puts `Rᵀ (m0 − p × n0)` on it for every stage.
+pub(crate) type ShapeArray = [f64; 20];
 /// The flat integration state of frame and Jacobian: the frame's 12 numbers
 /// ([`FrameArray`]), then columns 0–3 of the six rows of `J` (4 numbers a row, angular rows
 /// first), then columns 4–5 of the six rows (2 numbers a row).
@@ -197,6 +207,14 @@ impl FrameState {
         y[10] = 1.0;
         y
     }
+}
+
+/// The initial shape state: `q = I`, `μ(0) = a`.
+pub(crate) fn shape_initial(a: &Vector6<f64>) -> ShapeArray {
+    let mut y: ShapeArray = FrameState::initial();
+    y[12..15].copy_from_slice(&[a[0], a[1], a[2]]);
+    y[16..19].copy_from_slice(&[a[3], a[4], a[5]]);
+    y
 }
 
 /// The frame part (first 12 numbers) of a flat state.
@@ -302,9 +320,9 @@ pub(crate) struct FullRhs<'a, A> {
     pub arith: std::marker::PhantomData<A>,
 }
 
-/// [`Kirchhoff::frame_rate`] as an [`crate::integrator::Rhs`], multiply–adding with `A`.
+/// [`Kirchhoff::shape_rate`] as an [`crate::integrator::Rhs`], multiply–adding with `A`.
 #[derive(Debug)]
-pub(crate) struct FrameRhs<'a, A> {
+pub(crate) struct ShapeRhs<'a, A> {
     pub model: &'a Kirchhoff,
     pub arith: std::marker::PhantomData<A>,
 }
@@ -316,12 +334,12 @@ impl<A> Clone for FullRhs<'_, A> {
     }
 }
 impl<A> Copy for FullRhs<'_, A> {}
-impl<A> Clone for FrameRhs<'_, A> {
+impl<A> Clone for ShapeRhs<'_, A> {
     fn clone(&self) -> Self {
         *self
     }
 }
-impl<A> Copy for FrameRhs<'_, A> {}
+impl<A> Copy for ShapeRhs<'_, A> {}
 
 impl<A: MulAdd> crate::integrator::Rhs<48> for FullRhs<'_, A> {
     #[inline(always)]
@@ -330,10 +348,10 @@ impl<A: MulAdd> crate::integrator::Rhs<48> for FullRhs<'_, A> {
     }
 }
 
-impl<A: MulAdd> crate::integrator::Rhs<12> for FrameRhs<'_, A> {
+impl<A: MulAdd> crate::integrator::Rhs<20> for ShapeRhs<'_, A> {
     #[inline(always)]
-    fn rate(&self, y: &FrameArray, out: &mut FrameArray) {
-        self.model.frame_rate::<A>(y, out);
+    fn rate(&self, y: &ShapeArray, out: &mut ShapeArray) {
+        self.model.shape_rate::<A>(y, out);
     }
 }
 
@@ -362,6 +380,8 @@ pub(crate) struct Kirchhoff {
     inv_c4: V4,
     /// `(0, 0, 0, 1)` (see [`cross_operands`]).
     e3: V4,
+    /// `(0, 1, −1, 0)`: `n × e1` is `n` permuted, times this.
+    e1_signs: V4,
 }
 
 impl Kirchhoff {
@@ -373,7 +393,13 @@ impl Kirchhoff {
             n0: Vector3::new(a[3], a[4], a[5]),
             inv_c4: V4([1.0 / c[0], 1.0 / c[1], 1.0 / c[2], 0.0]),
             e3: V4([0.0, 0.0, 0.0, 1.0]),
+            e1_signs: V4([0.0, 1.0, -1.0, 0.0]),
         }
+    }
+
+    /// `(1/c1, 1/c2, 1/c3)`.
+    pub fn inv_c(&self) -> [f64; 3] {
+        [self.inv_c.x, self.inv_c.y, self.inv_c.z]
     }
 
     /// [`turning_scale`] of this configuration.
@@ -402,15 +428,18 @@ impl Kirchhoff {
     #[inline(always)]
     fn local<A: MulAdd>(&self, y: &[f64]) -> Local {
         let rows = [V4::load(y, 0), V4::load(y, 4), V4::load(y, 8)];
+        let [r0, r1, r2] = rows;
         let p = [y[3], y[7], y[11]];
         let (m0, n0) = (&self.m0, &self.n0);
-        let mw = [
-            m0.x - A::mul_add(p[1], n0.z, -(p[2] * n0.y)),
-            m0.y - A::mul_add(p[2], n0.x, -(p[0] * n0.z)),
-            m0.z - A::mul_add(p[0], n0.y, -(p[1] * n0.x)),
-        ];
-        let n = rows[2].scale_add::<A>(n0.z, rows[1].scale_add::<A>(n0.y, rows[0].scale(n0.x)));
-        let m = rows[2].scale_add::<A>(mw[2], rows[1].scale_add::<A>(mw[1], rows[0].scale(mw[0])));
+        // Rᵀ(p × n0) = Σ_j p_j w_j with w_j linear in the rows (constant coefficients), so
+        // the only step that waits on p is one multiply–add per j.
+        let w0 = r2.scale_add::<A>(n0.y, r1.scale(-n0.z));
+        let w1 = r0.scale_add::<A>(n0.z, r2.scale(-n0.x));
+        let w2 = r1.scale_add::<A>(n0.x, r0.scale(-n0.y));
+        let rm0 = r2.scale_add::<A>(m0.z, r1.scale_add::<A>(m0.y, r0.scale(m0.x)));
+        let n = r2.scale_add::<A>(n0.z, r1.scale_add::<A>(n0.y, r0.scale(n0.x)));
+        let pw = w2.scale_add::<A>(p[2], w1.scale_add::<A>(p[1], w0.scale(p[0])));
+        let m = rm0.add(pw.scale(-1.0));
         let u = m.mul(self.inv_c4);
         Local { rows, p, m, n, u }
     }
@@ -424,11 +453,34 @@ impl Kirchhoff {
         }
     }
 
-    /// Eq. 1: `R' = R û`, `p' = R e1`, on the flat frame state.
-    #[inline(always)]
+    /// Eq. 1: `R' = R û`, `p' = R e1`, on the flat frame state, with `μ` by closed form (A)
+    /// (the reference in tests; the solver integrates [`Kirchhoff::shape_rate`] or
+    /// [`Kirchhoff::full_rate`]).
+    #[cfg(test)]
     pub fn frame_rate<A: MulAdd>(&self, y: &FrameArray, out: &mut FrameArray) {
         let l = self.local::<A>(y);
         self.frame_part::<A>(&l, out);
+    }
+
+    /// Eq. 1 and eq. 3 on the flat shape state ([`ShapeArray`]): `R' = R û`, `p' = R e1`,
+    /// `m' = m × u + n × e1`, `n' = n × u`.
+    #[inline(always)]
+    pub fn shape_rate<A: MulAdd>(&self, y: &ShapeArray, out: &mut ShapeArray) {
+        let (m, n) = (V4::load(y, 12), V4::load(y, 16));
+        let u = m.mul(self.inv_c4);
+        let (u_zxy1, u_yzx0) = cross_operands(u, self.e3);
+        for i in 0..3 {
+            cross_lane0::<A>(V4::load(y, 4 * i), u_zxy1, u_yzx0).store(out, 4 * i);
+        }
+        // (n × e1) = (0, n3, −n2): n permuted, times (0, 1, −1, 0).
+        let n_e1 = n.permute([3, 2, 1, 3]).mul(self.e1_signs);
+        let u_zxy0 = u.permute([2, 0, 1, 3]);
+        let cross = |a: V4| {
+            a.permute([1, 2, 0, 3])
+                .mul_add::<A>(u_zxy0, a.permute([2, 0, 1, 3]).mul(u_yzx0).scale(-1.0))
+        };
+        cross(m).add(n_e1).store(out, 12);
+        cross(n).store(out, 16);
     }
 
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
@@ -527,7 +579,22 @@ impl Kirchhoff {
     #[inline(always)]
     pub fn frame_jet(&self, y: &FrameArray) -> FrameJet {
         let l = self.local::<Separate>(y);
-        let mu = Vector6::new(l.m.0[0], l.m.0[1], l.m.0[2], l.n.0[0], l.n.0[1], l.n.0[2]);
+        self.jet_of(y, &l.rows, l.m, l.n)
+    }
+
+    /// [`Kirchhoff::frame_jet`] from a shape state, with its integrated `μ`.
+    #[inline(always)]
+    pub fn shape_jet(&self, y: &ShapeArray) -> FrameJet {
+        let rows = [V4::load(y, 0), V4::load(y, 4), V4::load(y, 8)];
+        self.jet_of(&frame_of(y), &rows, V4::load(y, 12), V4::load(y, 16))
+    }
+
+    /// The frame jet at frame `y` (rows `rows`) with `μ = (m, n)`. (Inlined, so that it is
+    /// compiled for AVX2 and FMA inside the solver's fast loops.)
+    #[inline(always)]
+    fn jet_of(&self, y: &FrameArray, rows: &[V4; 3], m: V4, n: V4) -> FrameJet {
+        let mu = Vector6::new(m.0[0], m.0[1], m.0[2], n.0[0], n.0[1], n.0[2]);
+        let u = m.mul(self.inv_c4);
         let dmu = costate_rate(self.c, &mu);
         // The top rows of F(μ) μ' (see `f_matrix`): only u'' is needed.
         let [c1, c2, c3] = self.c;
@@ -544,14 +611,14 @@ impl Kirchhoff {
         ];
         let du = V4([v[0], v[1], v[2], 0.0]).mul(self.inv_c4);
         let ddu = V4([ddm[0], ddm[1], ddm[2], 0.0]).mul(self.inv_c4);
-        let (u_a, u_b) = cross_operands(l.u, self.e3);
+        let (u_a, u_b) = cross_operands(u, self.e3);
         let (du_a, du_b) = cross_operands(du, self.e3);
         let (ddu_a, ddu_b) = cross_operands(ddu, self.e3);
         // `cross_lane0` puts lane 0 of its first argument into lane 3, which is p⁽ᵏ⁺¹⁾ for
         // the W × u terms; the added terms must not add to lane 3, so theirs is cleared.
         let no_lane3 = |v: V4| V4([v.0[0], v.0[1], v.0[2], 0.0]);
         let mut jet = FrameJet { d: [*y; 4] };
-        for (i, r) in l.rows.iter().enumerate() {
+        for (i, r) in rows.iter().enumerate() {
             let w1 = cross_lane0::<Separate>(*r, u_a, u_b);
             let w2 = cross_lane0::<Separate>(w1, u_a, u_b)
                 .add(no_lane3(cross_lane0::<Separate>(*r, du_a, du_b)));

@@ -42,10 +42,12 @@
 //! | DOP853 | max(8, ⌈2 σL⌉) | 307 | 5.5e-9 | 3.3e-8 | 3.6e-8 |
 //!
 //! The frame-only solves (`Rod::shape`, `Rod::tip`) run the same grid, first-step substeps
-//! included, and so give the same frames bit for bit (a unit test checks it); the study and the
-//! requirement test check their tips against the reference too. (Before this was enforced, the
-//! frame-only path skipped the substeps, and its worst tip rotation on the third wire was
-//! 7.6e-7 rad instead of 3.7e-7.)
+//! included, on a different state: `q` and `μ` (20 numbers, [`crate::equations`]'
+//! `ShapeArray`), `μ` integrated by eq. 3 instead of read from `q` by closed form, which
+//! shortens the chain of dependent operations in each stage. The two formulations are
+//! 8th-order solutions of the same equations; a unit test checks that their frames agree to
+//! the requirement at every grid point, and the study's last two columns are the frame-only
+//! tip errors: 6.3e-8·L and 4.0e-7 rad at the default (margin 2.5 on the rotation).
 //!
 //! The tip rotation is the binding requirement. Both order-8 methods converge at their order
 //! (×2 steps ≈ ×250 less error), but DOP853's error constant is about 170 times smaller than
@@ -88,6 +90,12 @@
 //! the 48-state step was about 60 KB of code and 30 % slower). The stage sums and the
 //! right-hand sides are generic over the multiply–add, and the solver's loops run compiled
 //! for AVX2 with hardware FMA when the CPU has them (the crate's `arith` module).
+//!
+//! States of at most 20 numbers (the shape state) take a DOP853 step with the stages written
+//! out instead (each stage sum stays in registers, no loop or table bookkeeping: about half
+//! the instructions of the loop, and small enough code). On AVX2+FMA CPUs the shape solve runs
+//! an explicit-intrinsics copy of that step (the crate's `simd` module), because LLVM splits
+//! the generic 4-lane code into scalar pieces there.
 
 use crate::RodError;
 use crate::arith::{MulAdd, Separate};
@@ -385,21 +393,38 @@ const RK8_TERMS: [&[usize]; 11] = [
     &[4, 5, 6, 7, 8, 9],
 ];
 
+/// Calls the macro `$m` with `$args`, then `;` and the list of the stages `j` with nonzero
+/// `a_ij` of each stage `i` of [`Method::Dop853`] (as `i: [j, ...]`, separated by `;`): the
+/// one definition of the list, for the loop's table and the written-out steps.
+macro_rules! with_dop853_terms {
+    ($m:ident!($($args:tt)*)) => {
+        $m!($($args)*;
+        0: [];
+        1: [0];
+        2: [0, 1];
+        3: [0, 2];
+        4: [0, 2, 3];
+        5: [0, 3, 4];
+        6: [0, 3, 4, 5];
+        7: [0, 3, 4, 5, 6];
+        8: [0, 3, 4, 5, 6, 7];
+        9: [0, 3, 4, 5, 6, 7, 8];
+        10: [0, 3, 4, 5, 6, 7, 8, 9];
+        11: [0, 3, 4, 5, 6, 7, 8, 9, 10]
+        )
+    };
+}
+pub(crate) use with_dop853_terms;
+
+/// The list of [`with_dop853_terms`] as a table.
+macro_rules! terms_table {
+    (; $($i:literal: [$($j:literal),*]);*) => {
+        [$(&[$($j),*]),*]
+    };
+}
+
 /// The stages `j` with nonzero `a_ij` of each stage `i` of [`Method::Dop853`].
-const DOP853_TERMS: [&[usize]; 12] = [
-    &[],
-    &[0],
-    &[0, 1],
-    &[0, 2],
-    &[0, 2, 3],
-    &[0, 3, 4],
-    &[0, 3, 4, 5],
-    &[0, 3, 4, 5, 6],
-    &[0, 3, 4, 5, 6, 7],
-    &[0, 3, 4, 5, 6, 7, 8],
-    &[0, 3, 4, 5, 6, 7, 8, 9],
-    &[0, 3, 4, 5, 6, 7, 8, 9, 10],
-];
+const DOP853_TERMS: [&[usize]; 12] = with_dop853_terms!(terms_table!());
 
 /// The stages of an explicit RK step with tableau `a`, over its nonzero coefficients
 /// (`terms[i]` lists the `j` with `a_ij ≠ 0`): `k_i = f(y + h Σ_j a_ij k_j)`, each stage sum
@@ -447,12 +472,62 @@ fn dop853_step<A: MulAdd, const D: usize>(
     f: impl Rhs<D>,
     w: &mut Workspace<D>,
 ) {
+    if D <= SMALL_STATE {
+        dop853_written_out::<A, D>(y, h, f, w);
+        return;
+    }
     stages::<A, D, 12>(&DOP853_TERMS, &DOP853_A, y, h, f, w);
     finish::<A, D, 8>(
         y,
         [0, 5, 6, 7, 8, 9, 10, 11].map(|j| (j, h * DOP853_B[j])),
         w,
     );
+}
+
+/// States of at most this many numbers take the written-out DOP853 step.
+const SMALL_STATE: usize = 20;
+
+/// `sum += c · k`, lane by lane.
+#[inline(always)]
+fn axpy<A: MulAdd, const D: usize>(sum: &mut [f64; D], c: f64, k: &[f64; D]) {
+    for (s, k) in sum.iter_mut().zip(k) {
+        *s = A::mul_add(c, *k, *s);
+    }
+}
+
+/// The stages of [`dop853_step`] written out, one block per stage over its nonzero
+/// coefficients (the lists of [`with_dop853_terms`]; a test checks the results agree with the
+/// loop bit for bit). For small states (the shape solve's 20 numbers): each stage sum stays in
+/// registers, with no loop or table bookkeeping, about half the instructions of the loop. (The
+/// 48-state step, written out, no longer fits the instruction cache; see the module's
+/// "Speed".)
+macro_rules! written_out_stages {
+    ($a:ident, $y:ident, $h:ident, $f:ident, $w:ident; $($i:literal: [$($j:literal),*]);*) => {
+        $(
+            {
+                #[allow(unused_mut)]
+                let mut sum = *$y;
+                $( axpy::<A, D>(&mut sum, $h * $a[$i][$j], &$w.k[$j]); )*
+                $f.rate(&sum, &mut $w.k[$i]);
+            }
+        )*
+    };
+}
+
+/// [`dop853_step`] for small states, its stages written out.
+#[inline(always)]
+fn dop853_written_out<A: MulAdd, const D: usize>(
+    y: &mut [f64; D],
+    h: f64,
+    f: impl Rhs<D>,
+    w: &mut Workspace<D>,
+) {
+    with_dop853_terms!(written_out_stages!(DOP853_A, y, h, f, w));
+    let mut sum = *y;
+    for j in [0, 5, 6, 7, 8, 9, 10, 11] {
+        axpy::<A, D>(&mut sum, h * DOP853_B[j], &w.k[j]);
+    }
+    *y = sum;
 }
 
 /// The step's result `y + Σ_j c_j k_j` over the nonzero weights `(j, h·b_j)`, in place.
@@ -679,7 +754,7 @@ const RK8_B: [f64; 11] = [
     1.0 / 20.0,
 ];
 
-const DOP853_A: [[f64; 12]; 12] = [
+pub(crate) const DOP853_A: [[f64; 12]; 12] = [
     [0.0; 12],
     [
         0.05260015195876773,
@@ -836,7 +911,7 @@ const DOP853_A: [[f64; 12]; 12] = [
         0.0,
     ],
 ];
-const DOP853_B: [f64; 12] = [
+pub(crate) const DOP853_B: [f64; 12] = [
     0.054293734116568765,
     0.0,
     0.0,
@@ -958,6 +1033,23 @@ mod tests {
             let table = rk_step(&DOP853_A, &DOP853_B, &y, h, f);
             for (a, b) in fused.iter().zip(&table) {
                 assert!((a - b).abs() < 1e-14, "DOP853, h = {h}: {a} vs {b}");
+            }
+            // A state too large for the written-out step runs the loop over the term
+            // tables; both give the same numbers bit for bit.
+            let f24 = |s: &[f64; 24], out: &mut [f64; 24]| {
+                for (s, o) in s.chunks_exact(3).zip(out.chunks_exact_mut(3)) {
+                    let mut r = [0.0; 3];
+                    f(&[s[0], s[1], s[2]], &mut r);
+                    o.copy_from_slice(&r);
+                }
+            };
+            let y24: [f64; 24] = std::array::from_fn(|i| y[i % 3] + 0.01 * (i / 3) as f64);
+            let mut looped = y24;
+            dop853_step::<Separate, 24>(&mut looped, h, f24, &mut Workspace::new());
+            for (c, chunk) in looped.chunks_exact(3).enumerate() {
+                let mut small: [f64; 3] = std::array::from_fn(|i| y24[3 * c + i]);
+                dop853_step::<Separate, 3>(&mut small, h, f, &mut Workspace::new());
+                assert_eq!(chunk, small, "DOP853 loop vs written out, h = {h}");
             }
         }
     }

@@ -24,6 +24,8 @@ pub mod intersection;
 pub mod perturbation;
 pub mod sampling;
 pub mod se3;
+#[cfg(target_arch = "x86_64")]
+mod simd;
 pub mod solve;
 pub mod stability;
 

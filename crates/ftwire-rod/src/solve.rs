@@ -14,10 +14,10 @@ use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector
 use crate::arith::Fused;
 use crate::arith::{MulAdd, Separate};
 use crate::equations::{
-    FrameArray, FrameJet, FrameRhs, FrameState, FullArray, FullRhs, Kirchhoff, frame_of,
-    jacobian_determinant, jacobian_of,
+    FrameJet, FrameState, FullArray, FullRhs, Kirchhoff, ShapeArray, ShapeRhs, frame_of,
+    jacobian_determinant, jacobian_of, shape_initial,
 };
-use crate::integrator::{Integrator, Workspace, septic_hermite};
+use crate::integrator::{Integrator, Method, Workspace, septic_hermite};
 use crate::intersection::self_contact;
 use crate::stability::{SignTracker, Stability};
 use crate::{RodError, validate_configuration};
@@ -259,56 +259,68 @@ impl Rod {
         (y, tracker)
     }
 
-    /// Integrates `q` alone over `steps` uniform steps (the first in substeps, as
-    /// [`Rod::integrate_full`]), pushing the frame jets at the grid points into `knots`;
-    /// returns the tip state. AVX2+FMA when the CPU has it.
-    fn integrate_frame(
+    /// Integrates `q` and `μ` (the [`ShapeArray`] state) over `steps` uniform steps (the first
+    /// in substeps, as [`Rod::integrate_full`]), pushing the frame jets at the grid points into
+    /// `knots`; returns the final state. AVX2+FMA when the CPU has it.
+    fn integrate_shape(
         &self,
         model: &Kirchhoff,
+        a: &Vector6<f64>,
         steps: usize,
         knots: &mut Vec<FrameJet>,
-    ) -> FrameArray {
+    ) -> ShapeArray {
         #[cfg(target_arch = "x86_64")]
         if crate::arith::fast_path() {
             // SAFETY: as in `integrate_full`.
             #[allow(unsafe_code)]
-            return unsafe { self.integrate_frame_fma(model, steps, knots) };
+            return unsafe { self.integrate_shape_fma(model, a, steps, knots) };
         }
-        self.integrate_frame_with::<Separate>(model, steps, knots)
+        self.integrate_shape_with::<Separate>(model, a, steps, knots)
     }
 
-    /// [`Rod::integrate_frame`] compiled for AVX2 and FMA.
+    /// [`Rod::integrate_shape`] compiled for AVX2 and FMA: DOP853 runs the explicit kernel of
+    /// [`crate::simd`], the other methods the generic step.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    fn integrate_frame_fma(
+    fn integrate_shape_fma(
         &self,
         model: &Kirchhoff,
+        a: &Vector6<f64>,
         steps: usize,
         knots: &mut Vec<FrameJet>,
-    ) -> FrameArray {
-        self.integrate_frame_with::<Fused>(model, steps, knots)
+    ) -> ShapeArray {
+        if self.integrator.method() != Method::Dop853 {
+            return self.integrate_shape_with::<Fused>(model, a, steps, knots);
+        }
+        let h = self.wire.length() / steps as f64;
+        let y = shape_initial(a);
+        knots.push(model.shape_jet(&y));
+        crate::simd::integrate_shape(model.inv_c(), &y, self.integrator.grid(h, steps), |y| {
+            knots.push(model.shape_jet(y));
+        })
     }
 
     #[inline(always)]
-    fn integrate_frame_with<A: MulAdd>(
+    fn integrate_shape_with<A: MulAdd>(
         &self,
         model: &Kirchhoff,
+        a: &Vector6<f64>,
         steps: usize,
         knots: &mut Vec<FrameJet>,
-    ) -> FrameArray {
+    ) -> ShapeArray {
         let h = self.wire.length() / steps as f64;
-        let mut y: FrameArray = FrameState::initial();
-        knots.push(model.frame_jet(&y));
-        let f = FrameRhs::<A> {
+        let mut y = shape_initial(a);
+        knots.push(model.shape_jet(&y));
+        let f = ShapeRhs::<A> {
             model,
             arith: PhantomData,
         };
         let mut work = Workspace::new();
         for (step, grid_point) in self.integrator.grid(h, steps) {
             self.integrator
-                .step_in_place::<A, 12>(&mut y, step, f, &mut work);
+                .step_in_place::<A, 20>(&mut y, step, f, &mut work);
             if grid_point.is_some() {
-                knots.push(model.frame_jet(&y));
+                knots.push(model.shape_jet(&y));
             }
         }
         y
@@ -407,7 +419,7 @@ impl Rod {
         let model = self.model(a)?;
         let steps = self.steps_for(&model);
         let mut knots = Vec::with_capacity(steps + 1);
-        let y = self.integrate_frame(&model, steps, &mut knots);
+        let y = self.integrate_shape(&model, a, steps, &mut knots);
         if !y.iter().all(|v| v.is_finite()) {
             return Err(RodError::Diverged {
                 a: (*a).into(),
@@ -469,70 +481,81 @@ impl Rod {
             #[allow(unsafe_code)]
             return unsafe { self.shape_from_knots_fma(knots, nodes) };
         }
-        self.shape_from_knots_with::<Separate>(knots, nodes)
+        self.shape_from_knots_with(knots, nodes, interpolate_portable)
     }
 
     /// [`Rod::shape_from_knots`] compiled for AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn shape_from_knots_fma(&self, knots: &[FrameJet], nodes: usize) -> Shape {
-        self.shape_from_knots_with::<Fused>(knots, nodes)
+        self.shape_from_knots_with(knots, nodes, |k0, k1, h, theta, p, r| {
+            crate::simd::interpolate_frame(k0, k1, h, theta, p, r);
+        })
     }
 
+    /// The shape from the knots: `between(k0, k1, h, θ, p, R)` writes `p` and the first two
+    /// columns of `R` at `θ ∈ (0, 1)` of the step `h` from knot `k0` to knot `k1`.
+    ///
+    /// Two passes: the interpolation of every node, then the re-orthonormalisation of every
+    /// rotation. Each pass is a loop of independent short computations that the CPU overlaps
+    /// (one pass doing both is a long chain of dependent operations per node).
     #[inline(always)]
-    fn shape_from_knots_with<A: MulAdd>(&self, knots: &[FrameJet], nodes: usize) -> Shape {
+    fn shape_from_knots_with(
+        &self,
+        knots: &[FrameJet],
+        nodes: usize,
+        between: impl Fn(&FrameJet, &FrameJet, f64, f64, &mut Vector3<f64>, &mut Matrix3<f64>),
+    ) -> Shape {
         let length = self.wire.length();
         let steps = knots.len().saturating_sub(1).max(1);
         let h = length / steps as f64;
-        let mut shape = Shape {
-            arc_length: Vec::with_capacity(nodes),
-            positions: Vec::with_capacity(nodes),
-            rotations: Vec::with_capacity(nodes),
-        };
         let last = nodes.saturating_sub(1).max(1) as f64;
-        for i in 0..nodes {
-            let t = length * i as f64 / last;
+        let mut positions = vec![Vector3::zeros(); nodes];
+        let mut frames = vec![Matrix3::identity(); nodes];
+        for (i, (p, r)) in positions.iter_mut().zip(&mut frames).enumerate() {
             let x = i as f64 * steps as f64 / last;
             // x ≥ 0, so truncation is the floor (and needs no libm call).
             let k = (x as usize).min(steps - 1);
             let theta = (x - k as f64).clamp(0.0, 1.0);
-            let (p, r) = match (knots.get(k), knots.get(k + 1)) {
-                (Some(k0), Some(k1)) => interpolate::<A>(k0, k1, h, theta),
-                _ => (Vector3::zeros(), Rotation3::identity()),
+            let (Some(k0), Some(k1)) = (knots.get(k), knots.get(k + 1)) else {
+                continue;
             };
-            shape.arc_length.push(t);
-            shape.positions.push(p);
-            shape.rotations.push(r);
+            if theta == 0.0 || theta == 1.0 {
+                let f = if theta == 0.0 { k0 } else { k1 }.frame();
+                (*p, *r) = (f.p, f.r);
+            } else {
+                between(k0, k1, h, theta, p, r);
+            }
         }
-        shape
+        Shape {
+            arc_length: (0..nodes).map(|i| length * i as f64 / last).collect(),
+            positions,
+            rotations: frames.iter().map(rotation_from_columns).collect(),
+        }
     }
 }
 
-/// Septic Hermite interpolation of the frame between two grid points, then Gram–Schmidt.
-/// The whole flat frame state is interpolated (one pass over its 12 numbers per term);
-/// Gram–Schmidt uses the first two columns of `R` and rebuilds the third as their cross
-/// product.
+/// The portable interpolation for [`Rod::shape_from_knots_with`].
 #[inline(always)]
-fn interpolate<A: MulAdd>(
+fn interpolate_portable(
     k0: &FrameJet,
     k1: &FrameJet,
     h: f64,
     theta: f64,
-) -> (Vector3<f64>, Rotation3<f64>) {
-    let exact = |k: &FrameJet| {
-        let f = k.frame();
-        (f.p, rotation_from_columns(&f.r))
-    };
-    if theta == 0.0 {
-        return exact(k0);
-    }
-    if theta == 1.0 {
-        return exact(k1);
-    }
+    p: &mut Vector3<f64>,
+    r: &mut Matrix3<f64>,
+) {
+    let [r0, r1, r2] = interpolate_rows::<Separate>(k0, k1, h, theta);
+    *p = Vector3::new(r0[3], r1[3], r2[3]);
+    *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
+}
+
+/// Septic Hermite interpolation of the flat frame state (rows `(R_i0, R_i1, R_i2, p_i)`)
+/// between two knots: one pass over its 12 numbers per term.
+#[inline(always)]
+fn interpolate_rows<A: MulAdd>(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> [[f64; 4]; 3] {
     let w = septic_hermite(theta);
-    let (h2, h3) = (h * h, h * h * h);
-    let scale = [1.0, h, h2, h3];
-    // One pass over the 12 contiguous numbers per term (as the stage sums: it vectorises).
+    let scale = [1.0, h, h * h, h * h * h];
     let mut acc = [0.0; 12];
     for (side, knot) in [k0, k1].into_iter().enumerate() {
         for (order, d) in knot.d.iter().enumerate() {
@@ -542,13 +565,7 @@ fn interpolate<A: MulAdd>(
             }
         }
     }
-    let (r0, r1, r2) = (&acc[0..4], &acc[4..8], &acc[8..12]);
-    let r = Matrix3::new(
-        r0[0], r0[1], 0.0, //
-        r1[0], r1[1], 0.0, //
-        r2[0], r2[1], 0.0,
-    );
-    (Vector3::new(r0[3], r1[3], r2[3]), rotation_from_columns(&r))
+    std::array::from_fn(|i| std::array::from_fn(|j| acc[4 * i + j]))
 }
 
 /// Gram–Schmidt on the first two columns, keeping the tangent's direction; the third column
@@ -558,19 +575,20 @@ fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(orthonormalise(r))
 }
 
-/// Gram–Schmidt on the columns, keeping the tangent's direction (one square root and one
-/// division per column).
+/// [`rotation_from_columns`]'s matrix. Written so that the two normalisations do not wait on
+/// each other: `y = c1 − (c0·c1 / c0·c0) c0` needs no square root, and `1/|c0|`, `1/|y|` are
+/// independent.
 #[inline(always)]
 fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let c0 = [r[(0, 0)], r[(1, 0)], r[(2, 0)]];
     let c1 = [r[(0, 1)], r[(1, 1)], r[(2, 1)]];
-    let s0 = 1.0 / dot(&c0, &c0).sqrt();
-    let x = c0.map(|v| v * s0);
-    let d = dot(&x, &c1);
-    let y1 = [c1[0] - d * x[0], c1[1] - d * x[1], c1[2] - d * x[2]];
-    let s1 = 1.0 / dot(&y1, &y1).sqrt();
-    let y = y1.map(|v| v * s1);
+    let (s00, s01) = (dot(&c0, &c0), dot(&c0, &c1));
+    let k = s01 / s00;
+    let y1 = [c1[0] - k * c0[0], c1[1] - k * c0[1], c1[2] - k * c0[2]];
+    let (n0, n1) = (1.0 / s00.sqrt(), 1.0 / dot(&y1, &y1).sqrt());
+    let x = c0.map(|v| v * n0);
+    let y = y1.map(|v| v * n1);
     let z = [
         x[1] * y[2] - x[2] * y[1],
         x[2] * y[0] - x[0] * y[2],
@@ -621,22 +639,34 @@ mod tests {
             assert_eq!(s_fast.stable, s_plain.stable, "a = {a}");
             assert_eq!(s_fast.det_j.len(), s_plain.det_j.len());
             let shape_fast = rod.shape_from_knots(&k_fast, 64);
-            let shape_plain = rod.shape_from_knots_with::<Separate>(&k_plain, 64);
+            let shape_plain = rod.shape_from_knots_with(&k_plain, 64, interpolate_portable);
             for (f, p) in shape_fast.positions.iter().zip(&shape_plain.positions) {
                 assert!((f - p).norm() <= 1e-12 * wire.length(), "a = {a}");
             }
+            for (f, p) in shape_fast.rotations.iter().zip(&shape_plain.rotations) {
+                assert!((f.matrix() - p.matrix()).amax() <= 1e-12, "a = {a}");
+                let defect = f.matrix().transpose() * f.matrix() - Matrix3::identity();
+                assert!(defect.amax() <= 1e-14, "a = {a}: RᵀR − I = {defect}");
+            }
             let steps = rod.steps_for(&model);
             let (mut kf, mut kp) = (Vec::new(), Vec::new());
-            rod.integrate_frame(&model, steps, &mut kf);
-            rod.integrate_frame_with::<Separate>(&model, steps, &mut kp);
+            let yf = rod.integrate_shape(&model, &a, steps, &mut kf);
+            let yp = rod.integrate_shape_with::<Separate>(&model, &a, steps, &mut kp);
+            let scale = yp.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (f, p) in yf.iter().zip(&yp) {
+                assert!((f - p).abs() <= 1e-12 * scale, "a = {a}: {f} vs {p}");
+            }
             for (f, p) in kf.iter().zip(&kp) {
                 assert!((f.frame().p - p.frame().p).norm() <= 1e-12 * wire.length());
                 assert!((f.frame().r - p.frame().r).amax() <= 1e-12);
             }
-            // The frame-only path runs the Jacobian path's grid: the same frames.
+            // The shape path runs the Jacobian path's grid; the two formulations (μ integrated,
+            // μ by closed form) give frames that agree to the accuracy requirement.
             assert_eq!(kf.len(), k_fast.len());
             for (f, j) in kf.iter().zip(&k_fast) {
-                assert_eq!(f.d, j.d, "a = {a}");
+                let (f, j) = (f.frame(), j.frame());
+                assert!((f.p - j.p).norm() <= 1e-6 * wire.length(), "a = {a}");
+                assert!((f.r - j.r).amax() <= 1e-6, "a = {a}");
             }
         }
     }

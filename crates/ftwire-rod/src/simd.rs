@@ -1,0 +1,303 @@
+//! The shape-only solve's hot loops written with explicit AVX2+FMA operations (x86-64).
+//!
+//! [`crate::arith`]'s lane type leaves the choice of instructions to LLVM, which splits some
+//! 4-lane operations into scalar and 2-lane pieces (and pays for it in shuffles and blends).
+//! Here every operation is one AVX instruction on a whole `__m256d`, so the code is what it
+//! says. The functions are compiled for AVX2 and FMA and only reached through
+//! [`crate::arith::fast_path`]; intrinsics are safe to call inside them, and values cross
+//! the boundary by copy (`_mm256_setr_pd` in, [`bytemuck::cast`] out), so no `unsafe` is
+//! needed here.
+//!
+//! The arithmetic is that of the portable path ([`crate::equations::Kirchhoff::shape_rate`]
+//! and the DOP853 step of [`crate::integrator`]) operation for operation, so the two agree
+//! to rounding (a test checks it).
+
+use std::arch::x86_64::{
+    __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_fmadd_pd, _mm256_fmsub_pd, _mm256_mul_pd,
+    _mm256_permute4x64_pd, _mm256_set1_pd,
+};
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::equations::{FrameJet, ShapeArray};
+use crate::integrator::{DOP853_A, DOP853_B, with_dop853_terms};
+
+/// Four lanes of `f64` in one AVX register.
+#[derive(Clone, Copy)]
+struct F4(__m256d);
+
+/// Lane orders for [`F4::permute`] (`_mm256_permute4x64_pd`'s immediates: lane `k` of the
+/// result is lane `(imm >> 2k) & 3` of the input).
+mod order {
+    /// `(a1, a2, a0, a3)`.
+    pub const YZX3: i32 = 0b11_00_10_01;
+    /// `(a2, a0, a1, a3)`.
+    pub const ZXY3: i32 = 0b11_01_00_10;
+    /// `(a1, a2, a0, a0)`.
+    pub const YZX0: i32 = 0b00_00_10_01;
+    /// `(a3, a2, a1, a3)`.
+    pub const WZYW: i32 = 0b11_01_10_11;
+}
+
+impl F4 {
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn new(v: &[f64; 4]) -> Self {
+        // One unaligned 32-byte load (`_mm256_setr_pd` of four loads is compiled to
+        // several partial loads and blends).
+        Self(bytemuck::cast(*v))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn splat(x: f64) -> Self {
+        Self(_mm256_set1_pd(x))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn to_array(self) -> [f64; 4] {
+        bytemuck::cast(self.0)
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn add(self, b: Self) -> Self {
+        Self(_mm256_add_pd(self.0, b.0))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn mul(self, b: Self) -> Self {
+        Self(_mm256_mul_pd(self.0, b.0))
+    }
+
+    /// `self · b + c`, one rounding.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        Self(_mm256_fmadd_pd(self.0, b.0, c.0))
+    }
+
+    /// `self · b − c`, one rounding.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        Self(_mm256_fmsub_pd(self.0, b.0, c.0))
+    }
+
+    /// The lanes in the order `IMM` (see [`order`]).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn permute<const IMM: i32>(self) -> Self {
+        Self(_mm256_permute4x64_pd::<IMM>(self.0))
+    }
+
+    /// Lanes 0–2 of `self`, lane 3 of `b`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn with_lane3_of(self, b: Self) -> Self {
+        Self(_mm256_blend_pd::<0b1000>(self.0, b.0))
+    }
+}
+
+/// The shape state in registers: the frame rows `(R_i0, R_i1, R_i2, p_i)`, then `m`, `n`
+/// (lane 3 zero), as in [`ShapeArray`].
+type State = [F4; 5];
+
+/// The constants of the right-hand side for one configuration.
+#[derive(Clone, Copy)]
+struct Constants {
+    /// `(1/c1, 1/c2, 1/c3, 0)`.
+    inv_c: F4,
+    /// `(0, 0, 0, 1)`.
+    e3: F4,
+    /// `(0, 1, −1, 0)`.
+    e1_signs: F4,
+}
+
+/// Eq. 1 and 3 on the shape state, as [`crate::equations::Kirchhoff::shape_rate`].
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn rate(k: &Constants, y: &State) -> State {
+    let [r0, r1, r2, m, n] = *y;
+    let u = m.mul(k.inv_c);
+    let u_zxy0 = u.permute::<{ order::ZXY3 }>();
+    let u_zxy1 = u_zxy0.with_lane3_of(k.e3);
+    let u_yzx0 = u.permute::<{ order::YZX3 }>();
+    // Row i of R' = R û is r_i × u; lane 3 gets R_i0 · 1 − p_i · 0 = p_i'.
+    let row = |r: F4| {
+        r.permute::<{ order::YZX0 }>()
+            .mul_sub(u_zxy1, r.permute::<{ order::ZXY3 }>().mul(u_yzx0))
+    };
+    let n_e1 = n.permute::<{ order::WZYW }>().mul(k.e1_signs);
+    let cross = |a: F4| {
+        a.permute::<{ order::YZX3 }>()
+            .mul_sub(u_zxy0, a.permute::<{ order::ZXY3 }>().mul(u_yzx0))
+    };
+    [row(r0), row(r1), row(r2), cross(m).add(n_e1), cross(n)]
+}
+
+/// DOP853's coefficients times one step size.
+struct Scaled {
+    h: f64,
+    a: [[f64; 12]; 12],
+    b: [f64; 12],
+}
+
+impl Scaled {
+    fn new(h: f64) -> Self {
+        Self {
+            h,
+            a: DOP853_A.map(|row| row.map(|a| a * h)),
+            b: DOP853_B.map(|b| b * h),
+        }
+    }
+}
+
+/// The written-out DOP853 stages over the nonzero coefficients (the lists of
+/// [`with_dop853_terms`]).
+macro_rules! stages {
+    ($c:ident, $y:ident, $s:ident, $k:ident; $($i:literal: [$($j:literal),*]);*) => {
+        $(
+            {
+                #[allow(unused_mut)]
+                let mut sum = *$y;
+                $(
+                    let a = F4::splat($s.a[$i][$j]);
+                    for (v, kj) in sum.iter_mut().zip(&$k[$j]) {
+                        *v = a.mul_add(*kj, *v);
+                    }
+                )*
+                $k[$i] = rate($c, &sum);
+            }
+        )*
+    };
+}
+
+/// One DOP853 step in place.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn step(c: &Constants, y: &mut State, s: &Scaled, k: &mut [State; 12]) {
+    with_dop853_terms!(stages!(c, y, s, k));
+    for j in [0, 5, 6, 7, 8, 9, 10, 11] {
+        let b = F4::splat(s.b[j]);
+        for (v, kj) in y.iter_mut().zip(&k[j]) {
+            *v = b.mul_add(*kj, *v);
+        }
+    }
+}
+
+/// Integrates the shape state `y` over `grid` (step sizes, and the grid point each step ends
+/// on, as [`crate::Integrator::grid`]), calling `at_grid_point` with the state at each grid
+/// point; returns the final state.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) fn integrate_shape(
+    inv_c: [f64; 3],
+    y: &ShapeArray,
+    grid: impl Iterator<Item = (f64, Option<usize>)>,
+    mut at_grid_point: impl FnMut(&ShapeArray),
+) -> ShapeArray {
+    let c = Constants {
+        inv_c: F4::new(&[inv_c[0], inv_c[1], inv_c[2], 0.0]),
+        e3: F4::new(&[0.0, 0.0, 0.0, 1.0]),
+        e1_signs: F4::new(&[0.0, 1.0, -1.0, 0.0]),
+    };
+    let rows: &[[f64; 4]; 5] = bytemuck::cast_ref(y);
+    let mut state: State = rows.map(|r| F4::new(&r));
+    let mut k = [state; 12];
+    let mut scaled = Scaled::new(f64::NAN);
+    let flat = |s: &State| -> ShapeArray { bytemuck::cast(s.map(|v| v.0)) };
+    for (h, grid_point) in grid {
+        if h.to_bits() != scaled.h.to_bits() {
+            scaled = Scaled::new(h);
+        }
+        step(&c, &mut state, &scaled, &mut k);
+        if grid_point.is_some() {
+            at_grid_point(&flat(&state));
+        }
+    }
+    flat(&state)
+}
+
+/// The septic Hermite basis of [`crate::integrator::septic_hermite`] in monomial form: `HERMITE[k]` holds the
+/// coefficients of `θᵏ` in the eight weights (a test checks it against [`septic_hermite`]).
+const HERMITE: [[f64; 8]; 8] = {
+    const S: f64 = 1.0 / 6.0;
+    const T: f64 = 2.0 / 3.0;
+    [
+        [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, S, 0.0, 0.0, 0.0, 0.0],
+        [-35.0, -20.0, -5.0, -T, 35.0, -15.0, 2.5, -S],
+        [84.0, 45.0, 10.0, 1.0, -84.0, 39.0, -7.0, 0.5],
+        [-70.0, -36.0, -7.5, -T, 70.0, -34.0, 6.5, -0.5],
+        [20.0, 10.0, 2.0, S, -20.0, 10.0, -2.0, S],
+    ]
+};
+
+/// The frame between two knots at `θ ∈ (0, 1)` of a step `h`: septic Hermite interpolation
+/// of the flat frame (the weights by Horner's rule in 4 lanes, each knot's four terms summed
+/// apart), written to `p` and the first two columns of `r` (re-orthonormalised by the caller).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+pub(crate) fn interpolate_frame(
+    k0: &FrameJet,
+    k1: &FrameJet,
+    h: f64,
+    theta: f64,
+    p: &mut Vector3<f64>,
+    r: &mut Matrix3<f64>,
+) {
+    let t = F4::splat(theta);
+    let halves = |c: &[f64; 8]| -> [F4; 2] {
+        let [lo, hi]: &[[f64; 4]; 2] = bytemuck::cast_ref(c);
+        [F4::new(lo), F4::new(hi)]
+    };
+    let [mut lo, mut hi] = halves(&HERMITE[7]);
+    for c in HERMITE[..7].iter().rev() {
+        let [c_lo, c_hi] = halves(c);
+        lo = lo.mul_add(t, c_lo);
+        hi = hi.mul_add(t, c_hi);
+    }
+    let powers = F4::new(&[1.0, h, h * h, h * h * h]);
+    let w = [lo.mul(powers).to_array(), hi.mul(powers).to_array()];
+    let mut acc = [[F4::splat(0.0); 3]; 2];
+    for ((acc, knot), w) in acc.iter_mut().zip([k0, k1]).zip(&w) {
+        for (d, &wi) in knot.d.iter().zip(w) {
+            let wi = F4::splat(wi);
+            let rows: &[[f64; 4]; 3] = bytemuck::cast_ref(d);
+            for (a, row) in acc.iter_mut().zip(rows) {
+                *a = wi.mul_add(F4::new(row), *a);
+            }
+        }
+    }
+    let [r0, r1, r2] = [0, 1, 2].map(|i| acc[0][i].add(acc[1][i]).to_array());
+    *p = Vector3::new(r0[3], r1[3], r2[3]);
+    *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::septic_hermite;
+
+    #[test]
+    fn monomial_hermite_is_the_basis() {
+        for theta in [0.0, 0.13, 0.5, 0.77, 1.0] {
+            let w = septic_hermite(theta);
+            for (i, w) in w.iter().enumerate() {
+                let mono: f64 = HERMITE
+                    .iter()
+                    .enumerate()
+                    .map(|(k, c)| c[i] * theta.powi(k as i32))
+                    .sum();
+                assert!(
+                    (mono - w).abs() < 1e-13,
+                    "θ = {theta}, weight {i}: {mono} vs {w}"
+                );
+            }
+        }
+    }
+}
