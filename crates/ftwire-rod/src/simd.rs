@@ -138,6 +138,60 @@ fn rate(k: &Constants, y: &State) -> State {
     [row(r0), row(r1), row(r2), cross(m).add(n_e1), cross(n)]
 }
 
+/// `a × b` for `b = (b0, b1, b2, 0)` given as `b_zxy = (b2, b0, b1, 0)` and
+/// `b_yzx = (b1, b2, b0, 0)`; lane 3 is zero.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn cross(a: F4, b_zxy: F4, b_yzx: F4) -> F4 {
+    a.permute::<{ order::YZX3 }>()
+        .mul_sub(b_zxy, a.permute::<{ order::ZXY3 }>().mul(b_yzx))
+}
+
+/// The frame jet `q, q', q'', q'''` at a shape state, as
+/// [`crate::equations::Kirchhoff::shape_jet`]: with `u' = C⁻¹ m'` and
+/// `u'' = C⁻¹ (m' × u + m × u' + n' × e1)`, row `i` of `R⁽ᵏ⁾` is `w_k = w_{k−1} × u + …`
+/// (`w_1 = r_i × u`, `w_2 = w_1 × u + r_i × u'`, `w_3 = w_2 × u + 2 w_1 × u' + r_i × u''`),
+/// lane 3 (`p_i⁽ᵏ⁾ = (R⁽ᵏ⁻¹⁾)_i0`) carried by the `× u` term.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn jet(k: &Constants, y: &State) -> FrameJet {
+    let [d_r0, d_r1, d_r2, dm, dn] = rate(k, y);
+    let m = y[3];
+    let u = m.mul(k.inv_c);
+    let du = dm.mul(k.inv_c);
+    let du_zxy = du.permute::<{ order::ZXY3 }>();
+    let du_yzx = du.permute::<{ order::YZX3 }>();
+    let u_zxy = u.permute::<{ order::ZXY3 }>();
+    let u_yzx = u.permute::<{ order::YZX3 }>();
+    let u_zxy1 = u_zxy.with_lane3_of(k.e3);
+    let dn_e1 = dn.permute::<{ order::WZYW }>().mul(k.e1_signs);
+    let ddm = cross(dm, u_zxy, u_yzx)
+        .add(cross(m, du_zxy, du_yzx))
+        .add(dn_e1);
+    let ddu = ddm.mul(k.inv_c);
+    let ddu_zxy = ddu.permute::<{ order::ZXY3 }>();
+    let ddu_yzx = ddu.permute::<{ order::YZX3 }>();
+    // × u with lane 3 set to lane 0 of the left operand.
+    let times_u = |a: F4| {
+        a.permute::<{ order::YZX0 }>()
+            .mul_sub(u_zxy1, a.permute::<{ order::ZXY3 }>().mul(u_yzx))
+    };
+    let mut d = [[[0.0; 4]; 3]; 4];
+    for (i, (r, w1)) in y[..3].iter().zip([d_r0, d_r1, d_r2]).enumerate() {
+        let w2 = times_u(w1).add(cross(*r, du_zxy, du_yzx));
+        let w1du = cross(w1, du_zxy, du_yzx);
+        let w3 = times_u(w2)
+            .add(w1du.add(w1du))
+            .add(cross(*r, ddu_zxy, ddu_yzx));
+        for (d, w) in d.iter_mut().zip([*r, w1, w2, w3]) {
+            d[i] = w.to_array();
+        }
+    }
+    FrameJet {
+        d: bytemuck::cast(d),
+    }
+}
+
 /// DOP853's coefficients times one step size.
 struct Scaled {
     h: f64,
@@ -189,14 +243,14 @@ fn step(c: &Constants, y: &mut State, s: &Scaled, k: &mut [State; 12]) {
 }
 
 /// Integrates the shape state `y` over `grid` (step sizes, and the grid point each step ends
-/// on, as [`crate::Integrator::grid`]), calling `at_grid_point` with the state at each grid
-/// point; returns the final state.
+/// on, as [`crate::Integrator::grid`]), pushing the frame jets at the start and at each grid
+/// point into `knots`; returns the final state.
 #[target_feature(enable = "avx2,fma")]
 pub(crate) fn integrate_shape(
     inv_c: [f64; 3],
     y: &ShapeArray,
     grid: impl Iterator<Item = (f64, Option<usize>)>,
-    mut at_grid_point: impl FnMut(&ShapeArray),
+    knots: &mut Vec<FrameJet>,
 ) -> ShapeArray {
     let c = Constants {
         inv_c: F4::new(&[inv_c[0], inv_c[1], inv_c[2], 0.0]),
@@ -207,17 +261,17 @@ pub(crate) fn integrate_shape(
     let mut state: State = rows.map(|r| F4::new(&r));
     let mut k = [state; 12];
     let mut scaled = Scaled::new(f64::NAN);
-    let flat = |s: &State| -> ShapeArray { bytemuck::cast(s.map(|v| v.0)) };
+    knots.push(jet(&c, &state));
     for (h, grid_point) in grid {
         if h.to_bits() != scaled.h.to_bits() {
             scaled = Scaled::new(h);
         }
         step(&c, &mut state, &scaled, &mut k);
         if grid_point.is_some() {
-            at_grid_point(&flat(&state));
+            knots.push(jet(&c, &state));
         }
     }
-    flat(&state)
+    bytemuck::cast(state.map(|v| v.0))
 }
 
 /// The septic Hermite basis of [`crate::integrator::septic_hermite`] in monomial form: `HERMITE[k]` holds the
