@@ -537,12 +537,8 @@ fn finish<A: MulAdd, const D: usize, const N: usize>(
     c: [(usize, f64); N],
     w: &Workspace<D>,
 ) {
-    for (d, yd) in y.iter_mut().enumerate() {
-        let mut sum = *yd;
-        for &(j, cj) in &c {
-            sum = A::mul_add(cj, w.k[j][d], sum);
-        }
-        *yd = sum;
+    for &(j, cj) in &c {
+        axpy::<A, D>(y, cj, &w.k[j]);
     }
 }
 
