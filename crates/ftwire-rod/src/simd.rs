@@ -19,7 +19,7 @@ use std::arch::x86_64::{
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::equations::{FrameJet, ShapeArray};
+use crate::equations::{FrameArray, FrameJet, ShapeArray};
 use crate::integrator::{DOP853_A, DOP853_B, with_dop853_terms};
 
 /// Four lanes of `f64` in one AVX register.
@@ -192,6 +192,33 @@ fn jet(k: &Constants, y: &State) -> FrameJet {
     }
 }
 
+/// [`jet`] at a frame with its `μ = (m, n)`, for the Jacobian path's knots (where `μ` comes
+/// from closed form (A)).
+#[target_feature(enable = "avx2,fma")]
+pub(crate) fn frame_jet(inv_c: [f64; 3], frame: &FrameArray, m: [f64; 3], n: [f64; 3]) -> FrameJet {
+    let rows: &[[f64; 4]; 3] = bytemuck::cast_ref(frame);
+    let [r0, r1, r2] = rows.map(|r| F4::new(&r));
+    let state = [
+        r0,
+        r1,
+        r2,
+        F4::new(&[m[0], m[1], m[2], 0.0]),
+        F4::new(&[n[0], n[1], n[2], 0.0]),
+    ];
+    jet(&constants(inv_c), &state)
+}
+
+/// The constants of the right-hand side for stiffnesses `c = 1 / inv_c`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn constants(inv_c: [f64; 3]) -> Constants {
+    Constants {
+        inv_c: F4::new(&[inv_c[0], inv_c[1], inv_c[2], 0.0]),
+        e3: F4::new(&[0.0, 0.0, 0.0, 1.0]),
+        e1_signs: F4::new(&[0.0, 1.0, -1.0, 0.0]),
+    }
+}
+
 /// DOP853's coefficients times one step size.
 struct Scaled {
     h: f64,
@@ -252,11 +279,7 @@ pub(crate) fn integrate_shape(
     grid: impl Iterator<Item = (f64, Option<usize>)>,
     knots: &mut Vec<FrameJet>,
 ) -> ShapeArray {
-    let c = Constants {
-        inv_c: F4::new(&[inv_c[0], inv_c[1], inv_c[2], 0.0]),
-        e3: F4::new(&[0.0, 0.0, 0.0, 1.0]),
-        e1_signs: F4::new(&[0.0, 1.0, -1.0, 0.0]),
-    };
+    let c = constants(inv_c);
     let rows: &[[f64; 4]; 5] = bytemuck::cast_ref(y);
     let mut state: State = rows.map(|r| F4::new(&r));
     let mut k = [state; 12];
