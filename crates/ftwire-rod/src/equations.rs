@@ -23,7 +23,7 @@
 //! so the Jacobian solves integrate only `q` and `J` (eq. 1 and `J' = G M + H J` of eq. 4),
 //! 48 states instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an
 //! independent integration of the full system (eq. 3 and `M' = F M`) and `J` against finite
-//! differences. The shape-only solves integrate `q` and `μ` (eq. 1 and 3, [`ShapeArray`]):
+//! differences. The shape-only solves integrate `q` and `μ` (eq. 1 and 3, `ShapeArray`):
 //! with `μ` a state, each stage's chain of dependent operations is shorter than through (A).
 //!
 //! # Layout
@@ -589,8 +589,9 @@ impl Kirchhoff {
         self.jet_of(&frame_of(y), &rows, V4::load(y, 12), V4::load(y, 16))
     }
 
-    /// The frame jet at frame `y` (rows `rows`) with `μ = (m, n)`. (Inlined, so that it is
-    /// compiled for AVX2 and FMA inside the solver's fast loops.)
+    /// The frame jet at frame `y` (rows `rows`) with `μ = (m, n)`: the portable paths' jets,
+    /// and the fast paths' for methods other than DOP853 (inlined, so compiled for AVX2 and
+    /// FMA there; DOP853's fast paths use the `simd` module's jet).
     #[inline(always)]
     fn jet_of(&self, y: &FrameArray, rows: &[V4; 3], m: V4, n: V4) -> FrameJet {
         let mu = Vector6::new(m.0[0], m.0[1], m.0[2], n.0[0], n.0[1], n.0[2]);

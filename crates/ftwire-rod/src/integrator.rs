@@ -46,8 +46,9 @@
 //! `ShapeArray`), `μ` integrated by eq. 3 instead of read from `q` by closed form, which
 //! shortens the chain of dependent operations in each stage. The two formulations are
 //! 8th-order solutions of the same equations; a unit test checks that their frames agree to
-//! the requirement at every grid point, and the study's last two columns are the frame-only
-//! tip errors: 6.3e-8·L and 4.0e-7 rad at the default (margin 2.5 on the rotation).
+//! the requirement at every grid point. The study also prints the frame-only tip errors (two
+//! more columns, not copied into the table): 6.3e-8·L and 4.0e-7 rad at the default (margin
+//! 2.5 on the rotation).
 //!
 //! The tip rotation is the binding requirement. Both order-8 methods converge at their order
 //! (×2 steps ≈ ×250 less error), but DOP853's error constant is about 170 times smaller than
@@ -283,8 +284,10 @@ impl Integrator {
     /// The steps of a grid of `steps` uniform steps of size `h`, the first split into
     /// [`Integrator::first_step_substeps`] substeps: each step's size, and the index (1 to
     /// `steps`) of the grid point it ends on, if it ends on one. Every solve path walks this
-    /// one sequence, so all of them give the same frames; as one loop, it also keeps a single
-    /// copy of the (large, inlined) step in the code.
+    /// one sequence, so all of them have the same grid points (the shape and Jacobian solves'
+    /// frames there agree to the accuracy requirement, not bit for bit: they integrate
+    /// different states); as one loop, it also keeps a single copy of the (large, inlined)
+    /// step in the code.
     pub(crate) fn grid(&self, h: f64, steps: usize) -> impl Iterator<Item = (f64, Option<usize>)> {
         let substeps = self.first_substeps;
         let sub = h / substeps as f64;

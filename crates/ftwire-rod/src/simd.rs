@@ -5,7 +5,7 @@
 //! Here every operation is one AVX instruction on a whole `__m256d`, so the code is what it
 //! says. The functions are compiled for AVX2 and FMA and only reached through
 //! [`crate::arith::fast_path`]; intrinsics are safe to call inside them, and values cross
-//! the boundary by copy (`_mm256_setr_pd` in, [`bytemuck::cast`] out), so no `unsafe` is
+//! the boundary by copy through `bytemuck` (`cast`, `cast_ref`) both ways, so no `unsafe` is
 //! needed here.
 //!
 //! The arithmetic is that of the portable path ([`crate::equations::Kirchhoff::shape_rate`]
@@ -297,8 +297,9 @@ pub(crate) fn integrate_shape(
     bytemuck::cast(state.map(|v| v.0))
 }
 
-/// The septic Hermite basis of [`crate::integrator::septic_hermite`] in monomial form: `HERMITE[k]` holds the
-/// coefficients of `θᵏ` in the eight weights (a test checks it against [`septic_hermite`]).
+/// The septic Hermite basis of [`crate::integrator::septic_hermite`] in monomial form:
+/// `HERMITE[k]` holds the coefficients of `θᵏ` in the eight weights (a test checks it against
+/// `septic_hermite` at nine points, which determine a polynomial of degree 7).
 const HERMITE: [[f64; 8]; 8] = {
     const S: f64 = 1.0 / 6.0;
     const T: f64 = 2.0 / 3.0;
@@ -362,7 +363,7 @@ mod tests {
 
     #[test]
     fn monomial_hermite_is_the_basis() {
-        for theta in [0.0, 0.13, 0.5, 0.77, 1.0] {
+        for theta in (0..=8).map(|k| f64::from(k) / 8.0) {
             let w = septic_hermite(theta);
             for (i, w) in w.iter().enumerate() {
                 let mono: f64 = HERMITE
