@@ -1,4 +1,6 @@
-//! The shape-only solve's hot loops written with explicit AVX2+FMA operations (x86-64).
+//! The shape solve's hot loops (its DOP853 step, the frame jets at the grid points, which the
+//! Jacobian path's `solve` uses too, and the Hermite interpolation) written with explicit
+//! AVX2+FMA operations (x86-64).
 //!
 //! [`crate::arith`]'s lane type leaves the choice of instructions to LLVM, which splits some
 //! 4-lane operations into scalar and 2-lane pieces (and pays for it in shuffles and blends).
@@ -8,9 +10,10 @@
 //! the boundary by copy through `bytemuck` (`cast`, `cast_ref`) both ways, so no `unsafe` is
 //! needed here.
 //!
-//! The arithmetic is that of the portable path ([`crate::equations::Kirchhoff::shape_rate`]
-//! and the DOP853 step of [`crate::integrator`]) operation for operation, so the two agree
-//! to rounding (a test checks it).
+//! The right-hand side and the step are those of the portable path
+//! ([`crate::equations::Kirchhoff::shape_rate`] and the DOP853 step of [`crate::integrator`])
+//! operation for operation; the jets and the interpolation group their sums differently. The
+//! two paths agree to rounding (a test checks states, jets and shapes to 1e-12).
 
 use std::arch::x86_64::{
     __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_fmadd_pd, _mm256_fmsub_pd, _mm256_mul_pd,
