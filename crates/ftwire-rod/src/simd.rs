@@ -319,7 +319,7 @@ const HERMITE: [[f64; 8]; 8] = {
 };
 
 /// The frame between two knots at `θ ∈ (0, 1)` of a step `h`: septic Hermite interpolation
-/// of the flat frame (the weights by Horner's rule in 4 lanes, each knot's four terms summed
+/// of the flat frame (the weights by Estrin's scheme in 4 lanes, each knot's four terms summed
 /// apart), written to `p` and the first two columns of `r` (re-orthonormalised by the caller).
 #[inline]
 #[target_feature(enable = "avx2,fma")]
@@ -336,12 +336,18 @@ pub(crate) fn interpolate_frame(
         let [lo, hi]: &[[f64; 4]; 2] = bytemuck::cast_ref(c);
         [F4::new(lo), F4::new(hi)]
     };
-    let [mut lo, mut hi] = halves(&HERMITE[7]);
-    for c in HERMITE[..7].iter().rev() {
-        let [c_lo, c_hi] = halves(c);
-        lo = lo.mul_add(t, c_lo);
-        hi = hi.mul_add(t, c_hi);
-    }
+    // Estrin's scheme: (c0 + c1 t) + (c2 + c3 t) t² + ((c4 + c5 t) + (c6 + c7 t) t²) t⁴, a
+    // chain of three multiply–adds where Horner's rule has seven.
+    let t2 = t.mul(t);
+    let t4 = t2.mul(t2);
+    let pair = |k: usize| -> [F4; 2] {
+        let ([a_lo, a_hi], [b_lo, b_hi]) = (halves(&HERMITE[k]), halves(&HERMITE[k + 1]));
+        [b_lo.mul_add(t, a_lo), b_hi.mul_add(t, a_hi)]
+    };
+    let ([p0l, p0h], [p2l, p2h], [p4l, p4h], [p6l, p6h]) = (pair(0), pair(2), pair(4), pair(6));
+    let (q0l, q0h) = (p2l.mul_add(t2, p0l), p2h.mul_add(t2, p0h));
+    let (q4l, q4h) = (p6l.mul_add(t2, p4l), p6h.mul_add(t2, p4h));
+    let (lo, hi) = (q4l.mul_add(t4, q0l), q4h.mul_add(t4, q0h));
     let powers = F4::new(&[1.0, h, h * h, h * h * h]);
     let w = [lo.mul(powers).to_array(), hi.mul(powers).to_array()];
     let mut acc = [[F4::splat(0.0); 3]; 2];
