@@ -465,27 +465,7 @@ fn rk8_step<A: MulAdd, const D: usize>(
     w: &mut Workspace<D>,
 ) {
     stages::<A, D, 11>(&RK8_TERMS, &RK8_A, y, h, f, w);
-    finish::<A, D, 5>(y, [0, 7, 8, 9, 10].map(|j| (j, h * RK8_B[j])), w);
-}
-
-/// One step of [`Method::Dop853`], as [`rk8_step`].
-#[inline(always)]
-fn dop853_step<A: MulAdd, const D: usize>(
-    y: &mut [f64; D],
-    h: f64,
-    f: impl Rhs<D>,
-    w: &mut Workspace<D>,
-) {
-    if D <= SMALL_STATE {
-        dop853_written_out::<A, D>(y, h, f, w);
-        return;
-    }
-    stages::<A, D, 12>(&DOP853_TERMS, &DOP853_A, y, h, f, w);
-    finish::<A, D, 8>(
-        y,
-        [0, 5, 6, 7, 8, 9, 10, 11].map(|j| (j, h * DOP853_B[j])),
-        w,
-    );
+    finish::<A, D, 11>(y, h, &RK8_B, &[0, 7, 8, 9, 10], w);
 }
 
 /// States of at most this many numbers take the written-out DOP853 step.
@@ -518,31 +498,33 @@ macro_rules! written_out_stages {
     };
 }
 
-/// [`dop853_step`] for small states, its stages written out.
+/// One step of [`Method::Dop853`], as [`rk8_step`].
 #[inline(always)]
-fn dop853_written_out<A: MulAdd, const D: usize>(
+fn dop853_step<A: MulAdd, const D: usize>(
     y: &mut [f64; D],
     h: f64,
     f: impl Rhs<D>,
     w: &mut Workspace<D>,
 ) {
-    with_dop853_terms!(written_out_stages!(DOP853_A, y, h, f, w));
-    let mut sum = *y;
-    for j in [0, 5, 6, 7, 8, 9, 10, 11] {
-        axpy::<A, D>(&mut sum, h * DOP853_B[j], &w.k[j]);
+    if D <= SMALL_STATE {
+        with_dop853_terms!(written_out_stages!(DOP853_A, y, h, f, w));
+    } else {
+        stages::<A, D, 12>(&DOP853_TERMS, &DOP853_A, y, h, f, w);
     }
-    *y = sum;
+    finish::<A, D, 12>(y, h, &DOP853_B, &[0, 5, 6, 7, 8, 9, 10, 11], w);
 }
 
-/// The step's result `y + Σ_j c_j k_j` over the nonzero weights `(j, h·b_j)`, in place.
+/// The step's result `y + Σ_j h b_j k_j` over the stages `j` with nonzero `b_j`, in place.
 #[inline(always)]
-fn finish<A: MulAdd, const D: usize, const N: usize>(
+fn finish<A: MulAdd, const D: usize, const S: usize>(
     y: &mut [f64; D],
-    c: [(usize, f64); N],
+    h: f64,
+    b: &[f64; S],
+    stages: &[usize],
     w: &Workspace<D>,
 ) {
-    for &(j, cj) in &c {
-        axpy::<A, D>(y, cj, &w.k[j]);
+    for &j in stages {
+        axpy::<A, D>(y, h * b[j], &w.k[j]);
     }
 }
 
