@@ -129,16 +129,24 @@ fn rate(k: &Constants, y: &State) -> State {
     let u_zxy1 = u_zxy0.with_lane3_of(k.e3);
     let u_yzx0 = u.permute::<{ order::YZX3 }>();
     // Row i of R' = R û is r_i × u; lane 3 gets R_i0 · 1 − p_i · 0 = p_i'.
-    let row = |r: F4| {
-        r.permute::<{ order::YZX0 }>()
-            .mul_sub(u_zxy1, r.permute::<{ order::ZXY3 }>().mul(u_yzx0))
-    };
+    let row = |r: F4| cross_lane0(r, u_zxy1, u_yzx0);
     let n_e1 = n.permute::<{ order::WZYW }>().mul(k.e1_signs);
-    let cross = |a: F4| {
-        a.permute::<{ order::YZX3 }>()
-            .mul_sub(u_zxy0, a.permute::<{ order::ZXY3 }>().mul(u_yzx0))
-    };
-    [row(r0), row(r1), row(r2), cross(m).add(n_e1), cross(n)]
+    [
+        row(r0),
+        row(r1),
+        row(r2),
+        cross(m, u_zxy0, u_yzx0).add(n_e1),
+        cross(n, u_zxy0, u_yzx0),
+    ]
+}
+
+/// `(a × b, a_0)` for `b` given as `b_zxy1 = (b2, b0, b1, 1)` and `b_yzx = (b1, b2, b0, 0)`
+/// (as [`crate::equations`]' `cross_lane0`): on a frame row, lane 3 is `R_i0`, which is `p_i'`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn cross_lane0(a: F4, b_zxy1: F4, b_yzx: F4) -> F4 {
+    a.permute::<{ order::YZX0 }>()
+        .mul_sub(b_zxy1, a.permute::<{ order::ZXY3 }>().mul(b_yzx))
 }
 
 /// `a × b` for `b = (b0, b1, b2, 0)` given as `b_zxy = (b2, b0, b1, 0)` and
@@ -175,10 +183,7 @@ fn jet(k: &Constants, y: &State) -> FrameJet {
     let ddu_zxy = ddu.permute::<{ order::ZXY3 }>();
     let ddu_yzx = ddu.permute::<{ order::YZX3 }>();
     // × u with lane 3 set to lane 0 of the left operand.
-    let times_u = |a: F4| {
-        a.permute::<{ order::YZX0 }>()
-            .mul_sub(u_zxy1, a.permute::<{ order::ZXY3 }>().mul(u_yzx))
-    };
+    let times_u = |a: F4| cross_lane0(a, u_zxy1, u_yzx);
     let mut d = [[[0.0; 4]; 3]; 4];
     for (i, (r, w1)) in y[..3].iter().zip([d_r0, d_r1, d_r2]).enumerate() {
         let w2 = times_u(w1).add(cross(*r, du_zxy, du_yzx));
