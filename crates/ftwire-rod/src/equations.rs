@@ -23,8 +23,9 @@
 //! so the Jacobian solves integrate only `q` and `J` (eq. 1 and `J' = G M + H J` of eq. 4),
 //! 48 states instead of 90, and never `μ` or `M`. Tests check (A) and (B) against an
 //! independent integration of the full system (eq. 3 and `M' = F M`) and `J` against finite
-//! differences. The shape-only solves integrate `q` and `μ` (eq. 1 and 3, `ShapeArray`):
-//! with `μ` a state, each stage's chain of dependent operations is shorter than through (A).
+//! differences. The shape-only solves integrate `q` and `m` (eq. 1 and the top of eq. 3,
+//! `ShapeArray`) and read `n = Rᵀ n0` from the frame: with `m` a state, each stage's chain of
+//! dependent operations is shorter than through (A).
 //!
 //! # Layout
 //!
@@ -173,13 +174,15 @@ pub(crate) struct FrameState {
 /// `p_i' = R_i0` is lane 0 of the same row ([`Kirchhoff::shape_rate`]).
 pub(crate) type FrameArray = [f64; 12];
 /// The flat integration state of the shape-only solves: the frame's 12 numbers
-/// ([`FrameArray`]), then `m = (m1, m2, m3, 0)` and `n = (n1, n2, n3, 0)`.
+/// ([`FrameArray`]), then `m = (m1, m2, m3, 0)`.
 ///
-/// Here `μ` is integrated by eq. 3 alongside the frame instead of being read from the frame
-/// by closed form (A): the frame's rates then depend on `u` alone, and `u` on `μ` alone, so
-/// the step's longest chain of dependent operations is `μ`'s short one (the frame rows run
-/// beside it), where closed form (A) puts `Rᵀ (m0 − p × n0)` on it for every stage.
-pub(crate) type ShapeArray = [f64; 20];
+/// Here `m` is integrated by eq. 3 alongside the frame instead of being read from the frame
+/// by closed form (A): the frame's rates depend on `u = C⁻¹ m` alone, and `m'` on `m` and
+/// `n` only, so the step's longest chain of dependent operations is `m`'s short one (the
+/// frame rows run beside it), where closed form (A) puts `Rᵀ (m0 − p × n0)` on it for every
+/// stage. `n = Rᵀ n0` is a linear combination of the frame rows, read from them at each stage
+/// (integrating it too costs a fifth more work in every stage sum and runs no faster).
+pub(crate) type ShapeArray = [f64; 16];
 /// The flat integration state of frame and Jacobian: the frame's 12 numbers
 /// ([`FrameArray`]), then columns 0–3 of the six rows of `J` (4 numbers a row, angular rows
 /// first), then columns 4–5 of the six rows (2 numbers a row).
@@ -209,11 +212,10 @@ impl FrameState {
     }
 }
 
-/// The initial shape state: `q = I`, `μ(0) = a`.
+/// The initial shape state: `q = I`, `m(0) = (a1, a2, a3)`.
 pub(crate) fn shape_initial(a: &Vector6<f64>) -> ShapeArray {
     let mut y: ShapeArray = FrameState::initial();
     y[12..15].copy_from_slice(&[a[0], a[1], a[2]]);
-    y[16..19].copy_from_slice(&[a[3], a[4], a[5]]);
     y
 }
 
@@ -348,7 +350,7 @@ impl<A: MulAdd> crate::integrator::Rhs<48> for FullRhs<'_, A> {
     }
 }
 
-impl<A: MulAdd> crate::integrator::Rhs<20> for ShapeRhs<'_, A> {
+impl<A: MulAdd> crate::integrator::Rhs<16> for ShapeRhs<'_, A> {
     #[inline(always)]
     fn rate(&self, y: &ShapeArray, out: &mut ShapeArray) {
         self.model.shape_rate::<A>(y, out);
@@ -367,6 +369,13 @@ impl FrameJet {
     pub fn frame(&self) -> FrameState {
         FrameState::from_slice(&self.d[0])
     }
+}
+
+/// `(1/c3 − 1/c2, 1/c1 − 1/c3, 1/c2 − 1/c1, 0)` from `inv_c = (1/c1, 1/c2, 1/c3)`: the
+/// coefficients of Euler's form of `m × C⁻¹ m`.
+pub(crate) fn euler_coefficients(inv_c: [f64; 3]) -> [f64; 4] {
+    let [i1, i2, i3] = inv_c;
+    [i3 - i2, i1 - i3, i2 - i1, 0.0]
 }
 
 /// The right-hand sides for one configuration `a` and stiffnesses `c`.
@@ -400,6 +409,19 @@ impl Kirchhoff {
     /// `(1/c1, 1/c2, 1/c3)`.
     pub fn inv_c(&self) -> [f64; 3] {
         [self.inv_c.x, self.inv_c.y, self.inv_c.z]
+    }
+
+    /// `n0`, the force part of `a`.
+    pub fn n0(&self) -> [f64; 3] {
+        [self.n0.x, self.n0.y, self.n0.z]
+    }
+
+    /// `n = Rᵀ n0 = Σ_i n0_i r_i` from the frame rows, in lanes 0–2 (lane 3 is `n0 · p`).
+    #[inline(always)]
+    fn n_of_rows<A: MulAdd>(&self, rows: &[V4; 3]) -> V4 {
+        let [r0, r1, r2] = *rows;
+        let n0 = &self.n0;
+        r2.scale_add::<A>(n0.z, r1.scale_add::<A>(n0.y, r0.scale(n0.x)))
     }
 
     /// [`turning_scale`] of this configuration.
@@ -437,7 +459,7 @@ impl Kirchhoff {
         let w1 = r0.scale_add::<A>(n0.z, r2.scale(-n0.x));
         let w2 = r1.scale_add::<A>(n0.x, r0.scale(-n0.y));
         let rm0 = r2.scale_add::<A>(m0.z, r1.scale_add::<A>(m0.y, r0.scale(m0.x)));
-        let n = r2.scale_add::<A>(n0.z, r1.scale_add::<A>(n0.y, r0.scale(n0.x)));
+        let n = self.n_of_rows::<A>(&rows);
         let pw = w2.scale_add::<A>(p[2], w1.scale_add::<A>(p[1], w0.scale(p[0])));
         let m = rm0.add(pw.scale(-1.0));
         let u = m.mul(self.inv_c4);
@@ -462,25 +484,36 @@ impl Kirchhoff {
         self.frame_part::<A>(&l, out);
     }
 
-    /// Eq. 1 and eq. 3 on the flat shape state ([`ShapeArray`]): `R' = R û`, `p' = R e1`,
-    /// `m' = m × u + n × e1`, `n' = n × u`.
+    /// Eq. 1 and the top of eq. 3 on the flat shape state ([`ShapeArray`]): `R' = R û`,
+    /// `p' = R e1`, `m' = m × u + n × e1` with `n = Rᵀ n0`.
+    ///
+    /// `u = C⁻¹ m` is formed in the two lane orders the cross products take from `m`'s own
+    /// permutes (times `C⁻¹` permuted), and `m × u` as Euler's `(c⁻¹₃ − c⁻¹₂) m2 m3, …`
+    /// (exactly zero about the axis of a round wire, where `m1` is conserved): fewer permutes
+    /// and a shorter chain than `u`'s permutes and a general cross product.
     #[inline(always)]
     pub fn shape_rate<A: MulAdd>(&self, y: &ShapeArray, out: &mut ShapeArray) {
-        let (m, n) = (V4::load(y, 12), V4::load(y, 16));
-        let u = m.mul(self.inv_c4);
-        let (u_zxy1, u_yzx0) = cross_operands(u, self.e3);
-        for i in 0..3 {
-            cross_lane0::<A>(V4::load(y, 4 * i), u_zxy1, u_yzx0).store(out, 4 * i);
+        let rows = [V4::load(y, 0), V4::load(y, 4), V4::load(y, 8)];
+        let m = V4::load(y, 12);
+        let (zxy, yzx) = ([2, 0, 1, 3], [1, 2, 0, 3]);
+        // C⁻¹ in the two lane orders, and Euler's coefficients (loop invariants, which the
+        // compiler takes out of the integration loop).
+        let (inv_c_zxy, inv_c_yzx) = (self.inv_c4.permute(zxy), self.inv_c4.permute(yzx));
+        let euler = inv_c_zxy.add(inv_c_yzx.scale(-1.0));
+        let (m_yzx, m_zxy) = (m.permute(yzx), m.permute(zxy));
+        // Lane 3 of m is zero, so lane 3 of u_zxy1 is 1 (see `cross_operands`).
+        let u_zxy1 = m_zxy.mul_add::<A>(inv_c_zxy, self.e3);
+        let u_yzx0 = m_yzx.mul(inv_c_yzx);
+        for (i, r) in rows.iter().enumerate() {
+            cross_lane0::<A>(*r, u_zxy1, u_yzx0).store(out, 4 * i);
         }
-        // (n × e1) = (0, n3, −n2): n permuted, times (0, 1, −1, 0).
-        let n_e1 = n.permute([3, 2, 1, 3]).mul(self.e1_signs);
-        let u_zxy0 = u.permute([2, 0, 1, 3]);
-        let cross = |a: V4| {
-            a.permute([1, 2, 0, 3])
-                .mul_add::<A>(u_zxy0, a.permute([2, 0, 1, 3]).mul(u_yzx0).scale(-1.0))
-        };
-        cross(m).add(n_e1).store(out, 12);
-        cross(n).store(out, 16);
+        // (n × e1) = (0, n3, −n2): n permuted, times (0, 1, −1, 0) (which also clears the
+        // lane that holds n0 · p).
+        let n_e1 = self
+            .n_of_rows::<A>(&rows)
+            .permute([3, 2, 1, 3])
+            .mul(self.e1_signs);
+        m_yzx.mul(m_zxy).mul_add::<A>(euler, n_e1).store(out, 12);
     }
 
     /// Eq. 1 and `J' = G M + H J` (eq. 4) with `M` from closed form (B), on the flat full
@@ -582,11 +615,12 @@ impl Kirchhoff {
         self.jet_of(y, &l.rows, l.m, l.n)
     }
 
-    /// [`Kirchhoff::frame_jet`] from a shape state, with its integrated `μ`.
+    /// [`Kirchhoff::frame_jet`] from a shape state, with its integrated `m`.
     #[inline(always)]
     pub fn shape_jet(&self, y: &ShapeArray) -> FrameJet {
         let rows = [V4::load(y, 0), V4::load(y, 4), V4::load(y, 8)];
-        self.jet_of(&frame_of(y), &rows, V4::load(y, 12), V4::load(y, 16))
+        let [n1, n2, n3, _] = self.n_of_rows::<Separate>(&rows).0;
+        self.jet_of(&frame_of(y), &rows, V4::load(y, 12), V4([n1, n2, n3, 0.0]))
     }
 
     /// The frame jet at frame `y` (rows `rows`) with `μ = (m, n)`: the portable paths' jets,
@@ -598,12 +632,7 @@ impl Kirchhoff {
         let u = m.mul(self.inv_c4);
         let dmu = costate_rate(self.c, &mu);
         // The top rows of F(μ) μ' (see `f_matrix`): only u'' is needed.
-        let [c1, c2, c3] = self.c;
-        let (d32, d13, d21) = (
-            1.0 / c3 - 1.0 / c2,
-            1.0 / c1 - 1.0 / c3,
-            1.0 / c2 - 1.0 / c1,
-        );
+        let [d32, d13, d21, _] = euler_coefficients(self.inv_c());
         let (m, v) = (&mu, &dmu);
         let ddm = [
             d32 * (m[2] * v[1] + m[1] * v[2]),
@@ -679,6 +708,50 @@ mod tests {
             .map(|i| (rate[i] - j0.d[1][i]).abs())
             .fold(0.0, f64::max);
         assert!(gap <= 1e-14, "{gap:e}");
+    }
+
+    /// The shape state's rate is eq. 1 and the top of eq. 3 with `n = Rᵀ n0`, written with
+    /// nalgebra, on a round wire (where Euler's form has a zero coefficient) and an anisotropic
+    /// one, at a turned frame and an arbitrary `m`.
+    #[test]
+    fn shape_rate_is_eq_1_and_3() {
+        let a = Vector6::new(0.3, -0.7, 1.2, -2.0, 1.5, 0.4);
+        for c in [[1.3, 1.0, 0.6], [0.214, 0.278, 0.278]] {
+            let model = Kirchhoff::new(c, &a);
+            let integ = crate::Integrator::new(crate::Method::Rk8, 1).expect("valid");
+            let f = |s: &FrameArray, o: &mut FrameArray| model.frame_rate::<Separate>(s, o);
+            let mut frame: FrameArray = FrameState::initial();
+            for _ in 0..300 {
+                frame = integ.step(&frame, 1e-3, f);
+            }
+            let q = FrameState::from_slice(&frame);
+            let m = Vector3::new(0.4, -1.1, 0.25);
+            let mut y: ShapeArray = [0.0; 16];
+            y[..12].copy_from_slice(&frame);
+            y[12..15].copy_from_slice(m.as_slice());
+            let mut out = [0.0; 16];
+            model.shape_rate::<Separate>(&y, &mut out);
+            let n = q.r.tr_mul(&model.n0);
+            let mu = Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z);
+            let dmu = costate_rate(c, &mu);
+            let u = Vector3::new(m.x / c[0], m.y / c[1], m.z / c[2]);
+            let dr = q.r * hat(&u);
+            let dp = q.r.column(0);
+            for i in 0..3 {
+                for j in 0..3 {
+                    assert!(
+                        (out[4 * i + j] - dr[(i, j)]).abs() <= 1e-14,
+                        "R' ({i}, {j})"
+                    );
+                }
+                assert!((out[4 * i + 3] - dp[i]).abs() <= 1e-14, "p' {i}");
+                assert!(
+                    (out[12 + i] - dmu[i]).abs() <= 1e-13,
+                    "m' {i}: {out:?} vs {dmu}"
+                );
+            }
+            assert_eq!(out[15], 0.0, "lane 3 of m' stays zero");
+        }
     }
 
     /// The elimination determinant agrees with nalgebra's LU on random and singular matrices,

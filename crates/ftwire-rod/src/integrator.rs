@@ -42,9 +42,10 @@
 //! | DOP853 | max(8, ⌈2 σL⌉) | 307 | 5.5e-9 | 3.3e-8 | 3.6e-8 |
 //!
 //! The frame-only solves (`Rod::shape`, `Rod::tip`) run the same grid, first-step substeps
-//! included, on a different state: `q` and `μ` (20 numbers, [`crate::equations`]'
-//! `ShapeArray`), `μ` integrated by eq. 3 instead of read from `q` by closed form, which
-//! shortens the chain of dependent operations in each stage. The two formulations are
+//! included, on a different state: `q` and `m` (16 numbers, [`crate::equations`]'
+//! `ShapeArray`), `m` integrated by eq. 3 instead of read from `q` by closed form, which
+//! shortens the chain of dependent operations in each stage (`n = Rᵀ n0` is read from the
+//! frame rows). The two formulations are
 //! 8th-order solutions of the same equations; a unit test checks that their frames agree to
 //! the requirement at every grid point. The study also prints the frame-only tip errors (two
 //! more columns, not copied into the table): 6.3e-8·L and 4.0e-7 rad at the default (margin
@@ -93,7 +94,7 @@
 //! right-hand sides are generic over the multiply–add, and the solver's loops run compiled
 //! for AVX2 with hardware FMA when the CPU has them (the crate's `arith` module).
 //!
-//! States of at most 20 numbers (the shape state) take a DOP853 step with the stages written
+//! States of at most 16 numbers (the shape state) take a DOP853 step with the stages written
 //! out instead (each stage sum stays in registers, no loop or table bookkeeping: about half
 //! the instructions of the loop, and small enough code). On AVX2+FMA CPUs the shape solve runs
 //! an explicit-intrinsics copy of that step (the crate's `simd` module), because LLVM splits
@@ -469,7 +470,7 @@ fn rk8_step<A: MulAdd, const D: usize>(
 }
 
 /// States of at most this many numbers take the written-out DOP853 step.
-const SMALL_STATE: usize = 20;
+const SMALL_STATE: usize = 16;
 
 /// `sum += c · k`, lane by lane.
 #[inline(always)]

@@ -22,7 +22,7 @@ use std::arch::x86_64::{
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::equations::{FrameArray, FrameJet, ShapeArray};
+use crate::equations::{FrameArray, FrameJet, ShapeArray, euler_coefficients};
 use crate::integrator::{DOP853_A, DOP853_B, with_dop853_terms};
 
 /// Four lanes of `f64` in one AVX register.
@@ -104,39 +104,59 @@ impl F4 {
     }
 }
 
-/// The shape state in registers: the frame rows `(R_i0, R_i1, R_i2, p_i)`, then `m`, `n`
-/// (lane 3 zero), as in [`ShapeArray`].
-type State = [F4; 5];
+/// The shape state in registers: the frame rows `(R_i0, R_i1, R_i2, p_i)`, then `m` (lane 3
+/// zero), as in [`ShapeArray`].
+type State = [F4; 4];
 
 /// The constants of the right-hand side for one configuration.
 #[derive(Clone, Copy)]
 struct Constants {
     /// `(1/c1, 1/c2, 1/c3, 0)`.
     inv_c: F4,
+    /// `(1/c3, 1/c1, 1/c2, 0)`: `C⁻¹` in the lane order of [`order::ZXY3`].
+    inv_c_zxy: F4,
+    /// `(1/c2, 1/c3, 1/c1, 0)`: `C⁻¹` in the lane order of [`order::YZX3`].
+    inv_c_yzx: F4,
+    /// Euler's coefficients of `m × C⁻¹ m` (`equations::euler_coefficients`).
+    euler: F4,
+    /// `n0`, each component in every lane.
+    n0: [F4; 3],
     /// `(0, 0, 0, 1)`.
     e3: F4,
     /// `(0, 1, −1, 0)`.
     e1_signs: F4,
 }
 
-/// Eq. 1 and 3 on the shape state, as [`crate::equations::Kirchhoff::shape_rate`].
+/// `n = Rᵀ n0 = Σ_i n0_i r_i` from the frame rows, in lanes 0–2 (lane 3 is `n0 · p`).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn n_of_rows(k: &Constants, y: &State) -> F4 {
+    y[2].mul_add(k.n0[2], y[1].mul_add(k.n0[1], y[0].mul(k.n0[0])))
+}
+
+/// Eq. 1 and the top of eq. 3 on the shape state, as
+/// [`crate::equations::Kirchhoff::shape_rate`].
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn rate(k: &Constants, y: &State) -> State {
-    let [r0, r1, r2, m, n] = *y;
-    let u = m.mul(k.inv_c);
-    let u_zxy0 = u.permute::<{ order::ZXY3 }>();
-    let u_zxy1 = u_zxy0.with_lane3_of(k.e3);
-    let u_yzx0 = u.permute::<{ order::YZX3 }>();
+    let [r0, r1, r2, m] = *y;
+    let (m_yzx, m_zxy) = (
+        m.permute::<{ order::YZX3 }>(),
+        m.permute::<{ order::ZXY3 }>(),
+    );
+    // u = C⁻¹ m in the two lane orders of the cross products, from m's permutes (lane 3 of
+    // u_zxy1 is 0 · (1/c2) + 1).
+    let u_zxy1 = m_zxy.mul_add(k.inv_c_zxy, k.e3);
+    let u_yzx = m_yzx.mul(k.inv_c_yzx);
     // Row i of R' = R û is r_i × u; lane 3 gets R_i0 · 1 − p_i · 0 = p_i'.
-    let row = |r: F4| cross_lane0(r, u_zxy1, u_yzx0);
-    let n_e1 = n.permute::<{ order::WZYW }>().mul(k.e1_signs);
+    let row = |r: F4| cross_lane0(r, u_zxy1, u_yzx);
+    // n × e1 = (0, n3, −n2) (the signs clear the lanes that hold n0 · p).
+    let n_e1 = n_of_rows(k, y).permute::<{ order::WZYW }>().mul(k.e1_signs);
     [
         row(r0),
         row(r1),
         row(r2),
-        cross(m, u_zxy0, u_yzx0).add(n_e1),
-        cross(n, u_zxy0, u_yzx0),
+        m_yzx.mul(m_zxy).mul_add(k.euler, n_e1),
     ]
 }
 
@@ -166,8 +186,9 @@ fn cross(a: F4, b_zxy: F4, b_yzx: F4) -> F4 {
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn jet(k: &Constants, y: &State) -> FrameJet {
-    let [d_r0, d_r1, d_r2, dm, dn] = rate(k, y);
+    let [d_r0, d_r1, d_r2, dm] = rate(k, y);
     let m = y[3];
+    let n = n_of_rows(k, y).with_lane3_of(F4::splat(0.0));
     let u = m.mul(k.inv_c);
     let du = dm.mul(k.inv_c);
     let du_zxy = du.permute::<{ order::ZXY3 }>();
@@ -175,6 +196,7 @@ fn jet(k: &Constants, y: &State) -> FrameJet {
     let u_zxy = u.permute::<{ order::ZXY3 }>();
     let u_yzx = u.permute::<{ order::YZX3 }>();
     let u_zxy1 = u_zxy.with_lane3_of(k.e3);
+    let dn = cross(n, u_zxy, u_yzx);
     let dn_e1 = dn.permute::<{ order::WZYW }>().mul(k.e1_signs);
     let ddm = cross(dm, u_zxy, u_yzx)
         .add(cross(m, du_zxy, du_yzx))
@@ -200,28 +222,32 @@ fn jet(k: &Constants, y: &State) -> FrameJet {
     }
 }
 
-/// [`jet`] at a frame with its `μ = (m, n)`, for the Jacobian path's knots (where `μ` comes
-/// from closed form (A)).
+/// [`jet`] at a frame with its `m`, for the Jacobian path's knots (where `m` comes from
+/// closed form (A)), for stiffnesses `1 / inv_c` and the base force `n0`.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) fn frame_jet(inv_c: [f64; 3], frame: &FrameArray, m: [f64; 3], n: [f64; 3]) -> FrameJet {
+pub(crate) fn frame_jet(
+    inv_c: [f64; 3],
+    n0: [f64; 3],
+    frame: &FrameArray,
+    m: [f64; 3],
+) -> FrameJet {
     let rows: &[[f64; 4]; 3] = bytemuck::cast_ref(frame);
     let [r0, r1, r2] = rows.map(|r| F4::new(&r));
-    let state = [
-        r0,
-        r1,
-        r2,
-        F4::new(&[m[0], m[1], m[2], 0.0]),
-        F4::new(&[n[0], n[1], n[2], 0.0]),
-    ];
-    jet(&constants(inv_c), &state)
+    let state = [r0, r1, r2, F4::new(&[m[0], m[1], m[2], 0.0])];
+    jet(&constants(inv_c, n0), &state)
 }
 
-/// The constants of the right-hand side for stiffnesses `c = 1 / inv_c`.
+/// The constants of the right-hand side for stiffnesses `c = 1 / inv_c` and the base force
+/// `n0`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn constants(inv_c: [f64; 3]) -> Constants {
+fn constants(inv_c: [f64; 3], n0: [f64; 3]) -> Constants {
     Constants {
         inv_c: F4::new(&[inv_c[0], inv_c[1], inv_c[2], 0.0]),
+        inv_c_zxy: F4::new(&[inv_c[2], inv_c[0], inv_c[1], 0.0]),
+        inv_c_yzx: F4::new(&[inv_c[1], inv_c[2], inv_c[0], 0.0]),
+        euler: F4::new(&euler_coefficients(inv_c)),
+        n0: [F4::splat(n0[0]), F4::splat(n0[1]), F4::splat(n0[2])],
         e3: F4::new(&[0.0, 0.0, 0.0, 1.0]),
         e1_signs: F4::new(&[0.0, 1.0, -1.0, 0.0]),
     }
@@ -283,12 +309,13 @@ fn step(c: &Constants, y: &mut State, s: &Scaled, k: &mut [State; 12]) {
 #[target_feature(enable = "avx2,fma")]
 pub(crate) fn integrate_shape(
     inv_c: [f64; 3],
+    n0: [f64; 3],
     y: &ShapeArray,
     grid: impl Iterator<Item = (f64, Option<usize>)>,
     knots: &mut Vec<FrameJet>,
 ) -> ShapeArray {
-    let c = constants(inv_c);
-    let rows: &[[f64; 4]; 5] = bytemuck::cast_ref(y);
+    let c = constants(inv_c, n0);
+    let rows: &[[f64; 4]; 4] = bytemuck::cast_ref(y);
     let mut state: State = rows.map(|r| F4::new(&r));
     let mut k = [state; 12];
     let mut scaled = Scaled::new(f64::NAN);

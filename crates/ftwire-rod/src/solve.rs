@@ -221,8 +221,8 @@ impl Rod {
         early_exit: bool,
     ) -> (FullArray, SignTracker) {
         let jet = |f: &FrameArray| {
-            let (m, n) = model.costate(&FrameState::from_slice(f));
-            crate::simd::frame_jet(model.inv_c(), f, m.into(), n.into())
+            let (m, _) = model.costate(&FrameState::from_slice(f));
+            crate::simd::frame_jet(model.inv_c(), model.n0(), f, m.into())
         };
         self.integrate_full_with::<Fused>(model, knots, record_det, early_exit, jet)
     }
@@ -265,7 +265,7 @@ impl Rod {
         (y, tracker)
     }
 
-    /// Integrates `q` and `μ` (the [`ShapeArray`] state) over `steps` uniform steps (the first
+    /// Integrates `q` and `m` (the [`ShapeArray`] state) over `steps` uniform steps (the first
     /// in substeps, as [`Rod::integrate_full`]), pushing the frame jets at the grid points into
     /// `knots`; returns the final state. AVX2+FMA when the CPU has it.
     fn integrate_shape(
@@ -300,7 +300,7 @@ impl Rod {
         }
         let h = self.wire.length() / steps as f64;
         let grid = self.integrator.grid(h, steps);
-        crate::simd::integrate_shape(model.inv_c(), &shape_initial(a), grid, knots)
+        crate::simd::integrate_shape(model.inv_c(), model.n0(), &shape_initial(a), grid, knots)
     }
 
     #[inline(always)]
@@ -321,7 +321,7 @@ impl Rod {
         let mut work = Workspace::new();
         for (step, grid_point) in self.integrator.grid(h, steps) {
             self.integrator
-                .step_in_place::<A, 20>(&mut y, step, f, &mut work);
+                .step_in_place::<A, 16>(&mut y, step, f, &mut work);
             if grid_point.is_some() {
                 knots.push(model.shape_jet(&y));
             }
@@ -688,7 +688,7 @@ mod tests {
                     }
                 }
             }
-            // The shape path runs the Jacobian path's grid; the two formulations (μ integrated,
+            // The shape path runs the Jacobian path's grid; the two formulations (m integrated,
             // μ by closed form) give frames that agree to the accuracy requirement.
             assert_eq!(kf.len(), k_fast.len());
             for (f, j) in kf.iter().zip(&k_fast) {
