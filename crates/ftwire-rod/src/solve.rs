@@ -514,15 +514,20 @@ impl Rod {
         let h = length / steps as f64;
         let last = nodes.saturating_sub(1).max(1) as f64;
         let mut positions = vec![Vector3::zeros(); nodes];
-        let mut frames = vec![Matrix3::identity(); nodes];
-        for (i, (p, r)) in positions.iter_mut().zip(&mut frames).enumerate() {
+        let mut rotations = vec![Rotation3::identity(); nodes];
+        // The knot interval of the current node, moved forward as the nodes advance (no
+        // float-to-integer conversion per node).
+        let mut k = 0;
+        for (i, (p, r)) in positions.iter_mut().zip(&mut rotations).enumerate() {
             let x = i as f64 * steps as f64 / last;
-            // x ≥ 0, so truncation is the floor (and needs no libm call).
-            let k = (x as usize).min(steps - 1);
+            while k + 1 < steps && x >= (k + 1) as f64 {
+                k += 1;
+            }
             let theta = (x - k as f64).clamp(0.0, 1.0);
             let (Some(k0), Some(k1)) = (knots.get(k), knots.get(k + 1)) else {
                 continue;
             };
+            let r = r.matrix_mut_unchecked();
             if theta == 0.0 || theta == 1.0 {
                 let f = if theta == 0.0 { k0 } else { k1 }.frame();
                 (*p, *r) = (f.p, f.r);
@@ -530,10 +535,13 @@ impl Rod {
                 between(k0, k1, h, theta, p, r);
             }
         }
+        for r in &mut rotations {
+            *r = rotation_from_columns(r.matrix());
+        }
         Shape {
             arc_length: (0..nodes).map(|i| length * i as f64 / last).collect(),
             positions,
-            rotations: frames.iter().map(rotation_from_columns).collect(),
+            rotations,
         }
     }
 }
@@ -578,20 +586,20 @@ fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(orthonormalise(r))
 }
 
-/// [`rotation_from_columns`]'s matrix. Written so that the two normalisations do not wait on
-/// each other: `y = c1 − (c0·c1 / c0·c0) c0` needs no square root, and `1/|c0|`, `1/|y|` are
-/// independent.
+/// [`rotation_from_columns`]'s matrix: with `c0`, `c1` the first two columns, `x = c0 / |c0|`
+/// and `y = (s00 c1 − s01 c0) / sqrt(s00 D)`, where `s_ij = c_i · c_j` and
+/// `D = s00 s11 − s01²` (so that `|s00 c1 − s01 c0|² = s00 D`). The two inverse square roots
+/// are one 2-lane square root and one 2-lane division, and neither waits on the other.
 #[inline(always)]
 fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let c0 = [r[(0, 0)], r[(1, 0)], r[(2, 0)]];
     let c1 = [r[(0, 1)], r[(1, 1)], r[(2, 1)]];
-    let (s00, s01) = (dot(&c0, &c0), dot(&c0, &c1));
-    let k = s01 / s00;
-    let y1 = [c1[0] - k * c0[0], c1[1] - k * c0[1], c1[2] - k * c0[2]];
-    let (n0, n1) = (1.0 / s00.sqrt(), 1.0 / dot(&y1, &y1).sqrt());
+    let (s00, s01, s11) = (dot(&c0, &c0), dot(&c0, &c1), dot(&c1, &c1));
+    let gram = s00 * s11 - s01 * s01;
+    let [n0, n1] = [s00, s00 * gram].map(|v| 1.0 / v.sqrt());
     let x = c0.map(|v| v * n0);
-    let y = y1.map(|v| v * n1);
+    let y: [f64; 3] = std::array::from_fn(|i| (s00 * c1[i] - s01 * c0[i]) * n1);
     let z = [
         x[1] * y[2] - x[2] * y[1],
         x[2] * y[0] - x[0] * y[2],
@@ -616,8 +624,33 @@ fn pose_of(q: &FrameState) -> Pose {
 mod tests {
     use super::*;
     use crate::sampling::Sampler;
-    use rand::SeedableRng;
+    use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// Gram–Schmidt on two skewed columns: an orthonormal, right-handed result whose first
+    /// column is along `c0` and whose second lies in the plane of `c0`, `c1` on `c1`'s side.
+    #[test]
+    fn orthonormalise_keeps_the_tangent_and_the_plane() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..200 {
+            let r = Rotation3::from_scaled_axis(Vector3::new(
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-3.0..3.0),
+            ));
+            let skew = Matrix3::from_fn(|_, _| rng.random_range(-0.05..0.05));
+            let m = r.matrix() * (Matrix3::identity() * rng.random_range(0.5..2.0) + skew);
+            let q = orthonormalise(&m);
+            let defect = q.transpose() * q - Matrix3::identity();
+            assert!(defect.amax() <= 1e-15, "QᵀQ − I = {defect}");
+            assert!((q.determinant() - 1.0).abs() <= 1e-15);
+            let (c0, c1) = (m.column(0), m.column(1));
+            assert!((q.column(0) - c0.normalize()).amax() <= 1e-15);
+            let normal = c0.cross(&c1).normalize();
+            assert!(q.column(1).dot(&normal).abs() <= 1e-15);
+            assert!(q.column(1).dot(&c1) > 0.0);
+        }
+    }
 
     /// The dispatched loops (AVX2+FMA on a CPU that has them) and the portable ones agree to
     /// rounding: same grid, same stability record, frames, `J` and shape within 1e-12. (On a
