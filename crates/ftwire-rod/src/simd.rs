@@ -10,10 +10,13 @@
 //! the boundary by copy through `bytemuck` (`cast`, `cast_ref`) both ways, so no `unsafe` is
 //! needed here.
 //!
-//! The right-hand side and the step are those of the portable path
-//! ([`crate::equations::Kirchhoff::shape_rate`] and the DOP853 step of [`crate::integrator`])
-//! operation for operation; the jets and the interpolation group their sums differently. The
-//! two paths agree to rounding (a test checks states, jets and shapes to 1e-12).
+//! The right-hand side is that of the portable path
+//! ([`crate::equations::Kirchhoff::shape_rate`]) operation for operation, and the step is the
+//! same DOP853 step with the step size folded in differently: the portable step sums
+//! `(h a_ij) k_j`, this one has the rate return `h k` (its constants are scaled by `h`) and
+//! sums `a_ij (h k_j)` with the tableau's own coefficients, so nothing is rescaled per step
+//! size. The jets and the interpolation group their sums differently too. The two paths agree
+//! to rounding (a test checks states, jets and shapes to 1e-12).
 
 use std::arch::x86_64::{
     __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_fmadd_pd, _mm256_fmsub_pd, _mm256_mul_pd,
@@ -253,19 +256,20 @@ fn constants(inv_c: [f64; 3], n0: [f64; 3]) -> Constants {
     }
 }
 
-/// DOP853's coefficients times one step size.
-struct Scaled {
-    h: f64,
-    a: [[f64; 12]; 12],
-    b: [f64; 12],
-}
-
-impl Scaled {
-    fn new(h: f64) -> Self {
+impl Constants {
+    /// The constants that make [`rate`] return `h` times the rate: the terms of `u` (and
+    /// lane 3, which carries `p'`), Euler's coefficients and the `n × e1` signs, times `h`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn times(&self, h: f64) -> Self {
+        let h4 = F4::splat(h);
         Self {
-            h,
-            a: DOP853_A.map(|row| row.map(|a| a * h)),
-            b: DOP853_B.map(|b| b * h),
+            inv_c_zxy: self.inv_c_zxy.mul(h4),
+            inv_c_yzx: self.inv_c_yzx.mul(h4),
+            euler: self.euler.mul(h4),
+            e3: self.e3.mul(h4),
+            e1_signs: self.e1_signs.mul(h4),
+            ..*self
         }
     }
 }
@@ -273,13 +277,13 @@ impl Scaled {
 /// The written-out DOP853 stages over the nonzero coefficients (the lists of
 /// [`with_dop853_terms`]).
 macro_rules! stages {
-    ($c:ident, $y:ident, $s:ident, $k:ident; $($i:literal: [$($j:literal),*]);*) => {
+    ($c:ident, $y:ident, $k:ident; $($i:literal: [$($j:literal),*]);*) => {
         $(
             {
                 #[allow(unused_mut)]
                 let mut sum = *$y;
                 $(
-                    let a = F4::splat($s.a[$i][$j]);
+                    let a = F4::splat(DOP853_A[$i][$j]);
                     for (v, kj) in sum.iter_mut().zip(&$k[$j]) {
                         *v = a.mul_add(*kj, *v);
                     }
@@ -290,13 +294,14 @@ macro_rules! stages {
     };
 }
 
-/// One DOP853 step in place.
+/// One DOP853 step in place, with `c` the constants [`Constants::times`] the step size (so
+/// that `k` holds `h f(Y_i)`, and the stage sums use the tableau's own coefficients).
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn step(c: &Constants, y: &mut State, s: &Scaled, k: &mut [State; 12]) {
-    with_dop853_terms!(stages!(c, y, s, k));
+fn step(c: &Constants, y: &mut State, k: &mut [State; 12]) {
+    with_dop853_terms!(stages!(c, y, k));
     for j in [0, 5, 6, 7, 8, 9, 10, 11] {
-        let b = F4::splat(s.b[j]);
+        let b = F4::splat(DOP853_B[j]);
         for (v, kj) in y.iter_mut().zip(&k[j]) {
             *v = b.mul_add(*kj, *v);
         }
@@ -318,13 +323,13 @@ pub(crate) fn integrate_shape(
     let rows: &[[f64; 4]; 4] = bytemuck::cast_ref(y);
     let mut state: State = rows.map(|r| F4::new(&r));
     let mut k = [state; 12];
-    let mut scaled = Scaled::new(f64::NAN);
+    let (mut step_size, mut scaled) = (f64::NAN, c);
     knots.push(jet(&c, &state));
     for (h, grid_point) in grid {
-        if h.to_bits() != scaled.h.to_bits() {
-            scaled = Scaled::new(h);
+        if h.to_bits() != step_size.to_bits() {
+            (step_size, scaled) = (h, c.times(h));
         }
-        step(&c, &mut state, &scaled, &mut k);
+        step(&scaled, &mut state, &mut k);
         if grid_point.is_some() {
             knots.push(jet(&c, &state));
         }
