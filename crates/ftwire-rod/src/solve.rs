@@ -238,7 +238,7 @@ impl Rod {
     ) -> (FullArray, SignTracker) {
         let steps = self.steps_for(model);
         let h = self.wire.length() / steps as f64;
-        let mut tracker = SignTracker::new(h, record_det);
+        let mut tracker = SignTracker::new(h, steps, record_det);
         let mut y: FullArray = FrameState::initial();
         if let Some(k) = knots.as_deref_mut() {
             k.push(jet(&frame_of(&y)));

@@ -49,13 +49,15 @@ pub(crate) struct SignTracker {
 }
 
 impl SignTracker {
-    pub fn new(spacing: f64, record: bool) -> Self {
+    /// A tracker for a grid of `points` points after `t = 0`, spaced `spacing`; `record` keeps
+    /// every `det J` (room for all of them is reserved at once).
+    pub fn new(spacing: f64, points: usize, record: bool) -> Self {
         Self {
             reference: 0.0,
             stable: true,
             first_change: None,
             min_abs: f64::INFINITY,
-            det_j: record.then(Vec::new),
+            det_j: record.then(|| Vec::with_capacity(points)),
             spacing,
         }
     }
