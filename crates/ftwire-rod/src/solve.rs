@@ -588,8 +588,10 @@ fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
 
 /// [`rotation_from_columns`]'s matrix: with `c0`, `c1` the first two columns, `x = c0 / |c0|`
 /// and `y = (s00 c1 − s01 c0) / sqrt(s00 D)`, where `s_ij = c_i · c_j` and
-/// `D = s00 s11 − s01²` (so that `|s00 c1 − s01 c0|² = s00 D`). The two inverse square roots
-/// are one 2-lane square root and one 2-lane division, and neither waits on the other.
+/// `D = s00 s11 − s01²` (so that `|s00 c1 − s01 c0|² = s00 D`): two square roots and two
+/// divisions per node, independent of each other (the usual form needs a third division,
+/// `s01 / s00`, and its second square root waits on it), which the compiler runs for
+/// several nodes at once. The divider was the bound of this pass.
 #[inline(always)]
 fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
