@@ -23,8 +23,6 @@ use std::arch::x86_64::{
     _mm256_permute4x64_pd, _mm256_set1_pd,
 };
 
-use nalgebra::{Matrix3, Vector3};
-
 use crate::equations::{FrameArray, FrameJet, ShapeArray, euler_coefficients};
 use crate::integrator::{DOP853_A, DOP853_B, with_dop853_terms};
 
@@ -357,17 +355,10 @@ const HERMITE: [[f64; 8]; 8] = {
 
 /// The frame between two knots at `θ ∈ (0, 1)` of a step `h`: septic Hermite interpolation
 /// of the flat frame (the weights by Estrin's scheme in 4 lanes, each knot's four terms summed
-/// apart), written to `p` and the first two columns of `r` (re-orthonormalised by the caller).
+/// apart), as the rows `(R_i0, R_i1, R_i2, p_i)` of the flat frame state.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-pub(crate) fn interpolate_frame(
-    k0: &FrameJet,
-    k1: &FrameJet,
-    h: f64,
-    theta: f64,
-    p: &mut Vector3<f64>,
-    r: &mut Matrix3<f64>,
-) {
+pub(crate) fn interpolate_frame(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> [[f64; 4]; 3] {
     let t = F4::splat(theta);
     let halves = |c: &[f64; 8]| -> [F4; 2] {
         let [lo, hi]: &[[f64; 4]; 2] = bytemuck::cast_ref(c);
@@ -397,9 +388,7 @@ pub(crate) fn interpolate_frame(
             }
         }
     }
-    let [r0, r1, r2] = [0, 1, 2].map(|i| acc[0][i].add(acc[1][i]).to_array());
-    *p = Vector3::new(r0[3], r1[3], r2[3]);
-    *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
+    [0, 1, 2].map(|i| acc[0][i].add(acc[1][i]).to_array())
 }
 
 #[cfg(test)]

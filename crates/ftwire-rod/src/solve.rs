@@ -484,20 +484,21 @@ impl Rod {
             #[allow(unsafe_code)]
             return unsafe { self.shape_from_knots_fma(knots, nodes) };
         }
-        self.shape_from_knots_with(knots, nodes, interpolate_portable)
+        self.shape_from_knots_with(knots, nodes, interpolate_rows::<Separate>)
     }
 
     /// [`Rod::shape_from_knots`] compiled for AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn shape_from_knots_fma(&self, knots: &[FrameJet], nodes: usize) -> Shape {
-        self.shape_from_knots_with(knots, nodes, |k0, k1, h, theta, p, r| {
-            crate::simd::interpolate_frame(k0, k1, h, theta, p, r);
+        self.shape_from_knots_with(knots, nodes, |k0, k1, h, theta| {
+            crate::simd::interpolate_frame(k0, k1, h, theta)
         })
     }
 
-    /// The shape from the knots: `between(k0, k1, h, θ, p, R)` writes `p` and the first two
-    /// columns of `R` at `θ ∈ (0, 1)` of the step `h` from knot `k0` to knot `k1`.
+    /// The shape from the knots: `between(k0, k1, h, θ)` interpolates the flat frame state
+    /// (rows `(R_i0, R_i1, R_i2, p_i)`) at `θ ∈ (0, 1)` of the step `h` from knot `k0` to
+    /// knot `k1`; `p` and the first two columns of `R` are kept.
     ///
     /// Two passes: the interpolation of every node, then the re-orthonormalisation of every
     /// rotation. Each pass is a loop of independent short computations that the CPU overlaps
@@ -507,7 +508,7 @@ impl Rod {
         &self,
         knots: &[FrameJet],
         nodes: usize,
-        between: impl Fn(&FrameJet, &FrameJet, f64, f64, &mut Vector3<f64>, &mut Matrix3<f64>),
+        between: impl Fn(&FrameJet, &FrameJet, f64, f64) -> [[f64; 4]; 3],
     ) -> Shape {
         let length = self.wire.length();
         let steps = knots.len().saturating_sub(1).max(1);
@@ -532,7 +533,9 @@ impl Rod {
                 let f = if theta == 0.0 { k0 } else { k1 }.frame();
                 (*p, *r) = (f.p, f.r);
             } else {
-                between(k0, k1, h, theta, p, r);
+                let [r0, r1, r2] = between(k0, k1, h, theta);
+                *p = Vector3::new(r0[3], r1[3], r2[3]);
+                *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
             }
         }
         for r in &mut rotations {
@@ -546,23 +549,9 @@ impl Rod {
     }
 }
 
-/// The portable interpolation for [`Rod::shape_from_knots_with`].
-#[inline(always)]
-fn interpolate_portable(
-    k0: &FrameJet,
-    k1: &FrameJet,
-    h: f64,
-    theta: f64,
-    p: &mut Vector3<f64>,
-    r: &mut Matrix3<f64>,
-) {
-    let [r0, r1, r2] = interpolate_rows::<Separate>(k0, k1, h, theta);
-    *p = Vector3::new(r0[3], r1[3], r2[3]);
-    *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
-}
-
 /// Septic Hermite interpolation of the flat frame state (rows `(R_i0, R_i1, R_i2, p_i)`)
-/// between two knots: one pass over its 12 numbers per term.
+/// between two knots: one pass over its 12 numbers per term (the portable interpolation of
+/// [`Rod::shape_from_knots_with`]).
 #[inline(always)]
 fn interpolate_rows<A: MulAdd>(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64) -> [[f64; 4]; 3] {
     let w = septic_hermite(theta);
@@ -694,7 +683,7 @@ mod tests {
             assert_eq!(s_fast.stable, s_plain.stable, "a = {a}");
             assert_eq!(s_fast.det_j.len(), s_plain.det_j.len());
             let shape_fast = rod.shape_from_knots(&k_fast, 64);
-            let shape_plain = rod.shape_from_knots_with(&k_plain, 64, interpolate_portable);
+            let shape_plain = rod.shape_from_knots_with(&k_plain, 64, interpolate_rows::<Separate>);
             for (f, p) in shape_fast.positions.iter().zip(&shape_plain.positions) {
                 assert!((f - p).norm() <= 1e-12 * wire.length(), "a = {a}");
             }
