@@ -496,8 +496,8 @@ impl Kirchhoff {
         let rows = [V4::load(y, 0), V4::load(y, 4), V4::load(y, 8)];
         let m = V4::load(y, 12);
         let (zxy, yzx) = ([2, 0, 1, 3], [1, 2, 0, 3]);
-        // C⁻¹ in the two lane orders, and Euler's coefficients (loop invariants, which the
-        // compiler takes out of the integration loop).
+        // C⁻¹ in the two lane orders, and Euler's coefficients (loop invariants; the AVX2
+        // kernel of `simd` computes them once per solve).
         let (inv_c_zxy, inv_c_yzx) = (self.inv_c4.permute(zxy), self.inv_c4.permute(yzx));
         let euler = inv_c_zxy.add(inv_c_yzx.scale(-1.0));
         let (m_yzx, m_zxy) = (m.permute(yzx), m.permute(zxy));

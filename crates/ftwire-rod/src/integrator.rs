@@ -45,9 +45,8 @@
 //! included, on a different state: `q` and `m` (16 numbers, [`crate::equations`]'
 //! `ShapeArray`), `m` integrated by eq. 3 instead of read from `q` by closed form, which
 //! shortens the chain of dependent operations in each stage (`n = Rᵀ n0` is read from the
-//! frame rows). The two formulations are
-//! 8th-order solutions of the same equations; a unit test checks that their frames agree to
-//! the requirement at every grid point. The study also prints the frame-only tip errors (two
+//! frame rows). The two formulations are 8th-order solutions of the same equations; a unit
+//! test checks that their frames agree to the requirement at every grid point. The study also prints the frame-only tip errors (two
 //! more columns, not copied into the table): 6.3e-8·L and 4.0e-7 rad at the default (margin
 //! 2.5 on the rotation). The substeps matter there too: a frame-only path that skipped them
 //! (with the earlier closed-form state) had a worst tip rotation of 7.6e-7 rad, not 3.7e-7.
@@ -482,7 +481,7 @@ fn axpy<A: MulAdd, const D: usize>(sum: &mut [f64; D], c: f64, k: &[f64; D]) {
 
 /// The stages of [`dop853_step`] written out, one block per stage over its nonzero
 /// coefficients (the lists of [`with_dop853_terms`]; a test checks the results agree with the
-/// loop bit for bit). For small states (the shape solve's 20 numbers): each stage sum stays in
+/// loop bit for bit). For small states (the shape solve's 16 numbers): each stage sum stays in
 /// registers, with no loop or table bookkeeping, about half the instructions of the loop. (The
 /// 48-state step, written out, no longer fits the instruction cache; see the module's
 /// "Speed".)
