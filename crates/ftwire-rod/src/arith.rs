@@ -2,8 +2,9 @@
 //!
 //! The integration loops ([`crate::integrator`]'s stage sums, [`crate::equations`]'
 //! right-hand sides) are sums of products. They are written once, generic over [`MulAdd`], and
-//! compiled twice (the shape solve's DOP853 step, its jets and the Hermite interpolation also
-//! have a third, hand-written AVX2 copy in the `simd` module, checked against these):
+//! compiled twice (the DOP853 steps of the shape and Jacobian solves, the jets and the Hermite
+//! interpolation also have a third, hand-written AVX2 copy in the `simd` module, checked
+//! against these):
 //!
 //! - with [`Separate`] (`a·b + c`, two roundings) for any x86-64 or other CPU;
 //! - with [`Fused`] (`fma(a, b, c)`, one rounding) inside a function compiled for AVX2 and FMA,

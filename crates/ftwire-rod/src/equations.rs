@@ -411,6 +411,11 @@ impl Kirchhoff {
         [self.inv_c.x, self.inv_c.y, self.inv_c.z]
     }
 
+    /// `m0`, the torque part of `a`.
+    pub fn m0(&self) -> [f64; 3] {
+        [self.m0.x, self.m0.y, self.m0.z]
+    }
+
     /// `n0`, the force part of `a`.
     pub fn n0(&self) -> [f64; 3] {
         [self.n0.x, self.n0.y, self.n0.z]

@@ -1,29 +1,34 @@
-//! The shape solve's hot loops (its DOP853 step, the frame jets at the grid points, which the
-//! Jacobian path's `solve` uses too, and the Hermite interpolation) written with explicit
-//! AVX2+FMA operations (x86-64).
+//! The solver's hot loops written with explicit AVX2+FMA operations (x86-64): the shape
+//! solve's DOP853 step, the frame jets at the grid points, the Hermite interpolation, and the
+//! Jacobian path's DOP853 step (frame and `J`, 48 numbers).
 //!
 //! [`crate::arith`]'s lane type leaves the choice of instructions to LLVM, which splits some
 //! 4-lane operations into scalar and 2-lane pieces (and pays for it in shuffles and blends).
-//! Here every operation is one AVX instruction on a whole `__m256d`, so the code is what it
-//! says. The functions are compiled for AVX2 and FMA and only reached through
-//! [`crate::arith::fast_path`]; intrinsics are safe to call inside them, and values cross
-//! the boundary by copy through `bytemuck` (`cast`, `cast_ref`) both ways, so no `unsafe` is
-//! needed here.
+//! Here every operation is one AVX instruction on a whole `__m256d` (or `__m128d`), so the
+//! code is what it says. The functions are compiled for AVX2 and FMA and only reached
+//! through [`crate::arith::fast_path`]; intrinsics are safe to call inside them, and values
+//! cross the boundary by copy through `bytemuck` (`cast`, `cast_ref`) both ways, so no
+//! `unsafe` is needed here.
 //!
-//! The right-hand side is that of the portable path
-//! ([`crate::equations::Kirchhoff::shape_rate`]) operation for operation, and the step is the
-//! same DOP853 step with the step size folded in differently: the portable step sums
-//! `(h a_ij) k_j`, this one has the rate return `h k` (its constants are scaled by `h`) and
-//! sums `a_ij (h k_j)` with the tableau's own coefficients, so nothing is rescaled per step
-//! size. The jets and the interpolation group their sums differently too. The two paths agree
-//! to rounding (a test checks states, jets and shapes to 1e-12).
+//! The right-hand sides are those of the portable paths
+//! ([`crate::equations::Kirchhoff::shape_rate`] operation for operation;
+//! [`crate::equations::Kirchhoff::full_rate`] with its sums grouped for the CPU, see
+//! [`full_rate`]), and the steps are the same DOP853 step with the step size folded in
+//! differently: the portable step sums `(h a_ij) k_j`, these have the rate return `h k` (its
+//! constants are scaled by `h`) and sum `a_ij (h k_j)` with the tableau's own coefficients, so
+//! nothing is rescaled per step size. The jets and the interpolation group their sums
+//! differently too. The two paths agree to rounding (a test checks states, `J`, jets and
+//! shapes to 1e-12).
 
 use std::arch::x86_64::{
-    __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_fmadd_pd, _mm256_fmsub_pd, _mm256_mul_pd,
-    _mm256_permute4x64_pd, _mm256_set1_pd,
+    __m128d, __m256d, _mm_add_pd, _mm_fmadd_pd, _mm_fmsub_pd, _mm_fnmadd_pd, _mm_mul_pd,
+    _mm_set1_pd, _mm256_add_pd, _mm256_blend_pd, _mm256_castpd256_pd128, _mm256_extractf128_pd,
+    _mm256_fmadd_pd, _mm256_fmsub_pd, _mm256_fnmadd_pd, _mm256_mul_pd, _mm256_permute2f128_pd,
+    _mm256_permute4x64_pd, _mm256_set_m128d, _mm256_set1_pd, _mm256_unpackhi_pd,
+    _mm256_unpacklo_pd,
 };
 
-use crate::equations::{FrameArray, FrameJet, ShapeArray, euler_coefficients};
+use crate::equations::{FrameArray, FrameJet, FullArray, ShapeArray, euler_coefficients};
 use crate::integrator::{DOP853_A, DOP853_B, with_dop853_terms};
 
 /// Four lanes of `f64` in one AVX register.
@@ -90,6 +95,13 @@ impl F4 {
         Self(_mm256_fmsub_pd(self.0, b.0, c.0))
     }
 
+    /// `c − self · b`, one rounding.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        Self(_mm256_fnmadd_pd(self.0, b.0, c.0))
+    }
+
     /// The lanes in the order `IMM` (see [`order`]).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
@@ -97,11 +109,105 @@ impl F4 {
         Self(_mm256_permute4x64_pd::<IMM>(self.0))
     }
 
+    /// `(a0, b0, a2, b2)` for `self = a`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn unpack_lo(self, b: Self) -> Self {
+        Self(_mm256_unpacklo_pd(self.0, b.0))
+    }
+
+    /// `(a1, b1, a3, b3)` for `self = a`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn unpack_hi(self, b: Self) -> Self {
+        Self(_mm256_unpackhi_pd(self.0, b.0))
+    }
+
+    /// Two 128-bit halves of `self` and `b`, chosen by `IMM` (`_mm256_permute2f128_pd`'s
+    /// immediate: `0x20` joins the low halves, `0x31` the high ones).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn join<const IMM: i32>(self, b: Self) -> Self {
+        Self(_mm256_permute2f128_pd::<IMM>(self.0, b.0))
+    }
+
+    /// Lanes 0–1.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn low(self) -> F2 {
+        F2(_mm256_castpd256_pd128(self.0))
+    }
+
+    /// Lanes 2–3.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn high(self) -> F2 {
+        F2(_mm256_extractf128_pd::<1>(self.0))
+    }
+
+    /// `(lo, hi)` as four lanes.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn from_halves(lo: F2, hi: F2) -> Self {
+        Self(_mm256_set_m128d(hi.0, lo.0))
+    }
+
     /// Lanes 0–2 of `self`, lane 3 of `b`.
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     fn with_lane3_of(self, b: Self) -> Self {
         Self(_mm256_blend_pd::<0b1000>(self.0, b.0))
+    }
+}
+
+/// Two lanes of `f64` in an SSE register.
+#[derive(Clone, Copy)]
+struct F2(__m128d);
+
+impl F2 {
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn new(v: [f64; 2]) -> Self {
+        Self(bytemuck::cast(v))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn splat(x: f64) -> Self {
+        Self(_mm_set1_pd(x))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn add(self, b: Self) -> Self {
+        Self(_mm_add_pd(self.0, b.0))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn mul(self, b: Self) -> Self {
+        Self(_mm_mul_pd(self.0, b.0))
+    }
+
+    /// `self · b + c`, one rounding.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        Self(_mm_fmadd_pd(self.0, b.0, c.0))
+    }
+
+    /// `self · b − c`, one rounding.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        Self(_mm_fmsub_pd(self.0, b.0, c.0))
+    }
+
+    /// `c − self · b`, one rounding.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        Self(_mm_fnmadd_pd(self.0, b.0, c.0))
     }
 }
 
@@ -333,6 +439,281 @@ pub(crate) fn integrate_shape(
         }
     }
     bytemuck::cast(state.map(|v| v.0))
+}
+
+/// The Jacobian path's flat state ([`FullArray`]) as 12 rows of four lanes, 32-byte aligned:
+/// the frame rows `(R_i0, R_i1, R_i2, p_i)`, columns 0–3 of the six rows of `J`, then columns
+/// 4–5 of the rows of `J` in pairs of rows.
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct Block([[f64; 4]; 12]);
+
+/// Where the rows of `J` start in a [`Block`]: columns 0–3 of row `i` are row `JL + i`,
+/// columns 4–5 of rows `2p` and `2p + 1` are row `JR + p`.
+const JL: usize = 3;
+const JR: usize = 9;
+
+/// The constants of the Jacobian path's right-hand side for one configuration. All but `m0`
+/// and `n0` are scaled by the step size in [`FullConstants::times`].
+#[derive(Clone, Copy)]
+struct FullConstants {
+    /// `m0` and `n0`, each component in every lane.
+    m0: [F4; 3],
+    n0: [F4; 3],
+    /// `(0, 0, 0, 1)`: lane 3 of a frame row's rate is `p_i' = R_i0`.
+    e3: F4,
+    /// `C⁻¹` in the lane orders of [`order::ZXY3`] and [`order::YZX3`] (lane 3 zero).
+    inv_c_zxy: F4,
+    inv_c_yzx: F4,
+    /// `C⁻¹` and `−C⁻¹` (lane 3 zero).
+    inv_c: F4,
+    neg_inv_c: F4,
+    /// `inv_c_zxy − inv_c` and `inv_c − inv_c_yzx`: with `m` permuted, the coefficients of
+    /// `J_top` in `J'_top` (see [`full_rate`]).
+    d_zxy: F4,
+    d_yzx: F4,
+    /// `1/c_i` in every lane, `i = 0, 1, 2`.
+    inv_c_splat: [F4; 3],
+    /// `1` in every lane, scaled by the step size (the `ê1` terms of `J'_bot`).
+    one: F4,
+}
+
+impl FullConstants {
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn new(inv_c: [f64; 3], m0: [f64; 3], n0: [f64; 3]) -> Self {
+        let [i0, i1, i2] = inv_c;
+        Self {
+            m0: m0.map(|x| F4::splat(x)),
+            n0: n0.map(|x| F4::splat(x)),
+            e3: F4::new(&[0.0, 0.0, 0.0, 1.0]),
+            inv_c_zxy: F4::new(&[i2, i0, i1, 0.0]),
+            inv_c_yzx: F4::new(&[i1, i2, i0, 0.0]),
+            inv_c: F4::new(&[i0, i1, i2, 0.0]),
+            neg_inv_c: F4::new(&[-i0, -i1, -i2, 0.0]),
+            d_zxy: F4::new(&[i2 - i0, i0 - i1, i1 - i2, 0.0]),
+            d_yzx: F4::new(&[i0 - i1, i1 - i2, i2 - i0, 0.0]),
+            inv_c_splat: inv_c.map(|x| F4::splat(x)),
+            one: F4::splat(1.0),
+        }
+    }
+
+    /// The constants that make [`full_rate`] return `h` times the rate (every term of the
+    /// rate is linear in exactly one of them).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn times(&self, h: f64) -> Self {
+        let h4 = F4::splat(h);
+        Self {
+            e3: self.e3.mul(h4),
+            inv_c_zxy: self.inv_c_zxy.mul(h4),
+            inv_c_yzx: self.inv_c_yzx.mul(h4),
+            inv_c: self.inv_c.mul(h4),
+            neg_inv_c: self.neg_inv_c.mul(h4),
+            d_zxy: self.d_zxy.mul(h4),
+            d_yzx: self.d_yzx.mul(h4),
+            inv_c_splat: self.inv_c_splat.map(|x| x.mul(h4)),
+            one: self.one.mul(h4),
+            ..*self
+        }
+    }
+}
+
+/// Eq. 1 and `J' = G M + H J` (eq. 4) on the Jacobian path's state `y` into `out`, as
+/// [`crate::equations::Kirchhoff::full_rate`], on the rows of `J`: with `μ = (m, n)` by closed
+/// form (A), row `i` of `J'_top` is `c_i⁻¹ (R_0i, R_1i, R_2i, s_0i | s_1i, s_2i)` plus four
+/// rows of `J` times coefficients (the entries of `C⁻¹ m̂ − û` and `C⁻¹ n̂`), and the rows of
+/// `J'_bot` are rows of `J` times components of `u`.
+///
+/// Written for the measured costs of the AVX2 machines this runs on (AMD Zen 3 here: a
+/// lane-crossing permute issues about once every 1.3 cycles at a latency of 6.5 cycles, an
+/// in-lane shuffle twice a cycle at 1, a broadcast from memory is a load). The coefficients
+/// are formed four at a time, stored in `scratch` and broadcast from memory, not permuted out
+/// of registers one by one; the rows of `[Rᵀ, −Rᵀ p̂]` come from one 4×4 transpose of in-lane
+/// unpacks; `m = Rᵀ m0 − Rᵀ (p × n0)` reuses the `s_k` (`Rᵀ (p × n0) = −Σ_k n0_k s_k`) and is
+/// summed as a tree, because the chain from a stage's frame through `m` to the frame's rate
+/// is the one the next stage waits on. (Storing `J` by columns instead, as pairs of cross
+/// products, takes about 50 permutes a stage; the variants tried ran 5–25 % slower than the
+/// generic loop this replaced.)
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn full_rate(k: &FullConstants, y: &Block, out: &mut Block, scratch: &mut [[f64; 4]; 5]) {
+    let y = &y.0;
+    let [r0, r1, r2] = [0, 1, 2].map(|i| F4::new(&y[i]));
+    let entry = |i: usize, j: usize| F4::splat(y[i][j]);
+    let [p0, p1, p2] = [0, 1, 2].map(|i| entry(i, 3));
+    // Lane i of s_k is (p × R e_i)_k.
+    let s0 = r2.mul_sub(p1, r1.mul(p2));
+    let s1 = r0.mul_sub(p2, r2.mul(p0));
+    let s2 = r1.mul_sub(p0, r0.mul(p1));
+    let n = r2.mul_add(k.n0[2], r1.mul_add(k.n0[1], r0.mul(k.n0[0])));
+    // m = Σ_j (m0_j r_j + n0_j s_j), summed as a tree: m is on the chain from one stage to
+    // the next.
+    let term = |j: usize, r: F4, s: F4| s.mul_add(k.n0[j], r.mul(k.m0[j]));
+    let m = term(0, r0, s0).add(term(1, r1, s1)).add(term(2, r2, s2));
+    // Lane 3 of m and n is not used: every coefficient below has a zero lane 3.
+    let (m_zxy, m_yzx) = (
+        m.permute::<{ order::ZXY3 }>(),
+        m.permute::<{ order::YZX3 }>(),
+    );
+    let (n_zxy, n_yzx) = (
+        n.permute::<{ order::ZXY3 }>(),
+        n.permute::<{ order::YZX3 }>(),
+    );
+    // Eq. 1: row i of R û is r_i × u, lane 3 R_i0 (= p_i'); the rows' permutes are off
+    // the chain through m.
+    let u_zxy1 = m_zxy.mul_add(k.inv_c_zxy, k.e3);
+    let u_yzx = m_yzx.mul(k.inv_c_yzx);
+    for (o, r) in out.0[..3].iter_mut().zip([r0, r1, r2]) {
+        *o = cross_lane0(r, u_zxy1, u_yzx).to_array();
+    }
+    // The coefficients, lane i for row i of J'_top: of t_(i+1), t_(i+2), b_(i+1), b_(i+2)
+    // (rows 0–2 of J are t, rows 3–5 are b), then u.
+    *scratch = [
+        m_zxy.mul(k.d_zxy),
+        m_yzx.mul(k.d_yzx),
+        n_zxy.mul(k.neg_inv_c),
+        n_yzx.mul(k.inv_c),
+        m.mul(k.inv_c),
+    ]
+    .map(|v| v.to_array());
+    let scratch = std::hint::black_box(&*scratch);
+    let coefficient = |c: usize, i: usize| F4::splat(scratch[c][i]);
+    // Columns 0–3 of row i of [Rᵀ, −Rᵀ p̂] (column i of the rows r0, r1, r2, s0), and
+    // columns 4–5 (lanes 0–1 or 2–3 of the unpacked s1, s2).
+    let (lo01, hi01) = (r0.unpack_lo(r1), r0.unpack_hi(r1));
+    let (lo2s, hi2s) = (r2.unpack_lo(s0), r2.unpack_hi(s0));
+    let base_left = [
+        lo01.join::<0x20>(lo2s),
+        hi01.join::<0x20>(hi2s),
+        lo01.join::<0x31>(lo2s),
+    ];
+    let (lo_s, hi_s) = (s1.unpack_lo(s2), s1.unpack_hi(s2));
+    let base_right = [lo_s.low(), hi_s.low(), lo_s.high()];
+    let left = |row: usize| F4::new(&y[JL + row]);
+    let right = |row: usize| {
+        let [a, b, c, d] = y[JR + row / 2];
+        F2::new(if row.is_multiple_of(2) {
+            [a, b]
+        } else {
+            [c, d]
+        })
+    };
+    let mut top = [F2::splat(0.0); 3];
+    for (i, top) in top.iter_mut().enumerate() {
+        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+        let [ca, cb, cc, cd] = [0, 1, 2, 3].map(|c| coefficient(c, i));
+        let scale = k.inv_c_splat[i];
+        let l = ca.mul_add(left(i1), base_left[i].mul(scale));
+        let l = cb.mul_add(left(i2), l);
+        let l2 = cd.mul_add(left(3 + i2), cc.mul(left(3 + i1)));
+        let r = ca.low().mul_add(right(i1), base_right[i].mul(scale.low()));
+        let r = cb.low().mul_add(right(i2), r);
+        let r2 = cd.low().mul_add(right(3 + i2), cc.low().mul(right(3 + i1)));
+        out.0[JL + i] = l.add(l2).to_array();
+        *top = r.add(r2);
+    }
+    // J'_bot = −ê1 J_top − û J_bot: b_0' = u2 b_1 − u1 b_2, b_1' = t_2 + u0 b_2 − u2 b_0,
+    // b_2' = −t_1 + u1 b_0 − u0 b_1.
+    let [u0, u1, u2] = [0, 1, 2].map(|i| coefficient(4, i));
+    let h = k.one;
+    out.0[JL + 3] = u1.neg_mul_add(left(5), u2.mul(left(4))).to_array();
+    out.0[JL + 4] = u2
+        .neg_mul_add(left(3), u0.mul_add(left(5), h.mul(left(2))))
+        .to_array();
+    out.0[JL + 5] = u0
+        .neg_mul_add(left(4), u1.mul_sub(left(3), h.mul(left(1))))
+        .to_array();
+    let b0 = u1.low().neg_mul_add(right(5), u2.low().mul(right(4)));
+    let b1 = u2
+        .low()
+        .neg_mul_add(right(3), u0.low().mul_add(right(5), h.low().mul(right(2))));
+    let b2 = u0
+        .low()
+        .neg_mul_add(right(4), u1.low().mul_sub(right(3), h.low().mul(right(1))));
+    out.0[JR] = F4::from_halves(top[0], top[1]).to_array();
+    out.0[JR + 1] = F4::from_halves(top[2], b0).to_array();
+    out.0[JR + 2] = F4::from_halves(b1, b2).to_array();
+}
+
+/// [`full_rate`], compiled once: each written-out stage of [`full_step`] calls it with its
+/// sum in memory, from where the rate broadcasts the entries it needs. (Inlined into each
+/// stage, it is twelve copies of the code and runs no faster.)
+#[inline(never)]
+#[target_feature(enable = "avx2,fma")]
+fn full_rate_at(k: &FullConstants, y: &Block, out: &mut Block, scratch: &mut [[f64; 4]; 5]) {
+    full_rate(k, y, out, scratch);
+}
+
+/// The written-out DOP853 stages of the Jacobian path: stage `i`'s sum `y + Σ_j a_ij k_j`,
+/// then its rate.
+macro_rules! full_stages {
+    ($c:ident, $y:ident, $k:ident, $scratch:ident; $($i:literal: [$($j:literal),*]);*) => {
+        $(
+            {
+                #[allow(unused_mut)]
+                let mut s = $y.0.map(|v| F4::new(&v));
+                $(
+                    let a = F4::splat(DOP853_A[$i][$j]);
+                    for (v, kj) in s.iter_mut().zip(&$k[$j].0) {
+                        *v = a.mul_add(F4::new(kj), *v);
+                    }
+                )*
+                let sum = Block(s.map(|v| v.to_array()));
+                full_rate_at($c, &sum, &mut $k[$i], $scratch);
+            }
+        )*
+    };
+}
+
+/// One DOP853 step of the Jacobian path in place, with `c` the constants
+/// [`FullConstants::times`] the step size.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn full_step(c: &FullConstants, y: &mut Block, k: &mut [Block; 12], scratch: &mut [[f64; 4]; 5]) {
+    with_dop853_terms!(full_stages!(c, y, k, scratch));
+    let mut s = y.0.map(|v| F4::new(&v));
+    for j in [0, 5, 6, 7, 8, 9, 10, 11] {
+        let b = F4::splat(DOP853_B[j]);
+        for (v, kj) in s.iter_mut().zip(&k[j].0) {
+            *v = b.mul_add(F4::new(kj), *v);
+        }
+    }
+    y.0 = s.map(|v| v.to_array());
+}
+
+/// Integrates the frame and `J` from `q = I`, `J = 0` over `grid` (step sizes, and the grid
+/// point each step ends on, as [`crate::Integrator::grid`]), for stiffnesses `1 / inv_c` and
+/// `a = (m0, n0)`. At each grid point calls `at_point(index, state)`, and stops after the
+/// first call that returns `false`. Returns the last state.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) fn integrate_full(
+    inv_c: [f64; 3],
+    m0: [f64; 3],
+    n0: [f64; 3],
+    grid: impl Iterator<Item = (f64, Option<usize>)>,
+    mut at_point: impl FnMut(usize, &FullArray) -> bool,
+) -> FullArray {
+    let c = FullConstants::new(inv_c, m0, n0);
+    let mut y = Block([[0.0; 4]; 12]);
+    for (i, row) in y.0[..3].iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    let mut k = [y; 12];
+    let mut scratch = [[0.0; 4]; 5];
+    let (mut step_size, mut scaled) = (f64::NAN, c);
+    for (h, grid_point) in grid {
+        if h.to_bits() != step_size.to_bits() {
+            (step_size, scaled) = (h, c.times(h));
+        }
+        full_step(&scaled, &mut y, &mut k, &mut scratch);
+        if let Some(index) = grid_point
+            && !at_point(index, bytemuck::cast_ref(&y.0))
+        {
+            break;
+        }
+    }
+    bytemuck::cast(y.0)
 }
 
 /// The septic Hermite basis of [`crate::integrator::septic_hermite`] in monomial form:

@@ -189,7 +189,8 @@ impl Rod {
     }
 
     /// Integrates `q` and `J` over the grid, tracking `det J`. Pushes the frame jets at the
-    /// grid points into `knots` if given. Stops early at the first sign change if asked.
+    /// start and at the grid points into `knots` if given. Stops early at the first sign
+    /// change if asked.
     ///
     /// Runs the AVX2+FMA build of the loop when the CPU has it ([`crate::arith`]).
     fn integrate_full(
@@ -210,7 +211,8 @@ impl Rod {
         self.integrate_full_with::<Separate>(model, knots, record_det, early_exit, jet)
     }
 
-    /// [`Rod::integrate_full`] compiled for AVX2 and FMA.
+    /// [`Rod::integrate_full`] compiled for AVX2 and FMA: DOP853 runs the explicit kernel of
+    /// [`crate::simd`], the other methods the generic step.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn integrate_full_fma(
@@ -224,25 +226,40 @@ impl Rod {
             let (m, _) = model.costate(&FrameState::from_slice(f));
             crate::simd::frame_jet(model.inv_c(), model.n0(), f, m.into())
         };
-        self.integrate_full_with::<Fused>(model, knots, record_det, early_exit, jet)
+        if self.integrator.method() != Method::Dop853 {
+            return self.integrate_full_with::<Fused>(model, knots, record_det, early_exit, jet);
+        }
+        let (h, steps) = self.grid_of(model);
+        let mut tracker = SignTracker::new(h, steps, record_det);
+        let mut at_point = grid_points(&mut tracker, knots, jet, h, early_exit);
+        let grid = self.integrator.grid(h, steps);
+        let (inv_c, m0, n0) = (model.inv_c(), model.m0(), model.n0());
+        let y = crate::simd::integrate_full(inv_c, m0, n0, grid, |index, y: &FullArray| {
+            at_point(index, &frame_of(y), jacobian_determinant(y))
+        });
+        drop(at_point);
+        (y, tracker)
+    }
+
+    /// The grid of a model: the step `L / steps` and `steps`.
+    fn grid_of(&self, model: &Kirchhoff) -> (f64, usize) {
+        let steps = self.steps_for(model);
+        (self.wire.length() / steps as f64, steps)
     }
 
     #[inline(always)]
     fn integrate_full_with<A: MulAdd>(
         &self,
         model: &Kirchhoff,
-        mut knots: Option<&mut Vec<FrameJet>>,
+        knots: Option<&mut Vec<FrameJet>>,
         record_det: bool,
         early_exit: bool,
         jet: impl Fn(&FrameArray) -> FrameJet,
     ) -> (FullArray, SignTracker) {
-        let steps = self.steps_for(model);
-        let h = self.wire.length() / steps as f64;
+        let (h, steps) = self.grid_of(model);
         let mut tracker = SignTracker::new(h, steps, record_det);
+        let mut at_point = grid_points(&mut tracker, knots, jet, h, early_exit);
         let mut y: FullArray = FrameState::initial();
-        if let Some(k) = knots.as_deref_mut() {
-            k.push(jet(&frame_of(&y)));
-        }
         let f = FullRhs::<A> {
             model,
             arith: PhantomData,
@@ -251,17 +268,13 @@ impl Rod {
         for (step, grid_point) in self.integrator.grid(h, steps) {
             self.integrator
                 .step_in_place::<A, 48>(&mut y, step, f, &mut work);
-            let Some(grid_point) = grid_point else {
-                continue;
-            };
-            if let Some(k) = knots.as_deref_mut() {
-                k.push(jet(&frame_of(&y)));
-            }
-            let det = jacobian_determinant(&y);
-            if !tracker.push(grid_point as f64 * h, det) && early_exit {
+            if let Some(index) = grid_point
+                && !at_point(index, &frame_of(&y), jacobian_determinant(&y))
+            {
                 break;
             }
         }
+        drop(at_point);
         (y, tracker)
     }
 
@@ -566,6 +579,29 @@ fn interpolate_rows<A: MulAdd>(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64)
         }
     }
     std::array::from_fn(|i| std::array::from_fn(|j| acc[4 * i + j]))
+}
+
+/// What the Jacobian paths do at the grid points: push the frame jet into `knots` (if given;
+/// the jet at `t = 0` is pushed here, at once) and `det J` into `tracker`; the returned
+/// closure takes the grid point's index, frame and `det J`, and says whether to go on (not
+/// after the first sign change, if `early_exit`).
+#[inline(always)]
+fn grid_points<'a>(
+    tracker: &'a mut SignTracker,
+    mut knots: Option<&'a mut Vec<FrameJet>>,
+    jet: impl Fn(&FrameArray) -> FrameJet + 'a,
+    h: f64,
+    early_exit: bool,
+) -> impl FnMut(usize, &FrameArray, f64) -> bool + 'a {
+    if let Some(k) = knots.as_deref_mut() {
+        k.push(jet(&FrameState::initial()));
+    }
+    move |index, frame, det| {
+        if let Some(k) = knots.as_deref_mut() {
+            k.push(jet(frame));
+        }
+        tracker.push(index as f64 * h, det) || !early_exit
+    }
 }
 
 /// Gram–Schmidt on the first two columns, keeping the tangent's direction; the third column
