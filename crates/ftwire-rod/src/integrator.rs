@@ -100,12 +100,11 @@
 //! the generic 4-lane code into scalar pieces there.
 //!
 //! The Jacobian solves' DOP853 step has an explicit-intrinsics copy too, with the stage sums
-//! written out and the right-hand side out of line (one copy, called by each stage with its
-//! sum in memory): 24 % fewer instructions than the generic loop on the benchmark's sample
-//! (88.2k against 116.4k per `Rod::jacobian`, callgrind), and about 25 % less time, because
-//! it is written around the CPU's costs (no lane-crossing permute where a broadcast from memory does, and a
-//! short chain of dependent operations from one stage to the next; see `simd`'s
-//! `full_rate`).
+//! written out and the right-hand side out of line (one copy, called by each stage with its sum in
+//! memory): 24 % fewer instructions than the generic loop on the benchmark's sample (88.2k against
+//! 116.4k per `Rod::jacobian`, callgrind), and about 25 % less time, because it is written around
+//! the CPU's costs (no lane-crossing permute where a broadcast from memory does, and a short chain
+//! of dependent operations from one stage to the next; see `simd`'s `full_rate`).
 
 use crate::RodError;
 use crate::arith::{MulAdd, Separate};
