@@ -650,6 +650,7 @@ fn pose_of(q: &FrameState) -> Pose {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::arith::Fused;
     use crate::sampling::Sampler;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -680,19 +681,24 @@ mod tests {
     }
 
     /// The dispatched loops (AVX2+FMA on a CPU that has them) and the portable ones agree to
-    /// rounding: same grid, same stability record, frames, `J` and shape within 1e-12. (On a
-    /// CPU without AVX2 and FMA, or with `FTWIRE_NO_SIMD` set, both sides are the portable
-    /// loops, and the test says so.)
+    /// rounding: same grid, same stability record, frames, `J` and shape within 1e-12, or
+    /// within ten times what rounding alone does to that configuration if that is more, on a
+    /// round wire and on one with three different stiffnesses (where every coefficient of the
+    /// Jacobian's rate is nonzero). (On a CPU without AVX2 and FMA, or with `FTWIRE_NO_SIMD`
+    /// set, both sides are the portable loops, and the test says so.)
     #[test]
     fn fast_and_portable_paths_agree() {
         if !crate::arith::fast_path() {
             eprintln!("fast_and_portable_paths_agree: no AVX2+FMA path here, both sides portable");
         }
-        let wire = WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001).expect("valid");
-        let rod = Rod::new(wire);
+        let wires = [
+            WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001).expect("valid"),
+            WireParams::new([1.3, 1.0, 0.6], 1.0, 0.001).expect("valid"),
+        ];
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let sampler = Sampler::default();
-        for _ in 0..40 {
+        for wire in wires.into_iter().flat_map(|w| std::iter::repeat_n(w, 40)) {
+            let rod = Rod::new(wire);
             let a = sampler.sample_a(&rod, &mut rng);
             let model = rod.model(&a).expect("in A");
             let (mut k_fast, mut k_plain) = (Vec::new(), Vec::new());
@@ -702,8 +708,19 @@ mod tests {
                     model.frame_jet(f)
                 });
             let scale = y_plain.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            // Rounding alone moves the state this much here: the same generic loop with fused
+            // multiply–adds (up to a few 1e-12 of the largest entry on the anisotropic wire,
+            // where `J` grows large; a wrong term in a rate moves it by orders of magnitude
+            // more).
+            let (y_fused, _) = rod
+                .integrate_full_with::<Fused>(&model, None, false, false, |f| model.frame_jet(f));
+            let rounding = y_fused
+                .iter()
+                .zip(&y_plain)
+                .fold(0.0f64, |m, (f, p)| m.max((f - p).abs() / scale));
+            let tol = (10.0 * rounding).max(1e-12);
             for (f, p) in y_fast.iter().zip(&y_plain) {
-                assert!((f - p).abs() <= 1e-12 * scale, "a = {a}: {f} vs {p}");
+                assert!((f - p).abs() <= tol * scale, "a = {a}: {f} vs {p}");
             }
             // The knots' jets, each order of derivative relative to its own size.
             assert_eq!(k_fast.len(), k_plain.len());
@@ -711,7 +728,7 @@ mod tests {
                 for (df, dp) in f.d.iter().zip(&p.d) {
                     let scale = dp.iter().fold(1.0f64, |m, v| m.max(v.abs()));
                     for (x, y) in df.iter().zip(dp) {
-                        assert!((x - y).abs() <= 1e-12 * scale, "a = {a}: {x} vs {y}");
+                        assert!((x - y).abs() <= tol * scale, "a = {a}: {x} vs {y}");
                     }
                 }
             }
@@ -721,10 +738,10 @@ mod tests {
             let shape_fast = rod.shape_from_knots(&k_fast, 64);
             let shape_plain = rod.shape_from_knots_with(&k_plain, 64, interpolate_rows::<Separate>);
             for (f, p) in shape_fast.positions.iter().zip(&shape_plain.positions) {
-                assert!((f - p).norm() <= 1e-12 * wire.length(), "a = {a}");
+                assert!((f - p).norm() <= tol * wire.length(), "a = {a}");
             }
             for (f, p) in shape_fast.rotations.iter().zip(&shape_plain.rotations) {
-                assert!((f.matrix() - p.matrix()).amax() <= 1e-12, "a = {a}");
+                assert!((f.matrix() - p.matrix()).amax() <= tol, "a = {a}");
                 let defect = f.matrix().transpose() * f.matrix() - Matrix3::identity();
                 assert!(defect.amax() <= 1e-14, "a = {a}: RᵀR − I = {defect}");
             }
@@ -735,16 +752,16 @@ mod tests {
             assert_eq!(kf.len(), kp.len());
             let scale = yp.iter().fold(1.0f64, |m, v| m.max(v.abs()));
             for (f, p) in yf.iter().zip(&yp) {
-                assert!((f - p).abs() <= 1e-12 * scale, "a = {a}: {f} vs {p}");
+                assert!((f - p).abs() <= tol * scale, "a = {a}: {f} vs {p}");
             }
             for (f, p) in kf.iter().zip(&kp) {
-                assert!((f.frame().p - p.frame().p).norm() <= 1e-12 * wire.length());
-                assert!((f.frame().r - p.frame().r).amax() <= 1e-12);
+                assert!((f.frame().p - p.frame().p).norm() <= tol * wire.length());
+                assert!((f.frame().r - p.frame().r).amax() <= tol);
                 // The derivatives too (each order relative to its own size).
                 for (df, dp) in f.d.iter().zip(&p.d).skip(1) {
                     let scale = dp.iter().fold(1.0f64, |m, v| m.max(v.abs()));
                     for (x, y) in df.iter().zip(dp) {
-                        assert!((x - y).abs() <= 1e-12 * scale, "a = {a}: {x} vs {y}");
+                        assert!((x - y).abs() <= tol * scale, "a = {a}: {x} vs {y}");
                     }
                 }
             }
