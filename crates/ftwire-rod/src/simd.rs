@@ -465,9 +465,8 @@ struct FullConstants {
     /// `C⁻¹` in the lane orders of [`order::ZXY3`] and [`order::YZX3`] (lane 3 zero).
     inv_c_zxy: F4,
     inv_c_yzx: F4,
-    /// `C⁻¹` and `−C⁻¹` (lane 3 zero).
+    /// `C⁻¹` (lane 3 zero).
     inv_c: F4,
-    neg_inv_c: F4,
     /// `inv_c_zxy − inv_c` and `inv_c − inv_c_yzx`: with `m` permuted, the coefficients of
     /// `J_top` in `J'_top` (see [`full_rate`]).
     d_zxy: F4,
@@ -490,7 +489,6 @@ impl FullConstants {
             inv_c_zxy: F4::new(&[i2, i0, i1, 0.0]),
             inv_c_yzx: F4::new(&[i1, i2, i0, 0.0]),
             inv_c: F4::new(&[i0, i1, i2, 0.0]),
-            neg_inv_c: F4::new(&[-i0, -i1, -i2, 0.0]),
             d_zxy: F4::new(&[i2 - i0, i0 - i1, i1 - i2, 0.0]),
             d_yzx: F4::new(&[i0 - i1, i1 - i2, i2 - i0, 0.0]),
             inv_c_splat: inv_c.map(|x| F4::splat(x)),
@@ -509,7 +507,6 @@ impl FullConstants {
             inv_c_zxy: self.inv_c_zxy.mul(h4),
             inv_c_yzx: self.inv_c_yzx.mul(h4),
             inv_c: self.inv_c.mul(h4),
-            neg_inv_c: self.neg_inv_c.mul(h4),
             d_zxy: self.d_zxy.mul(h4),
             d_yzx: self.d_yzx.mul(h4),
             inv_c_splat: self.inv_c_splat.map(|x| x.mul(h4)),
@@ -567,12 +564,12 @@ fn full_rate(k: &FullConstants, y: &Block, out: &mut Block, scratch: &mut [[f64;
     for (o, r) in out.0[..3].iter_mut().zip([r0, r1, r2]) {
         *o = cross_lane0(r, u_zxy1, u_yzx).to_array();
     }
-    // The coefficients, lane i for row i of J'_top: of t_(i+1), t_(i+2), b_(i+1), b_(i+2)
+    // The coefficients, lane i for row i of J'_top: of t_(i+1), t_(i+2), −b_(i+1), b_(i+2)
     // (rows 0–2 of J are t, rows 3–5 are b), then u.
     *scratch = [
         m_zxy.mul(k.d_zxy),
         m_yzx.mul(k.d_yzx),
-        n_zxy.mul(k.neg_inv_c),
+        n_zxy.mul(k.inv_c),
         n_yzx.mul(k.inv_c),
         m.mul(k.inv_c),
     ]
@@ -606,10 +603,10 @@ fn full_rate(k: &FullConstants, y: &Block, out: &mut Block, scratch: &mut [[f64;
         let scale = k.inv_c_splat[i];
         let l = ca.mul_add(left(i1), base_left[i].mul(scale));
         let l = cb.mul_add(left(i2), l);
-        let l2 = cd.mul_add(left(3 + i2), cc.mul(left(3 + i1)));
+        let l2 = cd.mul_sub(left(3 + i2), cc.mul(left(3 + i1)));
         let r = ca.low().mul_add(right(i1), base_right[i].mul(scale.low()));
         let r = cb.low().mul_add(right(i2), r);
-        let r2 = cd.low().mul_add(right(3 + i2), cc.low().mul(right(3 + i1)));
+        let r2 = cd.low().mul_sub(right(3 + i2), cc.low().mul(right(3 + i1)));
         out.0[JL + i] = l.add(l2).to_array();
         *top = r.add(r2);
     }
