@@ -79,6 +79,12 @@ impl Equilibrium {
         self.state.centreline()
     }
 
+    /// The physical wire from the base clamp point to the tip clamp point \[m\], world frame,
+    /// without the ghost nodes (see [`RodState::wire_centreline`]).
+    pub fn wire_centreline(&self) -> Vec<Point3<f64>> {
+        self.state.wire_centreline()
+    }
+
     /// The edge material frames, world from body (see [`RodState::material_frames`]).
     pub fn material_frames(&self) -> Vec<Rotation3<f64>> {
         self.state.material_frames()

@@ -295,6 +295,20 @@ impl RodState {
         self.nodes.iter().map(|x| Point3::from(*x)).collect()
     }
 
+    /// The physical wire, from the base clamp point to the tip clamp point \[m\], world frame:
+    /// the base clamp point (arc length 0), the interior nodes `1..N−1` (arc lengths
+    /// `(k − ½)·h`), then the tip clamp point (arc length `L`); `N + 1` points in all. Unlike
+    /// [`RodState::centreline`], it leaves out the two ghost nodes that lie half an edge inside
+    /// the grippers.
+    pub fn wire_centreline(&self) -> Vec<Point3<f64>> {
+        let n = self.nodes.len();
+        let mut points = Vec::with_capacity(n);
+        points.push(Point3::from(self.base.translation.vector));
+        points.extend(self.nodes[1..n - 1].iter().map(|x| Point3::from(*x)));
+        points.push(Point3::from(self.tip.translation.vector));
+        points
+    }
+
     /// The material frame of each of the `N` edges, world from body: columns `(t, m1, m2)`, the
     /// tangent and the bending axes of `c2` and `c3`, at arc length `j·h`.
     pub fn material_frames(&self) -> Vec<Rotation3<f64>> {
