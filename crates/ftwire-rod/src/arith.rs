@@ -1,6 +1,6 @@
 //! Multiply–add, fused or not, and the run-time CPU dispatch of the hot loops.
 //!
-//! The integration loops ([`crate::integrator`]'s stage sums, [`crate::equations`]'
+//! The integration loops ([`crate::integrator`]'s stage sums, [`crate::kirchhoff`]'
 //! right-hand sides) are sums of products. They are written once, generic over [`MulAdd`], and
 //! compiled twice (the DOP853 steps of the shape and Jacobian solves, the jets and the Hermite
 //! interpolation also have a third, hand-written AVX2 copy in the `simd` module, checked

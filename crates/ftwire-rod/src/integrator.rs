@@ -1,113 +1,40 @@
-//! Fixed-step explicit Runge–Kutta integration of the wire ODEs (eq. 1 and 4), and septic
-//! Hermite dense output for the shape nodes.
+//! Fixed-step explicit Runge–Kutta integration of the wire ODEs (eq. 1, 3 and 4).
 //!
-//! # Choice of method: a convergence study
-//!
-//! The hot path integrates 48 states (`R`, `p`, `J`; see [`crate::equations`] for why `μ` and
-//! `M` need no integration) on a uniform grid of `steps` steps over `[0, L]`. The table below
-//! compares the methods implemented here against the tight adaptive reference (`ode_solvers`'
-//! Dop853 at rtol = atol = 1e-13 integrating the full 90-state system of eq. 3–4 independently),
-//! over stable configurations sampled uniformly in normalised units in `[−30, 30]⁶`, worst case
-//! over the sample. Columns: tip position error / `L`, tip rotation error \[rad\], `J(L)` error
-//! relative in max-norm. Requirement: 1e-6, 1e-6, 1e-5.
-//!
-//! Measured here (200 stable configurations per wire, seeds 100–102; `σL` is the a-priori
-//! turning scale of [`crate::equations::turning_scale`], mean 11–12 rad, max 19–20 rad over
-//! the sample). Worst case over the three wires of the study (c = (0.042, 0.055, 0.055),
-//! L = 0.63; c = (0.214, 0.278, 0.278), L = 0.91; c = (1.3, 1.0, 0.6), L = 1); "evals" is the
-//! mean number of right-hand-side evaluations per solve on the third wire (the one with the
-//! largest errors), counting the one extra step of the default two first-step substeps:
-//!
-//! | method | steps | evals | tip pos / L | tip rot \[rad\] | J(L) rel |
-//! | --- | --- | --- | --- | --- | --- |
-//! | RK4 | 120 | 484 | 9.7e-6 | 6.2e-5 | 5.2e-5 |
-//! | RK4 | 240 | 964 | 5.2e-7 | 3.3e-6 | 2.8e-6 |
-//! | RK6 | 48 | 343 | 4.0e-6 | 2.6e-5 | 2.2e-5 |
-//! | RK8 | 24 | 275 | 9.9e-6 | 6.3e-5 | 5.2e-5 |
-//! | RK8 | 32 | 363 | 9.1e-7 | 5.8e-6 | 4.8e-6 |
-//! | RK8 | 40 | 451 | 1.4e-7 | 8.9e-7 | 7.4e-7 |
-//! | RK8 | 48 | 539 | 3.0e-8 | 1.9e-7 | 1.6e-7 |
-//! | DOP853 | 16 | 204 | 1.4e-6 | 1.1e-5 | 7.9e-6 |
-//! | DOP853 | 24 | 300 | 5.8e-8 | 3.7e-7 | 3.1e-7 |
-//! | DOP853 | 32 | 396 | 5.2e-9 | 3.3e-8 | 2.8e-8 |
-//! | RK4 | max(16, ⌈8 σL⌉) | 391 | 8.2e-6 | 5.2e-5 | 4.4e-5 |
-//! | RK6 | max(8, ⌈3 σL⌉) | 263 | 4.6e-6 | 3.0e-5 | 2.5e-5 |
-//! | RK8 | max(8, ⌈2 σL⌉) | 281 | 9.1e-7 | 5.8e-6 | 4.8e-6 |
-//! | RK8 | max(8, ⌈2.5 σL⌉) | 347 | 1.4e-7 | 8.9e-7 | 7.4e-7 |
-//! | RK8 | max(8, ⌈3 σL⌉) (previous default) | 414 | 3.5e-8 | 2.3e-7 | 1.9e-7 |
-//! | DOP853 | max(8, ⌈1.25 σL⌉) | 199 | 2.5e-7 | 1.6e-6 | 1.7e-6 |
-//! | **DOP853** | **max(8, ⌈1.5 σL⌉)** (default) | **235** | **5.8e-8** | **3.7e-7** | **3.5e-7** |
-//! | DOP853 | max(8, ⌈1.6 σL⌉) | 249 | 4.1e-8 | 2.6e-7 | 2.2e-7 |
-//! | DOP853 | max(8, ⌈1.75 σL⌉) (default until the FMA work) | 271 | 1.6e-8 | 1.0e-7 | 9.1e-8 |
-//! | DOP853 | max(8, ⌈2 σL⌉) | 307 | 5.5e-9 | 3.3e-8 | 3.6e-8 |
-//!
-//! The frame-only solves (`Rod::shape`, `Rod::tip`) run the same grid, first-step substeps
-//! included, on a different state: `q` and `m` (16 numbers, [`crate::equations`]'
-//! `ShapeArray`), `m` integrated by eq. 3 instead of read from `q` by closed form, which
-//! shortens the chain of dependent operations in each stage (`n = Rᵀ n0` is read from the
-//! frame rows). The two formulations are 8th-order solutions of the same equations; a unit
-//! test checks that their frames agree to the requirement at every grid point. The study also prints the frame-only tip errors (two
-//! more columns, not copied into the table): 6.3e-8·L and 4.0e-7 rad at the default (margin
-//! 2.5 on the rotation). The substeps matter there too: a frame-only path that skipped them
-//! (with the earlier closed-form state) had a worst tip rotation of 7.6e-7 rad, not 3.7e-7.
-//!
-//! The tip rotation is the binding requirement. Both order-8 methods converge at their order
-//! (×2 steps ≈ ×250 less error), but DOP853's error constant is about 170 times smaller than
-//! Cooper–Verner's on this problem (same step count, 170 times less error), so it needs about
-//! half the steps (0.55 times the evaluations, with its 12 stages against 11) for the same
-//! error. The adaptive step count, proportional to the conserved-quantity bound
-//! `σL` on how far the frame turns, saves about a fifth against the fixed step count with the
-//! same worst case, and keeps the accuracy on configurations more bent than the sample's.
-//!
-//! The default, [`Method::Dop853`] with `max(8, ⌈1.5 σL⌉)` steps ([`Integrator::default`]),
-//! meets the requirement with a margin of 2.7 on the rotation (the binding error; 17 on the
-//! position and 29 on `J(L)`) at 0.57 times the evaluations of the first default (RK8 with
-//! `⌈3 σL⌉` steps, margin 4). `⌈1.75 σL⌉` (margin 10) costs 15 % more evaluations. The
-//! numbers are the same, to the digits shown, with and without the fused multiply–adds of
-//! the `arith` module (`FTWIRE_NO_SIMD=1`). Reproduce with
-//! `cargo test -p ftwire-rod --release --test convergence -- --ignored --nocapture study`;
-//! the non-ignored test `default_meets_the_accuracy_requirement` in the same file guards it.
-//!
-//! Error-controlled stepping was measured too (DOP853's embedded 5th/3rd-order estimate on
-//! the frame's 12 numbers, step factor `0.9·err^(−1/8)` clamped to `[1/3, 6]`, at least 8
-//! steps): at tolerance 1e-8, the one that keeps a margin of 2.5 on the rotation (worst 2.8e-7
-//! rad), it places about as many grid points as `⌈1.5 σL⌉` (18.5 against 18.6 on the third
-//! wire) and redoes 1.8 rejected steps per solve, 256 evaluations against 235, and it was no
-//! faster in the benchmark. The a-priori `σL` grid tracks the worst global error as well as
-//! the local estimate does, so it stays the default.
-//!
-//! Shape nodes between grid points come from septic Hermite interpolation of `R` and `p`
-//! using `q, q', q'', q'''` at the grid points (exact from the state and eq. 1, 3, 4), with the
-//! rotation re-orthonormalised by Gram–Schmidt from the tangent: error `O(h⁸)`. (The quintic
-//! interpolant of `q, q', q''` used before, `O(h⁶)`, was not accurate enough between the
-//! coarser DOP853 grid points.)
+//! The Jacobian solves integrate 48 states (`R`, `p`, `J`; see [`crate::equations`] for why
+//! `μ` and `M` need no integration), the shape-only solves 16 (`q` and `m`), on a uniform grid
+//! of `steps` steps over `[0, L]`. The default, [`Method::Dop853`] at fixed step with
+//! `max(8, ⌈1.5 σL⌉)` steps ([`Integrator::default`]; `σL` is the a-priori turning scale of
+//! [`crate::equations::turning_scale`]), was chosen by a convergence study against a tight
+//! adaptive reference (an independent Dop853 integration of the full 90-state system) for the
+//! requirement tip position 1e-6·L, tip rotation 1e-6 rad, `J(L)` 1e-5 relative: DOP853's error
+//! constant is far smaller than Cooper–Verner's RK8, so it needs about half the steps for the
+//! same error, and a step count proportional to `σL` keeps the accuracy on strongly bent
+//! configurations. The study's tables and how to rerun it are in `docs/integrator.md`; the
+//! test `default_meets_the_accuracy_requirement` (`tests/convergence.rs`) guards the default,
+//! and `each_method_has_its_order` below the order of every method. The tableaux are in
+//! `tableau`, the dense output between grid points in `hermite`.
 //!
 //! # Speed
 //!
 //! The explicit steps ([`Method::Rk8`], [`Method::Dop853`]) use only the nonzero Butcher
 //! coefficients, each stage sum one fused pass over the flat state, the stage derivatives kept
 //! in a workspace reused across steps (nothing zeroed or copied per step). The stages run in a
-//! loop over a table of the nonzero coefficients, not written out: the right-hand side is then
-//! compiled once per step, and the step's code fits the CPU's instruction caches (written out,
-//! the 48-state step was about 60 KB of code and 30 % slower). The stage sums and the
-//! right-hand sides are generic over the multiply–add, and the solver's loops run compiled
-//! for AVX2 with hardware FMA when the CPU has them (the crate's `arith` module).
-//!
-//! States of at most 16 numbers (the shape state) take a DOP853 step with the stages written
-//! out instead (each stage sum stays in registers, no loop or table bookkeeping: about half
-//! the instructions of the loop, and small enough code). On AVX2+FMA CPUs the shape solve runs
-//! an explicit-intrinsics copy of that step (the crate's `simd` module), because LLVM splits
-//! the generic 4-lane code into scalar pieces there.
-//!
-//! The Jacobian solves' DOP853 step has an explicit-intrinsics copy too, with the stage sums
-//! written out and the right-hand side out of line (one copy, called by each stage with its sum in
-//! memory): 24 % fewer instructions than the generic loop on the benchmark's sample (88.2k against
-//! 116.4k per `Rod::jacobian`, callgrind), and about 25 % less time, because it is written around
-//! the CPU's costs (no lane-crossing permute where a broadcast from memory does, and a short chain
-//! of dependent operations from one stage to the next; see `simd`'s `full_rate`).
+//! loop over a table of the nonzero coefficients, not written out, so that the right-hand side
+//! is compiled once per step and the 48-state step's code fits the instruction caches. States of
+//! at most 16 numbers (the shape state) take a DOP853 step with the stages written out (each
+//! stage sum stays in registers). The stage sums and the right-hand sides are generic over the
+//! multiply–add and run compiled for AVX2 with hardware FMA when the CPU has them (the crate's
+//! `arith` module); on such CPUs the shape and Jacobian solves run explicit-intrinsics copies
+//! of the DOP853 step (the crate's `simd` module). A test checks that the written-out and
+//! looped steps agree bit for bit. The measurements behind these choices are in
+//! `docs/integrator.md`.
 
 use crate::RodError;
 use crate::arith::{MulAdd, Separate};
+use crate::tableau::{
+    DOP853_A, DOP853_B, DOP853_TERMS, RK4_A, RK4_B, RK6_A, RK6_B, RK8_A, RK8_B, RK8_TERMS,
+    with_dop853_terms,
+};
 
 /// An explicit Runge–Kutta method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -389,54 +316,6 @@ impl Integrator {
     }
 }
 
-/// The stages `j` with nonzero `a_ij` of each stage `i` of [`Method::Rk8`].
-const RK8_TERMS: [&[usize]; 11] = [
-    &[],
-    &[0],
-    &[0, 1],
-    &[0, 1, 2],
-    &[0, 2, 3],
-    &[0, 2, 3, 4],
-    &[0, 2, 3, 4, 5],
-    &[0, 4, 5, 6],
-    &[0, 4, 5, 6, 7],
-    &[0, 4, 5, 6, 7, 8],
-    &[4, 5, 6, 7, 8, 9],
-];
-
-/// Calls the macro `$m` with `$args`, then `;` and the list of the stages `j` with nonzero
-/// `a_ij` of each stage `i` of [`Method::Dop853`] (as `i: [j, ...]`, separated by `;`): the
-/// one definition of the list, for the loop's table and the written-out steps.
-macro_rules! with_dop853_terms {
-    ($m:ident!($($args:tt)*)) => {
-        $m!($($args)*;
-        0: [];
-        1: [0];
-        2: [0, 1];
-        3: [0, 2];
-        4: [0, 2, 3];
-        5: [0, 3, 4];
-        6: [0, 3, 4, 5];
-        7: [0, 3, 4, 5, 6];
-        8: [0, 3, 4, 5, 6, 7];
-        9: [0, 3, 4, 5, 6, 7, 8];
-        10: [0, 3, 4, 5, 6, 7, 8, 9];
-        11: [0, 3, 4, 5, 6, 7, 8, 9, 10]
-        )
-    };
-}
-pub(crate) use with_dop853_terms;
-
-/// The list of [`with_dop853_terms`] as a table.
-macro_rules! terms_table {
-    (; $($i:literal: [$($j:literal),*]);*) => {
-        [$(&[$($j),*]),*]
-    };
-}
-
-/// The stages `j` with nonzero `a_ij` of each stage `i` of [`Method::Dop853`].
-const DOP853_TERMS: [&[usize]; 12] = with_dop853_terms!(terms_table!());
-
 /// The stages of an explicit RK step with tableau `a`, over its nonzero coefficients
 /// (`terms[i]` lists the `j` with `a_ij ≠ 0`): `k_i = f(y + h Σ_j a_ij k_j)`, each stage sum
 /// one pass over the flat state, the stages kept in the caller's [`Workspace`].
@@ -574,389 +453,6 @@ fn rk_step<const D: usize, const N: usize>(
     out
 }
 
-const RK4_A: [[f64; 4]; 4] = [
-    [0.0, 0.0, 0.0, 0.0],
-    [0.5, 0.0, 0.0, 0.0],
-    [0.0, 0.5, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-];
-const RK4_B: [f64; 4] = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
-
-const RK6_A: [[f64; 7]; 7] = [
-    [0.0; 7],
-    [1.0 / 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [0.0, 2.0 / 3.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [1.0 / 12.0, 1.0 / 3.0, -1.0 / 12.0, 0.0, 0.0, 0.0, 0.0],
-    [
-        -1.0 / 16.0,
-        9.0 / 8.0,
-        -3.0 / 16.0,
-        -3.0 / 8.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [0.0, 9.0 / 8.0, -3.0 / 8.0, -3.0 / 4.0, 1.0 / 2.0, 0.0, 0.0],
-    [
-        9.0 / 44.0,
-        -9.0 / 11.0,
-        63.0 / 44.0,
-        18.0 / 11.0,
-        0.0,
-        -16.0 / 11.0,
-        0.0,
-    ],
-];
-const RK6_B: [f64; 7] = [
-    11.0 / 120.0,
-    0.0,
-    27.0 / 40.0,
-    27.0 / 40.0,
-    -4.0 / 15.0,
-    -4.0 / 15.0,
-    11.0 / 120.0,
-];
-
-/// √21.
-const S21: f64 = 4.582_575_694_955_84;
-
-const RK8_A: [[f64; 11]; 11] = [
-    [0.0; 11],
-    [0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [0.25, 0.25, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [
-        1.0 / 7.0,
-        (-7.0 - 3.0 * S21) / 98.0,
-        (21.0 + 5.0 * S21) / 49.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        (11.0 + S21) / 84.0,
-        0.0,
-        (18.0 + 4.0 * S21) / 63.0,
-        (21.0 - S21) / 252.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        (5.0 + S21) / 48.0,
-        0.0,
-        (9.0 + S21) / 36.0,
-        (-231.0 + 14.0 * S21) / 360.0,
-        (63.0 - 7.0 * S21) / 80.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        (10.0 - S21) / 42.0,
-        0.0,
-        (-432.0 + 92.0 * S21) / 315.0,
-        (633.0 - 145.0 * S21) / 90.0,
-        (-504.0 + 115.0 * S21) / 70.0,
-        (63.0 - 13.0 * S21) / 35.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        1.0 / 14.0,
-        0.0,
-        0.0,
-        0.0,
-        (14.0 - 3.0 * S21) / 126.0,
-        (13.0 - 3.0 * S21) / 63.0,
-        1.0 / 9.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        1.0 / 32.0,
-        0.0,
-        0.0,
-        0.0,
-        (91.0 - 21.0 * S21) / 576.0,
-        11.0 / 72.0,
-        (-385.0 - 75.0 * S21) / 1152.0,
-        (63.0 + 13.0 * S21) / 128.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        1.0 / 14.0,
-        0.0,
-        0.0,
-        0.0,
-        1.0 / 9.0,
-        (-733.0 - 147.0 * S21) / 2205.0,
-        (515.0 + 111.0 * S21) / 504.0,
-        (-51.0 - 11.0 * S21) / 56.0,
-        (132.0 + 28.0 * S21) / 245.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        (-42.0 + 7.0 * S21) / 18.0,
-        (-18.0 + 28.0 * S21) / 45.0,
-        (-273.0 - 53.0 * S21) / 72.0,
-        (301.0 + 53.0 * S21) / 72.0,
-        (28.0 - 28.0 * S21) / 45.0,
-        (49.0 - 7.0 * S21) / 18.0,
-        0.0,
-    ],
-];
-const RK8_B: [f64; 11] = [
-    1.0 / 20.0,
-    0.0,
-    0.0,
-    0.0,
-    0.0,
-    0.0,
-    0.0,
-    49.0 / 180.0,
-    16.0 / 45.0,
-    49.0 / 180.0,
-    1.0 / 20.0,
-];
-
-pub(crate) const DOP853_A: [[f64; 12]; 12] = [
-    [0.0; 12],
-    [
-        0.05260015195876773,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.0197250569845379,
-        0.0591751709536137,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.02958758547680685,
-        0.0,
-        0.08876275643042054,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.2413651341592667,
-        0.0,
-        -0.8845494793282861,
-        0.924834003261792,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.037037037037037035,
-        0.0,
-        0.0,
-        0.17082860872947386,
-        0.12546768756682242,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.037109375,
-        0.0,
-        0.0,
-        0.17025221101954405,
-        0.06021653898045596,
-        -0.017578125,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.03709200011850479,
-        0.0,
-        0.0,
-        0.17038392571223998,
-        0.10726203044637328,
-        -0.015319437748624402,
-        0.008273789163814023,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.6241109587160757,
-        0.0,
-        0.0,
-        -3.3608926294469414,
-        -0.868219346841726,
-        27.59209969944671,
-        20.154067550477894,
-        -43.48988418106996,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        0.47766253643826434,
-        0.0,
-        0.0,
-        -2.4881146199716677,
-        -0.590290826836843,
-        21.230051448181193,
-        15.279233632882423,
-        -33.28821096898486,
-        -0.020331201708508627,
-        0.0,
-        0.0,
-        0.0,
-    ],
-    [
-        -0.9371424300859873,
-        0.0,
-        0.0,
-        5.186372428844064,
-        1.0914373489967295,
-        -8.149787010746927,
-        -18.52006565999696,
-        22.739487099350505,
-        2.4936055526796523,
-        -3.0467644718982196,
-        0.0,
-        0.0,
-    ],
-    [
-        2.273310147516538,
-        0.0,
-        0.0,
-        -10.53449546673725,
-        -2.0008720582248625,
-        -17.9589318631188,
-        27.94888452941996,
-        -2.8589982771350235,
-        -8.87285693353063,
-        12.360567175794303,
-        0.6433927460157636,
-        0.0,
-    ],
-];
-pub(crate) const DOP853_B: [f64; 12] = [
-    0.054293734116568765,
-    0.0,
-    0.0,
-    0.0,
-    0.0,
-    4.450312892752409,
-    1.8915178993145003,
-    -5.801203960010585,
-    0.3111643669578199,
-    -0.1521609496625161,
-    0.20136540080403034,
-    0.04471061572777259,
-];
-
-/// Septic Hermite basis at `θ ∈ [0, 1]`: weights of `y0, h y0', h² y0'', h³ y0''', y1, h y1',
-/// h² y1'', h³ y1'''`.
-#[inline]
-pub(crate) fn septic_hermite(theta: f64) -> [f64; 8] {
-    let t = theta;
-    let t2 = t * t;
-    let t3 = t2 * t;
-    let t4 = t3 * t;
-    // Each weight is c0 + c1 t + c2 t² + c3 t³ + t⁴ (d0 + d1 t + d2 t² + d3 t³).
-    let q = |d0: f64, d1: f64, d2: f64, d3: f64| t4 * (d0 + t * (d1 + t * (d2 + t * d3)));
-    let s = 1.0 / 6.0;
-    [
-        1.0 + q(-35.0, 84.0, -70.0, 20.0),
-        t + q(-20.0, 45.0, -36.0, 10.0),
-        0.5 * t2 + q(-5.0, 10.0, -7.5, 2.0),
-        s * t3 + q(-2.0 / 3.0, 1.0, -2.0 / 3.0, s),
-        q(35.0, -84.0, 70.0, -20.0),
-        q(-15.0, 39.0, -34.0, 10.0),
-        q(2.5, -7.0, 6.5, -2.0),
-        q(-s, 0.5, -0.5, s),
-    ]
-}
-
-/// Quintic Hermite basis at `θ ∈ [0, 1]`: weights of `y0, h y0', h² y0'', y1, h y1', h² y1''`.
-/// The dense output before [`septic_hermite`]; kept with its test for comparison.
-#[cfg(test)]
-pub(crate) fn quintic_hermite(theta: f64) -> [f64; 6] {
-    let t = theta;
-    let t2 = t * t;
-    let t3 = t2 * t;
-    let t4 = t3 * t;
-    let t5 = t4 * t;
-    [
-        1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5,
-        t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5,
-        0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5),
-        10.0 * t3 - 15.0 * t4 + 6.0 * t5,
-        -4.0 * t3 + 7.0 * t4 - 3.0 * t5,
-        0.5 * (t3 - 2.0 * t4 + t5),
-    ]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -991,21 +487,6 @@ mod tests {
     /// The written-out RK8 and DOP853 steps use exactly the Butcher tableau (every nonzero coefficient).
     #[test]
     fn fused_steps_match_their_tableaus() {
-        // The term lists name every nonzero coefficient (and only those).
-        for (i, row) in RK8_A.iter().enumerate() {
-            for (j, a) in row.iter().enumerate() {
-                assert_eq!(*a != 0.0, RK8_TERMS[i].contains(&j), "RK8 a[{i}][{j}]");
-            }
-        }
-        for (i, row) in DOP853_A.iter().enumerate() {
-            for (j, a) in row.iter().enumerate() {
-                assert_eq!(
-                    *a != 0.0,
-                    DOP853_TERMS[i].contains(&j),
-                    "DOP853 a[{i}][{j}]"
-                );
-            }
-        }
         let f = |s: &[f64; 3], out: &mut [f64; 3]| {
             *out = [s[0] * s[1] + s[2], -s[0] * s[0] + 0.3, (s[1] * s[2]).sin()];
         };
@@ -1040,53 +521,6 @@ mod tests {
                 dop853_step::<Separate, 3>(&mut small, h, f, &mut Workspace::new());
                 assert_eq!(chunk, small, "DOP853 loop vs written out, h = {h}");
             }
-        }
-    }
-
-    #[test]
-    fn hermite_reproduces_quintics() {
-        let f =
-            |x: f64| 1.0 - 2.0 * x + 0.5 * x * x + 3.0 * x.powi(3) - x.powi(4) + 0.7 * x.powi(5);
-        let d1 = |x: f64| -2.0 + x + 9.0 * x * x - 4.0 * x.powi(3) + 3.5 * x.powi(4);
-        let d2 = |x: f64| 1.0 + 18.0 * x - 12.0 * x * x + 14.0 * x.powi(3);
-        let (x0, h) = (0.3, 0.7);
-        for theta in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
-            let w = quintic_hermite(theta);
-            let x1 = x0 + h;
-            let y = w[0] * f(x0)
-                + w[1] * h * d1(x0)
-                + w[2] * h * h * d2(x0)
-                + w[3] * f(x1)
-                + w[4] * h * d1(x1)
-                + w[5] * h * h * d2(x1);
-            assert!((y - f(x0 + theta * h)).abs() < 1e-12, "θ = {theta}");
-        }
-    }
-
-    #[test]
-    fn septic_hermite_reproduces_septics() {
-        let coef: [f64; 8] = [1.0, -2.0, 0.5, 3.0, -1.0, 0.7, -0.4, 0.25];
-        let deriv = |x: f64, d: usize| -> f64 {
-            let mut sum = 0.0;
-            for (i, c) in coef.iter().enumerate().skip(d) {
-                let mut k = 1.0;
-                for j in 0..d {
-                    k *= (i - j) as f64;
-                }
-                sum += c * k * x.powi((i - d) as i32);
-            }
-            sum
-        };
-        let (x0, h): (f64, f64) = (0.3, 0.7);
-        let x1 = x0 + h;
-        for theta in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
-            let w = septic_hermite(theta);
-            let mut y = 0.0;
-            for d in 0..4 {
-                let hd = h.powi(d as i32);
-                y += w[d] * hd * deriv(x0, d) + w[4 + d] * hd * deriv(x1, d);
-            }
-            assert!((y - deriv(x0 + theta * h, 0)).abs() < 1e-12, "θ = {theta}");
         }
     }
 

@@ -11,8 +11,8 @@
 //! `unsafe` is needed here.
 //!
 //! The right-hand sides are those of the portable paths
-//! ([`crate::equations::Kirchhoff::shape_rate`] operation for operation;
-//! [`crate::equations::Kirchhoff::full_rate`] with its sums grouped for the CPU, see
+//! ([`crate::kirchhoff::Kirchhoff::shape_rate`] operation for operation;
+//! [`crate::kirchhoff::Kirchhoff::full_rate`] with its sums grouped for the CPU, see
 //! [`full_rate`]), and the steps are the same DOP853 step with the step size folded in
 //! differently: the portable step sums `(h a_ij) k_j`, these have the rate return `h k` (its
 //! constants are scaled by `h`) and sum `a_ij (h k_j)` with the tableau's own coefficients, so
@@ -28,8 +28,8 @@ use std::arch::x86_64::{
     _mm256_unpacklo_pd,
 };
 
-use crate::equations::{FrameArray, FrameJet, FullArray, ShapeArray, euler_coefficients};
-use crate::integrator::{DOP853_A, DOP853_B, with_dop853_terms};
+use crate::kirchhoff::{FrameArray, FrameJet, FullArray, ShapeArray, euler_coefficients};
+use crate::tableau::{DOP853_A, DOP853_B, with_dop853_terms};
 
 /// Four lanes of `f64` in one AVX register.
 #[derive(Clone, Copy)]
@@ -224,7 +224,7 @@ struct Constants {
     inv_c_zxy: F4,
     /// `(1/c2, 1/c3, 1/c1, 0)`: `C⁻¹` in the lane order of [`order::YZX3`].
     inv_c_yzx: F4,
-    /// Euler's coefficients of `m × C⁻¹ m` (`equations::euler_coefficients`).
+    /// Euler's coefficients of `m × C⁻¹ m` (`kirchhoff::euler_coefficients`).
     euler: F4,
     /// `n0`, each component in every lane.
     n0: [F4; 3],
@@ -242,7 +242,7 @@ fn n_of_rows(k: &Constants, y: &State) -> F4 {
 }
 
 /// Eq. 1 and the top of eq. 3 on the shape state, as
-/// [`crate::equations::Kirchhoff::shape_rate`].
+/// [`crate::kirchhoff::Kirchhoff::shape_rate`].
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn rate(k: &Constants, y: &State) -> State {
@@ -268,7 +268,7 @@ fn rate(k: &Constants, y: &State) -> State {
 }
 
 /// `(a × b, a_0)` for `b` given as `b_zxy1 = (b2, b0, b1, 1)` and `b_yzx = (b1, b2, b0, 0)`
-/// (as [`crate::equations`]' `cross_lane0`): on a frame row, lane 3 is `R_i0`, which is `p_i'`.
+/// (as `kirchhoff`'s `cross_lane0`): on a frame row, lane 3 is `R_i0`, which is `p_i'`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn cross_lane0(a: F4, b_zxy1: F4, b_yzx: F4) -> F4 {
@@ -286,7 +286,7 @@ fn cross(a: F4, b_zxy: F4, b_yzx: F4) -> F4 {
 }
 
 /// The frame jet `q, q', q'', q'''` at a shape state, as
-/// [`crate::equations::Kirchhoff::shape_jet`]: with `u' = C⁻¹ m'` and
+/// [`crate::kirchhoff::Kirchhoff::shape_jet`]: with `u' = C⁻¹ m'` and
 /// `u'' = C⁻¹ (m' × u + m × u' + n' × e1)`, row `i` of `R⁽ᵏ⁾` is `w_k = w_{k−1} × u + …`
 /// (`w_1 = r_i × u`, `w_2 = w_1 × u + r_i × u'`, `w_3 = w_2 × u + 2 w_1 × u' + r_i × u''`),
 /// lane 3 (`p_i⁽ᵏ⁾ = (R⁽ᵏ⁻¹⁾)_i0`) carried by the `× u` term.
@@ -517,21 +517,21 @@ impl FullConstants {
 }
 
 /// Eq. 1 and `J' = G M + H J` (eq. 4) on the Jacobian path's state `y` into `out`, as
-/// [`crate::equations::Kirchhoff::full_rate`], on the rows of `J`: with `μ = (m, n)` by closed
+/// [`crate::kirchhoff::Kirchhoff::full_rate`], on the rows of `J`: with `μ = (m, n)` by closed
 /// form (A), row `i` of `J'_top` is `c_i⁻¹ (R_0i, R_1i, R_2i, s_0i | s_1i, s_2i)` plus four
 /// rows of `J` times coefficients (the entries of `C⁻¹ m̂ − û` and `C⁻¹ n̂`), and the rows of
 /// `J'_bot` are rows of `J` times components of `u`.
 ///
-/// Written for the measured costs of the AVX2 machines this runs on (AMD Zen 3 here: a
-/// lane-crossing permute issues about once every 1.3 cycles at a latency of 6.5 cycles, an
-/// in-lane shuffle twice a cycle at 1, a broadcast from memory is a load). The coefficients
+/// Written for the costs of the AVX2 machines this runs on (a lane-crossing permute is slow
+/// and scarce, an in-lane shuffle cheap, a broadcast from memory a load; the measured numbers
+/// are in `docs/integrator.md`). The coefficients
 /// are formed four at a time, stored in `scratch` and broadcast from memory, not permuted out
 /// of registers one by one; the rows of `[Rᵀ, −Rᵀ p̂]` come from one 4×4 transpose of in-lane
 /// unpacks; `m = Rᵀ m0 − Rᵀ (p × n0)` reuses the `s_k` (`Rᵀ (p × n0) = −Σ_k n0_k s_k`) and is
 /// summed as a tree, because the chain from a stage's frame through `m` to the frame's rate
 /// is the one the next stage waits on. (Storing `J` by columns instead, as pairs of cross
-/// products, takes about 50 permutes a stage; the variants tried ran 5–25 % slower than the
-/// generic loop this replaced.)
+/// products, takes about 50 permutes a stage and ran slower than the generic loop this
+/// replaced.)
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn full_rate(k: &FullConstants, y: &Block, out: &mut Block, scratch: &mut [[f64; 4]; 5]) {
@@ -713,7 +713,7 @@ pub(crate) fn integrate_full(
     bytemuck::cast(y.0)
 }
 
-/// The septic Hermite basis of [`crate::integrator::septic_hermite`] in monomial form:
+/// The septic Hermite basis of [`crate::hermite::septic_hermite`] in monomial form:
 /// `HERMITE[k]` holds the coefficients of `θᵏ` in the eight weights (a test checks it against
 /// `septic_hermite` at nine points, which determine a polynomial of degree 7).
 const HERMITE: [[f64; 8]; 8] = {
@@ -757,7 +757,7 @@ pub(crate) fn interpolate_frame(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64
     let powers = F4::new(&[1.0, h, h * h, h * h * h]);
     // The weights go through memory, so that each is broadcast by a load: from a register,
     // each broadcast is a lane-crossing permute, the scarce resource on this CPU family (see
-    // `full_rate`; 64-node shape 4.72 → 4.60 µs, interleaved runs).
+    // `full_rate`).
     let w = [lo.mul(powers).to_array(), hi.mul(powers).to_array()];
     let w = std::hint::black_box(&w);
     let mut acc = [[F4::splat(0.0); 3]; 2];
@@ -776,7 +776,7 @@ pub(crate) fn interpolate_frame(k0: &FrameJet, k1: &FrameJet, h: f64, theta: f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::septic_hermite;
+    use crate::hermite::septic_hermite;
 
     #[test]
     fn monomial_hermite_is_the_basis() {

@@ -13,12 +13,13 @@ use nalgebra::{Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector
 #[cfg(target_arch = "x86_64")]
 use crate::arith::Fused;
 use crate::arith::{MulAdd, Separate};
-use crate::equations::{
+use crate::hermite::septic_hermite;
+use crate::integrator::{Integrator, Method, Workspace};
+use crate::intersection::self_contact;
+use crate::kirchhoff::{
     FrameArray, FrameJet, FrameState, FullArray, FullRhs, Kirchhoff, ShapeArray, ShapeRhs,
     frame_of, jacobian_determinant, jacobian_of, shape_initial,
 };
-use crate::integrator::{Integrator, Method, Workspace, septic_hermite};
-use crate::intersection::self_contact;
 use crate::stability::{SignTracker, Stability};
 use crate::{RodError, validate_configuration};
 
