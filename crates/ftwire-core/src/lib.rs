@@ -22,6 +22,7 @@
 //! ```
 
 mod error;
+pub mod geometry;
 mod rig;
 mod wire;
 mod wrench;

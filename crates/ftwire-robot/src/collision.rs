@@ -117,7 +117,8 @@ impl Default for LinkRadii {
     }
 }
 
-/// Distance between two segments `p0`–`p1` and `q0`–`q1` \[m\] (degenerate segments allowed).
+/// Distance between two segments `p0`–`p1` and `q0`–`q1` \[m\] (degenerate segments allowed):
+/// [`ftwire_core::geometry::segment_distance`], the workspace's one implementation, on points.
 ///
 /// # Example
 /// ```
@@ -128,48 +129,14 @@ impl Default for LinkRadii {
 /// );
 /// assert!((d - 2.0).abs() < 1e-12);
 /// ```
+#[inline]
 pub fn segment_segment_distance(
     p0: &Point3<f64>,
     p1: &Point3<f64>,
     q0: &Point3<f64>,
     q1: &Point3<f64>,
 ) -> f64 {
-    // Closest points of two segments (Ericson, Real-Time Collision Detection, 5.1.9).
-    let d1 = p1 - p0;
-    let d2 = q1 - q0;
-    let r = p0 - q0;
-    let a = d1.norm_squared();
-    let e = d2.norm_squared();
-    let f = d2.dot(&r);
-    const EPS: f64 = 1e-24;
-    let (s, t) = if a <= EPS && e <= EPS {
-        (0.0, 0.0)
-    } else if a <= EPS {
-        (0.0, (f / e).clamp(0.0, 1.0))
-    } else {
-        let c = d1.dot(&r);
-        if e <= EPS {
-            ((-c / a).clamp(0.0, 1.0), 0.0)
-        } else {
-            let b = d1.dot(&d2);
-            let denom = a * e - b * b;
-            let mut s = if denom > EPS {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let mut t = (b * s + f) / e;
-            if t < 0.0 {
-                t = 0.0;
-                s = (-c / a).clamp(0.0, 1.0);
-            } else if t > 1.0 {
-                t = 1.0;
-                s = ((b - c) / a).clamp(0.0, 1.0);
-            }
-            (s, t)
-        }
-    };
-    ((p0 + d1 * s) - (q0 + d2 * t)).norm()
+    ftwire_core::geometry::segment_distance(&p0.coords, &p1.coords, &q0.coords, &q1.coords)
 }
 
 /// Distance from a point to a box \[m\] (0 inside).

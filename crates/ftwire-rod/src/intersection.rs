@@ -20,9 +20,12 @@
 //! measured only if the balls around their midpoints (radius half the segment) are closer
 //! than `2r`. Both tests compare squared distances (no square roots) and are conservative, so
 //! the result is that of the plain pair walk (test `skip_agrees_with_brute_force`): the first
-//! contact in the order of `i`, then `j`.
+//! contact in the order of `i`, then `j`. A pair is measured by [`segment_distance`], the
+//! workspace's one segment–segment distance (`ftwire_core::geometry`, re-exported here).
 
 use nalgebra::Vector3;
+
+pub use ftwire_core::geometry::segment_distance;
 
 /// A self-contact found on the centreline.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,67 +34,6 @@ pub struct Contact {
     pub segments: (usize, usize),
     /// Distance between their centrelines \[m\] (less than the diameter).
     pub distance: f64,
-}
-
-/// The distance between segments `[p1, q1]` and `[p2, q2]` (Ericson, *Real-Time Collision
-/// Detection*, §5.1.9).
-///
-/// # Example
-/// ```
-/// use nalgebra::Vector3;
-/// let d = ftwire_rod::segment_distance(
-///     &Vector3::new(0.0, 0.0, 0.0), &Vector3::new(1.0, 0.0, 0.0),
-///     &Vector3::new(0.5, -1.0, 0.3), &Vector3::new(0.5, 1.0, 0.3),
-/// );
-/// assert!((d - 0.3).abs() < 1e-15);
-/// ```
-pub fn segment_distance(
-    p1: &Vector3<f64>,
-    q1: &Vector3<f64>,
-    p2: &Vector3<f64>,
-    q2: &Vector3<f64>,
-) -> f64 {
-    const EPS: f64 = 1e-300;
-    let d1 = q1 - p1;
-    let d2 = q2 - p2;
-    let r = p1 - p2;
-    let a = d1.dot(&d1);
-    let e = d2.dot(&d2);
-    let f = d2.dot(&r);
-    let (s, t);
-    if a <= EPS && e <= EPS {
-        return r.norm();
-    }
-    if a <= EPS {
-        s = 0.0;
-        t = (f / e).clamp(0.0, 1.0);
-    } else {
-        let c = d1.dot(&r);
-        if e <= EPS {
-            t = 0.0;
-            s = (-c / a).clamp(0.0, 1.0);
-        } else {
-            let b = d1.dot(&d2);
-            let denom = a * e - b * b;
-            let s0 = if denom > 0.0 {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let t0 = (b * s0 + f) / e;
-            if t0 < 0.0 {
-                t = 0.0;
-                s = (-c / a).clamp(0.0, 1.0);
-            } else if t0 > 1.0 {
-                t = 1.0;
-                s = ((b - c) / a).clamp(0.0, 1.0);
-            } else {
-                t = t0;
-                s = s0;
-            }
-        }
-    }
-    ((p1 + d1 * s) - (p2 + d2 * t)).norm()
 }
 
 /// The first self-contact of a centreline polyline with uniform arc-length node spacing
@@ -203,6 +145,8 @@ mod tests {
     }
 
     proptest! {
+        /// The property test of `ftwire_core::geometry::segment_distance` (core has no
+        /// proptest): never above the sampled minimum, and within the sampling error of it.
         #[test]
         fn segment_distance_is_the_sampled_minimum(p1 in vec3(), q1 in vec3(), p2 in vec3(), q2 in vec3()) {
             let d = segment_distance(&p1, &q1, &p2, &q2);
