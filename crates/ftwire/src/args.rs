@@ -8,6 +8,10 @@
 //! Vectors are comma separated, `X,Y,Z`; a leading minus sign is allowed in both
 //! `--opt -1,2,3` and `--opt=-1,2,3` (the options take hyphen values); every component must be
 //! a finite number, so `nan` and `inf` are bad input (exit 2) naming the option.
+//!
+//! The options' doc comments are clap's `--help` text, which shows them verbatim: their units
+//! are written `[m]`, not as escaped Markdown, hence the allowed "links" below.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 use std::path::PathBuf;
 
@@ -29,11 +33,11 @@ impl<const N: usize> Serialize for Numbers<N> {
     }
 }
 
-/// Three numbers, e.g. a position `X,Y,Z` [m] or a rotation vector `RX,RY,RZ` [rad].
+/// Three numbers, e.g. a position `X,Y,Z` \[m\] or a rotation vector `RX,RY,RZ` \[rad\].
 pub type Vec3 = Numbers<3>;
 /// Six numbers, e.g. a configuration `a = (τ1,τ2,τ3,f1,f2,f3)`.
 pub type Vec6 = Numbers<6>;
-/// Seven numbers, e.g. the joint angles of one SDA10F arm [rad].
+/// Seven numbers, e.g. the joint angles of one SDA10F arm \[rad\].
 pub type Vec7 = Numbers<7>;
 
 impl<const N: usize> Numbers<N> {

@@ -33,7 +33,7 @@ pub fn print(report: &impl Report, json: bool) -> Result<(), CliError> {
     write(&mut out, report, json)
 }
 
-/// Writes `report` to `out` as [`print`] does.
+/// Writes `report` to `out` as [`print()`] does.
 ///
 /// # Errors
 /// [`CliError::Io`] if `out` cannot be written.
