@@ -9,6 +9,7 @@ use nalgebra::{Point3, Vector3};
 
 use crate::EstimateError;
 use crate::shape::polyline::{closest_point, resample, validate_points};
+use crate::shape::setting;
 
 /// Fewest common arc lengths [`centreline_distance`] accepts.
 pub const MIN_METRIC_SAMPLES: usize = 50;
@@ -45,13 +46,13 @@ pub fn centreline_distance(
 ) -> Result<f64, EstimateError> {
     validate_points("estimate", estimate, 2)?;
     validate_points("truth", truth, 2)?;
-    if samples < MIN_METRIC_SAMPLES {
-        return Err(EstimateError::BadShapeSetting {
-            name: "samples",
-            value: samples as f64,
-            allowed: "at least 50 common arc lengths",
-        });
-    }
+    setting::count(
+        "samples",
+        samples,
+        MIN_METRIC_SAMPLES,
+        usize::MAX,
+        "at least 50 common arc lengths",
+    )?;
     let a = resample(estimate, samples);
     let b = resample(truth, samples);
     let total: f64 = a.iter().zip(&b).map(|(p, q)| (p - q).norm()).sum();
