@@ -6,6 +6,7 @@
 //!   [`MultiStart`]) then Levenberg–Marquardt ([`LevenbergMarquardt`]) with the analytic
 //!   derivative of each marker position ([`centreline_point`]). It labels the calibration
 //!   data.
+//! - [`ShapeEstimator`]: `ã` → the centreline at sensor rate, with a [`Confidence`] flag.
 //! - Metrics: [`centreline_distance`] (matched arc lengths) and [`marker_distances`] (each
 //!   marker to the closest point of a polyline).
 //!
@@ -14,6 +15,7 @@
 //! frame.
 
 mod centreline_point;
+mod estimate;
 mod fit;
 mod global;
 mod levenberg_marquardt;
@@ -23,6 +25,9 @@ mod polyline;
 mod setting;
 
 pub use centreline_point::{CentrelinePoint, centreline_point};
+pub use estimate::{
+    Confidence, EstimatorConfig, MIN_ESTIMATE_NODES, ShapeEstimate, ShapeEstimator,
+};
 pub use fit::{Correspondence, FitConfig, ShapeFit, ShapeFitter};
 pub use global::{GlobalSearch, MultiStart};
 pub use levenberg_marquardt::{LevenbergMarquardt, Termination};
