@@ -167,7 +167,7 @@ fn mean(values: &[f64]) -> f64 {
 fn exact_markers_recover_a_and_the_shape() -> Result<(), EstimateError> {
     let summary = run(&two_mm()?, FitConfig::default(), &[1, 2, 3], 6, 0.0, 0)?;
     eprintln!(
-        "exact: rel max {:.2e} mean {:.2e}; shape max {:.4} mm",
+        "exact: rel max {:.2e} mean {:.2e}; shape max {:.2e} mm",
         max(&summary.relative),
         mean(&summary.relative),
         max(&summary.shape) * 1e3

@@ -14,7 +14,8 @@
 //!
 //! A `J(t)`-at-nodes API in `ftwire_rod` (the Jacobian state `J` kept at the grid points, as the
 //! shape keeps `q`) would give all `V` marker Jacobians from one integration instead of `V`
-//! shorter ones: about `V / 2` times less work per Gauss–Newton step.
+//! shorter ones: `V / 2` to `V` times less work per Gauss–Newton step (the shorter wires average
+//! `L / 2`, but a short wire still takes the integrator's minimum of 8 steps).
 
 use ftwire_core::WireParams;
 use nalgebra::{Matrix3x6, Vector3, Vector6};

@@ -21,9 +21,10 @@ pub struct EstimatorConfig {
     /// 50 so that metrics can compare 50 arc lengths).
     pub nodes: usize,
     /// A change of `ã` from the previous sample larger than this (Euclidean norm in normalised
-    /// units: torque in `c2/L`, force in `c2/L²`) is flagged as a jump (default `2.0`). Over
-    /// `[−30, 30]⁶` a smooth motion at 100 Hz or faster moves `a` far less per sample; the
-    /// threshold should sit well above the sensor noise in these units.
+    /// units: torque in `c2/L`, force in `c2/L²`) is flagged as a jump (default `2.0`). The
+    /// default is a starting point, not tuned: the threshold must sit above the calibrated
+    /// sensor's noise and a smooth motion's change per sample, and below the change a contact
+    /// causes; the collision-detection experiment should set it.
     pub jump_threshold: f64,
 }
 
