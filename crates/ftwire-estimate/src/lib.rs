@@ -15,6 +15,7 @@
 
 mod error;
 pub mod model;
+pub mod shape;
 
 pub use error::EstimateError;
 pub use model::{KirchhoffModel, WireModel};
