@@ -12,11 +12,11 @@
 
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
 
-use crate::continuation::Motion;
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
 use crate::execution::{ExecutionErrorConfig, ExecutionErrorModel};
 use crate::markers::{MarkerConfig, MarkerFrame, MotionCapture};
+use crate::motion::Motion;
 use crate::sensor::{FtReading, FtSensor, FtSensorConfig};
 use crate::simulator::Simulator;
 use crate::world::World;

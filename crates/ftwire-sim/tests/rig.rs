@@ -1,6 +1,6 @@
 //! The simulated rig: what the `Rig` trait reports against the ground truth.
 
-use ftwire_core::{Command, GripperPoses, Pose, Rig};
+use ftwire_core::{Command, CoreError, GripperPoses, Pose, Rig};
 use ftwire_sim::{
     ExecutionErrorConfig, FtSensorConfig, RigConfig, RodParams, SensingError, SimError, SimRig,
     World,
@@ -169,7 +169,10 @@ fn bad_commands_are_refused_and_nothing_moves() {
         base: Pose::identity(),
         tip: pose(f64::NAN, 0.0, 0.0, 0.0),
     };
-    assert!(matches!(rig.command(&nan), Err(SimError::NonFinite { .. })));
+    assert!(matches!(
+        rig.command(&nan),
+        Err(SimError::Core(CoreError::NonFinite { .. }))
+    ));
 
     let too_far = Command {
         base: Pose::identity(),
