@@ -41,4 +41,4 @@ pub mod sensor;
 pub use execution::{ExecutionErrorConfig, ExecutionErrorModel};
 pub use markers::{MarkerConfig, MarkerFrame, MotionCapture, point_at_arc_length};
 pub use rig::{RigConfig, SimRig};
-pub use sensor::{FtReading, FtSensor, FtSensorConfig, SensingError};
+pub use sensor::{FtSensor, FtSensorConfig, SensingError};

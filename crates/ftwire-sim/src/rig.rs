@@ -17,7 +17,7 @@ use crate::error::SimError;
 use crate::execution::{ExecutionErrorConfig, ExecutionErrorModel};
 use crate::markers::{MarkerConfig, MarkerFrame, MotionCapture};
 use crate::motion::Motion;
-use crate::sensor::{FtReading, FtSensor, FtSensorConfig};
+use crate::sensor::{FtSensor, FtSensorConfig};
 use crate::simulator::Simulator;
 use crate::world::World;
 
@@ -163,22 +163,6 @@ impl SimRig {
         })
     }
 
-    /// Reads one F/T sample with its saturation flags (the [`Rig::read_ft`] sample plus which
-    /// channels clipped).
-    ///
-    /// # Errors
-    /// [`SimError::Sensing`] with [`crate::SensingError::Dropout`] when the sensor misses a tick
-    /// (the tick and its time are consumed, as on a real bus).
-    pub fn read_ft_full(&mut self) -> Result<FtReading, SimError> {
-        let wrench = self.sim.equilibrium().base_wrench;
-        let result = self.sensor.read(&wrench, self.time);
-        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
-        if let Some(tick) = self.sensor.last_sample_time() {
-            self.time = self.time.max(tick);
-        }
-        Ok(result?)
-    }
-
     /// Observes the motion-capture markers at the current time, in the world frame
     /// (ground truth with marker noise and dropouts).
     ///
@@ -263,8 +247,20 @@ impl SimRig {
 impl Rig for SimRig {
     type Error = SimError;
 
+    /// Reads one F/T sample of the current base wrench at the sensor's next clock tick, with
+    /// the channels it clipped flagged in [`FtSample::saturated`].
+    ///
+    /// # Errors
+    /// [`SimError::Sensing`] with [`crate::SensingError::Dropout`] when the sensor misses a tick
+    /// (the tick and its time are consumed, as on a real bus).
     fn read_ft(&mut self) -> Result<FtSample, SimError> {
-        Ok(self.read_ft_full()?.sample)
+        let wrench = self.sim.equilibrium().base_wrench;
+        let result = self.sensor.read(&wrench, self.time);
+        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
+        if let Some(tick) = self.sensor.last_sample_time() {
+            self.time = self.time.max(tick);
+        }
+        Ok(result?)
     }
 
     fn gripper_poses(&self) -> Result<GripperPoses, SimError> {

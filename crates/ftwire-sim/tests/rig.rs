@@ -58,6 +58,35 @@ fn ideal_sensor_reports_the_true_base_wrench_force_first_on_clock_ticks() {
 }
 
 #[test]
+fn a_clipped_channel_is_flagged_in_the_rig_sample_and_a_normal_one_is_not() {
+    // An ideal sensor: nothing clips.
+    let mut rig = rig(RigConfig::ideal());
+    let normal = rig.read_ft().expect("ideal sensor never drops out");
+    assert_eq!(normal.saturated, [false; 6]);
+    assert!(!normal.is_saturated());
+
+    // The same wire with channel 5 (τ3) given a full scale of half its load: only it clips.
+    let load = normal.raw[5];
+    assert!(load.abs() > 1e-3, "the bent wire loads τ3");
+    let mut full_scale = [1e3; 6];
+    full_scale[5] = 0.5 * load.abs();
+    let config = RigConfig {
+        sensor: FtSensorConfig {
+            full_scale,
+            saturation: true,
+            ..FtSensorConfig::ideal()
+        },
+        ..RigConfig::ideal()
+    };
+    let mut rig = SimRig::new(world(), start(), config).expect("valid settings");
+    let clipped = rig.read_ft().expect("ideal sensor never drops out");
+    assert_eq!(clipped.saturated, [false, false, false, false, false, true]);
+    assert!(clipped.is_saturated());
+    assert!((clipped.raw[5] - full_scale[5].copysign(load)).abs() < 1e-15);
+    assert!((clipped.raw[0] - normal.raw[0]).abs() < 1e-15);
+}
+
+#[test]
 fn command_moves_the_wire_and_the_robot_reports_the_command() {
     let mut rig = rig(RigConfig::ideal());
     let before = rig.equilibrium().base_wrench;
