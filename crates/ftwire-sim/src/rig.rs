@@ -210,6 +210,12 @@ impl SimRig {
 
     /// Moves the grippers and returns the motion (with its snap events). As [`Rig::command`].
     ///
+    /// A command either completes or changes nothing: when it is refused (a non-finite pose,
+    /// grippers farther apart than the wire is long) or the simulator finds no equilibrium on
+    /// the way, the equilibrium, the actual and believed gripper poses, the clock and the
+    /// execution error's random stream are all as they were before the call
+    /// (`tests/rig_failures.rs`), so the caller can retry or command another pose.
+    ///
     /// # Errors
     /// As [`Rig::command`].
     pub fn command_motion(&mut self, command: &Command) -> Result<&Motion, SimError> {
@@ -220,21 +226,37 @@ impl SimRig {
             ensure_finite(field, pose.translation.vector.as_slice())?;
             ensure_finite(field, pose.rotation.coords.as_slice())?;
         }
-        let actual = self.execution.actual_poses(command)?;
-        let before = self.actual_poses();
-        let duration = self
-            .move_duration(&before.base, &actual.base)
-            .max(self.move_duration(&before.tip, &actual.tip));
-        let motion = self.sim.move_grippers(&actual.base, &actual.tip);
-        // Whether or not the wire followed, the arms moved (a failure leaves the last good
-        // equilibrium in the simulator), so the clock advances.
-        self.time += duration + self.config.settle_time;
-        let motion = motion?;
-        self.believed = GripperPoses {
-            base: command.base,
-            tip: command.tip,
-        };
-        Ok(motion)
+        // The simulator keeps the furthest equilibrium a failed motion reached and the
+        // execution model has drawn its error: restore both if the motion fails.
+        let (sim_before, execution_before) = (self.sim.clone(), self.execution.clone());
+        let moved = self
+            .execution
+            .actual_poses(command)
+            .map_err(SimError::from)
+            .and_then(|actual| {
+                let before = self.actual_poses();
+                let duration = self
+                    .move_duration(&before.base, &actual.base)
+                    .max(self.move_duration(&before.tip, &actual.tip));
+                self.sim
+                    .move_grippers(&actual.base, &actual.tip)
+                    .map(|_| duration)
+            });
+        match moved {
+            Ok(duration) => {
+                self.time += duration + self.config.settle_time;
+                self.believed = GripperPoses {
+                    base: command.base,
+                    tip: command.tip,
+                };
+                self.sim.last_motion().ok_or(SimError::NotSolved)
+            }
+            Err(error) => {
+                self.sim = sim_before;
+                self.execution = execution_before;
+                Err(error)
+            }
+        }
     }
 
     fn move_duration(&self, from: &Pose, to: &Pose) -> f64 {

@@ -105,6 +105,12 @@ impl Simulator {
         (*self.current.state.base(), *self.current.state.tip())
     }
 
+    /// The motion of the last [`Simulator::move_grippers`], a failed one up to where it stopped
+    /// (`None` before the first).
+    pub fn last_motion(&self) -> Option<&Motion> {
+        self.last_motion.as_ref()
+    }
+
     /// The current equilibrium.
     pub fn equilibrium(&self) -> &Equilibrium {
         &self.current
