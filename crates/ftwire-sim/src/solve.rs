@@ -22,8 +22,9 @@ impl World {
     /// move, which starts on the taut wire's buckling bifurcation), then moves to `tip` by the
     /// ordinary continuation, which follows the branch and reports snaps (module
     /// `cold_start`). For more than 50 edges the path runs on a 25-edge copy of the world and
-    /// its end starts one Newton solve at full resolution. The result reports the continuation steps, the total Newton iterations
-    /// (also in [`crate::Convergence::iterations`]) and the route in [`Motion::cold_start`].
+    /// its end starts one Newton solve at full resolution. The result reports the continuation
+    /// steps, the total Newton iterations (also in [`crate::Convergence::iterations`]) and the
+    /// route in [`Motion::cold_start`].
     ///
     /// If the continuation fails, or ends on a saddle, Newton from a smooth guess
     /// ([`World::solve_smooth_guess`]) is tried, and
