@@ -6,7 +6,7 @@ use ftwire::args::{
 };
 
 /// Smallest `--edges`: the simulator's own minimum.
-pub const MIN_EDGES: u64 = ftwire_sim::Rod::MIN_EDGES as u64;
+pub const MIN_EDGES: u64 = ftwire_sim::DiscreteRod::MIN_EDGES as u64;
 /// Largest `--edges`: beyond it a solve takes minutes and the discretisation error (O(1/N²))
 /// is far below anything the model or a sensor resolves.
 pub const MAX_EDGES: u64 = 2000;
