@@ -1,0 +1,111 @@
+//! Identification of `η = (c, L)` recovers known wires from data made with the Kirchhoff model.
+
+mod identify_common;
+
+use std::time::Instant;
+
+use ftwire_core::WireParams;
+use ftwire_estimate::identify::{IdentifyConfig, NoiseModel, ResidualForm, identify};
+use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
+use identify_common::{SENSOR, errors, samples, thick, thin, worst};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+#[test]
+fn absolute_form_recovers_both_nitinol_wires_from_three_exact_samples() -> Result<(), EstimateError>
+{
+    for (name, model) in [("3 mm", thick()?), ("2 mm", thin()?)] {
+        for seed in 0..3 {
+            let data = samples(&model, 100 + seed, 3, 0.5, None)?;
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let t = Instant::now();
+            let est = identify(&model, &data, &IdentifyConfig::default(), &mut rng)?;
+            let e = errors(est.c, est.length, model.wire());
+            println!(
+                "{name} seed {seed}: errors c1 {:.2e} c2 {:.2e} c3 {:.2e} L {:.2e}, {} evaluations, {:?}, flag {:?}",
+                e[0],
+                e[1],
+                e[2],
+                e[3],
+                est.evaluations,
+                t.elapsed(),
+                est.unidentified
+            );
+            assert!(worst(e) < 1e-3, "{name} seed {seed}: {e:?}");
+            assert!(est.is_identified(), "{:?}", est.unidentified);
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn unseen_wires_with_sensor_noise_within_half_a_percent() -> Result<(), EstimateError> {
+    let mut wires = ChaCha8Rng::seed_from_u64(77);
+    let mut all = Vec::new();
+    for seed in 0..6 {
+        let c2 = wires.random_range(0.03..0.5);
+        let c1 = c2 * wires.random_range(0.6..0.9);
+        let length = wires.random_range(0.4..1.2);
+        let model = KirchhoffModel::new(WireParams::new([c1, c2, c2], length, 0.001)?);
+        let data = samples(&model, 200 + seed, 3, 0.5, Some(SENSOR))?;
+        let noise = NoiseModel {
+            rotation: SENSOR.rotation,
+            translation: SENSOR.translation,
+            torque: SENSOR.wrench * model.wire().torque_scale(),
+            force: SENSOR.wrench * model.wire().force_scale(),
+        };
+        let config = IdentifyConfig {
+            noise,
+            ..IdentifyConfig::default()
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let est = identify(&model, &data, &config, &mut rng)?;
+        let e = errors(est.c, est.length, model.wire());
+        println!(
+            "wire c = ({c1:.3}, {c2:.3}, {c2:.3}), L = {length:.3}: errors {:.2}% {:.2}% {:.2}% {:.2}%, std L {:.2e}, χ²/dof {:.2}, cond {:.1e}, flag {:?}",
+            100.0 * e[0],
+            100.0 * e[1],
+            100.0 * e[2],
+            100.0 * e[3],
+            est.length_std,
+            est.chi2_per_dof,
+            est.condition,
+            est.unidentified
+        );
+        all.push((e, est));
+    }
+    for (e, est) in &all {
+        assert!(est.is_identified(), "{:?}", est.unidentified);
+        assert!(worst(*e) < 5e-3, "{e:?}");
+        // The reported uncertainty is honest: the length error is within 4 standard deviations.
+        assert!(
+            e[3] * est.length < 4.0 * est.length_std + 1e-9,
+            "{e:?} {}",
+            est.length_std
+        );
+    }
+    Ok(())
+}
+
+#[test]
+fn eq12_runs_and_is_limited_by_its_linearisation() -> Result<(), EstimateError> {
+    let model = thick()?;
+    let data = samples(&model, 300, 3, 0.1, None)?;
+    let config = IdentifyConfig {
+        form: ResidualForm::Eq12,
+        ..IdentifyConfig::default()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let est = identify(&model, &data, &config, &mut rng)?;
+    let e = errors(est.c, est.length, model.wire());
+    println!(
+        "eq. 12, exact data, 3 samples: errors {:.2}% {:.2}% {:.2}% {:.2}%, flag {:?}",
+        100.0 * e[0],
+        100.0 * e[1],
+        100.0 * e[2],
+        100.0 * e[3],
+        est.unidentified
+    );
+    assert!(worst(e) < 0.5, "{e:?}");
+    Ok(())
+}
