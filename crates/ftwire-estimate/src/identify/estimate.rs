@@ -1,6 +1,7 @@
 //! The result of identification: `η = (c, L)`, its uncertainty, and whether the data identify
 //! it.
 
+use ftwire_core::WireParams;
 use thiserror::Error;
 
 use crate::EstimateError;
@@ -80,6 +81,14 @@ pub struct Estimate {
 }
 
 impl Estimate {
+    /// The estimated wire, with the given radius \[m\] (identification does not estimate it).
+    ///
+    /// # Errors
+    /// [`EstimateError::Core`] if the radius is not finite and positive.
+    pub fn wire(&self, radius: f64) -> Result<WireParams, EstimateError> {
+        Ok(WireParams::new(self.c, self.length, radius)?)
+    }
+
     /// Whether the data identify `η` (no flag raised).
     pub fn is_identified(&self) -> bool {
         self.unidentified.is_none()

@@ -140,6 +140,23 @@ impl IdentifyConfig {
 ///
 /// `samples` are `(ã_i, b̃_i)` pairs (see [`Sample`]) in the order recorded.
 ///
+/// # Identifiability
+/// The data must determine `η`; an estimate is never returned as identified when they do not:
+/// - **errors** (nothing to estimate from): fewer samples than the smallest `m ≥ 2` whose
+///   equations exceed the unknowns (6 per sample for the absolute form, 6 per pair for the
+///   differential forms; two because identification needs motion, paper §III-B, and at least
+///   one degree of freedom must remain to estimate the residual variance); a second gripper
+///   that moved less than [`IdentifyConfig::min_motion`] noise standard deviations (all `b̃`
+///   equal, or one sample);
+/// - **flags** ([`Estimate::unidentified`]): a residual Jacobian whose relative smallest
+///   singular value is below [`IdentifyConfig::min_condition`] (the LM normal matrix `JᵀJ` has
+///   the squares of these singular values); a parameter on the edge of the search box; a
+///   final `χ²/dof` above [`IdentifyConfig::max_chi2_per_dof`] under the configured
+///   [`NoiseModel`] (the fit explains the data far worse than the noise would).
+///
+/// The standard deviations ([`Estimate::c_std`], [`Estimate::length_std`]) are the first-order
+/// `s² (JᵀJ)⁻¹` with `s²` the weighted residual variance per degree of freedom.
+///
 /// # Errors
 /// A bad setting or sample (naming it), too few samples, a degenerate motion. An estimate the
 /// data do not identify is returned flagged ([`Estimate::unidentified`]); call

@@ -290,20 +290,22 @@ impl ParticleSwarm {
     ) {
         let global = swarm.best_position.clone();
         for p in &mut swarm.particles {
-            for d in 0..p.position.len() {
+            // Zipped, not indexed: a swarm of another dimension is truncated, never a panic.
+            let dims = p
+                .position
+                .iter_mut()
+                .zip(&mut p.velocity)
+                .zip(&p.best_position)
+                .zip(&global)
+                .zip(self.lower.iter().zip(&self.upper));
+            for ((((x, v), pb), gb), (l, u)) in dims {
                 let (rp, rg): (f64, f64) = (rng.random(), rng.random());
-                let (x, pb, gb) = (
-                    p.position[d],
-                    p.best_position[d],
-                    global.get(d).copied().unwrap_or(p.position[d]),
-                );
-                let v = self.inertia * p.velocity[d]
-                    + self.cognitive * rp * (pb - x)
-                    + self.social * rg * (gb - x);
-                let (l, u) = (self.lower[d], self.upper[d]);
-                let next = (x + v).clamp(l, u);
-                p.velocity[d] = if next == x + v { v } else { 0.0 };
-                p.position[d] = next;
+                let step = self.inertia * *v
+                    + self.cognitive * rp * (pb - *x)
+                    + self.social * rg * (gb - *x);
+                let next = (*x + step).clamp(*l, *u);
+                *v = if next == *x + step { step } else { 0.0 };
+                *x = next;
             }
             p.cost = cost.cost(&p.position);
             if p.cost < p.best_cost {

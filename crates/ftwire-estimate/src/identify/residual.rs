@@ -217,13 +217,7 @@ impl<M: WireModel> Residuals<'_, M> {
             ResidualForm::Eq12 | ResidualForm::Midpoint | ResidualForm::Relative => 2.0,
         };
         let mut chi2 = 0.0;
-        for (i, ri) in self.each(&model).enumerate() {
-            let s = self.samples.get(i).ok_or(EstimateError::TooFewSamples {
-                samples: self.samples.len(),
-                required: i + 1,
-                unknowns: self.constraints.unknowns(),
-                form: self.form.name(),
-            })?;
+        for (ri, s) in self.each(&model).zip(self.samples) {
             let solution = model.jacobian(&s.a)?;
             let ri = ri.unwrap_or_else(|| Vector6::repeat(PENALTY));
             let j = solution.jacobian;
