@@ -57,6 +57,11 @@ pub struct IdentifyConfig {
     pub refine: LevenbergMarquardt,
     /// Distinct swarm personal bests to refine from, best first (default `3`).
     pub refine_starts: usize,
+    /// Search rounds at most (default `3`): when the refined fit is far above the noise or on
+    /// the box's edge (most likely the wrong basin), the worse half of the swarm is re-injected
+    /// at random and the swarm runs [`IdentifyConfig::swarm_iterations`] more before refining
+    /// again; the best fit of all rounds is kept.
+    pub search_rounds: usize,
     /// The measurement noise, to test the final fit (default [`NoiseModel::default`]).
     pub noise: NoiseModel,
     /// The smallest motion of the second gripper accepted, in noise standard deviations of the
@@ -82,6 +87,7 @@ impl Default for IdentifyConfig {
             coarse_torsion_ratio: 0.8,
             refine: LevenbergMarquardt::default(),
             refine_starts: 3,
+            search_rounds: 3,
             noise: NoiseModel::default(),
             min_motion: 10.0,
             max_chi2_per_dof: 25.0,
@@ -121,6 +127,9 @@ impl IdentifyConfig {
         }
         if self.refine_starts == 0 {
             return bad("refine_starts", 0.0, "at least 1");
+        }
+        if self.search_rounds == 0 {
+            return bad("search_rounds", 0.0, "at least 1");
         }
         for (field, value) in [
             ("min_motion", self.min_motion),
@@ -230,6 +239,12 @@ pub struct Identifier<M: WireModel, R: Rng> {
     swarm: Option<Swarm>,
     stale: bool,
     refined: Option<Estimate>,
+    /// Search rounds completed on the current samples.
+    round: usize,
+    /// The best refinement on the current samples.
+    best: Option<Refined>,
+    /// Residual evaluations spent in refinements since the start.
+    refine_evaluations: usize,
 }
 
 impl<M: WireModel, R: Rng> Identifier<M, R> {
@@ -248,6 +263,9 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             swarm: None,
             stale: true,
             refined: None,
+            round: 0,
+            best: None,
+            refine_evaluations: 0,
         })
     }
 
@@ -373,61 +391,97 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             }
             None => pso.init(&cost, &mut self.rng),
         };
+        if self.stale {
+            self.round = 0;
+            self.best = None;
+        }
         self.stale = false;
-        let swarm = self.swarm.insert(swarm);
-        while swarm.iterations < self.config.swarm_iterations && more() {
-            pso.iterate(&cost, swarm, &mut self.rng);
-        }
-        if swarm.iterations < self.config.swarm_iterations || !more() {
-            return Ok(provisional(
-                &coarse_residuals,
-                &swarm.best_position,
-                swarm.evaluations,
-                Unidentified::Unfinished {
-                    iterations: swarm.iterations,
-                    required: self.config.swarm_iterations,
-                },
-            ));
-        }
-        let mut evaluations = swarm.evaluations;
+        let mut swarm = swarm;
         let span = lower
             .iter()
             .zip(upper)
             .map(|(l, u)| u - l)
             .fold(f64::INFINITY, f64::min);
-        let starts = swarm.distinct_bests(self.config.refine_starts, 0.01 * span);
         let coarse_residual = |theta: &[f64]| coarse_residuals.evaluate(theta);
         let fine_residual = |theta: &[f64]| fine_residuals.evaluate(theta);
-        let mut best: Option<Refined> = None;
-        for start in starts {
-            let mut refined = self
-                .config
-                .refine
-                .minimise(&coarse_residual, &start, lower, upper);
-            evaluations += refined.evaluations;
-            if coarse != full {
-                let (c, length) = coarse.eta(&refined.theta);
-                let start = clamp(full.theta(c, length), &space.lower, &space.upper);
-                refined =
+        loop {
+            let target = (self.round + 1) * self.config.swarm_iterations;
+            while swarm.iterations < target && more() {
+                pso.iterate(&cost, &mut swarm, &mut self.rng);
+            }
+            if swarm.iterations < target || !more() {
+                let estimate = provisional(
+                    &coarse_residuals,
+                    &swarm.best_position,
+                    swarm.evaluations + self.refine_evaluations,
+                    Unidentified::Unfinished {
+                        iterations: swarm.iterations,
+                        required: target,
+                    },
+                );
+                self.swarm = Some(swarm);
+                return Ok(estimate);
+            }
+            let mut evaluations = 0;
+            let mut round_best: Option<Refined> = None;
+            for start in swarm.distinct_bests(self.config.refine_starts, 0.01 * span) {
+                let mut refined =
                     self.config
                         .refine
-                        .minimise(&fine_residual, &start, &space.lower, &space.upper);
+                        .minimise(&coarse_residual, &start, lower, upper);
                 evaluations += refined.evaluations;
+                if coarse != full {
+                    let (c, length) = coarse.eta(&refined.theta);
+                    let start = clamp(full.theta(c, length), &space.lower, &space.upper);
+                    refined = self.config.refine.minimise(
+                        &fine_residual,
+                        &start,
+                        &space.lower,
+                        &space.upper,
+                    );
+                    evaluations += refined.evaluations;
+                }
+                if round_best.as_ref().is_none_or(|b| refined.cost < b.cost) {
+                    round_best = Some(refined);
+                }
             }
-            if best.as_ref().is_none_or(|b| refined.cost < b.cost) {
-                best = Some(refined);
+            self.refine_evaluations += evaluations;
+            if let Some(candidate) = round_best
+                && self.best.as_ref().is_none_or(|b| candidate.cost < b.cost)
+            {
+                self.best = Some(candidate);
             }
+            let Some(best) = self.best.as_ref() else {
+                self.swarm = Some(swarm);
+                return Err(EstimateError::BadIdentifySetting {
+                    field: "refine_starts",
+                    value: 0.0,
+                    allowed: "at least 1",
+                });
+            };
+            let total = swarm.evaluations + self.refine_evaluations;
+            let estimate = match self.assess(&fine_residuals, best, &space, total) {
+                Ok(estimate) => estimate,
+                Err(e) => {
+                    self.swarm = Some(swarm);
+                    return Err(e);
+                }
+            };
+            let retry = matches!(
+                estimate.unidentified,
+                Some(Unidentified::ResidualAboveNoise { .. } | Unidentified::AtBound { .. })
+            );
+            if !retry || self.round + 1 >= self.config.search_rounds {
+                self.swarm = Some(swarm);
+                self.refined = Some(estimate);
+                return Ok(estimate);
+            }
+            // A fit the noise cannot explain: most likely the wrong basin. Scatter the worse
+            // half of the swarm and search on.
+            self.round += 1;
+            let half = swarm.particles.len() / 2;
+            pso.reinject(&cost, &mut swarm, &mut self.rng, half);
         }
-        let Some(best) = best else {
-            return Err(EstimateError::BadIdentifySetting {
-                field: "refine_starts",
-                value: 0.0,
-                allowed: "at least 1",
-            });
-        };
-        let estimate = self.assess(&fine_residuals, &best, &space, evaluations)?;
-        self.refined = Some(estimate);
-        Ok(estimate)
     }
 
     /// The constraints of the swarm's coarse search: the configured ones, plus isotropic

@@ -345,16 +345,30 @@ impl ParticleSwarm {
             }
         }
         swarm.evaluations += 2 * swarm.particles.len();
+        swarm.iterations = 0;
+        swarm.best_cost = f64::INFINITY;
+        swarm.best_position.clear();
+        self.reinject(cost, swarm, rng, self.reinjected);
+    }
+
+    /// Replaces the `count` particles with the worst personal bests by random ones (uniform in
+    /// the box) and recomputes the global best: diversity against a swarm that has collapsed
+    /// into a local minimum. The iteration count is kept.
+    pub fn reinject<F: CostFunction, R: Rng + ?Sized>(
+        &self,
+        cost: &F,
+        swarm: &mut Swarm,
+        rng: &mut R,
+        count: usize,
+    ) {
         swarm
             .particles
             .sort_by(|a, b| a.best_cost.total_cmp(&b.best_cost));
-        let keep = swarm.particles.len().saturating_sub(self.reinjected);
+        let keep = swarm.particles.len().saturating_sub(count);
         for p in swarm.particles.iter_mut().skip(keep) {
             *p = self.random_particle(cost, rng);
         }
         swarm.evaluations += swarm.particles.len() - keep;
-        swarm.iterations = 0;
-        swarm.best_cost = f64::INFINITY;
         swarm.update_best();
     }
 }
