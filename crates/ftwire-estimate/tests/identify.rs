@@ -5,9 +5,9 @@ mod identify_common;
 use std::time::Instant;
 
 use ftwire_core::WireParams;
-use ftwire_estimate::identify::{IdentifyConfig, NoiseModel, ResidualForm, identify};
+use ftwire_estimate::identify::{IdentifyConfig, ResidualForm, identify};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
-use identify_common::{SENSOR, errors, samples, thick, thin, worst};
+use identify_common::{SENSOR, errors, noise_model, samples, thick, thin, worst};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -48,12 +48,7 @@ fn unseen_wires_with_sensor_noise_within_half_a_percent() -> Result<(), Estimate
         let length = wires.random_range(0.4..1.2);
         let model = KirchhoffModel::new(WireParams::new([c1, c2, c2], length, 0.001)?);
         let data = samples(&model, 200 + seed, 3, 0.5, Some(SENSOR))?;
-        let noise = NoiseModel {
-            rotation: SENSOR.rotation,
-            translation: SENSOR.translation,
-            torque: SENSOR.wrench * model.wire().torque_scale(),
-            force: SENSOR.wrench * model.wire().force_scale(),
-        };
+        let noise = noise_model(model.wire(), SENSOR);
         let config = IdentifyConfig {
             noise,
             ..IdentifyConfig::default()
@@ -90,12 +85,7 @@ fn unseen_wires_with_sensor_noise_within_half_a_percent() -> Result<(), Estimate
 #[test]
 fn differential_forms_run_and_are_limited_by_their_linearisation() -> Result<(), EstimateError> {
     let model = thick()?;
-    let noise = NoiseModel {
-        rotation: SENSOR.rotation,
-        translation: SENSOR.translation,
-        torque: SENSOR.wrench * model.wire().torque_scale(),
-        force: SENSOR.wrench * model.wire().force_scale(),
-    };
+    let noise = noise_model(model.wire(), SENSOR);
     for form in [
         ResidualForm::Eq12,
         ResidualForm::Midpoint,
@@ -167,12 +157,7 @@ fn survey() -> Result<(), EstimateError> {
         let model = KirchhoffModel::new(WireParams::new([c1, c2, c2], length, 0.001)?);
         let data = samples(&model, 1000 + seed, 3, 0.5, Some(SENSOR))?;
         let config = IdentifyConfig {
-            noise: NoiseModel {
-                rotation: SENSOR.rotation,
-                translation: SENSOR.translation,
-                torque: SENSOR.wrench * model.wire().torque_scale(),
-                force: SENSOR.wrench * model.wire().force_scale(),
-            },
+            noise: noise_model(model.wire(), SENSOR),
             ..IdentifyConfig::default()
         };
         let mut rng = ChaCha8Rng::seed_from_u64(seed);

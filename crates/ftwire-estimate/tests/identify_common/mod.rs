@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use ftwire_core::{Pose, WireParams};
+use ftwire_estimate::identify::NoiseModel;
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::{from_normalised, sampling::Sampler, se3};
 use nalgebra::Vector6;
@@ -44,6 +45,16 @@ pub const SENSOR: Noise = Noise {
     translation: 1e-4,
     rotation: 0.05 * std::f64::consts::PI / 180.0,
 };
+
+/// The identification's noise model matching `noise` on `wire`.
+pub fn noise_model(wire: &WireParams, noise: Noise) -> NoiseModel {
+    NoiseModel {
+        rotation: noise.rotation,
+        translation: noise.translation,
+        torque: noise.wrench * wire.torque_scale(),
+        force: noise.wrench * wire.force_scale(),
+    }
+}
 
 /// A stable `a0` (normalised box `[−half_width, half_width]⁶`) and `n` stable configurations
 /// near it (each `a0` plus a uniform normalised step in `±step` per component), with their
