@@ -1,21 +1,25 @@
 //! The identification driver: batch ([`identify`]) and streaming ([`Identifier`]).
 //!
-//! One driver owns the loop, in two stages:
+//! One driver owns the loop:
 //! 1. **coarse**: a particle swarm ([`super::pso`]) finds the basin in the 2-D space
 //!    `(ln c2, L)` of a round isotropic rod, `c3 = c2`, `c1 = ν0 c2` (`ν0` =
 //!    [`IdentifyConfig::coarse_torsion_ratio`], unless the configured constraints fix them),
 //!    and Levenberg–Marquardt ([`super::refine`]) polishes the few best distinct personal
 //!    bests there;
 //! 2. **fine**: Levenberg–Marquardt in the configured parameters, from each coarse optimum;
-//!    the lowest cost wins, and is checked for identifiability ([`Estimate`]).
+//!    the lowest cost wins, and is checked for identifiability ([`Estimate`]);
+//! 3. **retry**: if that fit is far above the noise or on the box's edge (the wrong basin),
+//!    half the swarm is re-injected at random and steps 1–2 run again, up to
+//!    [`IdentifyConfig::search_rounds`] rounds; the best fit is kept.
 //!
 //! Why two stages: in the full 4-D box, `c_i ∈ [1e-3, 5]`, the absolute residual is rugged
-//! along `c1` (a tiny torsional stiffness spins the wire about its axis, and the cost
-//! oscillates), and a 20-particle swarm found the basin of the 3 mm nitinol wire in only some
-//! seeds; the coarse 2-D search found it for every wire tried (both nitinol wires, six random
-//! wires with `c1/c2 ∈ [0.6, 0.9]`), within a few per cent, from where the fine fit converges.
-//! A wire far from a round rod (`c3/c2` or `c1/c2` far from `1`, `ν0`) can fall outside the
-//! fine fit's basin; the result is then flagged by the χ² test, not returned as identified.
+//! along `c1` (a tiny torsional stiffness spins the wire about its axis), and a 20-particle
+//! swarm there missed the basin of the 3 mm nitinol wire for some seeds. A round rod's 2-D
+//! search lands within a few per cent of a wire with `c3 = c2`, `c1/c2 ∈ [0.6, 0.9]`, and the
+//! fine fit converges from there (tests `absolute_form_recovers_both_nitinol_wires_…`,
+//! `unseen_wires_with_sensor_noise_…` and the ignored `survey`). A wire far from a round rod
+//! (`c3/c2` or `c1/c2` far from `1`, `ν0`) can fall outside the fine fit's basin; the result is
+//! then flagged by the χ² test, not returned as identified.
 
 use std::time::{Duration, Instant};
 
@@ -209,7 +213,8 @@ pub fn identify<M: WireModel, R: Rng + ?Sized>(
 /// results depend only on the data and the seed when each set of samples is run to
 /// completion ([`Identifier::run_to_completion`]); how the work is cut into steps does not
 /// matter. New samples make the swarm current ([`ParticleSwarm::refresh`]) and restart the
-/// iteration count.
+/// iteration count; how far the search got before they arrived does depend on the budgets,
+/// so for a reproducible estimate run to completion after the last push.
 ///
 /// # Example
 /// ```
