@@ -387,7 +387,7 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             .swarm
             .clone()
             .with_bounds(lower.clone(), upper.clone())?;
-        let swarm = match self.swarm.take() {
+        let mut swarm = match self.swarm.take() {
             Some(mut swarm) => {
                 if self.stale {
                     pso.refresh(&cost, &mut swarm, &mut self.rng);
@@ -401,7 +401,6 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             self.best = None;
         }
         self.stale = false;
-        let mut swarm = swarm;
         let span = lower
             .iter()
             .zip(upper)
