@@ -4,6 +4,8 @@ use ftwire_core::CoreError;
 use ftwire_rod::RodError;
 use thiserror::Error;
 
+use crate::identify::Unidentified;
+
 /// Errors of the estimators.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
@@ -95,5 +97,90 @@ pub enum EstimateError {
     NoFitStart {
         /// Candidates tried.
         attempts: usize,
+    },
+
+    // Identification of η = (c, L) (`identify`).
+    /// A sample given to the identification is not finite.
+    #[error(
+        "identification sample {index}: {field}[{component}] = {value} is not finite; every \
+         component of ã and of b̃ must be a finite number"
+    )]
+    NonFiniteSample {
+        /// Index of the sample (0-based, in the order pushed).
+        index: usize,
+        /// `"a"` (the measured configuration) or `"b"` (the second gripper's pose).
+        field: &'static str,
+        /// Component index: `0..6` for `a` (torque first); for `b` `0..3` translation, `3..7`
+        /// the quaternion `(i, j, k, w)`.
+        component: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// A measured configuration of an identification sample lies outside `A`.
+    #[error(
+        "identification sample {index}: ã = {a:?} is outside A (a2 = a3 = a5 = a6 = 0, eq. 2); \
+         a held, bent wire loads the base gripper with a non-zero bending torque or shear force"
+    )]
+    SampleOutsideA {
+        /// Index of the sample.
+        index: usize,
+        /// The offending configuration `(τ1, τ2, τ3, f1, f2, f3)`.
+        a: [f64; 6],
+    },
+    /// The grippers of a sample are farther apart than the longest wire searched for.
+    #[error(
+        "identification sample {index}: the grippers are {chord} m apart, but the search box \
+         holds wires of length at most {max_length} m"
+    )]
+    ChordTooLong {
+        /// Index of the sample.
+        index: usize,
+        /// Distance between the clamp points `|p(b̃)|` \[m\].
+        chord: f64,
+        /// The longest wire searched for \[m\].
+        max_length: f64,
+    },
+    /// Fewer samples than the identification needs.
+    #[error(
+        "identification needs at least {required} samples for {unknowns} unknown parameters \
+         with the {form} residual, got {samples}"
+    )]
+    TooFewSamples {
+        /// Samples given.
+        samples: usize,
+        /// Samples needed.
+        required: usize,
+        /// Free parameters.
+        unknowns: usize,
+        /// The residual form's name.
+        form: &'static str,
+    },
+    /// The second gripper did not move enough for the data to tell wires apart.
+    #[error(
+        "degenerate motion: the second gripper's poses span {spread} noise standard deviations, \
+         at least {required} are needed; move the second gripper (see identify::MotionPlan)"
+    )]
+    DegenerateMotion {
+        /// Largest pose change between the first sample and any other, in noise standard
+        /// deviations (per component, largest component).
+        spread: f64,
+        /// The smallest spread accepted.
+        required: f64,
+    },
+    /// An identification setting is out of its range.
+    #[error("identification setting {field} = {value} is invalid; allowed: {allowed}")]
+    BadIdentifySetting {
+        /// The setting's name.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// The data do not identify η; the estimate would not be trustworthy.
+    #[error("the data do not identify the wire: {reason}")]
+    NotIdentified {
+        /// Why.
+        reason: Unidentified,
     },
 }

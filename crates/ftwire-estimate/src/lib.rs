@@ -14,6 +14,7 @@
 //! the estimators.
 
 mod error;
+pub mod identify;
 pub mod model;
 pub mod shape;
 
