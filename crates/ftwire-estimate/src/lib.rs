@@ -13,8 +13,10 @@
 //! Kirchhoff model ([`KirchhoffModel`]) can be swapped for a gravity-aware one without touching
 //! the estimators.
 
+pub mod calibration;
 mod error;
 pub mod model;
 
+pub use calibration::Calibration;
 pub use error::EstimateError;
 pub use model::{KirchhoffModel, WireModel};
