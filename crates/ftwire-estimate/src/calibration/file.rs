@@ -152,18 +152,12 @@ impl Calibration {
             mean: (*n.mean()).into(),
             std: (*n.std()).into(),
         };
-        let mut rest = self.mlp().parameters();
         let layers = self
             .mlp()
-            .layer_shapes()
-            .map(|(inputs, outputs)| {
-                let (weights, tail) = rest.split_at(inputs * outputs);
-                let (bias, tail) = tail.split_at(outputs);
-                rest = tail;
-                LayerFile {
-                    weights: weights.chunks_exact(inputs).map(<[f64]>::to_vec).collect(),
-                    bias: bias.to_vec(),
-                }
+            .layers()
+            .map(|(inputs, weights, bias)| LayerFile {
+                weights: weights.chunks_exact(inputs).map(<[f64]>::to_vec).collect(),
+                bias: bias.to_vec(),
             })
             .collect();
         CalibrationFile {

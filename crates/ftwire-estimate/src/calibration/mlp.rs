@@ -197,17 +197,24 @@ impl Mlp {
         layer_shapes(&self.hidden)
     }
 
+    /// Each layer's `(inputs, weights, bias)`, first to last: the weights row by row.
+    pub(crate) fn layers(&self) -> impl Iterator<Item = (usize, &[f64], &[f64])> + '_ {
+        let mut rest = self.parameters.as_slice();
+        self.layer_shapes().map(move |(inputs, outputs)| {
+            let (weights, tail) = rest.split_at(inputs * outputs);
+            let (bias, tail) = tail.split_at(outputs);
+            rest = tail;
+            (inputs, weights, bias)
+        })
+    }
+
     /// The network's output at `x`. Allocation-free.
     pub fn forward(&self, x: &Vector6<f64>) -> Vector6<f64> {
         let mut current = [0.0; MAX_WIDTH];
         let mut next = [0.0; MAX_WIDTH];
         current[..IO].copy_from_slice(x.as_slice());
         let last = self.hidden.len();
-        let mut start = 0;
-        for (layer, (inputs, outputs)) in self.layer_shapes().enumerate() {
-            let weights = &self.parameters[start..start + inputs * outputs];
-            let bias = &self.parameters[start + inputs * outputs..start + (inputs + 1) * outputs];
-            start += (inputs + 1) * outputs;
+        for (layer, (inputs, weights, bias)) in self.layers().enumerate() {
             let input = &current[..inputs];
             let hidden = layer < last;
             for ((row, b), out) in weights.chunks_exact(inputs).zip(bias).zip(next.iter_mut()) {
@@ -315,11 +322,7 @@ impl Backprop {
         let mut output = Vector6::zeros();
         self.activations[0].copy_from_slice(x.as_slice());
         let last = mlp.hidden.len();
-        let mut start = 0;
-        for (layer, (inputs, outputs)) in mlp.layer_shapes().enumerate() {
-            let weights = &mlp.parameters[start..start + inputs * outputs];
-            let bias = &mlp.parameters[start + inputs * outputs..start + (inputs + 1) * outputs];
-            start += (inputs + 1) * outputs;
+        for (layer, (inputs, weights, bias)) in mlp.layers().enumerate() {
             let (done, ahead) = self.activations.split_at_mut(layer + 1);
             let input = &done[layer];
             let rows = weights.chunks_exact(inputs).zip(bias);
