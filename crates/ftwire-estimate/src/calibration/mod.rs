@@ -16,7 +16,7 @@
 //!    mini-batch Adam (Kingma and Ba 2015) with early stopping on the validation loss, keeping
 //!    the best weights. The [`TrainingRecord`] keeps the seed, configuration, losses and test
 //!    errors.
-//! 3. [`Calibration::save`] / [`Calibration::load`] the weights file ([`file`] documents it).
+//! 3. [`Calibration::save`] / [`Calibration::load`] the weights file ([`file`](mod@file) documents it).
 //! 4. [`Calibration::apply`] maps a reading to `a`, allocation-free.
 //!
 //! **Residual over an affine map.** Mounting, gain and cross-talk are linear and the bias is
