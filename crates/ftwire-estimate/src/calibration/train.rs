@@ -229,109 +229,21 @@ impl Calibration {
         config.validate()?;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let split = data.split(&config.split, &mut rng)?;
-        let input = Normaliser::fit(data.pairs(&split.train).map(|(r, _)| r));
-        let output = Normaliser::fit(data.pairs(&split.train).map(|(_, l)| l));
-        let normalised = |indices: &[usize]| -> Vec<(Vector6<f64>, Vector6<f64>)> {
-            data.pairs(indices)
-                .map(|(r, l)| (input.normalise(r), output.normalise(l)))
-                .collect()
-        };
-        let train = normalised(&split.train);
-        let validation = normalised(&split.validation);
-        let affine = config
-            .residual
-            .then(|| Affine::fit(train.iter().map(|(z, y)| (z, y))));
-        // The network's targets: what the affine part leaves, per channel in units of its
-        // spread on the training split, so that every channel's residual weighs alike (a
-        // channel with a precise affine fit would otherwise be invisible in the loss).
-        let leftover =
-            |(z, y): &(Vector6<f64>, Vector6<f64>)| affine.as_ref().map_or(*y, |a| y - a.apply(z));
-        let scale = if config.residual {
-            *Normaliser::fit(train.iter().map(leftover).collect::<Vec<_>>().iter()).std()
-        } else {
-            Vector6::repeat(1.0)
-        };
-        let targets = |pairs: &[(Vector6<f64>, Vector6<f64>)]| -> (Vec<_>, Vec<_>) {
-            pairs
-                .iter()
-                .map(|pair| (pair.0, leftover(pair).component_div(&scale)))
-                .unzip()
-        };
-        let (train_z, train_t) = targets(&train);
-        let (validation_z, validation_t) = targets(&validation);
-
+        let problem = Problem::new(data, &split.train, config.residual);
+        let train = problem.targets(data, &split.train);
+        let validation = problem.targets(data, &split.validation);
         let mut mlp = Mlp::new(&config.hidden, config.activation, &mut rng)?;
         if config.residual {
             mlp.zero_output_layer();
         }
-        let mut best = mlp.clone();
-        let initial_validation_loss = mlp.loss(&validation_z, &validation_t)?;
-        let mut best_validation_loss = initial_validation_loss;
-        let mut best_epoch = 0;
-        let mut adam = Adam::new(mlp.parameters().len(), config.learning_rate);
-        let mut workspace = Backprop::new(&mlp);
-        let mut gradient = vec![0.0; mlp.parameters().len()];
-        let mut order: Vec<usize> = (0..train_z.len()).collect();
-        let mut history = Vec::new();
-        let mut stop = StopReason::MaxEpochs;
-        let mut last_decay = 0;
-        for epoch in 1..=config.max_epochs {
-            let learning_rate = adam.learning_rate();
-            order.shuffle(&mut rng);
-            let mut sum = 0.0;
-            for batch in order.chunks(config.batch_size) {
-                gradient.fill(0.0);
-                let pairs = batch
-                    .iter()
-                    .filter_map(|&i| Some((train_z.get(i)?, train_t.get(i)?)));
-                let loss = workspace.accumulate(&mlp, pairs, batch.len(), &mut gradient);
-                #[allow(clippy::cast_precision_loss)] // batch sizes are far below 2⁵²
-                let weight = batch.len() as f64;
-                sum += loss * weight;
-                adam.step(mlp.parameters_mut(), &gradient);
-            }
-            #[allow(clippy::cast_precision_loss)] // sample counts are far below 2⁵²
-            let train_loss = sum / order.len().max(1) as f64;
-            let validation_loss = mlp.loss(&validation_z, &validation_t)?;
-            if !(train_loss.is_finite() && validation_loss.is_finite()) {
-                stop = StopReason::Diverged;
-                break;
-            }
-            history.push(EpochLosses {
-                train: train_loss,
-                validation: validation_loss,
-            });
-            if validation_loss < best_validation_loss {
-                best.clone_from(&mlp);
-                best_validation_loss = validation_loss;
-                best_epoch = epoch;
-            }
-            progress(&EpochProgress {
-                epoch,
-                max_epochs: config.max_epochs,
-                train_loss,
-                validation_loss,
-                best_epoch,
-                best_validation_loss,
-                learning_rate,
-            });
-            if epoch - best_epoch.max(last_decay) >= config.plateau {
-                adam.set_learning_rate(learning_rate * config.decay);
-                last_decay = epoch;
-            }
-            if epoch - best_epoch >= config.patience && epoch < config.max_epochs {
-                stop = StopReason::Patience;
-                break;
-            }
-        }
-
+        let mut descent = descend(mlp, &train, &validation, config, &mut rng, &mut progress)?;
         let test_loss = if split.test.is_empty() {
             None
         } else {
-            let (test_z, test_t) = targets(&normalised(&split.test));
-            Some(best.loss(&test_z, &test_t)?)
+            let (test_z, test_t) = problem.targets(data, &split.test);
+            Some(descent.best.loss(&test_z, &test_t)?)
         };
-        best.scale_outputs(&scale);
+        descent.best.scale_outputs(&problem.scale);
         let record = TrainingRecord {
             seed,
             config: config.clone(),
@@ -340,20 +252,167 @@ impl Calibration {
                 validation: split.validation.len(),
                 test: split.test.len(),
             },
-            epochs: history.len(),
-            best_epoch,
-            stop,
-            initial_validation_loss,
-            validation_loss: best_validation_loss,
+            epochs: descent.history.len(),
+            best_epoch: descent.best_epoch,
+            stop: descent.stop,
+            initial_validation_loss: descent.initial_validation_loss,
+            validation_loss: descent.best_validation_loss,
             test_loss,
             test_rmse: None,
-            history,
+            history: descent.history,
         };
-        let mut calibration = Self::from_parts(input, output, affine, best, record);
+        let mut calibration = Self::from_parts(
+            problem.input,
+            problem.output,
+            problem.affine,
+            descent.best,
+            record,
+        );
         if !split.test.is_empty() {
             let rmse = calibration.rmse(data.pairs(&split.test));
             calibration.record.test_rmse = Some(rmse.into());
         }
         Ok(calibration)
     }
+}
+
+/// What the network is trained on, fitted on the training split: the standardisations, the
+/// affine part, and the per-channel scale of what the affine part leaves.
+struct Problem {
+    input: Normaliser,
+    output: Normaliser,
+    affine: Option<Affine>,
+    /// The network's targets are the affine fit's residuals divided by this, per channel (ones
+    /// without an affine part).
+    scale: Vector6<f64>,
+}
+
+impl Problem {
+    fn new(data: &Dataset, train: &[usize], residual: bool) -> Self {
+        let input = Normaliser::fit(data.pairs(train).map(|(r, _)| r));
+        let output = Normaliser::fit(data.pairs(train).map(|(_, l)| l));
+        let mut problem = Self {
+            input,
+            output,
+            affine: None,
+            scale: Vector6::repeat(1.0),
+        };
+        if residual {
+            let normalised: Vec<_> = data
+                .pairs(train)
+                .map(|(r, l)| (input.normalise(r), output.normalise(l)))
+                .collect();
+            let affine = Affine::fit(normalised.iter().map(|(z, y)| (z, y)));
+            // Each channel's residual in units of its own spread, so that every channel weighs
+            // alike in the loss (a channel the affine part fits precisely would otherwise be
+            // invisible next to a noisy one).
+            let residuals: Vec<_> = normalised
+                .iter()
+                .map(|(z, y)| y - affine.apply(z))
+                .collect();
+            problem.scale = *Normaliser::fit(residuals.iter()).std();
+            problem.affine = Some(affine);
+        }
+        problem
+    }
+
+    /// The network's inputs (normalised readings) and targets for the samples at `indices`.
+    fn targets(&self, data: &Dataset, indices: &[usize]) -> (Vec<Vector6<f64>>, Vec<Vector6<f64>>) {
+        data.pairs(indices)
+            .map(|(r, l)| {
+                let z = self.input.normalise(r);
+                let y = self.output.normalise(l);
+                let left = self.affine.as_ref().map_or(y, |a| y - a.apply(&z));
+                (z, left.component_div(&self.scale))
+            })
+            .unzip()
+    }
+}
+
+/// The outcome of [`descend`].
+struct Descent {
+    best: Mlp,
+    best_epoch: usize,
+    best_validation_loss: f64,
+    initial_validation_loss: f64,
+    stop: StopReason,
+    history: Vec<EpochLosses>,
+}
+
+/// Mini-batch Adam from `mlp` on the `(inputs, targets)` of `train`, with step decay on
+/// plateaus and early stopping on the loss over `validation`, keeping the best weights.
+fn descend(
+    mut mlp: Mlp,
+    train: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
+    validation: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
+    config: &TrainConfig,
+    rng: &mut ChaCha8Rng,
+    progress: &mut impl FnMut(&EpochProgress),
+) -> Result<Descent, EstimateError> {
+    let (train_z, train_t) = train;
+    let (validation_z, validation_t) = validation;
+    let initial_validation_loss = mlp.loss(validation_z, validation_t)?;
+    let mut descent = Descent {
+        best: mlp.clone(),
+        best_epoch: 0,
+        best_validation_loss: initial_validation_loss,
+        initial_validation_loss,
+        stop: StopReason::MaxEpochs,
+        history: Vec::new(),
+    };
+    let mut adam = Adam::new(mlp.parameters().len(), config.learning_rate);
+    let mut workspace = Backprop::new(&mlp);
+    let mut gradient = vec![0.0; mlp.parameters().len()];
+    let mut order: Vec<usize> = (0..train_z.len()).collect();
+    let mut last_decay = 0;
+    for epoch in 1..=config.max_epochs {
+        let learning_rate = adam.learning_rate();
+        order.shuffle(rng);
+        let mut sum = 0.0;
+        for batch in order.chunks(config.batch_size) {
+            gradient.fill(0.0);
+            let pairs = batch
+                .iter()
+                .filter_map(|&i| Some((train_z.get(i)?, train_t.get(i)?)));
+            let loss = workspace.accumulate(&mlp, pairs, batch.len(), &mut gradient);
+            #[allow(clippy::cast_precision_loss)] // batch sizes are far below 2⁵²
+            let weight = batch.len() as f64;
+            sum += loss * weight;
+            adam.step(mlp.parameters_mut(), &gradient);
+        }
+        #[allow(clippy::cast_precision_loss)] // sample counts are far below 2⁵²
+        let train_loss = sum / order.len().max(1) as f64;
+        let validation_loss = mlp.loss(validation_z, validation_t)?;
+        if !(train_loss.is_finite() && validation_loss.is_finite()) {
+            descent.stop = StopReason::Diverged;
+            break;
+        }
+        descent.history.push(EpochLosses {
+            train: train_loss,
+            validation: validation_loss,
+        });
+        if validation_loss < descent.best_validation_loss {
+            descent.best.clone_from(&mlp);
+            descent.best_validation_loss = validation_loss;
+            descent.best_epoch = epoch;
+        }
+        progress(&EpochProgress {
+            epoch,
+            max_epochs: config.max_epochs,
+            train_loss,
+            validation_loss,
+            best_epoch: descent.best_epoch,
+            best_validation_loss: descent.best_validation_loss,
+            learning_rate,
+        });
+        if epoch - descent.best_epoch.max(last_decay) >= config.plateau {
+            adam.set_learning_rate(learning_rate * config.decay);
+            last_decay = epoch;
+        }
+        if epoch - descent.best_epoch >= config.patience && epoch < config.max_epochs {
+            descent.stop = StopReason::Patience;
+            break;
+        }
+    }
+    Ok(descent)
 }
