@@ -12,11 +12,16 @@
 //! Every estimator takes its wire model through the [`WireModel`] trait, so that the paper's
 //! Kirchhoff model ([`KirchhoffModel`]) can be swapped for a gravity-aware one without touching
 //! the estimators.
+//!
+//! [`calibration`] learns the map from a raw F/T reading to `a` from labelled samples (§IV-A):
+//! train a [`Calibration`] once, save it, load it in every command that reads the sensor.
 
+pub mod calibration;
 mod error;
 pub mod identify;
 pub mod model;
 pub mod shape;
 
+pub use calibration::Calibration;
 pub use error::EstimateError;
 pub use model::{KirchhoffModel, WireModel};
