@@ -15,7 +15,7 @@ use crate::Pose;
 /// assert!(!sample.is_saturated());
 /// # Ok::<(), serde_json::Error>(())
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct FtSample {
     /// Time of the sample \[s\] on the rig's clock.
     pub time: f64,

@@ -290,4 +290,60 @@ pub enum EstimateError {
         /// What is allowed, in words.
         allowed: &'static str,
     },
+
+    // The F/T pipeline (`ft/`) and logs (`log`).
+    /// A setting is outside its allowed range.
+    #[error("{name} = {value} is not allowed: {allowed}")]
+    BadSetting {
+        /// The setting.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+    /// Too few F/T samples survived screening to average.
+    #[error(
+        "only {good} good F/T samples of {offered} (needed {needed}): {dropouts} dropouts, \
+         {non_finite} non-finite, {saturated} saturated",
+        offered = report.offered(),
+        dropouts = report.dropouts,
+        non_finite = report.non_finite,
+        saturated = report.saturated
+    )]
+    TooFewGoodSamples {
+        /// Samples kept.
+        good: usize,
+        /// Samples needed.
+        needed: usize,
+        /// What was skipped and why.
+        report: Box<crate::ft::ScreenReport>,
+    },
+    /// A calibration produced a non-finite configuration.
+    #[error("the calibration produced a non-finite configuration: a[{index}] = {value}")]
+    NonFiniteConfiguration {
+        /// The component (torque first).
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A line of a log could not be used.
+    #[error("log line {line}: {message}")]
+    BadLogLine {
+        /// The line, 1-based.
+        line: usize,
+        /// What is wrong, naming the key and the value.
+        message: String,
+    },
+    /// A log holds no record.
+    #[error("the log holds no record: nothing to estimate from")]
+    EmptyLog,
+    /// Reading or writing failed.
+    #[error("cannot read {what}: {message}")]
+    Io {
+        /// What was being read or written.
+        what: String,
+        /// The system's message.
+        message: String,
+    },
 }

@@ -18,7 +18,9 @@
 
 pub mod calibration;
 mod error;
+pub mod ft;
 pub mod identify;
+pub mod log;
 pub mod model;
 pub mod shape;
 
