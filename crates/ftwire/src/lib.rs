@@ -9,10 +9,12 @@
 //! - [`error`]: the one error type and the exit-code rule (0 success, 1 valid input but no
 //!   answer, 2 bad input);
 //! - [`output`]: JSON / text / JSON Lines output and the run header;
-//! - [`results`]: the results folder of an experiment, replaced whole or not at all.
+//! - [`results`]: the results folder of an experiment, replaced whole or not at all;
+//! - [`wire`]: wires by preset name or TOML file.
 
 pub mod args;
 pub mod bridge;
 pub mod error;
 pub mod output;
 pub mod results;
+pub mod wire;
