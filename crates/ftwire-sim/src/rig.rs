@@ -203,6 +203,43 @@ impl SimRig {
         &self.sensor
     }
 
+    /// Reads one F/T sample with **nothing in the base gripper**, at the sensor's next clock
+    /// tick: the reading a robot takes to tare its sensor before it picks the wire up
+    /// (`ftwire_estimate::ft::Tare`). Only the sensor's own offset, drift and noise are in it.
+    /// It is a sim-only method: on a real robot the same reading is an ordinary
+    /// [`Rig::read_ft`] taken before the wire is in the gripper.
+    ///
+    /// # Errors
+    /// As [`Rig::read_ft`].
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_core::{GripperPoses, Rig};
+    /// use ftwire_sim::{RigConfig, RodParams, SimRig, World};
+    /// use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+    ///
+    /// let world = World::new(RodParams::nitinol_2mm_630().with_edges(30))?;
+    /// let start = GripperPoses {
+    ///     base: Isometry3::identity(),
+    ///     tip: Isometry3::from_parts(Translation3::new(0.5, 0.1, 0.0), UnitQuaternion::identity()),
+    /// };
+    /// let mut rig = SimRig::new(world, start, RigConfig::ideal())?;
+    /// assert_eq!(rig.read_ft_empty_gripper()?.raw, nalgebra::Vector6::zeros());
+    /// # Ok::<(), ftwire_sim::SimError>(())
+    /// ```
+    pub fn read_ft_empty_gripper(&mut self) -> Result<FtSample, SimError> {
+        self.read_wrench(&ftwire_core::Wrench::default())
+    }
+
+    fn read_wrench(&mut self, wrench: &ftwire_core::Wrench) -> Result<FtSample, SimError> {
+        let result = self.sensor.read(wrench, self.time);
+        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
+        if let Some(tick) = self.sensor.last_sample_time() {
+            self.time = self.time.max(tick);
+        }
+        Ok(result?)
+    }
+
     /// The rig's settings.
     pub fn config(&self) -> &RigConfig {
         &self.config
@@ -277,12 +314,7 @@ impl Rig for SimRig {
     /// (the tick and its time are consumed, as on a real bus).
     fn read_ft(&mut self) -> Result<FtSample, SimError> {
         let wrench = self.sim.equilibrium().base_wrench;
-        let result = self.sensor.read(&wrench, self.time);
-        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
-        if let Some(tick) = self.sensor.last_sample_time() {
-            self.time = self.time.max(tick);
-        }
-        Ok(result?)
+        self.read_wrench(&wrench)
     }
 
     fn gripper_poses(&self) -> Result<GripperPoses, SimError> {

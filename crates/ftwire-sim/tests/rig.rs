@@ -276,3 +276,36 @@ fn ideal_markers_sit_on_the_wire_from_base_to_tip() {
         );
     }
 }
+
+#[test]
+fn the_empty_gripper_reads_only_the_sensor_offset_and_keeps_the_wire() {
+    let mut config = RigConfig::default();
+    config.sensor.dropout_probability = 0.0;
+    let mut rig = rig(config);
+    let equilibrium = rig.equilibrium().clone();
+    let n = 400;
+    let mut mean = nalgebra::Vector6::zeros();
+    let mut last = f64::NEG_INFINITY;
+    for _ in 0..n {
+        let sample = rig.read_ft_empty_gripper().expect("no dropouts configured");
+        assert!(sample.time > last, "each read takes the next clock tick");
+        last = sample.time;
+        mean += sample.raw / n as f64;
+    }
+    // The average is the offset (the drift over 0.4 s is far below the noise): within 4
+    // standard errors of the default noise, 0.05 N and 0.002 N·m.
+    let bias = rig.sensor().bias();
+    let sigma = [0.05, 0.05, 0.05, 0.002, 0.002, 0.002];
+    for i in 0..6 {
+        let bound = 4.0 * sigma[i] / (n as f64).sqrt();
+        assert!(
+            (mean[i] - bias[i]).abs() < bound,
+            "channel {i}: {} vs {}",
+            mean[i],
+            bias[i]
+        );
+    }
+    // Reading the empty gripper leaves the wire's equilibrium alone.
+    assert_eq!(rig.equilibrium(), &equilibrium);
+    assert!((rig.time() - last).abs() < 1e-12);
+}
