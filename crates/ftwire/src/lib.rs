@@ -10,11 +10,14 @@
 //!   answer, 2 bad input);
 //! - [`output`]: JSON / text / JSON Lines output and the run header;
 //! - [`results`]: the results folder of an experiment, replaced whole or not at all;
-//! - [`wire`]: wires by preset name or TOML file.
+//! - [`wire`]: wires by preset name or TOML file;
+//! - [`experiment`]: what the experiments of paper §IV share (the simulated rig, taring,
+//!   measuring).
 
 pub mod args;
 pub mod bridge;
 pub mod error;
+pub mod experiment;
 pub mod output;
 pub mod results;
 pub mod wire;

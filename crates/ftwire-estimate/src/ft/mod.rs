@@ -32,6 +32,6 @@ mod tare;
 
 pub use average::{Averaged, RestAverage};
 pub use mounting::Mounting;
-pub use pipeline::{FtCalibration, FtPipeline};
+pub use pipeline::{FtCalibration, FtPipeline, Measurement};
 pub use screen::{Screen, ScreenReport, SkipReason};
 pub use tare::Tare;
