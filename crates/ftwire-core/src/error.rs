@@ -1,3 +1,5 @@
+//! The error type of the shared data, and the two input checks every ftwire crate uses.
+
 use thiserror::Error;
 
 /// Errors of the shared data types.
@@ -22,4 +24,43 @@ pub enum CoreError {
         /// The offending value.
         value: f64,
     },
+}
+
+/// Checks that every component of a slice is finite, naming `field` and the first offending
+/// component in the error. The one finiteness check of the workspace: other crates wrap
+/// [`CoreError`] in their own error with `#[from]`.
+///
+/// # Example
+/// ```
+/// assert!(ftwire_core::ensure_finite("a", &[1.0, 2.0]).is_ok());
+/// assert!(ftwire_core::ensure_finite("a", &[1.0, f64::NAN]).is_err());
+/// ```
+pub fn ensure_finite(field: &'static str, values: &[f64]) -> Result<(), CoreError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(index) => Err(CoreError::NonFinite {
+            field,
+            index,
+            value: values[index],
+        }),
+    }
+}
+
+/// Checks that a value is finite and strictly positive, naming `field` in the error.
+///
+/// # Example
+/// ```
+/// use ftwire_core::{CoreError, ensure_positive};
+/// assert!(ensure_positive("length", 0.63).is_ok());
+/// assert_eq!(
+///     ensure_positive("length", 0.0),
+///     Err(CoreError::NotPositive { field: "length", value: 0.0 })
+/// );
+/// ```
+pub fn ensure_positive(field: &'static str, value: f64) -> Result<(), CoreError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(CoreError::NotPositive { field, value })
+    }
 }

@@ -27,28 +27,10 @@ mod rig;
 mod wire;
 mod wrench;
 
-pub use error::CoreError;
+pub use error::{CoreError, ensure_finite, ensure_positive};
 pub use rig::{Command, FtSample, GripperPoses, Rig};
 pub use wire::WireParams;
 pub use wrench::Wrench;
 
 /// A rigid transform in SE(3): rotation and translation \[m\], child frame to parent frame.
 pub type Pose = nalgebra::Isometry3<f64>;
-
-/// Checks that every component of a slice is finite, naming `field` in the error.
-///
-/// # Example
-/// ```
-/// assert!(ftwire_core::ensure_finite("a", &[1.0, 2.0]).is_ok());
-/// assert!(ftwire_core::ensure_finite("a", &[1.0, f64::NAN]).is_err());
-/// ```
-pub fn ensure_finite(field: &'static str, values: &[f64]) -> Result<(), CoreError> {
-    match values.iter().position(|v| !v.is_finite()) {
-        None => Ok(()),
-        Some(index) => Err(CoreError::NonFinite {
-            field,
-            index,
-            value: values[index],
-        }),
-    }
-}

@@ -4,13 +4,36 @@ use serde::{Deserialize, Serialize};
 use crate::Pose;
 
 /// One raw sample of the wrist force/torque sensor.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+///
+/// # Example
+/// ```
+/// use ftwire_core::FtSample;
+/// // A log written before `saturated` existed still parses, with no channel clipped.
+/// let old = r#"{"time": 0.5, "raw": [1.0, 2.0, 3.0, 0.1, 0.2, 0.3]}"#;
+/// let sample: FtSample = serde_json::from_str(old)?;
+/// assert_eq!(sample.saturated, [false; 6]);
+/// assert!(!sample.is_saturated());
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct FtSample {
     /// Time of the sample \[s\] on the rig's clock.
     pub time: f64,
     /// Raw reading `(f1, f2, f3, τ1, τ2, τ3)` — **force first**, as sensors report — in the
     /// sensor's own frame, in the sensor's units (\[N\], \[N·m\]) before calibration.
     pub raw: Vector6<f64>,
+    /// Per channel, in the order of `raw` (force first), whether the sensor clipped the channel
+    /// at its full scale: such a channel reads the full scale, not the load, and an algorithm
+    /// should not trust it (default all `false`, also when a log has no such field).
+    #[serde(default)]
+    pub saturated: [bool; 6],
+}
+
+impl FtSample {
+    /// Whether any channel was clipped at its full scale.
+    pub fn is_saturated(&self) -> bool {
+        self.saturated.iter().any(|&s| s)
+    }
 }
 
 /// Poses of both grippers in the robot's world frame, as the robot believes them to be.
@@ -46,7 +69,8 @@ pub trait Rig {
     /// The rig's error type.
     type Error: std::error::Error + Send + Sync + 'static;
 
-    /// Reads one F/T sample (may fail on a sensor dropout).
+    /// Reads one F/T sample, with the channels the sensor clipped flagged in
+    /// [`FtSample::saturated`] (may fail on a sensor dropout).
     fn read_ft(&mut self) -> Result<FtSample, Self::Error>;
 
     /// Reads the gripper poses the robot believes it has (the commanded ones, on a robot with

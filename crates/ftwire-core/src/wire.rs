@@ -1,6 +1,6 @@
 use serde::{Deserialize, Serialize};
 
-use crate::CoreError;
+use crate::{CoreError, ensure_positive};
 
 /// Mechanical parameters of a Kirchhoff wire: stiffnesses, length and radius.
 ///
@@ -32,10 +32,10 @@ impl WireParams {
     pub fn new(c: [f64; 3], length: f64, radius: f64) -> Result<Self, CoreError> {
         const NAMES: [&str; 3] = ["c1", "c2", "c3"];
         for (name, &value) in NAMES.iter().zip(&c) {
-            positive(name, value)?;
+            ensure_positive(name, value)?;
         }
-        positive("length", length)?;
-        positive("radius", radius)?;
+        ensure_positive("length", length)?;
+        ensure_positive("radius", radius)?;
         Ok(Self { c, length, radius })
     }
 
@@ -78,14 +78,6 @@ impl WireParams {
     /// The force scale `c2 / L²` \[N\] used to normalise configurations.
     pub fn force_scale(&self) -> f64 {
         self.c[1] / (self.length * self.length)
-    }
-}
-
-fn positive(field: &'static str, value: f64) -> Result<(), CoreError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(CoreError::NotPositive { field, value })
     }
 }
 

@@ -43,10 +43,13 @@
 use ftwire_core::Pose;
 use nalgebra::{Translation3, Unit, UnitQuaternion, Vector3};
 
-use crate::continuation::{self, Motion};
+use crate::continuation;
+use crate::discrete_rod::DiscreteRod;
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
-use crate::state::RodState;
+use crate::guess;
+use crate::motion::{ColdStart, Motion};
+use crate::state::{InitialGuess, RodState};
 use crate::transport::perpendicular;
 use crate::world::World;
 
@@ -55,25 +58,6 @@ pub const MAX_BEND: f64 = 1.0;
 
 /// Edges of the coarse discretisation on which the cold start's path runs (module docs).
 pub const COARSE_EDGES: usize = 25;
-
-/// How a cold start reached its equilibrium.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum ColdStart {
-    /// From the straight wire, bent by continuation along an arc and carried to the target
-    /// (the default route).
-    Continuation {
-        /// Turning angle \[rad\] of the bend leg's final arc (`0` for a taut target).
-        bend: f64,
-    },
-    /// The continuation failed or ended on a saddle; Newton from a smooth, length-exact guess
-    /// between the clamps found the equilibrium instead.
-    SmoothGuess {
-        /// Why the continuation route was not used: its error, or `None` if it converged to a
-        /// saddle.
-        continuation_error: Option<SimError>,
-    },
-}
 
 /// The clamp pose at the end of a planar arc of length `l`, turning angle `psi`, leaving the
 /// base along its x axis and bending towards the unit vector `n` (base frame, ⟂ x).
@@ -183,7 +167,7 @@ pub(crate) fn bend_and_carry(
     // The straight, untwisted wire with its tip clamp `L` along the base tangent.
     let straight = RodState::straight(world.rod(), base);
     let (b0, t0) = (straight.base, straight.tip);
-    let start: Equilibrium = world.newton_from(straight, &b0, &t0)?;
+    let start: Equilibrium = Equilibrium::newton_from(world, straight, &b0, &t0)?;
     let mut total = Motion {
         steps: 0,
         iterations: start.convergence.iterations,
@@ -230,7 +214,7 @@ pub(crate) fn coarse_then_fine(
         Err(_) => return bend_and_carry(world, base, tip),
     };
     let guess = refine(&path.equilibrium, coarse.rod(), world.rod());
-    match world.solve_with_guess(&guess, base, tip) {
+    match guess::solve(world, &guess, base, tip) {
         Ok(mut fine) if fine.stable_minimum => {
             let iterations = path.iterations + fine.convergence.iterations;
             fine.convergence.iterations = iterations;
@@ -251,11 +235,7 @@ pub(crate) fn coarse_then_fine(
 
 /// An initial guess for `fine` from an equilibrium of `coarse` (the same wire, fewer edges):
 /// node positions interpolated linearly in arc length, material frames by slerp.
-fn refine(
-    eq: &Equilibrium,
-    coarse: &crate::rod::Rod,
-    fine: &crate::rod::Rod,
-) -> crate::state::InitialGuess {
+fn refine(eq: &Equilibrium, coarse: &DiscreteRod, fine: &DiscreteRod) -> InitialGuess {
     let points = eq.centreline();
     let frames: Vec<UnitQuaternion<f64>> = eq
         .state
@@ -265,7 +245,7 @@ fn refine(
         .collect();
     let h = coarse.edge_length();
     let (nodes, edges) = (points.len(), frames.len());
-    crate::state::InitialGuess::from_shape(fine, |s| {
+    InitialGuess::from_shape(fine, |s| {
         // Nodes sit at (k − ½)h, edges (frames) at j·h.
         let x = (s / h + 0.5).clamp(0.0, (nodes - 1) as f64);
         let k = (x.floor() as usize).min(nodes - 2);

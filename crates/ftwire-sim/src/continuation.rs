@@ -10,78 +10,15 @@
 //! `1/16` of the nominal step, the branch has ended: the wire snaps to another branch, as a real
 //! wire does, and the jump is reported as a [`SnapEvent`].
 
-use ftwire_core::{Pose, Wrench};
+use ftwire_core::Pose;
 use nalgebra::{Isometry3, Translation3};
 
-use crate::cold_start::ColdStart;
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
+use crate::motion::{Motion, SnapEvent};
 use crate::newton;
 use crate::state::RodState;
 use crate::world::World;
-
-/// Settings of the continuation.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContinuationSettings {
-    /// Largest gripper translation per step, as a fraction of `L` (default `0.05`).
-    pub max_translation_fraction: f64,
-    /// Largest gripper rotation per step \[rad\] (default `0.15`, about 8.6°).
-    pub max_rotation: f64,
-    /// How many times a step may be halved before the motion fails (default `12`).
-    pub max_subdivisions: usize,
-    /// Node jump between predictor and equilibrium above which a step is suspected to snap,
-    /// as a fraction of `L` (default `0.02`).
-    pub snap_distance_fraction: f64,
-    /// Newton tolerance (scaled residual, as [`crate::NewtonSettings::tolerance`]) of the
-    /// intermediate steps of a motion (default `1e-3`); the last step is solved to the world's
-    /// Newton tolerance. The intermediate equilibria only carry the branch to the next step.
-    pub path_tolerance: f64,
-}
-
-impl Default for ContinuationSettings {
-    fn default() -> Self {
-        Self {
-            max_translation_fraction: 0.05,
-            max_rotation: 0.15,
-            max_subdivisions: 12,
-            snap_distance_fraction: 0.02,
-            path_tolerance: 1e-3,
-        }
-    }
-}
-
-/// A sudden jump of the wire to another equilibrium branch.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SnapEvent {
-    /// Where along the motion the snap happened, from 0 (start) to 1 (target).
-    pub progress: f64,
-    /// Largest node jump \[m\] between the predicted and the new equilibrium.
-    pub max_node_jump: f64,
-    /// Total energy before \[J\].
-    pub energy_before: f64,
-    /// Total energy after \[J\].
-    pub energy_after: f64,
-    /// Base wrench before (base clamp frame).
-    pub base_wrench_before: Wrench,
-    /// Base wrench after (base clamp frame).
-    pub base_wrench_after: Wrench,
-}
-
-/// The result of a gripper motion.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Motion {
-    /// The equilibrium at the target poses.
-    pub equilibrium: Equilibrium,
-    /// Snaps met on the way, in order.
-    pub snaps: Vec<SnapEvent>,
-    /// Continuation steps taken.
-    pub steps: usize,
-    /// Newton iterations summed over all steps (including rejected ones).
-    pub iterations: usize,
-    /// For a cold start ([`crate::World::solve_cold`]), the route it took; `None` for a move
-    /// from a previous equilibrium.
-    pub cold_start: Option<ColdStart>,
-}
 
 fn interpolate(a: &Pose, b: &Pose, s: f64) -> Pose {
     let t = a.translation.vector.lerp(&b.translation.vector, s);
@@ -157,7 +94,7 @@ pub(crate) fn predict(world: &World, from: &Equilibrium, base: &Pose, tip: &Pose
     }
     next.apply_clamps(rod, base, tip);
     next.rebase();
-    crate::projection::project_lengths(&mut next, rod.edge_length());
+    next.project_lengths(rod.edge_length());
     next
 }
 

@@ -6,6 +6,20 @@
 //! generic over [`Scalar`], and evaluated either with `f64` (energy only, for line searches) or
 //! with `Dual2<N>` (energy, exact gradient and exact Hessian, for Newton's method). This keeps the
 //! reference-twist terms consistent between energy, gradient and Hessian by construction.
+//!
+//! **Why hand-written, not `num-dual`.** `num-dual` 0.15 offers the same thing
+//! (`Dual2SVec64<11>`: value, gradient and Hessian in 11 variables, on the same nalgebra), adds
+//! only itself to the build, and agrees with this module to rounding. It is not used because:
+//! - the Hessian is the hot path of every Newton iteration, and this module updates only the
+//!   upper triangle of the symmetric Hessian, on plain fixed-size arrays, where `num-dual`
+//!   updates the full matrix behind an `Option` per derivative; on a bend–twist-like stencil of
+//!   11 variables it was about 2.5–3× faster (`benches/README.md`);
+//! - the stencils need only [`Scalar`]: arithmetic, `sqrt`, `sin`, `cos` and `atan2`; being
+//!   generic over `num-dual`'s `DualNum` (the whole `num-traits` float surface) would tie every
+//!   stencil to a much larger trait for no new capability.
+//!
+//! The derivative tests of `energy` (against central finite differences) guard both the
+//! numbers and the stencils.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 

@@ -5,8 +5,10 @@ use nalgebra::{Point3, Rotation3, Vector3};
 
 use crate::banded::BandedSym;
 use crate::energy::{Energies, Evaluation, theta_dof, x_dof};
-use crate::newton::{Convergence, NewtonResult};
+use crate::error::SimError;
+use crate::newton::{self, Convergence, NewtonResult};
 use crate::state::RodState;
+use crate::world::World;
 
 /// An equilibrium of the rod between its two clamps.
 ///
@@ -41,6 +43,25 @@ pub struct Equilibrium {
 }
 
 impl Equilibrium {
+    /// Solves by Newton's method directly from `state`, with the clamps placed at `base` and
+    /// `tip` (no continuation).
+    pub(crate) fn newton_from(
+        world: &World,
+        mut state: RodState,
+        base: &Pose,
+        tip: &Pose,
+    ) -> Result<Self, SimError> {
+        state.apply_clamps(world.rod(), base, tip);
+        state.rebase();
+        newton::solve(world, state)
+            .map(Self::from_newton)
+            .map_err(|f| SimError::NewtonFailed {
+                iterations: f.iterations,
+                residual: f.residual,
+                subdivisions: 0,
+            })
+    }
+
     pub(crate) fn from_newton(result: NewtonResult) -> Self {
         let NewtonResult {
             state,

@@ -1,29 +1,16 @@
 //! The error type of the simulator.
 
+use ftwire_core::CoreError;
 use thiserror::Error;
 
 /// Everything that can go wrong when building or solving the simulated world.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum SimError {
-    /// A parameter that must be finite and strictly positive is not.
-    #[error("{field} = {value} must be finite and > 0")]
-    NotPositive {
-        /// Name of the offending parameter.
-        field: &'static str,
-        /// The offending value.
-        value: f64,
-    },
-    /// A value that must be finite is NaN or infinite.
-    #[error("{field}[{index}] = {value} is not finite; every component must be a finite number")]
-    NonFinite {
-        /// Name of the offending input.
-        field: &'static str,
-        /// Index of the offending component (0 for scalars).
-        index: usize,
-        /// The offending value.
-        value: f64,
-    },
+    /// An input that must be finite (and, for a parameter, positive) is not; the error names
+    /// the field and the offending value.
+    #[error(transparent)]
+    Core(#[from] CoreError),
     /// Too few edges to discretise the rod.
     #[error("the rod needs at least {min} edges, got {edges}")]
     TooFewEdges {
@@ -88,43 +75,4 @@ pub enum SimError {
         /// What is allowed.
         allowed: &'static str,
     },
-}
-
-impl From<ftwire_core::CoreError> for SimError {
-    fn from(e: ftwire_core::CoreError) -> Self {
-        match e {
-            ftwire_core::CoreError::NotPositive { field, value } => {
-                SimError::NotPositive { field, value }
-            }
-            ftwire_core::CoreError::NonFinite {
-                field,
-                index,
-                value,
-            } => SimError::NonFinite {
-                field,
-                index,
-                value,
-            },
-            // CoreError is non-exhaustive; a future variant is reported as a non-finite input.
-            _ => SimError::NonFinite {
-                field: "input",
-                index: 0,
-                value: f64::NAN,
-            },
-        }
-    }
-}
-
-/// Checks that every component is finite, naming `field` in the error.
-pub(crate) fn ensure_finite(field: &'static str, values: &[f64]) -> Result<(), SimError> {
-    Ok(ftwire_core::ensure_finite(field, values)?)
-}
-
-/// Checks that a value is finite and strictly positive.
-pub(crate) fn ensure_positive(field: &'static str, value: f64) -> Result<(), SimError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(SimError::NotPositive { field, value })
-    }
 }

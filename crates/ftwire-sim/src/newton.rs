@@ -17,30 +17,6 @@ use crate::energy::{self, Evaluation, Order, theta_dof, x_dof};
 use crate::state::RodState;
 use crate::world::World;
 
-/// Settings of Newton's method.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NewtonSettings {
-    /// Iteration limit (default `200`).
-    pub max_iterations: usize,
-    /// Convergence tolerance on the scaled residual (default `1e-8`): the largest free nodal
-    /// force over `c_max/L²` and the largest free edge moment over `c_max/L`. It is raised to
-    /// the rounding floor of the stiff stretching forces, `16·ε·EA·max|x|/h` over `c_max/L²`
-    /// (≈ 5e-7 for the 2 mm nitinol wire near the origin), when that is larger.
-    pub tolerance: f64,
-    /// Largest node displacement per iteration, as a fraction of `L` (default `0.05`).
-    pub max_step_fraction: f64,
-}
-
-impl Default for NewtonSettings {
-    fn default() -> Self {
-        Self {
-            max_iterations: 200,
-            tolerance: 1e-8,
-            max_step_fraction: 0.05,
-        }
-    }
-}
-
 /// Convergence data of one equilibrium solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Convergence {
@@ -48,7 +24,7 @@ pub struct Convergence {
     pub converged: bool,
     /// Newton iterations used (summed over continuation steps for a motion).
     pub iterations: usize,
-    /// Final scaled residual (see [`NewtonSettings::tolerance`]).
+    /// Final scaled residual (see [`crate::NewtonSettings::tolerance`]).
     pub residual: f64,
 }
 

@@ -3,10 +3,10 @@
 //! Each obstacle exposes a signed distance `d(p)` (positive outside) with its gradient and
 //! Hessian, which the contact penalty ([`crate::energy::contact`]) turns into a smooth energy.
 
-use ftwire_core::Pose;
+use ftwire_core::{Pose, ensure_finite, ensure_positive};
 use nalgebra::{Matrix3, Point3, Vector3};
 
-use crate::error::{SimError, ensure_finite, ensure_positive};
+use crate::error::SimError;
 
 /// A solid box obstacle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,8 +20,7 @@ impl BoxObstacle {
     /// `half_extents` \[m\] along its own x, y, z axes.
     ///
     /// # Errors
-    /// [`SimError::NonFinite`] for a non-finite pose, [`SimError::NotPositive`] for a
-    /// non-positive half extent.
+    /// [`SimError::Core`] for a non-finite pose or a non-positive half extent.
     ///
     /// # Example
     /// ```

@@ -12,12 +12,12 @@
 
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
 
-use crate::continuation::Motion;
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
 use crate::execution::{ExecutionErrorConfig, ExecutionErrorModel};
 use crate::markers::{MarkerConfig, MarkerFrame, MotionCapture};
-use crate::sensor::{FtReading, FtSensor, FtSensorConfig};
+use crate::motion::Motion;
+use crate::sensor::{FtSensor, FtSensorConfig};
 use crate::simulator::Simulator;
 use crate::world::World;
 
@@ -163,22 +163,6 @@ impl SimRig {
         })
     }
 
-    /// Reads one F/T sample with its saturation flags (the [`Rig::read_ft`] sample plus which
-    /// channels clipped).
-    ///
-    /// # Errors
-    /// [`SimError::Sensing`] with [`crate::SensingError::Dropout`] when the sensor misses a tick
-    /// (the tick and its time are consumed, as on a real bus).
-    pub fn read_ft_full(&mut self) -> Result<FtReading, SimError> {
-        let wrench = self.sim.equilibrium().base_wrench;
-        let result = self.sensor.read(&wrench, self.time);
-        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
-        if let Some(tick) = self.sensor.last_sample_time() {
-            self.time = self.time.max(tick);
-        }
-        Ok(result?)
-    }
-
     /// Observes the motion-capture markers at the current time, in the world frame
     /// (ground truth with marker noise and dropouts).
     ///
@@ -219,12 +203,55 @@ impl SimRig {
         &self.sensor
     }
 
+    /// Reads one F/T sample with **nothing in the base gripper**, at the sensor's next clock
+    /// tick: the reading a robot takes to tare its sensor before it picks the wire up
+    /// (`ftwire_estimate::ft::Tare`). Only the sensor's own offset, drift and noise are in it.
+    /// It is a sim-only method: on a real robot the same reading is an ordinary
+    /// [`Rig::read_ft`] taken before the wire is in the gripper.
+    ///
+    /// # Errors
+    /// As [`Rig::read_ft`].
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_core::{GripperPoses, Rig};
+    /// use ftwire_sim::{RigConfig, RodParams, SimRig, World};
+    /// use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+    ///
+    /// let world = World::new(RodParams::nitinol_2mm_630().with_edges(30))?;
+    /// let start = GripperPoses {
+    ///     base: Isometry3::identity(),
+    ///     tip: Isometry3::from_parts(Translation3::new(0.5, 0.1, 0.0), UnitQuaternion::identity()),
+    /// };
+    /// let mut rig = SimRig::new(world, start, RigConfig::ideal())?;
+    /// assert_eq!(rig.read_ft_empty_gripper()?.raw, nalgebra::Vector6::zeros());
+    /// # Ok::<(), ftwire_sim::SimError>(())
+    /// ```
+    pub fn read_ft_empty_gripper(&mut self) -> Result<FtSample, SimError> {
+        self.read_wrench(&ftwire_core::Wrench::default())
+    }
+
+    fn read_wrench(&mut self, wrench: &ftwire_core::Wrench) -> Result<FtSample, SimError> {
+        let result = self.sensor.read(wrench, self.time);
+        // The sensor consumes its tick even on a dropout; the rig's clock follows it.
+        if let Some(tick) = self.sensor.last_sample_time() {
+            self.time = self.time.max(tick);
+        }
+        Ok(result?)
+    }
+
     /// The rig's settings.
     pub fn config(&self) -> &RigConfig {
         &self.config
     }
 
     /// Moves the grippers and returns the motion (with its snap events). As [`Rig::command`].
+    ///
+    /// A command either completes or changes nothing: when it is refused (a non-finite pose,
+    /// grippers farther apart than the wire is long) or the simulator finds no equilibrium on
+    /// the way, the equilibrium, the actual and believed gripper poses, the clock and the
+    /// execution error's random stream are all as they were before the call
+    /// (`tests/rig_failures.rs`), so the caller can retry or command another pose.
     ///
     /// # Errors
     /// As [`Rig::command`].
@@ -236,21 +263,37 @@ impl SimRig {
             ensure_finite(field, pose.translation.vector.as_slice())?;
             ensure_finite(field, pose.rotation.coords.as_slice())?;
         }
-        let actual = self.execution.actual_poses(command)?;
-        let before = self.actual_poses();
-        let duration = self
-            .move_duration(&before.base, &actual.base)
-            .max(self.move_duration(&before.tip, &actual.tip));
-        let motion = self.sim.move_grippers(&actual.base, &actual.tip);
-        // Whether or not the wire followed, the arms moved (a failure leaves the last good
-        // equilibrium in the simulator), so the clock advances.
-        self.time += duration + self.config.settle_time;
-        let motion = motion?;
-        self.believed = GripperPoses {
-            base: command.base,
-            tip: command.tip,
-        };
-        Ok(motion)
+        // The simulator keeps the furthest equilibrium a failed motion reached and the
+        // execution model has drawn its error: restore both if the motion fails.
+        let (sim_before, execution_before) = (self.sim.clone(), self.execution.clone());
+        let moved = self
+            .execution
+            .actual_poses(command)
+            .map_err(SimError::from)
+            .and_then(|actual| {
+                let before = self.actual_poses();
+                let duration = self
+                    .move_duration(&before.base, &actual.base)
+                    .max(self.move_duration(&before.tip, &actual.tip));
+                self.sim
+                    .move_grippers(&actual.base, &actual.tip)
+                    .map(|_| duration)
+            });
+        match moved {
+            Ok(duration) => {
+                self.time += duration + self.config.settle_time;
+                self.believed = GripperPoses {
+                    base: command.base,
+                    tip: command.tip,
+                };
+                self.sim.last_motion().ok_or(SimError::NotSolved)
+            }
+            Err(error) => {
+                self.sim = sim_before;
+                self.execution = execution_before;
+                Err(error)
+            }
+        }
     }
 
     fn move_duration(&self, from: &Pose, to: &Pose) -> f64 {
@@ -263,8 +306,15 @@ impl SimRig {
 impl Rig for SimRig {
     type Error = SimError;
 
+    /// Reads one F/T sample of the current base wrench at the sensor's next clock tick, with
+    /// the channels it clipped flagged in [`FtSample::saturated`].
+    ///
+    /// # Errors
+    /// [`SimError::Sensing`] with [`crate::SensingError::Dropout`] when the sensor misses a tick
+    /// (the tick and its time are consumed, as on a real bus).
     fn read_ft(&mut self) -> Result<FtSample, SimError> {
-        Ok(self.read_ft_full()?.sample)
+        let wrench = self.sim.equilibrium().base_wrench;
+        self.read_wrench(&wrench)
     }
 
     fn gripper_poses(&self) -> Result<GripperPoses, SimError> {

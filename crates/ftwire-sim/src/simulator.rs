@@ -2,9 +2,10 @@
 
 use ftwire_core::Pose;
 
-use crate::continuation::{self, Motion, SnapEvent};
+use crate::continuation;
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
+use crate::motion::{Motion, SnapEvent};
 use crate::state::InitialGuess;
 use crate::world::World;
 
@@ -85,7 +86,7 @@ impl Simulator {
     /// appended to [`Simulator::snaps`].
     ///
     /// # Errors
-    /// [`SimError::NonFinite`] or [`SimError::GrippersTooFarApart`] (nothing moves), or
+    /// [`SimError::Core`] (non-finite) or [`SimError::GrippersTooFarApart`] (nothing moves), or
     /// [`SimError::NewtonFailed`]: the simulator then holds the last equilibrium reached.
     pub fn move_grippers(&mut self, base: &Pose, tip: &Pose) -> Result<&Motion, SimError> {
         let (motion, error) = continuation::run(&self.world, &self.current, base, tip);
@@ -102,6 +103,12 @@ impl Simulator {
     /// a robot model adds its execution error on top).
     pub fn gripper_poses(&self) -> (Pose, Pose) {
         (*self.current.state.base(), *self.current.state.tip())
+    }
+
+    /// The motion of the last [`Simulator::move_grippers`], a failed one up to where it stopped
+    /// (`None` before the first).
+    pub fn last_motion(&self) -> Option<&Motion> {
+        self.last_motion.as_ref()
     }
 
     /// The current equilibrium.

@@ -1,11 +1,10 @@
 //! The discrete rod's configuration: nodes, material angles and reference frames.
 
-use ftwire_core::Pose;
+use ftwire_core::{Pose, ensure_finite};
 use nalgebra::{Matrix3, Point3, Rotation3, UnitQuaternion, Vector3};
 
-use crate::error::{SimError, ensure_finite};
-use crate::projection::project_lengths;
-use crate::rod::Rod;
+use crate::discrete_rod::DiscreteRod;
+use crate::error::SimError;
 use crate::transport::{perpendicular, transport_f64};
 
 /// A configuration of the discrete elastic rod (Bergou et al. 2010, §4): `N + 1` nodes in the
@@ -27,9 +26,9 @@ pub struct RodState {
 /// A user-given starting configuration: centreline points and material frames.
 ///
 /// The points are the `N + 1` node positions in the world frame, at the arc lengths
-/// [`Rod::node_arc_length`] (`(k − ½)·h`, so the first and last lie half an edge outside the
+/// [`DiscreteRod::node_arc_length`] (`(k − ½)·h`, so the first and last lie half an edge outside the
 /// wire); the frames are the `N` edge material frames (world from body, x axis along the
-/// tangent, y and z the bending axes of `c2` and `c3`) at [`Rod::edge_arc_length`] (`j·h`).
+/// tangent, y and z the bending axes of `c2` and `c3`) at [`DiscreteRod::edge_arc_length`] (`j·h`).
 /// The end points and frames are overwritten by the clamps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InitialGuess {
@@ -47,9 +46,9 @@ impl InitialGuess {
     ///
     /// # Example
     /// ```
-    /// use ftwire_sim::{InitialGuess, Rod, RodParams};
+    /// use ftwire_sim::{InitialGuess, DiscreteRod, RodParams};
     /// use nalgebra::{Isometry3, Translation3, UnitQuaternion};
-    /// let rod = Rod::new(RodParams::default().with_edges(10))?;
+    /// let rod = DiscreteRod::new(RodParams::default().with_edges(10))?;
     /// let guess = InitialGuess::from_shape(&rod, |s| {
     ///     Isometry3::from_parts(Translation3::new(s, 0.0, 0.0), UnitQuaternion::identity())
     /// });
@@ -57,7 +56,7 @@ impl InitialGuess {
     /// assert_eq!(guess.frames.len(), 10);
     /// # Ok::<(), ftwire_sim::SimError>(())
     /// ```
-    pub fn from_shape(rod: &Rod, mut shape: impl FnMut(f64) -> Pose) -> Self {
+    pub fn from_shape(rod: &DiscreteRod, mut shape: impl FnMut(f64) -> Pose) -> Self {
         let points = (0..rod.nodes())
             .map(|k| Point3::from(shape(rod.node_arc_length(k)).translation.vector))
             .collect();
@@ -71,7 +70,7 @@ impl InitialGuess {
 impl RodState {
     /// A straight, untwisted rod along the base clamp's x axis, clamped at `base` and at the
     /// base pose translated by `L` along that axis.
-    pub(crate) fn straight(rod: &Rod, base: &Pose) -> Self {
+    pub(crate) fn straight(rod: &DiscreteRod, base: &Pose) -> Self {
         let t = base.rotation * Vector3::x();
         let d1 = base.rotation * Vector3::y();
         let o = base.translation.vector;
@@ -96,7 +95,7 @@ impl RodState {
     /// is already too long, its arms are shortened instead. The base director is
     /// parallel-transported along the curve and the remaining roll about the tip tangent is
     /// spread linearly over the material angles.
-    pub(crate) fn hermite(rod: &Rod, base: &Pose, tip: &Pose) -> Self {
+    pub(crate) fn hermite(rod: &DiscreteRod, base: &Pose, tip: &Pose) -> Self {
         let l = rod.params().length;
         let n = rod.edges();
         let (p0, p1) = (base.translation.vector, tip.translation.vector);
@@ -197,13 +196,13 @@ impl RodState {
         }
         state.apply_clamps(rod, base, tip);
         // Chords of a curved guess are shorter than h by (hκ)²/24: restore the lengths.
-        project_lengths(&mut state, rod.edge_length());
+        state.project_lengths(rod.edge_length());
         state
     }
 
     /// A state from a user guess (end nodes and frames replaced by the clamps).
     pub(crate) fn from_guess(
-        rod: &Rod,
+        rod: &DiscreteRod,
         guess: &InitialGuess,
         base: &Pose,
         tip: &Pose,
@@ -252,12 +251,12 @@ impl RodState {
         };
         state.apply_clamps(rod, base, tip);
         state.rebase();
-        project_lengths(&mut state, rod.edge_length());
+        state.project_lengths(rod.edge_length());
         Ok(state)
     }
 
     /// Places the two clamped end edges (nodes, tangents, directors, angles) at the clamp poses.
-    pub(crate) fn apply_clamps(&mut self, rod: &Rod, base: &Pose, tip: &Pose) {
+    pub(crate) fn apply_clamps(&mut self, rod: &DiscreteRod, base: &Pose, tip: &Pose) {
         let n = rod.edges();
         let half = 0.5 * rod.edge_length();
         for (pose, (a, b), j) in [(base, (0, 1), 0), (tip, (n - 1, n), n - 1)] {
@@ -345,5 +344,89 @@ impl RodState {
             .zip(&other.nodes)
             .map(|(a, b)| (a - b).norm())
             .fold(0.0, f64::max)
+    }
+
+    /// Projects the free nodes `2..=N−2` so that edges `1..=N−2` have length `h`. Leaves the state
+    /// unchanged if the projection does not converge (e.g. clamps pulled taut).
+    ///
+    /// A predictor that moves nodes independently stretches the edges to second order in the
+    /// step (an edge turned by α grows by α²/2), and with the stiff stretching energy that error
+    /// dominates the first Newton iterations. Before Newton starts, the continuation therefore
+    /// projects the predicted free nodes onto the constraint set `|e_j| = h` with the smallest
+    /// displacement (fast projection, Goldenthal et al. 2007): Gauss–Newton steps
+    /// `Δx = −Jᵀ (J Jᵀ)⁻¹ C` with a tridiagonal `J Jᵀ`.
+    pub(crate) fn project_lengths(&mut self, h: f64) {
+        let n = self.edges();
+        if n < 4 {
+            return;
+        }
+        let mut x = self.nodes.clone();
+        let m = n - 2; // constraints on edges 1..=N−2
+        for _ in 0..20 {
+            let t: Vec<Vector3<f64>> = (1..=m).map(|j| (x[j + 1] - x[j]).normalize()).collect();
+            let c: Vec<f64> = (1..=m).map(|j| (x[j + 1] - x[j]).norm() - h).collect();
+            let worst = c.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+            if worst < 1e-12 * h {
+                break;
+            }
+            // J Jᵀ: constraint k (edge k+1) touches nodes k+1 (free if k ≥ 1) and k+2 (free if k ≤ m−2).
+            let free = |node: usize| (2..=n - 2).contains(&node);
+            let mut diag = vec![0.0; m];
+            let mut off = vec![0.0; m.saturating_sub(1)];
+            for k in 0..m {
+                let (a, b) = (k + 1, k + 2);
+                diag[k] = f64::from(u8::from(free(a))) + f64::from(u8::from(free(b)));
+                if k + 1 < m {
+                    // Constraints k and k+1 share node k+2: ∂C_k/∂x = t_k, ∂C_{k+1}/∂x = −t_{k+1}.
+                    off[k] = -t[k].dot(&t[k + 1]);
+                }
+            }
+            // Thomas algorithm for (J Jᵀ) λ = C.
+            let mut cp = vec![0.0; m];
+            let mut dp = vec![0.0; m];
+            let mut ok = true;
+            for k in 0..m {
+                let lower = if k > 0 { off[k - 1] } else { 0.0 };
+                let denom = diag[k] - lower * if k > 0 { cp[k - 1] } else { 0.0 };
+                if denom.is_nan() || denom.abs() <= 1e-12 {
+                    ok = false;
+                    break;
+                }
+                cp[k] = if k + 1 < m { off[k] / denom } else { 0.0 };
+                dp[k] = (c[k] - lower * if k > 0 { dp[k - 1] } else { 0.0 }) / denom;
+            }
+            if !ok {
+                return;
+            }
+            let mut lambda = dp;
+            for k in (0..m.saturating_sub(1)).rev() {
+                lambda[k] -= cp[k] * lambda[k + 1];
+            }
+            // Δx = −Jᵀ λ on free nodes.
+            for k in 0..m {
+                let (a, b) = (k + 1, k + 2);
+                if free(a) {
+                    x[a] += t[k] * lambda[k];
+                }
+                if free(b) {
+                    x[b] -= t[k] * lambda[k];
+                }
+            }
+            if x.iter().any(|v| !v.iter().all(|c| c.is_finite())) {
+                return;
+            }
+        }
+        let moved = x
+            .iter()
+            .zip(&self.nodes)
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max);
+        let worst = (1..=m)
+            .map(|j| ((x[j + 1] - x[j]).norm() - h).abs())
+            .fold(0.0, f64::max);
+        if worst < 1e-6 * h && moved < 0.1 * h * n as f64 {
+            self.nodes = x;
+            self.rebase();
+        }
     }
 }

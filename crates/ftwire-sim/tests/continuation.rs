@@ -3,6 +3,7 @@
 mod common;
 
 use common::pose;
+use ftwire_core::CoreError;
 use ftwire_sim::{
     ContinuationSettings, InitialGuess, NewtonSettings, RodParams, SimError, Simulator, World,
 };
@@ -138,18 +139,24 @@ fn bad_inputs_get_their_errors() {
     });
     assert!(matches!(
         bad_c,
-        Err(SimError::NotPositive { field: "c2", .. })
+        Err(SimError::Core(CoreError::NotPositive { field: "c2", .. }))
     ));
+    // The message names the field and its value.
+    let message = bad_c
+        .map(|_| ())
+        .expect_err("c2 = 0 is refused")
+        .to_string();
+    assert!(message.contains("c2 = 0"), "{message}");
     let bad_l = World::new(RodParams {
         length: -0.1,
         ..RodParams::default()
     });
     assert!(matches!(
         bad_l,
-        Err(SimError::NotPositive {
+        Err(SimError::Core(CoreError::NotPositive {
             field: "length",
             ..
-        })
+        }))
     ));
     let bad_n = World::new(RodParams::default().with_edges(2));
     assert!(matches!(
@@ -162,8 +169,13 @@ fn bad_inputs_get_their_errors() {
     let nan_tip = pose([f64::NAN, 0.0, 0.0], [0.0, 0.0, 0.0]);
     assert!(matches!(
         world.solve_cold(&base, &nan_tip),
-        Err(SimError::NonFinite { .. })
+        Err(SimError::Core(CoreError::NonFinite { .. }))
     ));
+    let message = world
+        .solve_cold(&base, &nan_tip)
+        .expect_err("a NaN tip is refused")
+        .to_string();
+    assert!(message.contains("tip position[0] = NaN"), "{message}");
     let far = pose([0.7, 0.0, 0.0], [0.0, 0.0, 0.0]);
     assert!(matches!(
         world.solve_cold(&base, &far),

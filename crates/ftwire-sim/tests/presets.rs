@@ -1,22 +1,52 @@
-//! The wire presets solve, and a natural curvature is honoured.
+//! The wire presets solve and hang in the grippers with their weight, and a natural curvature is
+//! honoured.
 
 mod common;
 
 use common::pose;
-use ftwire_sim::{RodParams, World};
-use nalgebra::Isometry3;
+use std::f64::consts::PI;
 
-#[test]
-fn every_preset_reaches_a_stable_bent_equilibrium_under_gravity() {
-    for (name, params) in [
+use ftwire_core::Pose;
+use ftwire_sim::{Equilibrium, RodParams, World};
+use nalgebra::{Isometry3, Vector3};
+
+/// The four presets, with a tip pose of the same shape for each.
+fn presets() -> [(&'static str, RodParams); 4] {
+    [
         ("nitinol 2 mm × 630 mm", RodParams::nitinol_2mm_630()),
         ("nitinol 3 mm × 910 mm", RodParams::nitinol_3mm_910()),
         ("nitinol 3 mm × 820 mm", RodParams::nitinol_3mm_820()),
         ("cable 3 mm × 920 mm", RodParams::electric_cable_3mm_920()),
-    ] {
-        let l = params.length;
+    ]
+}
+
+fn tip_for(params: &RodParams) -> Pose {
+    let l = params.length;
+    pose([0.6 * l, 0.25 * l, 0.1 * l], [0.3, -0.2, 1.0])
+}
+
+/// The force the wire exerts on both grippers together, world frame.
+fn total_clamp_force(eq: &Equilibrium) -> Vector3<f64> {
+    eq.state.base().rotation * eq.base_wrench.force + eq.state.tip().rotation * eq.tip_wrench.force
+}
+
+/// How far the clamp forces may be from balancing the weight: the internal energies are
+/// invariant under translation, so the clamp forces sum to the weight plus the sum of the
+/// residual forces on the free nodes, each component of which Newton's scaled residual bounds
+/// by `residual·c_max/L²` (`NewtonSettings::tolerance`); plus rounding.
+fn balance_tolerance(world: &World, eq: &Equilibrium, weight: f64) -> f64 {
+    let rod = world.rod();
+    let l = rod.params().length;
+    let free_nodes = (rod.nodes() - 4) as f64;
+    free_nodes * eq.convergence.residual * rod.max_stiffness() / (l * l) + 1e-9 * weight
+}
+
+#[test]
+fn every_preset_hangs_in_the_grippers_with_its_weight() {
+    for (name, params) in presets() {
+        let tip = tip_for(&params);
+        let g = params.gravity;
         let world = World::new(params).expect("valid");
-        let tip = pose([0.6 * l, 0.25 * l, 0.1 * l], [0.3, -0.2, 1.0]);
         let eq = world
             .solve_cold(&Isometry3::identity(), &tip)
             .expect("solves")
@@ -27,7 +57,59 @@ fn every_preset_reaches_a_stable_bent_equilibrium_under_gravity() {
             eq.base_wrench.to_vector()
         );
         assert!(eq.stable_minimum, "{name}");
-        assert!(eq.energies.gravity != 0.0);
+
+        // The grippers carry the weight ρ·π·r²·g·L, straight down.
+        let rod = world.rod();
+        let weight = params.density * PI * params.radius.powi(2) * g.norm() * params.length;
+        let force = total_clamp_force(&eq);
+        let tolerance = balance_tolerance(&world, &eq, weight);
+        println!("{name}: clamp forces {force:?}, weight {weight} N, tolerance {tolerance:e} N");
+        assert!(
+            tolerance < 1e-3 * weight,
+            "{name}: residual too large to test"
+        );
+        assert!(
+            (force - g.normalize() * weight).norm() < tolerance,
+            "{name}"
+        );
+
+        // The gravity energy is −Σ m_k g·x_k over the nodes.
+        let nodes = eq.centreline();
+        let expected: f64 = nodes
+            .iter()
+            .enumerate()
+            .map(|(k, x)| -rod.node_mass(k) * g.dot(&x.coords))
+            .sum();
+        let scale: f64 = nodes
+            .iter()
+            .enumerate()
+            .map(|(k, x)| rod.node_mass(k) * g.norm() * x.coords.norm())
+            .sum();
+        assert!(
+            (eq.energies.gravity - expected).abs() < 1e-12 * scale,
+            "{name}: gravity energy {} vs {expected}",
+            eq.energies.gravity
+        );
+
+        // Gravity pulls the wire down: lower, on average, than the same wire without weight.
+        let weightless = World::new(params.without_gravity())
+            .expect("valid")
+            .solve_cold(&Isometry3::identity(), &tip)
+            .expect("solves")
+            .equilibrium;
+        let mean_z = |eq: &Equilibrium| {
+            eq.centreline().iter().map(|x| x.z).sum::<f64>() / nodes.len() as f64
+        };
+        let sag = mean_z(&weightless) - mean_z(&eq);
+        println!("{name}: mean sag {sag} m");
+        assert!(sag > 1e-4 * params.length, "{name}: sag {sag} m");
+
+        // Without gravity the clamp forces balance.
+        let force = total_clamp_force(&weightless);
+        assert!(
+            force.norm() < balance_tolerance(&world, &weightless, weight),
+            "{name}: {force:?}"
+        );
     }
 }
 

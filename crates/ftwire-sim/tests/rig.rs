@@ -1,6 +1,6 @@
 //! The simulated rig: what the `Rig` trait reports against the ground truth.
 
-use ftwire_core::{Command, GripperPoses, Pose, Rig};
+use ftwire_core::{Command, CoreError, GripperPoses, Pose, Rig};
 use ftwire_sim::{
     ExecutionErrorConfig, FtSensorConfig, RigConfig, RodParams, SensingError, SimError, SimRig,
     World,
@@ -55,6 +55,35 @@ fn ideal_sensor_reports_the_true_base_wrench_force_first_on_clock_ticks() {
     }
     // A bent wire pushes on the gripper: the wrench is not trivially zero.
     assert!(truth.torque.norm() > 1e-3);
+}
+
+#[test]
+fn a_clipped_channel_is_flagged_in_the_rig_sample_and_a_normal_one_is_not() {
+    // An ideal sensor: nothing clips.
+    let mut rig = rig(RigConfig::ideal());
+    let normal = rig.read_ft().expect("ideal sensor never drops out");
+    assert_eq!(normal.saturated, [false; 6]);
+    assert!(!normal.is_saturated());
+
+    // The same wire with channel 5 (τ3) given a full scale of half its load: only it clips.
+    let load = normal.raw[5];
+    assert!(load.abs() > 1e-3, "the bent wire loads τ3");
+    let mut full_scale = [1e3; 6];
+    full_scale[5] = 0.5 * load.abs();
+    let config = RigConfig {
+        sensor: FtSensorConfig {
+            full_scale,
+            saturation: true,
+            ..FtSensorConfig::ideal()
+        },
+        ..RigConfig::ideal()
+    };
+    let mut rig = SimRig::new(world(), start(), config).expect("valid settings");
+    let clipped = rig.read_ft().expect("ideal sensor never drops out");
+    assert_eq!(clipped.saturated, [false, false, false, false, false, true]);
+    assert!(clipped.is_saturated());
+    assert!((clipped.raw[5] - full_scale[5].copysign(load)).abs() < 1e-15);
+    assert!((clipped.raw[0] - normal.raw[0]).abs() < 1e-15);
 }
 
 #[test]
@@ -169,7 +198,10 @@ fn bad_commands_are_refused_and_nothing_moves() {
         base: Pose::identity(),
         tip: pose(f64::NAN, 0.0, 0.0, 0.0),
     };
-    assert!(matches!(rig.command(&nan), Err(SimError::NonFinite { .. })));
+    assert!(matches!(
+        rig.command(&nan),
+        Err(SimError::Core(CoreError::NonFinite { .. }))
+    ));
 
     let too_far = Command {
         base: Pose::identity(),
@@ -243,4 +275,37 @@ fn ideal_markers_sit_on_the_wire_from_base_to_tip() {
             "marker {marker} is {nearest} m from every node"
         );
     }
+}
+
+#[test]
+fn the_empty_gripper_reads_only_the_sensor_offset_and_keeps_the_wire() {
+    let mut config = RigConfig::default();
+    config.sensor.dropout_probability = 0.0;
+    let mut rig = rig(config);
+    let equilibrium = rig.equilibrium().clone();
+    let n = 400;
+    let mut mean = nalgebra::Vector6::zeros();
+    let mut last = f64::NEG_INFINITY;
+    for _ in 0..n {
+        let sample = rig.read_ft_empty_gripper().expect("no dropouts configured");
+        assert!(sample.time > last, "each read takes the next clock tick");
+        last = sample.time;
+        mean += sample.raw / n as f64;
+    }
+    // The average is the offset (the drift over 0.4 s is far below the noise): within 4
+    // standard errors of the default noise, 0.05 N and 0.002 N·m.
+    let bias = rig.sensor().bias();
+    let sigma = [0.05, 0.05, 0.05, 0.002, 0.002, 0.002];
+    for i in 0..6 {
+        let bound = 4.0 * sigma[i] / (n as f64).sqrt();
+        assert!(
+            (mean[i] - bias[i]).abs() < bound,
+            "channel {i}: {} vs {}",
+            mean[i],
+            bias[i]
+        );
+    }
+    // Reading the empty gripper leaves the wire's equilibrium alone.
+    assert_eq!(rig.equilibrium(), &equilibrium);
+    assert!((rig.time() - last).abs() < 1e-12);
 }

@@ -19,7 +19,7 @@ fn sensor(config: FtSensorConfig, seed: u64) -> FtSensor {
 }
 
 /// Reads until a sample arrives (dropouts are rare with the default configuration).
-fn read(sensor: &mut FtSensor, w: &Wrench, time: f64) -> ftwire_sim::FtReading {
+fn read(sensor: &mut FtSensor, w: &Wrench, time: f64) -> ftwire_core::FtSample {
     for _ in 0..100 {
         match sensor.read(w, time) {
             Ok(reading) => return reading,
@@ -49,7 +49,7 @@ fn ideal_sensor_returns_the_true_wrench_force_first() {
             w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z,
         );
         // Exactness is the claim here: every distortion is switched off.
-        assert_eq!(reading.sample.raw, expected);
+        assert_eq!(reading.raw, expected);
         assert!(!reading.is_saturated());
     }
 }
@@ -62,9 +62,7 @@ fn an_offset_mount_turns_a_clamp_force_into_a_sensor_torque() {
         ..FtSensorConfig::ideal()
     };
     let mut s = sensor(config, 2);
-    let raw = read(&mut s, &wrench([0.0; 3], [1.0, 0.0, 0.0]), 0.0)
-        .sample
-        .raw;
+    let raw = read(&mut s, &wrench([0.0; 3], [1.0, 0.0, 0.0]), 0.0).raw;
     // τ = t × f = (0, 0, 0.08) × (1, 0, 0) = (0, 0.08, 0).
     assert_abs_diff_eq!(
         raw,
@@ -88,9 +86,7 @@ fn the_default_mount_rotates_clamp_axes_onto_sensor_axes() {
 
     let mut s = sensor(config, 3);
     // Clamp: twist 0.1 N·m about the wire, 2 N along it, 3 N along clamp y.
-    let raw = read(&mut s, &wrench([0.1, 0.0, 0.0], [2.0, 3.0, 0.0]), 0.0)
-        .sample
-        .raw;
+    let raw = read(&mut s, &wrench([0.1, 0.0, 0.0], [2.0, 3.0, 0.0]), 0.0).raw;
     // Sensor: f = (3, 0, 2); τ = (0, 0, 0.1) + (0, 0, 0.08) × (3, 0, 2) = (0, 0.24, 0.1).
     assert_abs_diff_eq!(
         raw,
@@ -137,7 +133,7 @@ fn the_ground_truth_inverse_recovers_the_wrench() {
         let w = random_wrench(&mut rng, torque, force);
         let reading = read(&mut s, &w, k as f64 * 1e-3);
         assert!(!reading.is_saturated());
-        let back = match s.invert_deterministic(&reading.sample.raw, &s.bias()) {
+        let back = match s.invert_deterministic(&reading.raw, &s.bias()) {
             Ok(back) => back,
             Err(e) => panic!("inverse failed: {e}"),
         };
@@ -147,7 +143,7 @@ fn the_ground_truth_inverse_recovers_the_wrench() {
         let naive = Vector6::new(
             w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z,
         );
-        assert!((reading.sample.raw - naive).amax() > 1e-3);
+        assert!((reading.raw - naive).amax() > 1e-3);
     }
 }
 
@@ -165,7 +161,7 @@ fn white_noise_has_the_configured_standard_deviation() {
     let mut sum = Vector6::zeros();
     let mut sum_sq = Vector6::zeros();
     for k in 0..n {
-        let e = read(&mut s, &w, k as f64 * 1e-3).sample.raw - truth;
+        let e = read(&mut s, &w, k as f64 * 1e-3).raw - truth;
         sum += e;
         sum_sq += e.component_mul(&e);
     }
@@ -192,8 +188,8 @@ fn bias_samples(config: &FtSensorConfig, times: &[f64], runs: u64) -> Vec<Vec<f6
         for (column, &t) in out.iter_mut().zip(times) {
             let reading = read(&mut s, &Wrench::default(), t);
             // With no noise, the raw reading of a zero wrench is the bias itself.
-            assert_eq!(reading.sample.raw, s.bias());
-            column.push(reading.sample.raw[0]);
+            assert_eq!(reading.raw, s.bias());
+            column.push(reading.raw[0]);
         }
     }
     out
@@ -249,10 +245,7 @@ fn saturation_clips_and_flags_only_the_channels_beyond_full_scale() {
     };
     let mut s = sensor(config.clone(), 7);
     let reading = read(&mut s, &wrench([0.0, -25.0, 1.0], [10.0, 0.0, 1000.0]), 0.0);
-    assert_eq!(
-        reading.sample.raw,
-        Vector6::new(10.0, 0.0, 900.0, 0.0, -20.0, 1.0)
-    );
+    assert_eq!(reading.raw, Vector6::new(10.0, 0.0, 900.0, 0.0, -20.0, 1.0));
     assert_eq!(reading.saturated, [false, false, true, false, true, false]);
     assert!(reading.is_saturated());
 
@@ -264,7 +257,7 @@ fn saturation_clips_and_flags_only_the_channels_beyond_full_scale() {
         7,
     );
     let reading = read(&mut unclipped, &wrench([0.0; 3], [0.0, 0.0, 1000.0]), 0.0);
-    assert_eq!(reading.sample.raw[2], 1000.0);
+    assert_eq!(reading.raw[2], 1000.0);
     assert!(!reading.is_saturated());
 }
 
@@ -274,7 +267,7 @@ fn samples_fall_on_the_next_clock_tick() {
     let w = Wrench::default();
     let times: Vec<f64> = [0.0, 0.0003, 0.0003, 0.0105, 0.011, 0.5]
         .iter()
-        .map(|&t| read(&mut s, &w, t).sample.time)
+        .map(|&t| read(&mut s, &w, t).time)
         .collect();
     let expected = [0.0, 0.001, 0.002, 0.011, 0.012, 0.5];
     for (t, e) in times.iter().zip(expected) {
@@ -290,7 +283,7 @@ fn samples_fall_on_the_next_clock_tick() {
     let mut previous = f64::NEG_INFINITY;
     for k in 0..2000 {
         let t = 1e-4 + k as f64 * 7.3e-4;
-        let sample_time = read(&mut s, &w, t).sample.time;
+        let sample_time = read(&mut s, &w, t).time;
         let ticks = (sample_time - 2e-4) * 800.0;
         assert_abs_diff_eq!(ticks, ticks.round(), epsilon = 1e-6);
         assert!(sample_time >= t - 1e-12 && sample_time > previous);
@@ -312,7 +305,7 @@ fn dropouts_happen_at_the_configured_rate_and_consume_their_tick() {
     for k in 0..n {
         let t = k as f64 * 1e-3;
         match s.read(&Wrench::default(), t) {
-            Ok(reading) => assert_abs_diff_eq!(reading.sample.time, t, epsilon = 1e-12),
+            Ok(reading) => assert_abs_diff_eq!(reading.time, t, epsilon = 1e-12),
             Err(SensingError::Dropout { time }) => {
                 assert_abs_diff_eq!(time, t, epsilon = 1e-12);
                 assert_eq!(s.last_sample_time(), Some(time));
@@ -340,10 +333,7 @@ fn the_same_seed_gives_the_same_readings_and_another_seed_does_not() {
             seed,
         );
         (0..500)
-            .map(|k| {
-                s.read(&wrench([0.01, 0.02, 0.03], [0.1, 0.2, 0.3]), k as f64 * 0.1)
-                    .map(|r| r.sample)
-            })
+            .map(|k| s.read(&wrench([0.01, 0.02, 0.03], [0.1, 0.2, 0.3]), k as f64 * 0.1))
             .collect::<Vec<_>>()
     };
     assert_eq!(run(1), run(1));
@@ -480,7 +470,7 @@ fn bad_reads_and_inverses_give_errors_not_panics() {
         Err(SensingError::OutOfRange { field: "time", .. })
     ));
     assert_abs_diff_eq!(
-        read(&mut s, &Wrench::default(), 1e6).sample.time,
+        read(&mut s, &Wrench::default(), 1e6).time,
         1e6,
         epsilon = 0.01
     );

@@ -25,8 +25,8 @@ proptest! {
         };
         let w = Wrench::from_vector(&Vector6::from(values));
         if let Ok(reading) = sensor.read(&w, time) {
-            prop_assert!(reading.sample.raw.iter().all(|v| v.is_finite()));
-            prop_assert!(reading.sample.time.is_finite());
+            prop_assert!(reading.raw.iter().all(|v| v.is_finite()));
+            prop_assert!(reading.time.is_finite());
         }
         let _ = sensor.invert_deterministic(&Vector6::from(values), &Vector6::zeros());
     }
@@ -110,9 +110,9 @@ fn overflow(config: FtSensorConfig) {
             let w = Wrench::new(Vector3::from(torque), Vector3::from(force));
             if let Ok(reading) = sensor.read(&w, time) {
                 assert!(
-                    reading.sample.raw.iter().all(|v| v.is_finite()),
+                    reading.raw.iter().all(|v| v.is_finite()),
                     "{:?}",
-                    reading.sample.raw
+                    reading.raw
                 );
             }
         }

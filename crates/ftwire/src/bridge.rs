@@ -2,8 +2,8 @@
 //! (`ftwire-sim`). Only the binary crate sees both sides of the wall (DESIGN.md, "Layers").
 
 use ftwire_core::Pose;
-use ftwire_rod::{RodError, Shape};
-use ftwire_sim::InitialGuess;
+use ftwire_rod::{Rod, RodError, Shape};
+use ftwire_sim::{DiscreteRod, InitialGuess};
 use nalgebra::{Translation3, Vector6};
 
 /// The Kirchhoff shape `Φ(a)` sampled on the simulator's discretisation, as an initial guess
@@ -18,9 +18,9 @@ use nalgebra::{Translation3, Vector6};
 /// # Errors
 /// The model's errors for `a` (non-finite, outside `A`).
 pub fn kirchhoff_guess(
-    model: &ftwire_rod::Rod,
+    model: &Rod,
     a: &Vector6<f64>,
-    rod: &ftwire_sim::Rod,
+    rod: &DiscreteRod,
 ) -> Result<InitialGuess, RodError> {
     let half_steps = (2.0 * model.wire().length() / rod.edge_length())
         .round()

@@ -1,7 +1,9 @@
 //! `ftwire`: sense and steer an elastic wire with a dual-arm robot from one wrist F/T sensor.
 //!
 //! The binary is thin: clap types live in [`cli`], each subcommand's logic in its own module
-//! under [`commands`], and the libraries do the work.
+//! under [`commands`], the shared argument groups, error type and output writer in the `ftwire`
+//! library, and the libraries do the work. Exit codes are mapped here, in one place
+//! ([`ftwire::error::CliError::exit_code`]): 0 success, 1 valid input but no answer, 2 bad input.
 
 mod cli;
 mod commands;
@@ -13,10 +15,10 @@ use clap::Parser;
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
     match commands::run(cli) {
-        Ok(code) => code,
+        Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error:#}");
-            ExitCode::from(1)
+            eprintln!("error: {error}");
+            ExitCode::from(error.exit_code())
         }
     }
 }

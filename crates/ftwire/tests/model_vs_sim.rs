@@ -12,26 +12,31 @@
 //! stability boundary, where the equilibrium is nearly critical). The DER's bending strain is
 //! the turning angle in the mid-vertex material frame (`ftwire-sim`, `energy/bend_twist.rs`),
 //! which removed the two largest `O(h²)` terms (worst gaps over `[−30, 30]⁶` at N = 100: force
-//! 3.6 % → 0.9 %, shape 6.7 mm → 1.4 mm). What is asserted:
-//! - [`bounds_at_moderate_loads`]: every sample of `A_stable ∩ [−5, 5]⁶` (two seeds × 20, both
-//!   wires) meets the issue's bounds at N = 100 (worst measured: force 0.997 % — a thin margin —,
-//!   torque 0.03 %, shape 0.07 mm).
-//! - [`bounds_over_the_default_range`]: over the default sampler's range `[−30, 30]⁶` (two
-//!   seeds × 20, both wires), at least 90 % of the samples meet all three bounds at N = 100,
-//!   and the medians are an order of magnitude inside them. Not every sample does: the worst
-//!   few percent, strongly loaded and close to the stability boundary, miss the shape bound by
-//!   up to ~9× (4.4 mm) and the force bound by up to 1.22 % (3 of 40 here; see [`survey`]); and
-//!   very near the boundary the N = 100 rod can have no stable equilibrium near the model's, so
-//!   Newton lands on another branch (1 of 40 samples at survey seed 2). The normalised `σ_min`
-//!   of `J(L)` does not predict these cases (the survey prints it). No sample is excluded; the
-//!   misses are counted and printed.
+//! 3.6 % → 0.9 %, shape 6.7 mm → 1.4 mm). What is asserted (the shape is compared on the
+//! physical wire, `wire_centreline`, from clamp point to clamp point, without the ghost nodes):
+//! - [`bounds_at_moderate_loads`]: every sample of `A_stable ∩ [−5, 5]⁶` (20 seeds × 20, both
+//!   wires) meets the issue's bounds at N = 100. The margin on the force is thin: the worst
+//!   sample (the same normalised configuration on both wires, at seeds 2026 and 7) is at
+//!   0.997 %; the 800 samples of a survey at seeds 10–49 stay under 0.8 %; torque and shape
+//!   under 0.06 % and 0.08 mm.
+//! - [`bounds_over_the_default_range`]: over the default sampler's range `[−30, 30]⁶` (30 seeds
+//!   × 20, both wires), at least 90 % of the samples meet all three bounds at N = 100 (measured
+//!   92.2 % and 91.0 %: a thin margin, 10 of these seeds alone give 89.5 % on the 2 mm wire),
+//!   and the medians are an order of magnitude inside them. The misses are of two kinds. On
+//!   the model's equilibrium branch, strongly loaded and close to the stability boundary, they
+//!   are capped ([`BRANCH_MISS_CAP`]; worst measured torque 1.0 %, force 3.6 %, shape 10.4 mm).
+//!   Very near the boundary the N = 100 rod can have no stable equilibrium near the model's:
+//!   Newton fails or lands on another equilibrium of the same clamps, 44 mm or more away (15
+//!   and 13 of 600; at most 5 % allowed). The normalised `σ_min` of `J(L)` does not predict
+//!   these cases (the survey prints it). No sample is excluded; the misses are printed.
 //! - [`the_gap_is_second_order_discretisation_error`]: over strongly bent configurations
 //!   (`[−10, 10]⁶`), doubling N divides the wrench and shape gaps by about 4.
 //!
 //! Worst cases are printed:
 //! `cargo test --release -p ftwire --test model_vs_sim -- --nocapture`; the survey by
-//! half-width (ignored, seconds):
-//! `cargo test --release -p ftwire --test model_vs_sim -- --ignored survey --nocapture`.
+//! half-width (ignored, seconds; `FTWIRE_SEEDS`, `FTWIRE_HALF_WIDTHS`, `FTWIRE_COUNT`):
+//! `FTWIRE_SEEDS=10,11 FTWIRE_HALF_WIDTHS=5 cargo test --release -p ftwire --test model_vs_sim
+//! -- --ignored survey --nocapture`.
 
 mod common;
 
@@ -49,7 +54,8 @@ struct Gap {
     torque: f64,
     /// |f_sim − f| / |a|, normalised units.
     force: f64,
-    /// Largest distance between the simulated centreline nodes and the model \[mm\].
+    /// Largest distance between the simulated wire (clamp point to clamp point) and the model
+    /// \[mm\].
     shape_mm: f64,
 }
 
@@ -83,18 +89,25 @@ fn gap(model: &ftwire_rod::Rod, world: &World, a: &Vector6<f64>) -> Gap {
     let torque = (sim.fixed_rows::<3>(0) - a.fixed_rows::<3>(0)).norm() * torque_scale / norm_a;
     let force = (sim.fixed_rows::<3>(3) - a.fixed_rows::<3>(3)).norm() * force_scale / norm_a;
 
-    // The simulator's interior nodes sit at arc lengths (k − ½)h, odd multiples of h/2.
+    // The physical wire: the base clamp point (arc length 0), the interior nodes at (k − ½)h,
+    // the tip clamp point (L = (N − 1)h); the model is sampled at every multiple of h/2.
     let rod = world.rod();
     let shape = model
         .shape(a, 2 * (rod.edges() - 1) + 1)
         .expect("a is in A");
-    let shape_mm = eq
-        .centreline()
+    let points = eq.wire_centreline();
+    let last = points.len() - 1;
+    let shape_mm = points
         .iter()
         .enumerate()
-        .take(rod.edges())
-        .skip(1)
-        .map(|(k, node)| (node.coords - shape.positions[2 * k - 1]).norm() * 1e3)
+        .map(|(k, point)| {
+            let index = match k {
+                0 => 0,
+                k if k == last => 2 * (rod.edges() - 1),
+                k => 2 * k - 1,
+            };
+            (point.coords - shape.positions[index]).norm() * 1e3
+        })
         .fold(0.0, f64::max);
     Gap {
         torque,
@@ -108,42 +121,85 @@ fn within_bounds(g: &Gap) -> bool {
     g.torque < 0.01 && g.force < 0.01 && g.shape_mm < 0.5
 }
 
+/// Seeds of [`bounds_at_moderate_loads`]: 20 × 20 samples per wire.
+const MODERATE_SEEDS: [u64; 20] = [
+    2026, 7, 1, 2, 3, 4, 5, 6, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19,
+];
+
+/// Seeds of [`bounds_over_the_default_range`]: 30 × 20 samples per wire (fewer make the rate a
+/// property of the seeds: 10 of these seeds alone give 89.5 % on the 2 mm wire).
+const DEFAULT_RANGE_SEEDS: [u64; 30] = [
+    2026, 7, 1, 2, 3, 4, 5, 6, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24,
+    25, 26, 27, 28, 29,
+];
+
 #[test]
 fn bounds_at_moderate_loads() {
     for (name, preset) in wires() {
         let (model, world) = setup(preset, 100);
         let mut worst = Gap::default();
-        for seed in [2026, 7] {
+        let mut count = 0;
+        for seed in MODERATE_SEEDS {
             for a in samples(&model, 5.0, 20, seed) {
-                worst = worst.max(gap(&model, &world, &a));
+                let g = gap(&model, &world, &a);
+                assert!(within_bounds(&g), "{name}, seed {seed}, a = {a:?}: {g:?}");
+                worst = worst.max(g);
+                count += 1;
             }
         }
-        eprintln!("{name}: worst over A_stable ∩ [−5, 5]⁶, N = 100: {worst:?}");
-        assert!(within_bounds(&worst), "{name}: {worst:?}");
+        eprintln!("{name}: worst of {count} samples of A_stable ∩ [−5, 5]⁶, N = 100: {worst:?}");
     }
 }
+
+/// Largest miss allowed on the model's own equilibrium branch over `[−30, 30]⁶`: torque 2 %,
+/// force 6 % of `|a|`, shape 20 mm. Measured over [`DEFAULT_RANGE_SEEDS`], both wires (600
+/// samples each): the worst misses on the branch are 1.0 %, 3.6 % and 10.4 mm.
+const BRANCH_MISS_CAP: Gap = Gap {
+    torque: 0.02,
+    force: 0.06,
+    shape_mm: 20.0,
+};
+
+/// A simulated wire farther than this from the model \[mm\] sits on another equilibrium for the
+/// same clamps. Measured: 43.6 mm and more (with force gaps of 34 % and more); misses on the
+/// model's branch stay under 10.4 mm, and a gap between the cap and this is a failure.
+const OTHER_BRANCH_MM: f64 = 30.0;
 
 #[test]
 fn bounds_over_the_default_range() {
     let half_width = Sampler::default().half_width;
+    let cap = |g: &Gap| {
+        g.torque < BRANCH_MISS_CAP.torque
+            && g.force < BRANCH_MISS_CAP.force
+            && g.shape_mm < BRANCH_MISS_CAP.shape_mm
+    };
     for (name, preset) in wires() {
         let (model, world) = setup(preset, 100);
         let mut gaps = Vec::new();
-        let mut misses = Vec::new();
-        for seed in [2026, 7] {
+        let (mut misses, mut elsewhere, mut total) = (Vec::new(), 0, 0);
+        for seed in DEFAULT_RANGE_SEEDS {
             for a in samples(&model, half_width, 20, seed) {
+                total += 1;
                 let an = ftwire_rod::to_normalised(model.wire(), &a);
                 match try_gap(&model, &world, &a) {
                     Ok(g) if within_bounds(&g) => gaps.push(g),
                     Ok(g) => {
+                        if g.shape_mm > OTHER_BRANCH_MM {
+                            elsewhere += 1;
+                        } else {
+                            // A miss on the model's branch must stay under the cap.
+                            assert!(cap(&g), "{name}, seed {seed}: {g:?} at a_n = {an:.2?}");
+                        }
                         misses.push(format!("{g:?} at a_n = {:.2?}", an.as_slice()));
                         gaps.push(g);
                     }
-                    Err(e) => misses.push(format!("{e} at a_n = {:.2?}", an.as_slice())),
+                    Err(e) => {
+                        elsewhere += 1;
+                        misses.push(format!("{e} at a_n = {:.2?}", an.as_slice()));
+                    }
                 }
             }
         }
-        let total = gaps.len() + misses.len() - gaps.iter().filter(|g| !within_bounds(g)).count();
         let median = |f: fn(&Gap) -> f64| quantiles(gaps.iter().map(f).collect())[0];
         let (torque, force, shape) = (
             median(|g| g.torque),
@@ -151,8 +207,9 @@ fn bounds_over_the_default_range() {
             median(|g| g.shape_mm),
         );
         eprintln!(
-            "{name}: [−{half_width}, {half_width}]⁶, N = 100: {} of {total} within the bounds; \
-             medians torque {torque:.1e}, force {force:.1e}, shape {shape:.3} mm",
+            "{name}: [−{half_width}, {half_width}]⁶, N = 100: {} of {total} within the bounds, \
+             {elsewhere} on another equilibrium or failed; medians torque {torque:.1e}, \
+             force {force:.1e}, shape {shape:.3} mm",
             total - misses.len()
         );
         for m in &misses {
@@ -162,6 +219,10 @@ fn bounds_over_the_default_range() {
             misses.len() * 10 <= total,
             "{name}: {} of {total} samples outside the bounds",
             misses.len()
+        );
+        assert!(
+            elsewhere * 20 <= total,
+            "{name}: {elsewhere} of {total} samples on another equilibrium or failed"
         );
         assert!(
             torque < 1e-3 && force < 1e-3 && shape < 0.15,
@@ -235,6 +296,14 @@ fn env_f64(name: &str, default: f64) -> f64 {
         .unwrap_or(default)
 }
 
+/// A comma-separated list of numbers from the environment, or `default`.
+fn env_list(name: &str, default: &[f64]) -> Vec<f64> {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.split(',').map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|| default.to_vec())
+}
+
 fn try_gap(model: &ftwire_rod::Rod, world: &World, a: &Vector6<f64>) -> Result<Gap, String> {
     let b = model.tip(a).map_err(|e| e.to_string())?;
     let guess = kirchhoff_guess(model, a, world.rod()).map_err(|e| e.to_string())?;
@@ -256,15 +325,17 @@ fn quantiles(mut v: Vec<f64>) -> [f64; 3] {
     [q(0.5), q(0.9), q(1.0)]
 }
 
-/// Survey of the gaps at N = 100 (`FTWIRE_N`), `FTWIRE_COUNT` (40) samples per half-width
-/// 3, 5, 10, 30, seed `FTWIRE_SEED` (1), axial stiffness × `FTWIRE_EA` (1):
+/// Survey of the gaps at N = 100 (`FTWIRE_N`), `FTWIRE_COUNT` (40) samples per seed and
+/// half-width, half-widths `FTWIRE_HALF_WIDTHS` (3,5,10,30), seeds `FTWIRE_SEEDS` (1), axial
+/// stiffness × `FTWIRE_EA` (1):
 /// `cargo test --release -p ftwire --test model_vs_sim -- --ignored survey --nocapture`.
 #[test]
 #[ignore = "survey, seconds; run by hand"]
 fn survey() {
     let edges = env_f64("FTWIRE_N", 100.0) as usize;
     let count = env_f64("FTWIRE_COUNT", 40.0) as usize;
-    let seed = env_f64("FTWIRE_SEED", 1.0) as u64;
+    let seeds = env_list("FTWIRE_SEEDS", &[1.0]);
+    let half_widths = env_list("FTWIRE_HALF_WIDTHS", &[3.0, 5.0, 10.0, 30.0]);
     let ea = env_f64("FTWIRE_EA", 1.0);
     for (name, preset) in wires() {
         let (model, world) = setup(preset, edges);
@@ -273,10 +344,13 @@ fn survey() {
             ..*world.rod().params()
         };
         let world = World::new(params).expect("valid");
-        for hw in [3.0, 5.0, 10.0, 30.0] {
+        for &hw in &half_widths {
             let mut rows = Vec::new();
             let mut failures = 0;
-            for a in samples(&model, hw, count, seed) {
+            let all = seeds
+                .iter()
+                .flat_map(|&seed| samples(&model, hw, count, seed as u64));
+            for a in all {
                 let an = ftwire_rod::to_normalised(model.wire(), &a);
                 let (smin, smax, det_min) = normalised_singular_values(&model, &a);
                 match try_gap(&model, &world, &a) {

@@ -1,28 +1,9 @@
 //! `ftwire robot fk|ik`, run as a user would.
 
-use std::process::{Command, Output};
+mod cli_support;
 
+use cli_support::{assert_exit, assert_success, both_forms, ftwire, json, numbers};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
-use serde_json::Value;
-
-fn ftwire(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ftwire"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn json(output: &Output) -> Value {
-    serde_json::from_slice(&output.stdout).expect("stdout is JSON")
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
-}
 
 fn fk(arm: &str, joints: &str, torso: &str, frame: &str) -> (Vector3<f64>, Matrix3<f64>) {
     let out = ftwire(&[
@@ -136,7 +117,7 @@ fn unreachable_target_prints_an_error_and_exits_1() {
         "0,0,0",
         "--json",
     ]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_exit(&out, 1, "reach", "unreachable");
     let v = json(&out);
     assert!(
         v["error"].as_str().is_some_and(|e| e.contains("reach")),
@@ -207,9 +188,77 @@ fn bad_arguments_exit_2_with_a_clear_message() {
         ),
     ];
     for (args, message) in cases {
-        let out = ftwire(args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert!(stderr.contains(message), "{args:?}: {stderr}");
+        assert_exit(&ftwire(args), 2, message, &format!("{args:?}"));
+    }
+}
+
+#[test]
+fn vector_options_take_a_leading_minus_in_both_forms() {
+    // These joints put the right gripper at x < 0 with a rotation vector whose first component
+    // is negative, so --position and --rotation start with a minus sign too.
+    let joints = "-0.3,-0.8,0.5,-1.1,0.7,0.9,-0.4";
+    let robot = ftwire_robot::Robot::sda10f().expect("built-in model");
+    let q = ftwire_robot::ArmJoints::from_column_slice(&[-0.3, -0.8, 0.5, -1.1, 0.7, 0.9, -0.4]);
+    let expected = robot
+        .fk(
+            ftwire_robot::Arm::Right,
+            0.0,
+            &q,
+            ftwire_robot::EndFrame::Gripper,
+        )
+        .expect("within limits");
+    let p = expected.translation.vector;
+    let r = expected.rotation.scaled_axis();
+    assert!(
+        p.x < 0.0 && r.x < 0.0,
+        "the test needs leading minus signs: {p}, {r}"
+    );
+    let position = format!("{},{},{}", p.x, p.y, p.z);
+    let rotation = format!("{},{},{}", r.x, r.y, r.z);
+    for form in 0..2 {
+        let run = |head: &[&str], options: &[(&str, &str)]| {
+            let mut args: Vec<String> = head.iter().map(|s| (*s).to_owned()).collect();
+            for (option, value) in options {
+                args.extend(both_forms(option, value)[form].clone());
+            }
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            ftwire(&args)
+        };
+        let out = run(
+            &["robot", "fk", "--arm", "right", "--json"],
+            &[("--joints", joints)],
+        );
+        assert_success(&out, "fk");
+        let got = numbers(&json(&out)["position"]);
+        assert!(
+            (Vector3::new(got[0], got[1], got[2]) - p).norm() < 1e-12,
+            "form {form}: {got:?}"
+        );
+
+        let out = run(
+            &["robot", "ik", "--arm", "right", "--json"],
+            &[
+                ("--position", &position),
+                ("--rotation", &rotation),
+                ("--seed-joints", "-0.25,-0.75,0.45,-1.05,0.65,0.85,-0.35"),
+            ],
+        );
+        assert_success(&out, "ik");
+        let q = numbers(&json(&out)["joints"]);
+        let q = ftwire_robot::ArmJoints::from_column_slice(&q);
+        let reached = robot
+            .fk(
+                ftwire_robot::Arm::Right,
+                0.0,
+                &q,
+                ftwire_robot::EndFrame::Gripper,
+            )
+            .expect("within limits");
+        assert!(
+            (reached.translation.vector - p).norm() < 1e-6,
+            "form {form}: {}",
+            reached.translation.vector
+        );
+        assert!(reached.rotation.angle_to(&expected.rotation) < 1e-5);
     }
 }

@@ -1,29 +1,14 @@
 //! `ftwire solve` end to end: the built binary, its JSON, its batch mode and its exit codes.
 #![allow(missing_docs)]
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod cli_support;
 
-fn ftwire(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ftwire"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    if let Some(input) = stdin {
-        child
-            .stdin
-            .take()
-            .expect("stdin")
-            .write_all(input.as_bytes())
-            .expect("writes stdin");
-    } else {
-        drop(child.stdin.take());
-    }
-    child.wait_with_output().expect("finishes")
-}
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use cli_support::{assert_exit, assert_success, ftwire_with_input as ftwire, json};
 
 const SINGLE: [&str; 7] = [
     "solve",
@@ -59,7 +44,6 @@ fn json_has_the_documented_keys_and_shapes() {
     assert_eq!(j.len(), 6);
     assert!(j.iter().all(|r| r.as_array().map(Vec::len) == Some(6)));
     assert!(v["stable"].is_boolean() && v["self_intersecting"].is_boolean());
-    assert!(v["det_j_min"].as_f64().expect("det_j_min") >= 0.0);
     let shape = v["shape"].as_array().expect("shape");
     assert_eq!(shape.len(), 10);
     assert_eq!(shape[0], serde_json::json!([0.0, 0.0, 0.0]));
@@ -84,6 +68,12 @@ fn json_has_the_documented_keys_and_shapes() {
         assert!((position[k].as_f64().expect("number") - tip[k]).abs() < 1e-15);
     }
     assert_eq!(v["stable"].as_bool(), Some(s.jacobian.stability.stable));
+    let det_j_min = v["det_j_min"].as_f64().expect("det_j_min");
+    assert!(
+        det_j_min > 0.0,
+        "a stable configuration keeps det J away from 0"
+    );
+    assert!((det_j_min - s.jacobian.stability.det_j_min).abs() <= 1e-12 * det_j_min);
     assert!((j[3][4].as_f64().expect("number") - s.jacobian.jacobian[(3, 4)]).abs() < 1e-12);
 }
 
@@ -116,7 +106,7 @@ fn bad_arguments_exit_2_with_a_clear_message() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["solve", "--c", "1,1", "--length", "1", "--a", "0,0,1,0,0,0"],
-            "c must have 3",
+            "expected 3 comma-separated finite numbers",
         ),
         (
             vec![
@@ -144,7 +134,7 @@ fn bad_arguments_exit_2_with_a_clear_message() {
         ),
         (
             vec!["solve", "--c", "1,1,1", "--length", "1", "--a", "0,0,1,0,0"],
-            "a must have 6",
+            "expected 6 comma-separated finite numbers",
         ),
         (
             vec![
@@ -168,10 +158,13 @@ fn bad_arguments_exit_2_with_a_clear_message() {
                 "--a",
                 "0,0,NaN,0,0,0",
             ],
-            "not finite",
+            "'--a <A1,..,A6>'",
         ),
-        (base(&["--nodes", "1"]), "nodes"),
+        (base(&["--nodes", "1"]), "nodes = 1 is too few"),
+        (base(&["--nodes", "-1"]), "'--nodes <N>'"),
         (base(&["--radius", "0"]), "radius"),
+        (base(&["--radius", "inf"]), "'--radius <R>'"),
+        (base(&["--batch", "-"]), "cannot be used with"),
         (
             vec![
                 "solve",
@@ -215,11 +208,8 @@ fn batch_goes_on_past_bad_lines() {
     ]
     .join("\n");
     let out = ftwire(&["solve", "--batch", "-"], Some(&input));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    // Bad lines make the batch's exit code 2 at the end of the input.
+    assert_exit(&out, 2, "4 line(s) of the batch were bad input", "batch");
     let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
         .lines()
         .map(|l| serde_json::from_str(l).expect("each output line is JSON"))
@@ -238,6 +228,9 @@ fn batch_goes_on_past_bad_lines() {
             .expect("error")
             .contains("line 3")
     );
+    assert_eq!(lines[2]["line"], 3);
+    assert_eq!(lines[2]["kind"], "bad_input");
+    assert_eq!(lines[5]["line"], 7, "empty lines count");
     assert!(
         lines[3]["error"]
             .as_str()
@@ -270,4 +263,148 @@ fn batch_from_a_file_matches_single_solves() {
     assert!(batch.status.success() && single.status.success());
     assert_eq!(batch.stdout, single.stdout);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn euler_buckling_through_the_cli() {
+    // a = (0, 0, 1e-4, −P, 0, 0) on c = (1, 1, 1), L = 1: stable below the clamped–clamped
+    // Euler load 4π² ≈ 39.5 N, unstable above (ftwire-rod's stability test).
+    for (p, stable) in [("30", true), ("50", false)] {
+        let a = format!("0,0,1e-4,-{p},0,0");
+        let out = ftwire(
+            &[
+                "solve", "--c", "1,1,1", "--length", "1", "--a", &a, "--json",
+            ],
+            None,
+        );
+        assert_success(&out, p);
+        let v = json(&out);
+        assert_eq!(v["stable"], stable, "P = {p}");
+        let det_j_min = v["det_j_min"].as_f64().expect("det_j_min");
+        if stable {
+            assert!(det_j_min > 0.0, "P = {p}: {det_j_min}");
+        }
+    }
+}
+
+#[test]
+fn vector_options_take_a_leading_minus_in_both_forms() {
+    // a with a leading minus (τ1 < 0): both spellings give the library's tip.
+    let a = [-0.01, 0.2, 0.1, -0.5, 0.3, 0.0];
+    let text = "-0.01,0.2,0.1,-0.5,0.3,0";
+    let rod = ftwire_rod::Rod::new(
+        ftwire_rod::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.001).expect("valid"),
+    );
+    let tip = rod
+        .tip(&nalgebra::Vector6::from(a))
+        .expect("solves")
+        .translation
+        .vector;
+    let spaced = ["--a", text];
+    let joined = format!("--a={text}");
+    for extra in [&spaced[..], &[joined.as_str()][..]] {
+        let mut args = vec![
+            "solve",
+            "--c",
+            "0.214,0.278,0.278",
+            "--length",
+            "0.82",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let out = ftwire(&args, None);
+        assert_success(&out, &format!("{extra:?}"));
+        let position = cli_support::numbers(&json(&out)["tip"]["position"]);
+        for k in 0..3 {
+            assert!(
+                (position[k] - tip[k]).abs() < 1e-12,
+                "{extra:?}: {position:?}"
+            );
+        }
+    }
+    // --c with a leading minus is parsed, then refused by the wire's own check (not by clap).
+    for c in [&["--c", "-1,1,1"][..], &["--c=-1,1,1"][..]] {
+        let mut args = vec!["solve", "--length", "1", "--a", "0,0,1,0,0,0"];
+        args.extend_from_slice(c);
+        assert_exit(&ftwire(&args, None), 2, "c1", &format!("{c:?}"));
+    }
+}
+
+#[test]
+fn no_answer_exits_1() {
+    // A load far too large for the integrator: valid input, no answer.
+    let out = ftwire(
+        &[
+            "solve",
+            "--c",
+            "1,1,1",
+            "--length",
+            "1",
+            "--a",
+            "0,0,1e6,0,1e6,0",
+        ],
+        None,
+    );
+    assert_exit(&out, 1, "non-finite values", "diverged");
+    // In a batch, such a line gets its error object and the batch exits 1 at the end.
+    let input = [
+        r#"{"c":[1,1,1],"length":1,"a":[0,0,1e6,0,1e6,0]}"#,
+        r#"{"c":[1,1,1],"length":1,"a":[0,0,0.1,0,0,0]}"#,
+    ]
+    .join("\n");
+    let out = ftwire(&["solve", "--batch", "-"], Some(&input));
+    assert_exit(&out, 1, "1 had no answer", "batch");
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[0]["kind"], "no_answer");
+    assert!(lines[1]["tip"].is_object());
+}
+
+#[test]
+fn batch_answers_each_line_before_the_next_arrives() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ftwire"))
+        .args(["solve", "--batch", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the binary runs");
+    let mut input = child.stdin.take().expect("stdin");
+    let stdout = child.stdout.take().expect("stdout");
+    // Read the answers on another thread, so that a binary that waits for the end of its input
+    // makes the test fail on the timeout instead of hanging.
+    let (sender, answers) = mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines() {
+            let Ok(line) = line else { break };
+            if sender.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let timeout = Duration::from_secs(30);
+    let requests = [
+        r#"{"c":[0.042,0.055,0.055],"length":0.63,"a":[0,0,0.01,0,0,0],"nodes":3}"#,
+        "not json",
+        r#"{"c":[0.042,0.055,0.055],"length":0.63,"a":[0,0.1,0,-0.2,0,0],"nodes":4}"#,
+    ];
+    let mut replies = Vec::new();
+    for request in requests {
+        writeln!(input, "{request}").expect("writes a request");
+        input.flush().expect("flushes");
+        let reply = answers
+            .recv_timeout(timeout)
+            .unwrap_or_else(|e| panic!("no answer to {request:?} while stdin is open: {e}"));
+        replies.push(serde_json::from_str::<serde_json::Value>(&reply).expect("JSON"));
+    }
+    drop(input);
+    let status = child.wait().expect("exits at the end of its input");
+    let _ = reader.join();
+    assert_eq!(replies[0]["shape"].as_array().map(Vec::len), Some(3));
+    assert_eq!(replies[1]["line"], 2);
+    assert_eq!(replies[2]["shape"].as_array().map(Vec::len), Some(4));
+    assert_eq!(status.code(), Some(2), "a bad line makes the exit code 2");
 }

@@ -309,8 +309,8 @@ fn add_pair_block(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::discrete_rod::RodParams;
     use crate::obstacle::{BoxObstacle, Floor};
-    use crate::rod::RodParams;
     use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
     /// A small deterministic generator (xorshift64*), uniform in [−1, 1).
@@ -455,7 +455,7 @@ mod tests {
 #[cfg(test)]
 mod timing {
     use super::*;
-    use crate::rod::RodParams;
+    use crate::discrete_rod::RodParams;
 
     #[test]
     #[ignore = "timing probe, run by hand in release"]

@@ -5,6 +5,6 @@ mod error;
 mod wrench;
 
 pub use error::SensingError;
-pub use wrench::{FtReading, FtSensor, FtSensorConfig, MAX_CUBIC_NONLINEARITY};
+pub use wrench::{FtSensor, FtSensorConfig, MAX_CUBIC_NONLINEARITY};
 
 pub(crate) use error::{all_in_range, in_range};

@@ -14,7 +14,8 @@
 //! 4. **Bias**: `+ b(t)`, a first-order Gauss–Markov process per channel around the initial bias
 //!    (a random walk when the time constant is infinite), advanced with the sample time.
 //! 5. **Noise**: `+ σ_i ξ_i` with independent standard normal `ξ_i` per sample and channel.
-//! 6. **Saturation**: each channel is clipped at `±FS_i`; clipped samples are flagged.
+//! 6. **Saturation**: each channel is clipped at `±FS_i` and flagged in
+//!    [`FtSample::saturated`](ftwire_core::FtSample::saturated).
 //!
 //! Steps 1–3 are the deterministic part. [`FtSensor::invert_deterministic`] undoes them exactly
 //! given a bias: it is the ground-truth calibration that a learnt calibration is compared with.
@@ -148,7 +149,7 @@ impl FtSensorConfig {
     /// let mut sensor = FtSensor::new(FtSensorConfig::ideal(), 7)?;
     /// let w = Wrench::new(Vector3::new(0.1, 0.2, 0.3), Vector3::new(1.0, 2.0, 3.0));
     /// let reading = sensor.read(&w, 0.0)?;
-    /// assert_eq!(reading.sample.raw, Vector6::new(1.0, 2.0, 3.0, 0.1, 0.2, 0.3));
+    /// assert_eq!(reading.raw, Vector6::new(1.0, 2.0, 3.0, 0.1, 0.2, 0.3));
     /// # Ok::<(), ftwire_sim::SensingError>(())
     /// ```
     #[must_use]
@@ -226,22 +227,6 @@ impl FtSensorConfig {
             1.0 - f64::EPSILON,
         )?;
         Ok(())
-    }
-}
-
-/// One reading of the sensor: the raw sample and which channels saturated.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FtReading {
-    /// The raw sample, force first, in the sensor frame, stamped with its clock tick.
-    pub sample: FtSample,
-    /// Per channel (force first), whether the reading went beyond `±FS_i` and was clipped.
-    pub saturated: [bool; 6],
-}
-
-impl FtReading {
-    /// Whether any channel saturated.
-    pub fn is_saturated(&self) -> bool {
-        self.saturated.iter().any(|&s| s)
     }
 }
 
@@ -369,10 +354,10 @@ impl FtSensor {
     ///
     /// let mut sensor = FtSensor::new(FtSensorConfig::default(), 1)?;
     /// let reading = sensor.read(&Wrench::default(), 0.0123)?;
-    /// assert!((reading.sample.time - 0.013).abs() < 1e-12); // the next 1 kHz tick
+    /// assert!((reading.time - 0.013).abs() < 1e-12); // the next 1 kHz tick
     /// # Ok::<(), ftwire_sim::SensingError>(())
     /// ```
-    pub fn read(&mut self, wrench: &Wrench, time: f64) -> Result<FtReading, SensingError> {
+    pub fn read(&mut self, wrench: &Wrench, time: f64) -> Result<FtSample, SensingError> {
         ensure_finite("wrench", wrench.to_vector().as_slice())?;
         let tick = self.next_tick(time)?;
         let tick_time = self.tick_time(tick);
@@ -405,11 +390,9 @@ impl FtSensor {
         // Only a wrench far beyond any physical load overflows; refuse it rather than report
         // an infinite or NaN reading.
         ensure_finite("raw", raw.as_slice())?;
-        Ok(FtReading {
-            sample: FtSample {
-                time: tick_time,
-                raw,
-            },
+        Ok(FtSample {
+            time: tick_time,
+            raw,
             saturated,
         })
     }

@@ -1,15 +1,16 @@
-//! One module per subcommand; each exposes `run(args) -> anyhow::Result<ExitCode>`.
+//! One module per subcommand; each exposes `run(args) -> Result<(), CliError>` and `main` maps
+//! the error to the exit code.
 
 pub mod robot;
 pub mod sim_equilibrium;
 pub mod solve;
 
-use std::process::ExitCode;
+use ftwire::error::CliError;
 
 use crate::cli::{Cli, Command};
 
 /// Runs the chosen subcommand.
-pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Solve(args) => solve::run(args),
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),

@@ -1,22 +1,17 @@
 //! `ftwire robot`: forward and inverse kinematics of the SDA10F from the command line.
 
-use std::process::ExitCode;
+use std::io::{self, Write};
 
-use anyhow::Context;
+use ftwire::error::{CliError, from_robot};
+use ftwire::output::{self, Report};
 use ftwire_core::Pose;
-use ftwire_robot::{Arm, ArmJoints, EndFrame, IkParams, IkTarget, Robot, RobotError};
-use nalgebra::Vector3;
-use serde_json::json;
+use ftwire_robot::{Arm, ArmJoints, EndFrame, IkParams, IkTarget, Robot};
+use serde::Serialize;
 
 use crate::cli::robot::{ArmArg, CommonArgs, FkArgs, FrameArg, IkArgs, RobotArgs, RobotCommand};
 
-/// Exit code for a bad argument (as clap's own).
-const BAD_ARGUMENT: u8 = 2;
-/// Exit code when IK finds no solution.
-const NO_SOLUTION: u8 = 1;
-
 /// Runs `ftwire robot`.
-pub fn run(args: RobotArgs) -> anyhow::Result<ExitCode> {
+pub fn run(args: RobotArgs) -> Result<(), CliError> {
     match args.command {
         RobotCommand::Fk(args) => fk(&args),
         RobotCommand::Ik(args) => ik(&args),
@@ -37,93 +32,139 @@ fn frame(f: FrameArg) -> EndFrame {
     }
 }
 
-fn bad_argument(error: &dyn std::fmt::Display) -> ExitCode {
-    eprintln!("error: {error}");
-    ExitCode::from(BAD_ARGUMENT)
-}
-
-/// Loads the robot; a URDF that cannot be read is a bad argument.
-fn load(common: &CommonArgs) -> Result<Robot, ExitCode> {
+/// Loads the robot; a URDF that cannot be read is bad input.
+fn load(common: &CommonArgs) -> Result<Robot, CliError> {
     let robot = match &common.urdf {
         Some(path) => Robot::from_urdf_file(path, &Default::default()),
         None => Robot::sda10f(),
     };
-    robot.map_err(|e| bad_argument(&e))
+    robot.map_err(|e| CliError::bad_input(e.to_string()))
 }
 
-fn fk(args: &FkArgs) -> anyhow::Result<ExitCode> {
-    let robot = match load(&args.common) {
-        Ok(r) => r,
-        Err(code) => return Ok(code),
-    };
+/// The FK answer: position and row-major rotation matrix in the robot base frame.
+#[derive(Serialize)]
+struct FkReport {
+    position: [f64; 3],
+    rotation: [[f64; 3]; 3],
+    #[serde(skip)]
+    title: String,
+    #[serde(skip)]
+    pose: Pose,
+}
+
+impl Report for FkReport {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(out, "{}", self.title)?;
+        let p = self.position;
+        writeln!(out, "  position [m]:           {}", format_list(&p))?;
+        let r = self.pose.rotation.scaled_axis();
+        writeln!(
+            out,
+            "  rotation vector [rad]:  {}",
+            format_list(&[r.x, r.y, r.z])
+        )?;
+        writeln!(out, "  rotation matrix (rows):")?;
+        for row in &self.rotation {
+            writeln!(out, "    {}", format_list(row))?;
+        }
+        Ok(())
+    }
+}
+
+fn fk(args: &FkArgs) -> Result<(), CliError> {
+    let robot = load(&args.common)?;
     let (a, f) = (arm(args.common.arm), frame(args.common.frame));
     let q = ArmJoints::from_column_slice(&args.joints.0);
-    let pose = match robot.fk(a, args.common.torso, &q, f) {
-        Ok(p) => p,
-        Err(e) => return Ok(bad_argument(&e)),
-    };
-    if args.common.json {
-        println!("{}", pose_json(&pose));
-    } else {
-        println!(
+    let pose = robot
+        .fk(a, args.common.torso, &q, f)
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+    let m = pose.rotation.to_rotation_matrix();
+    let report = FkReport {
+        position: pose.translation.vector.into(),
+        rotation: std::array::from_fn(|i| std::array::from_fn(|k| m[(i, k)])),
+        title: format!(
             "{a} arm {} pose in the robot base frame (torso {} rad):",
             frame_name(f),
             args.common.torso
-        );
-        print_pose(&pose);
-    }
-    Ok(ExitCode::SUCCESS)
+        ),
+        pose,
+    };
+    output::print(&report, args.common.output.json)
 }
 
-fn ik(args: &IkArgs) -> anyhow::Result<ExitCode> {
-    let robot = match load(&args.common) {
-        Ok(r) => r,
-        Err(code) => return Ok(code),
-    };
+/// The IK answer.
+#[derive(Serialize)]
+struct IkReport {
+    joints: Vec<f64>,
+    #[serde(skip)]
+    arm: Arm,
+    #[serde(skip)]
+    residual: String,
+}
+
+impl Report for IkReport {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(
+            out,
+            "{} arm joints [rad]: {}",
+            self.arm,
+            format_list(&self.joints)
+        )?;
+        writeln!(out, "residual: {}", self.residual)
+    }
+}
+
+/// The IK answer when there is none: `{"error": ...}` on stdout with `--json`.
+#[derive(Serialize)]
+struct NoSolution {
+    error: String,
+}
+
+impl Report for NoSolution {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(out, "no solution: {}", self.error)
+    }
+}
+
+fn ik(args: &IkArgs) -> Result<(), CliError> {
+    let robot = load(&args.common)?;
     let (a, f) = (arm(args.common.arm), frame(args.common.frame));
-    let pose = ftwire_robot::pose_from_vectors(
-        Vector3::from(args.position.0),
-        Vector3::from(args.rotation.0),
-    );
     let seed = args.seed_joints.map(|j| ArmJoints::from_column_slice(&j.0));
     let target = IkTarget {
         arm: a,
-        pose,
+        pose: args.target.pose(),
         torso: args.common.torso,
         frame: f,
     };
+    let json = args.common.output.json;
     match robot.ik(&target, seed.as_ref(), &IkParams::default()) {
         Ok(solution) => {
-            let joints: Vec<f64> = solution.joints.iter().copied().collect();
-            if args.common.json {
-                println!("{}", json!({ "joints": joints }));
-            } else {
-                println!("{a} arm joints [rad]: {}", format_list(&joints));
-                println!(
-                    "residual: {:.2e} m, {:.2e} rad ({} attempt(s), {} iterations)",
+            let report = IkReport {
+                joints: solution.joints.iter().copied().collect(),
+                arm: a,
+                residual: format!(
+                    "{:.2e} m, {:.2e} rad ({} attempt(s), {} iterations)",
                     solution.position_error,
                     solution.rotation_error,
                     solution.attempts,
                     solution.iterations
-                );
-            }
-            Ok(ExitCode::SUCCESS)
+                ),
+            };
+            output::print(&report, json)
         }
-        Err(e @ (RobotError::Unreachable { .. } | RobotError::OutOfReach { .. })) => {
-            if args.common.json {
-                println!("{}", json!({ "error": e.to_string() }));
-            } else {
-                println!("no solution: {e}");
+        Err(e) => {
+            let error = from_robot(e, "inverse kinematics");
+            if error.exit_code() == ftwire::error::EXIT_NO_ANSWER {
+                // The answer "there is none" is a result too: say so on stdout as well.
+                output::print(
+                    &NoSolution {
+                        error: error.to_string(),
+                    },
+                    json,
+                )?;
             }
-            Ok(ExitCode::from(NO_SOLUTION))
+            Err(error)
         }
-        Err(
-            e @ (RobotError::Core(_)
-            | RobotError::OutOfLimit { .. }
-            | RobotError::JointCount { .. }
-            | RobotError::InvalidParameter { .. }),
-        ) => Ok(bad_argument(&e)),
-        Err(e) => Err(e).context("solving the inverse kinematics"),
     }
 }
 
@@ -134,35 +175,10 @@ fn frame_name(f: EndFrame) -> &'static str {
     }
 }
 
-fn pose_json(pose: &Pose) -> serde_json::Value {
-    let m = pose.rotation.to_rotation_matrix();
-    let rows: Vec<[f64; 3]> = (0..3).map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)]]).collect();
-    let p = pose.translation.vector;
-    json!({ "position": [p.x, p.y, p.z], "rotation": rows })
-}
-
 fn format_list(values: &[f64]) -> String {
     values
         .iter()
         .map(|v| format!("{v:.9}"))
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-fn print_pose(pose: &Pose) {
-    let p = pose.translation.vector;
-    println!(
-        "  position [m]:           {}",
-        format_list(&[p.x, p.y, p.z])
-    );
-    let r = pose.rotation.scaled_axis();
-    println!(
-        "  rotation vector [rad]:  {}",
-        format_list(&[r.x, r.y, r.z])
-    );
-    let m = pose.rotation.to_rotation_matrix();
-    println!("  rotation matrix (rows):");
-    for i in 0..3 {
-        println!("    {}", format_list(&[m[(i, 0)], m[(i, 1)], m[(i, 2)]]));
-    }
 }

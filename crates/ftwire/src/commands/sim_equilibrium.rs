@@ -5,121 +5,122 @@
 //! the wire exerts on each gripper, in that gripper's clamp frame, torque first. Without
 //! `--initial-a` the wire starts straight and is bent into place by continuation
 //! (`World::solve_cold`); `iterations` is then the total Newton iterations over all steps.
-//! Errors print a message and exit with code 2.
+//! The shape is the physical wire (`Equilibrium::wire_centreline`): from the base clamp point to
+//! the tip clamp point, without the ghost nodes. Exit codes: 1 when Newton finds no
+//! equilibrium, 2 on bad input.
 
-use std::process::ExitCode;
+use std::io::{self, Write};
 
-use anyhow::{Context, bail};
 use ftwire::bridge::kirchhoff_guess;
-use ftwire_core::WireParams;
+use ftwire::error::{CliError, from_rod, from_sim};
+use ftwire::output::{self, Report};
+use ftwire_core::Pose;
 use ftwire_sim::{Equilibrium, RodParams, World};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3, Vector6};
+use serde::Serialize;
 
 use crate::cli::sim_equilibrium::SimEquilibriumArgs;
 
 /// Runs `ftwire sim-equilibrium`.
-pub fn run(args: SimEquilibriumArgs) -> anyhow::Result<ExitCode> {
-    match solve(&args) {
-        Ok(eq) => {
-            print(&args, &eq)?;
-            Ok(ExitCode::SUCCESS)
-        }
-        Err(error) => {
-            eprintln!("error: {error:#}");
-            Ok(ExitCode::from(2))
-        }
-    }
+pub fn run(args: SimEquilibriumArgs) -> Result<(), CliError> {
+    let eq = solve(&args)?;
+    output::print(&EquilibriumReport::from(&eq), args.output.json)
 }
 
-fn triple(name: &str, v: &[f64]) -> anyhow::Result<[f64; 3]> {
-    match v {
-        [a, b, c] => Ok([*a, *b, *c]),
-        _ => bail!(
-            "--{name} needs exactly 3 comma-separated numbers, got {}",
-            v.len()
-        ),
-    }
-}
-
-fn solve(args: &SimEquilibriumArgs) -> anyhow::Result<Equilibrium> {
-    let c = triple("c", &args.c)?;
-    let position = triple("tip-position", &args.tip_position)?;
-    let rotation = triple("tip-rotation", &args.tip_rotation)?;
-    let gravity = triple("gravity", &args.gravity)?;
+fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, CliError> {
+    let wire = args.wire.params()?;
     let params = RodParams {
-        stiffness: c,
-        length: args.length,
-        radius: args.radius,
-        density: args.density,
-        gravity: Vector3::from(gravity),
-        edges: args.nodes,
+        stiffness: wire.c(),
+        length: wire.length(),
+        radius: wire.radius(),
+        density: args.density.density,
+        gravity: args.gravity.to_vector(),
+        // Bounded by clap to MIN_EDGES..=MAX_EDGES, far inside usize.
+        edges: usize::try_from(args.edges).unwrap_or(usize::MAX),
         ..RodParams::default()
     };
-    let world = World::new(params).context("invalid wire parameters")?;
-    let tip = Isometry3::from_parts(
-        Translation3::from(Vector3::from(position)),
-        UnitQuaternion::from_scaled_axis(Vector3::from(rotation)),
-    );
+    let world = World::new(params).map_err(|e| from_sim(e, "invalid wire parameters"))?;
+    let tip = args.tip.pose();
     let Some(a) = &args.initial_a else {
         let motion = world
-            .solve_cold(&Isometry3::identity(), &tip)
-            .context("no equilibrium for this tip pose")?;
+            .solve_cold(&Pose::identity(), &tip)
+            .map_err(|e| from_sim(e, "no equilibrium for this tip pose"))?;
         return Ok(motion.equilibrium);
     };
-    let a: [f64; 6] = a.as_slice().try_into().map_err(|_| {
-        anyhow::anyhow!(
-            "--initial-a needs exactly 6 comma-separated numbers (τ1,τ2,τ3,f1,f2,f3), got {}",
-            a.len()
-        )
-    })?;
-    let wire = WireParams::new(c, args.length, args.radius).context("invalid wire parameters")?;
     let model = ftwire_rod::Rod::new(wire);
-    let guess = kirchhoff_guess(&model, &Vector6::from(a), world.rod())
-        .context("--initial-a is not a valid wire configuration")?;
+    let guess = kirchhoff_guess(&model, &a.to_vector(), world.rod())
+        .map_err(|e| from_rod(e, "--initial-a is not a valid wire configuration"))?;
     world
-        .solve_with_guess(&guess, &Isometry3::identity(), &tip)
-        .context("no equilibrium for this tip pose from the Kirchhoff shape of --initial-a")
+        .solve_with_guess(&guess, &Pose::identity(), &tip)
+        .map_err(|e| {
+            from_sim(
+                e,
+                "no equilibrium for this tip pose from the Kirchhoff shape of --initial-a",
+            )
+        })
 }
 
-fn print(args: &SimEquilibriumArgs, eq: &Equilibrium) -> anyhow::Result<()> {
-    let base = eq.base_wrench.to_vector();
-    let tip = eq.tip_wrench.to_vector();
-    let shape: Vec<[f64; 3]> = eq.centreline().iter().map(|p| [p.x, p.y, p.z]).collect();
-    if args.json {
-        let value = serde_json::json!({
-            "converged": eq.convergence.converged,
-            "iterations": eq.convergence.iterations,
-            "base_wrench": base.as_slice(),
-            "tip_wrench": tip.as_slice(),
-            "energy": eq.energy(),
-            "shape": shape,
-            "stable_minimum": eq.stable_minimum,
-        });
-        println!("{}", serde_json::to_string(&value)?);
-    } else {
-        println!(
-            "converged: {} after {} Newton iterations (residual {:.2e})",
-            eq.convergence.converged, eq.convergence.iterations, eq.convergence.residual
-        );
-        println!("stable minimum: {}", eq.stable_minimum);
-        println!(
-            "base wrench (τ1 τ2 τ3 [N·m], f1 f2 f3 [N], base clamp frame): {}",
-            fmt6(&base)
-        );
-        println!(
-            "tip wrench  (τ1 τ2 τ3 [N·m], f1 f2 f3 [N], tip clamp frame):  {}",
-            fmt6(&tip)
-        );
-        println!("energy: {:.6e} J", eq.energy());
-        println!(
-            "shape: {} nodes (use --json for the coordinates)",
-            shape.len()
-        );
+/// The JSON (and text) answer.
+#[derive(Serialize)]
+struct EquilibriumReport {
+    converged: bool,
+    iterations: usize,
+    #[serde(skip)]
+    residual: f64,
+    base_wrench: [f64; 6],
+    tip_wrench: [f64; 6],
+    energy: f64,
+    /// The physical wire from the base clamp point to the tip clamp point \[m\].
+    shape: Vec<[f64; 3]>,
+    stable_minimum: bool,
+}
+
+impl From<&Equilibrium> for EquilibriumReport {
+    fn from(eq: &Equilibrium) -> Self {
+        Self {
+            converged: eq.convergence.converged,
+            iterations: eq.convergence.iterations,
+            residual: eq.convergence.residual,
+            base_wrench: eq.base_wrench.to_vector().into(),
+            tip_wrench: eq.tip_wrench.to_vector().into(),
+            energy: eq.energy(),
+            shape: eq
+                .wire_centreline()
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            stable_minimum: eq.stable_minimum,
+        }
     }
-    Ok(())
 }
 
-fn fmt6(v: &nalgebra::Vector6<f64>) -> String {
+impl Report for EquilibriumReport {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(
+            out,
+            "converged: {} after {} Newton iterations (residual {:.2e})",
+            self.converged, self.iterations, self.residual
+        )?;
+        writeln!(out, "stable minimum: {}", self.stable_minimum)?;
+        writeln!(
+            out,
+            "base wrench (τ1 τ2 τ3 [N·m], f1 f2 f3 [N], base clamp frame): {}",
+            fmt6(&self.base_wrench)
+        )?;
+        writeln!(
+            out,
+            "tip wrench  (τ1 τ2 τ3 [N·m], f1 f2 f3 [N], tip clamp frame):  {}",
+            fmt6(&self.tip_wrench)
+        )?;
+        writeln!(out, "energy: {:.6e} J", self.energy)?;
+        writeln!(
+            out,
+            "shape: {} points from the base to the tip clamp point (use --json for them)",
+            self.shape.len()
+        )
+    }
+}
+
+fn fmt6(v: &[f64; 6]) -> String {
     v.iter()
         .map(|x| format!("{x:+.6e}"))
         .collect::<Vec<_>>()

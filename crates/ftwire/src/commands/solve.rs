@@ -1,91 +1,122 @@
 //! `ftwire solve`: the Kirchhoff model for one configuration or a JSON Lines batch.
 //!
-//! Exit codes: 0 on success (a batch succeeds even when some lines are bad; those lines print
-//! `{"error": ...}`), 2 for a bad argument (clap's usage errors and our own validation), 1 for
-//! an I/O failure while writing.
+//! The batch answers each line as soon as it is read, on one flushed line, so that another
+//! process can drive `ftwire solve --batch -` as a service (one line in, one line out). A bad
+//! line gets an error object `{"error", "kind", "line"}` and the batch goes on. At the end of
+//! the input the exit code sums the batch up: 0 if every line was answered, 2 if any line was
+//! bad input, else 1 if any line had no answer (an integration that diverged).
 
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, BufWriter, Write};
-use std::process::ExitCode;
+use std::io::{self, BufRead, BufReader, Write};
+use std::path::Path;
 
-use anyhow::Context;
+use ftwire::args::default_radius;
+use ftwire::error::{CliError, EXIT_BAD_INPUT, from_rod};
+use ftwire::output::{self, ErrorLine, JsonLines, Report};
 use ftwire_rod::{DEFAULT_NODES, Rod, Solution, WireParams};
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::solve::{DEFAULT_RADIUS, SolveArgs};
+use crate::cli::solve::SolveArgs;
 
 /// Runs `ftwire solve`.
-pub fn run(args: SolveArgs) -> anyhow::Result<ExitCode> {
+pub fn run(args: SolveArgs) -> Result<(), CliError> {
     match &args.batch {
         Some(path) => run_batch(path),
         None => run_single(&args),
     }
 }
 
-/// A validation error that should exit with code 2.
-fn usage_error(message: impl std::fmt::Display) -> anyhow::Result<ExitCode> {
-    eprintln!("error: {message}");
-    Ok(ExitCode::from(2))
+fn run_single(args: &SolveArgs) -> Result<(), CliError> {
+    let wire = args.wire.params()?;
+    let a = args
+        .a
+        .ok_or_else(|| CliError::bad_input("solve needs --a A1,..,A6"))?;
+    let solution = solve(wire, &a.0, args.nodes)?;
+    let report = SingleReport {
+        output: Output::from(&solution),
+        wire,
+        a: a.0,
+        solution: &solution,
+    };
+    output::print(&report, args.output.json)
 }
 
-fn run_single(args: &SolveArgs) -> anyhow::Result<ExitCode> {
-    let request = Request {
-        c: args.c.clone().unwrap_or_default(),
-        length: args.length.unwrap_or(f64::NAN),
-        a: args.a.clone().unwrap_or_default(),
-        radius: args.radius,
-        nodes: args.nodes,
-    };
-    let solution = match request.solve() {
-        Ok(s) => s,
-        Err(message) => return usage_error(message),
-    };
-    let stdout = io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
-    if args.json {
-        serde_json::to_writer(&mut out, &Output::from(&solution))?;
-        writeln!(out)?;
-    } else {
-        write_summary(&mut out, &request, &solution)?;
-    }
-    out.flush().context("writing the solution to stdout")?;
-    Ok(ExitCode::SUCCESS)
+/// Solves one configuration; every failure is sorted into bad input or no answer.
+fn solve(wire: WireParams, a: &[f64; 6], nodes: usize) -> Result<Solution, CliError> {
+    Rod::new(wire)
+        .solve(&Vector6::from(*a), nodes)
+        .map_err(|e| from_rod(e, "solve"))
 }
 
 /// A batch always prints JSON Lines, so `--json` changes nothing there.
-fn run_batch(path: &std::path::Path) -> anyhow::Result<ExitCode> {
+fn run_batch(path: &Path) -> Result<(), CliError> {
     let input: Box<dyn BufRead> = if path.as_os_str() == "-" {
-        Box::new(BufReader::new(io::stdin().lock()))
+        Box::new(io::stdin().lock())
     } else {
-        match File::open(path) {
-            Ok(f) => Box::new(BufReader::with_capacity(1 << 16, f)),
-            Err(e) => {
-                return usage_error(format!("cannot open batch file {}: {e}", path.display()));
-            }
-        }
+        let file = File::open(path).map_err(|e| {
+            CliError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
+        })?;
+        Box::new(BufReader::new(file))
     };
-    let stdout = io::stdout();
-    let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
-    for (number, line) in input.lines().enumerate() {
-        let line = line.with_context(|| format!("reading line {} of the batch", number + 1))?;
+    let mut out = JsonLines::new(io::stdout().lock());
+    let (mut bad_input, mut no_answer) = (0_usize, 0_usize);
+    for (index, line) in input.lines().enumerate() {
+        let number = index + 1;
+        let line =
+            line.map_err(|e| CliError::io(format!("reading line {number} of the batch"), e))?;
         if line.trim().is_empty() {
             continue;
         }
-        let result = serde_json::from_str::<Request>(&line)
-            .map_err(|e| format!("line {}: invalid request: {e}", number + 1))
-            .and_then(|r| r.solve().map_err(|e| format!("line {}: {e}", number + 1)));
-        match result {
-            Ok(solution) => serde_json::to_writer(&mut out, &Output::from(&solution))?,
-            Err(error) => serde_json::to_writer(&mut out, &ErrorLine { error })?,
+        match answer(&line) {
+            Ok(solution) => out.write(&Output::from(&solution))?,
+            Err(error) => {
+                if error.exit_code() == EXIT_BAD_INPUT {
+                    bad_input += 1;
+                } else {
+                    no_answer += 1;
+                }
+                let error = error.context(format!("line {number}"));
+                out.write(&ErrorLine::new(&error, number))?;
+            }
         }
-        out.write_all(b"\n")?;
     }
-    out.flush().context("writing the batch results to stdout")?;
-    Ok(ExitCode::SUCCESS)
+    let summary = format!(
+        "{bad_input} line(s) of the batch were bad input and {no_answer} had no answer; \
+         see their error objects"
+    );
+    if bad_input > 0 {
+        Err(CliError::bad_input(summary))
+    } else if no_answer > 0 {
+        Err(CliError::no_answer(summary))
+    } else {
+        Ok(())
+    }
 }
 
-/// One solve request (a batch line, or the flags).
+/// The answer to one batch line.
+fn answer(line: &str) -> Result<Solution, CliError> {
+    let request: Request = serde_json::from_str(line)
+        .map_err(|e| CliError::bad_input(format!("invalid request: {e}")))?;
+    let c: [f64; 3] = request.c.as_slice().try_into().map_err(|_| {
+        CliError::bad_input(format!(
+            "c must have 3 values C1,C2,C3 [N·m²], got {}",
+            request.c.len()
+        ))
+    })?;
+    let a: [f64; 6] = request.a.as_slice().try_into().map_err(|_| {
+        CliError::bad_input(format!(
+            "a must have 6 values τ1,τ2,τ3,f1,f2,f3, got {}",
+            request.a.len()
+        ))
+    })?;
+    let radius = request.radius.unwrap_or_else(default_radius);
+    let wire = WireParams::new(c, request.length, radius)
+        .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
+    solve(wire, &a, request.nodes.unwrap_or(DEFAULT_NODES))
+}
+
+/// One batch request.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Request {
@@ -96,31 +127,6 @@ struct Request {
     radius: Option<f64>,
     #[serde(default)]
     nodes: Option<usize>,
-}
-
-impl Request {
-    fn solve(&self) -> Result<Solution, String> {
-        let c: [f64; 3] =
-            self.c.as_slice().try_into().map_err(|_| {
-                format!("c must have 3 values C1,C2,C3 [N·m²], got {}", self.c.len())
-            })?;
-        let a: [f64; 6] = self.a.as_slice().try_into().map_err(|_| {
-            format!(
-                "a must have 6 values τ1,τ2,τ3,f1,f2,f3, got {}",
-                self.a.len()
-            )
-        })?;
-        let wire = WireParams::new(c, self.length, self.radius.unwrap_or(DEFAULT_RADIUS))
-            .map_err(|e| e.to_string())?;
-        Rod::new(wire)
-            .solve(&Vector6::from(a), self.nodes.unwrap_or(DEFAULT_NODES))
-            .map_err(|e| e.to_string())
-    }
-}
-
-#[derive(Serialize)]
-struct ErrorLine {
-    error: String,
 }
 
 #[derive(Serialize)]
@@ -159,53 +165,70 @@ impl From<&Solution> for Output {
     }
 }
 
-fn write_summary(out: &mut impl Write, request: &Request, s: &Solution) -> io::Result<()> {
-    let tip = &s.jacobian.tip;
-    let p = tip.translation.vector;
-    let axis_angle = tip.rotation.scaled_axis();
-    let stability = &s.jacobian.stability;
-    writeln!(
-        out,
-        "wire: c = {:?} N·m², L = {} m, a = {:?}",
-        request.c, request.length, request.a
-    )?;
-    writeln!(
-        out,
-        "tip position  [m]:   ({:+.6}, {:+.6}, {:+.6})",
-        p.x, p.y, p.z
-    )?;
-    writeln!(
-        out,
-        "tip rotation  [rad]: {:.6} about ({:+.4}, {:+.4}, {:+.4})",
-        axis_angle.norm(),
-        axis_angle.x / axis_angle.norm().max(f64::MIN_POSITIVE),
-        axis_angle.y / axis_angle.norm().max(f64::MIN_POSITIVE),
-        axis_angle.z / axis_angle.norm().max(f64::MIN_POSITIVE),
-    )?;
-    writeln!(
-        out,
-        "det J(L):           {:.6e}",
-        s.jacobian.jacobian.determinant()
-    )?;
-    match stability.first_sign_change {
-        None => writeln!(
+/// A single solve: the JSON [`Output`], or the human summary.
+#[derive(Serialize)]
+struct SingleReport<'a> {
+    #[serde(flatten)]
+    output: Output,
+    #[serde(skip)]
+    wire: WireParams,
+    #[serde(skip)]
+    a: [f64; 6],
+    #[serde(skip)]
+    solution: &'a Solution,
+}
+
+impl Report for SingleReport<'_> {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        let s = self.solution;
+        let tip = &s.jacobian.tip;
+        let p = tip.translation.vector;
+        let axis_angle = tip.rotation.scaled_axis();
+        let angle = axis_angle.norm();
+        let axis = axis_angle / angle.max(f64::MIN_POSITIVE);
+        let stability = &s.jacobian.stability;
+        writeln!(
             out,
-            "stable:             yes (min |det J| = {:.3e})",
-            stability.det_j_min
-        )?,
-        Some([t0, t1]) => writeln!(
+            "wire: c = {:?} N·m², L = {} m, a = {:?}",
+            self.wire.c(),
+            self.wire.length(),
+            self.a
+        )?;
+        writeln!(
             out,
-            "stable:             no (det J changes sign in t ∈ [{t0:.4}, {t1:.4}] m)"
-        )?,
+            "tip position  [m]:   ({:+.6}, {:+.6}, {:+.6})",
+            p.x, p.y, p.z
+        )?;
+        writeln!(
+            out,
+            "tip rotation  [rad]: {angle:.6} about ({:+.4}, {:+.4}, {:+.4})",
+            axis.x, axis.y, axis.z,
+        )?;
+        writeln!(
+            out,
+            "det J(L):           {:.6e}",
+            s.jacobian.jacobian.determinant()
+        )?;
+        match stability.first_sign_change {
+            None => writeln!(
+                out,
+                "stable:             yes (min |det J| = {:.3e})",
+                stability.det_j_min
+            )?,
+            Some([t0, t1]) => writeln!(
+                out,
+                "stable:             no (det J changes sign in t ∈ [{t0:.4}, {t1:.4}] m)"
+            )?,
+        }
+        writeln!(
+            out,
+            "self-intersecting:  {}",
+            if s.self_intersecting { "yes" } else { "no" }
+        )?;
+        writeln!(
+            out,
+            "shape:              {} nodes (use --json for them)",
+            s.shape.len()
+        )
     }
-    writeln!(
-        out,
-        "self-intersecting:  {}",
-        if s.self_intersecting { "yes" } else { "no" }
-    )?;
-    writeln!(
-        out,
-        "shape:              {} nodes (use --json for them)",
-        s.shape.len()
-    )
 }

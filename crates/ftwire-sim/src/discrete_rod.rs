@@ -8,9 +8,10 @@
 //! makes the clamp's tangent exact at the clamp point and gives errors of order `1/N²`
 //! (a rigid first edge with the clamp at its end node gives `1/N`).
 
+use ftwire_core::{ensure_finite, ensure_positive};
 use nalgebra::Vector3;
 
-use crate::error::{SimError, ensure_finite, ensure_positive};
+use crate::error::SimError;
 
 /// Parameters of a wire, as plain data with defaults (the nitinol 2 mm × 630 mm wire).
 ///
@@ -121,32 +122,32 @@ impl RodParams {
 
 /// Validated rod parameters with the derived discretisation.
 ///
-/// Parse, don't validate: once a `Rod` exists, its stiffnesses, length, radius and density are
+/// Parse, don't validate: once a `DiscreteRod` exists, its stiffnesses, length, radius and density are
 /// finite and positive and it has at least 3 edges.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Rod {
+pub struct DiscreteRod {
     params: RodParams,
     h: f64,
     axial: f64,
 }
 
-impl Rod {
+impl DiscreteRod {
     /// The smallest number of edges allowed.
     pub const MIN_EDGES: usize = 3;
 
     /// Validates the parameters.
     ///
     /// # Errors
-    /// [`SimError::NotPositive`] for a non-positive stiffness, length, radius, density or axial
-    /// stiffness; [`SimError::NonFinite`] for a non-finite gravity or rest strain;
+    /// [`SimError::Core`] naming the field: not positive for a stiffness, length, radius,
+    /// density or axial stiffness, not finite for a gravity or rest strain;
     /// [`SimError::TooFewEdges`] for `edges < 3`.
     ///
     /// # Example
     /// ```
-    /// use ftwire_sim::{Rod, RodParams};
-    /// let rod = Rod::new(RodParams::nitinol_3mm_820())?;
+    /// use ftwire_sim::{DiscreteRod, RodParams};
+    /// let rod = DiscreteRod::new(RodParams::nitinol_3mm_820())?;
     /// assert!((rod.edge_length() - 0.82 / 99.0).abs() < 1e-15);
-    /// assert!(Rod::new(RodParams { length: -1.0, ..RodParams::default() }).is_err());
+    /// assert!(DiscreteRod::new(RodParams { length: -1.0, ..RodParams::default() }).is_err());
     /// # Ok::<(), ftwire_sim::SimError>(())
     /// ```
     pub fn new(params: RodParams) -> Result<Self, SimError> {

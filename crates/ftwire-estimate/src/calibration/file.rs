@@ -1,0 +1,312 @@
+//! The calibration weights file: one JSON document that other commands load.
+//!
+//! Format version 1 (`FORMAT_VERSION`), written by [`Calibration::to_json`] and
+//! [`Calibration::save`]:
+//!
+//! ```text
+//! {
+//!   "format": "ftwire-calibration",          // always this string
+//!   "version": 1,                            // FORMAT_VERSION
+//!   "architecture": {
+//!     "inputs": 6, "outputs": 6,             // raw reading (force first) → a (torque first)
+//!     "hidden": [64, 64],                    // hidden widths
+//!     "activation": "tanh"                   // or "gelu"; the output layer is linear
+//!   },
+//!   "input_normaliser":  { "mean": [6 numbers], "std": [6 numbers > 0] },   // raw units
+//!   "output_normaliser": { "mean": [6 numbers], "std": [6 numbers > 0] },   // a's units
+//!   "affine": { "matrix": [6 rows of 6], "offset": [6] } | null,            // normalised units
+//!   "layers": [                              // first hidden layer to output layer
+//!     { "weights": [outputs rows of inputs numbers], "bias": [outputs numbers] }, ...
+//!   ],
+//!   "training": { ... }                      // TrainingRecord: seed, config, split sizes,
+//! }                                          // epochs, losses, test RMSE, history
+//! ```
+//!
+//! The map is `a = μ_out + σ_out ⊙ (A z + c + f(z))`, `z = (raw − μ_in) ⊘ σ_in` (see
+//! [`Calibration`]). Numbers are written shortest-round-trip and read back exactly, so a saved
+//! calibration loads bit-identical (guarded by `tests/calibration_file.rs`). Loading checks the
+//! format and version, every array's length against the architecture, and that every number is
+//! finite (and every `std` positive), and names the offending array.
+
+use std::path::Path;
+
+use nalgebra::{Matrix6, Vector6};
+use serde::{Deserialize, Serialize};
+
+use super::{Activation, Affine, Calibration, Mlp, Normaliser, TrainingRecord};
+use crate::EstimateError;
+
+/// The `format` string of a calibration file.
+pub const FORMAT_NAME: &str = "ftwire-calibration";
+
+/// The format version this build writes and reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The first two fields, read before the rest so that a newer file gets a version error.
+#[derive(Deserialize)]
+struct Header {
+    format: String,
+    version: u32,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CalibrationFile {
+    format: String,
+    version: u32,
+    architecture: Architecture,
+    input_normaliser: NormaliserFile,
+    output_normaliser: NormaliserFile,
+    affine: Option<AffineFile>,
+    layers: Vec<LayerFile>,
+    training: TrainingRecord,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Architecture {
+    inputs: usize,
+    outputs: usize,
+    hidden: Vec<usize>,
+    activation: Activation,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NormaliserFile {
+    mean: [f64; 6],
+    std: [f64; 6],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AffineFile {
+    matrix: [[f64; 6]; 6],
+    offset: [f64; 6],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LayerFile {
+    weights: Vec<Vec<f64>>,
+    bias: Vec<f64>,
+}
+
+impl Calibration {
+    /// The calibration as a JSON document in the format of the module docs.
+    ///
+    /// # Errors
+    /// [`EstimateError::CalibrationSyntax`] if serialisation fails (it does not for the types
+    /// here).
+    pub fn to_json(&self) -> Result<String, EstimateError> {
+        serde_json::to_string_pretty(&self.to_file()).map_err(syntax_error)
+    }
+
+    /// A calibration from a JSON document in the format of the module docs.
+    ///
+    /// # Errors
+    /// [`EstimateError::CalibrationSyntax`] for malformed JSON, a missing or unknown field or
+    /// the wrong `format`; [`EstimateError::CalibrationVersion`] for another format version;
+    /// [`EstimateError::CalibrationShape`] for an array of the wrong length;
+    /// [`EstimateError::CalibrationValue`] for a non-finite number or a non-positive `std`;
+    /// [`EstimateError::InvalidSetting`] for hidden widths out of range.
+    pub fn from_json(json: &str) -> Result<Self, EstimateError> {
+        let header: Header = serde_json::from_str(json).map_err(syntax_error)?;
+        if header.format != FORMAT_NAME {
+            return Err(EstimateError::CalibrationSyntax {
+                line: 0,
+                column: 0,
+                message: format!("format is {:?}, expected {FORMAT_NAME:?}", header.format),
+            });
+        }
+        if header.version != FORMAT_VERSION {
+            return Err(EstimateError::CalibrationVersion {
+                found: header.version,
+                supported: FORMAT_VERSION,
+            });
+        }
+        let file: CalibrationFile = serde_json::from_str(json).map_err(syntax_error)?;
+        Self::from_file(file)
+    }
+
+    /// Writes the calibration to `path` as JSON.
+    ///
+    /// # Errors
+    /// [`EstimateError::CalibrationIo`] when the file cannot be written.
+    pub fn save(&self, path: &Path) -> Result<(), EstimateError> {
+        std::fs::write(path, self.to_json()?).map_err(|e| io_error(path, &e))
+    }
+
+    /// Reads a calibration written by [`Calibration::save`].
+    ///
+    /// # Errors
+    /// [`EstimateError::CalibrationIo`] when the file cannot be read; otherwise as
+    /// [`Calibration::from_json`].
+    pub fn load(path: &Path) -> Result<Self, EstimateError> {
+        let json = std::fs::read_to_string(path).map_err(|e| io_error(path, &e))?;
+        Self::from_json(&json)
+    }
+
+    fn to_file(&self) -> CalibrationFile {
+        let normaliser = |n: &Normaliser| NormaliserFile {
+            mean: (*n.mean()).into(),
+            std: (*n.std()).into(),
+        };
+        let layers = self
+            .mlp()
+            .layers()
+            .map(|(inputs, weights, bias)| LayerFile {
+                weights: weights.chunks_exact(inputs).map(<[f64]>::to_vec).collect(),
+                bias: bias.to_vec(),
+            })
+            .collect();
+        CalibrationFile {
+            format: FORMAT_NAME.into(),
+            version: FORMAT_VERSION,
+            architecture: Architecture {
+                inputs: 6,
+                outputs: 6,
+                hidden: self.mlp().hidden().to_vec(),
+                activation: self.mlp().activation(),
+            },
+            input_normaliser: normaliser(self.input_normaliser()),
+            output_normaliser: normaliser(self.output_normaliser()),
+            affine: self.affine().map(|a| AffineFile {
+                matrix: std::array::from_fn(|i| std::array::from_fn(|j| a.matrix[(i, j)])),
+                offset: a.offset.into(),
+            }),
+            layers,
+            training: self.record().clone(),
+        }
+    }
+
+    fn from_file(file: CalibrationFile) -> Result<Self, EstimateError> {
+        let architecture = &file.architecture;
+        for (what, found) in [
+            ("architecture.inputs", architecture.inputs),
+            ("architecture.outputs", architecture.outputs),
+        ] {
+            if found != 6 {
+                return Err(EstimateError::CalibrationShape {
+                    what: what.into(),
+                    expected: 6,
+                    found,
+                });
+            }
+        }
+        let hidden = &architecture.hidden;
+        let widths: Vec<usize> = std::iter::once(6)
+            .chain(hidden.iter().copied())
+            .chain(std::iter::once(6))
+            .collect();
+        if file.layers.len() != hidden.len() + 1 {
+            return Err(EstimateError::CalibrationShape {
+                what: "layers".into(),
+                expected: hidden.len() + 1,
+                found: file.layers.len(),
+            });
+        }
+        let mut parameters = Vec::new();
+        for (l, (layer, shape)) in file.layers.iter().zip(widths.windows(2)).enumerate() {
+            let [inputs, outputs] = [shape[0], shape[1]];
+            check_len(
+                &format!("layers[{l}].weights"),
+                outputs,
+                layer.weights.len(),
+            )?;
+            for (j, row) in layer.weights.iter().enumerate() {
+                let what = format!("layers[{l}].weights[{j}]");
+                check_len(&what, inputs, row.len())?;
+                check_finite(&what, row)?;
+                parameters.extend_from_slice(row);
+            }
+            let what = format!("layers[{l}].bias");
+            check_len(&what, outputs, layer.bias.len())?;
+            check_finite(&what, &layer.bias)?;
+            parameters.extend_from_slice(&layer.bias);
+        }
+        let mlp = Mlp::from_parameters(hidden, architecture.activation, parameters)?;
+        let input = normaliser("input_normaliser", &file.input_normaliser)?;
+        let output = normaliser("output_normaliser", &file.output_normaliser)?;
+        let affine = match &file.affine {
+            None => None,
+            Some(a) => {
+                for (i, row) in a.matrix.iter().enumerate() {
+                    check_finite(&format!("affine.matrix[{i}]"), row)?;
+                }
+                check_finite("affine.offset", &a.offset)?;
+                Some(Affine {
+                    matrix: Matrix6::from_fn(|i, j| a.matrix[i][j]),
+                    offset: Vector6::from(a.offset),
+                })
+            }
+        };
+        Ok(Self::from_parts(input, output, affine, mlp, file.training))
+    }
+}
+
+/// A normaliser from its saved form, naming the offending entry.
+fn normaliser(what: &str, file: &NormaliserFile) -> Result<Normaliser, EstimateError> {
+    check_finite(&format!("{what}.mean"), &file.mean)?;
+    if let Some((index, &value)) = file
+        .std
+        .iter()
+        .enumerate()
+        .find(|(_, s)| !(s.is_finite() && **s > 0.0))
+    {
+        return Err(EstimateError::CalibrationValue {
+            what: format!("{what}.std"),
+            index,
+            value,
+            allowed: "finite numbers > 0",
+        });
+    }
+    Normaliser::from_parts(Vector6::from(file.mean), Vector6::from(file.std)).ok_or_else(|| {
+        EstimateError::CalibrationValue {
+            what: what.into(),
+            index: 0,
+            value: f64::NAN,
+            allowed: "finite means and positive finite stds",
+        }
+    })
+}
+
+fn check_len(what: &str, expected: usize, found: usize) -> Result<(), EstimateError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(EstimateError::CalibrationShape {
+            what: what.into(),
+            expected,
+            found,
+        })
+    }
+}
+
+fn check_finite(what: &str, values: &[f64]) -> Result<(), EstimateError> {
+    match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some((index, &value)) => Err(EstimateError::CalibrationValue {
+            what: what.into(),
+            index,
+            value,
+            allowed: "finite numbers",
+        }),
+    }
+}
+
+fn syntax_error(e: serde_json::Error) -> EstimateError {
+    EstimateError::CalibrationSyntax {
+        line: e.line(),
+        column: e.column(),
+        message: e.to_string(),
+    }
+}
+
+fn io_error(path: &Path, e: &std::io::Error) -> EstimateError {
+    EstimateError::CalibrationIo {
+        path: path.to_path_buf(),
+        kind: e.kind(),
+        message: e.to_string(),
+    }
+}

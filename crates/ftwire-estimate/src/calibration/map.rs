@@ -1,0 +1,98 @@
+//! The learnt calibration map from a raw F/T reading to the configuration `a`.
+
+use nalgebra::Vector6;
+
+use super::{Affine, Mlp, Normaliser, TrainingRecord};
+
+/// A trained F/T calibration (paper §IV-A): raw reading (force first, sensor frame, tared) in,
+/// configuration `a` (torque first, base clamp frame) out.
+///
+/// The map is `a = μ_a + σ_a ⊙ (A z + c + f(z))` with `z = (raw − μ_raw) ⊘ σ_raw`: per-channel
+/// standardisation fitted on the training split, an optional least-squares affine part `A z + c`
+/// ([`Affine`]) and the network `f` ([`Mlp`]) that learns what the affine part leaves.
+///
+/// Build one with [`Calibration::train`]; save and load it with [`Calibration::save`] and
+/// [`Calibration::load`] (format in [`super::file`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Calibration {
+    input: Normaliser,
+    output: Normaliser,
+    affine: Option<Affine>,
+    mlp: Mlp,
+    pub(crate) record: TrainingRecord,
+}
+
+impl Calibration {
+    /// Assembles a calibration from its checked parts.
+    pub(crate) fn from_parts(
+        input: Normaliser,
+        output: Normaliser,
+        affine: Option<Affine>,
+        mlp: Mlp,
+        record: TrainingRecord,
+    ) -> Self {
+        Self {
+            input,
+            output,
+            affine,
+            mlp,
+            record,
+        }
+    }
+
+    /// The configuration `a` (torque first, base clamp frame \[N·m, N\]) for a raw reading
+    /// (force first, sensor frame \[N, N·m\]). Allocation-free.
+    ///
+    /// A non-finite reading gives a non-finite `a`; readings far outside the training data
+    /// (for example saturated ones) are extrapolated and not to be trusted.
+    pub fn apply(&self, raw: &Vector6<f64>) -> Vector6<f64> {
+        let z = self.input.normalise(raw);
+        let mut y = self.mlp.forward(&z);
+        if let Some(affine) = &self.affine {
+            y += affine.apply(&z);
+        }
+        self.output.denormalise(&y)
+    }
+
+    /// Per-component RMS error `√(mean (apply(raw) − a)²)` over `(raw, a)` pairs, torque first
+    /// \[N·m, N·m, N·m, N, N, N\]; zero for no pairs.
+    pub fn rmse<'a>(
+        &self,
+        pairs: impl Iterator<Item = (&'a Vector6<f64>, &'a Vector6<f64>)>,
+    ) -> Vector6<f64> {
+        let mut count = 0_usize;
+        let sum = pairs.fold(Vector6::zeros(), |acc, (raw, a)| {
+            count += 1;
+            let e = self.apply(raw) - a;
+            acc + e.component_mul(&e)
+        });
+        #[allow(clippy::cast_precision_loss)] // sample counts are far below 2⁵²
+        let n = count.max(1) as f64;
+        (sum / n).map(f64::sqrt)
+    }
+
+    /// The standardisation of raw readings.
+    pub fn input_normaliser(&self) -> &Normaliser {
+        &self.input
+    }
+
+    /// The standardisation of configurations.
+    pub fn output_normaliser(&self) -> &Normaliser {
+        &self.output
+    }
+
+    /// The affine part in normalised units (`None` when the network maps alone).
+    pub fn affine(&self) -> Option<&Affine> {
+        self.affine.as_ref()
+    }
+
+    /// The network (normalised units; with an affine part, it gives the residual).
+    pub fn mlp(&self) -> &Mlp {
+        &self.mlp
+    }
+
+    /// How this calibration was trained.
+    pub fn record(&self) -> &TrainingRecord {
+        &self.record
+    }
+}

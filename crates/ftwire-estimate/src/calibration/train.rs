@@ -1,0 +1,418 @@
+//! The training driver: seeded split, normalisation, the affine fit, mini-batch Adam on the
+//! residual, early stopping on the validation loss, and the training record saved with the
+//! weights.
+
+use nalgebra::Vector6;
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use super::adam::Adam;
+use super::mlp::Backprop;
+use super::{Activation, Affine, Calibration, Dataset, Mlp, Normaliser, SplitFractions};
+use crate::EstimateError;
+
+/// How to train a calibration. Public fields with [`Default`]; checked when training starts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TrainConfig {
+    /// Hidden layer widths, each in `1..=MAX_WIDTH`, at most `MAX_HIDDEN_LAYERS` of them;
+    /// empty gives an affine network (default `[64, 64]`).
+    pub hidden: Vec<usize>,
+    /// Activation of the hidden layers (default [`Activation::Tanh`]).
+    pub activation: Activation,
+    /// Learn the residual over a least-squares affine map from normalised reading to normalised
+    /// `a`, and start the network at zero output (its last layer zeroed), so that training
+    /// starts from the affine fit and early stopping can only improve on it (default `true`).
+    pub residual: bool,
+    /// Split fractions (default 70 % training, 15 % validation, 15 % test).
+    pub split: SplitFractions,
+    /// Samples per mini-batch, `≥ 1` (default `32`).
+    pub batch_size: usize,
+    /// Adam step size, in `(0, 1]` (default `1e-3`).
+    pub learning_rate: f64,
+    /// Multiply the step size by this factor after `plateau` epochs without a new best
+    /// validation loss (since the last best or the last decay), in `(0, 1]`; `1` keeps it
+    /// constant (default `0.5`).
+    pub decay: f64,
+    /// Epochs without a new best validation loss before the step size decays, `≥ 1`
+    /// (default `20`).
+    pub plateau: usize,
+    /// Most passes over the training split, `≥ 1` (default `2000`).
+    pub max_epochs: usize,
+    /// Stop after this many epochs without a new best validation loss, `≥ 1` (default `100`).
+    pub patience: usize,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        Self {
+            hidden: vec![64, 64],
+            activation: Activation::Tanh,
+            residual: true,
+            split: SplitFractions::default(),
+            batch_size: 32,
+            learning_rate: 1e-3,
+            decay: 0.5,
+            plateau: 20,
+            max_epochs: 2000,
+            patience: 100,
+        }
+    }
+}
+
+impl TrainConfig {
+    /// Checks the ranges documented on the fields (the split's are checked by the split).
+    fn validate(&self) -> Result<(), EstimateError> {
+        #[allow(clippy::cast_precision_loss)] // reported values only
+        for (field, value) in [
+            ("batch_size", self.batch_size),
+            ("plateau", self.plateau),
+            ("max_epochs", self.max_epochs),
+            ("patience", self.patience),
+        ] {
+            if value == 0 {
+                return Err(EstimateError::InvalidSetting {
+                    field,
+                    value: value as f64,
+                    allowed: "an integer ≥ 1",
+                });
+            }
+        }
+        if !(self.learning_rate > 0.0 && self.learning_rate <= 1.0) {
+            return Err(EstimateError::InvalidSetting {
+                field: "learning_rate",
+                value: self.learning_rate,
+                allowed: "a step size in (0, 1]",
+            });
+        }
+        if !(self.decay > 0.0 && self.decay <= 1.0) {
+            return Err(EstimateError::InvalidSetting {
+                field: "decay",
+                value: self.decay,
+                allowed: "a factor in (0, 1]",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What the progress callback sees after each epoch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EpochProgress {
+    /// The epoch just finished, from 1.
+    pub epoch: usize,
+    /// The configured maximum number of epochs.
+    pub max_epochs: usize,
+    /// Mean training loss over the epoch's mini-batches (normalised units, see
+    /// [`TrainingRecord`]).
+    pub train_loss: f64,
+    /// Validation loss after the epoch (normalised units).
+    pub validation_loss: f64,
+    /// The epoch with the lowest validation loss so far (0: the initial weights).
+    pub best_epoch: usize,
+    /// The lowest validation loss so far.
+    pub best_validation_loss: f64,
+    /// The step size the epoch ran with.
+    pub learning_rate: f64,
+}
+
+/// Why training stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// `patience` epochs passed without a new best validation loss.
+    Patience,
+    /// `max_epochs` were run.
+    MaxEpochs,
+    /// A loss became non-finite; the best weights before it are kept.
+    Diverged,
+}
+
+/// Losses of one epoch (normalised units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EpochLosses {
+    /// Mean training loss over the epoch's mini-batches.
+    pub train: f64,
+    /// Validation loss after the epoch.
+    pub validation: f64,
+}
+
+/// Sizes of the three splits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SplitSizes {
+    /// Training samples.
+    pub train: usize,
+    /// Validation samples.
+    pub validation: usize,
+    /// Test samples.
+    pub test: usize,
+}
+
+/// How a calibration was trained, saved with its weights.
+///
+/// Losses are the network's mean squared errors over samples and the six outputs, in the units
+/// it is trained in: with `residual`, each channel's affine-fit residual divided by its
+/// training-split spread, so 1.0 is "as good as the affine fit"; without, each component of `a`
+/// standardised, so 1.0 is "as good as predicting the mean". RMS errors are per component of `a`, torque first, in
+/// \[N·m\] and \[N\].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrainingRecord {
+    /// The seed of the split, the initial weights and the batch order.
+    pub seed: u64,
+    /// The configuration trained with.
+    pub config: TrainConfig,
+    /// Samples in each split.
+    pub samples: SplitSizes,
+    /// Epochs run.
+    pub epochs: usize,
+    /// Epoch of the kept (best validation) weights; 0 means the initial weights.
+    pub best_epoch: usize,
+    /// Why training stopped.
+    pub stop: StopReason,
+    /// Validation loss of the initial weights: with `residual`, that of the affine fit alone.
+    pub initial_validation_loss: f64,
+    /// Validation loss of the kept weights.
+    pub validation_loss: f64,
+    /// Test loss of the kept weights (`None` without test samples).
+    pub test_loss: Option<f64>,
+    /// Per-component RMS error of the kept calibration on the test split, torque first
+    /// \[N·m, N·m, N·m, N, N, N\] (`None` without test samples).
+    pub test_rmse: Option<[f64; 6]>,
+    /// Losses of every epoch run, in order.
+    pub history: Vec<EpochLosses>,
+}
+
+impl Calibration {
+    /// Trains a calibration on `data` with `config`; every random choice (split, initial
+    /// weights, batch order) comes from `seed`, and the same seed gives bit-identical weights.
+    ///
+    /// # Errors
+    /// As [`Calibration::train_with_progress`].
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_estimate::calibration::{Calibration, Dataset, TrainConfig};
+    /// use nalgebra::Vector6;
+    ///
+    /// // A sensor that reads a, force first and with gain 2.
+    /// let labels: Vec<Vector6<f64>> = (0..60)
+    ///     .map(|k| Vector6::from_fn(|i, _| ((k * (i + 3)) % 17) as f64 - 8.0))
+    ///     .collect();
+    /// let raw = labels.iter().map(|a| 2.0 * Vector6::new(a[3], a[4], a[5], a[0], a[1], a[2]));
+    /// let data = Dataset::new(raw.collect(), labels.clone())?;
+    /// let config = TrainConfig { hidden: vec![8], max_epochs: 5, ..TrainConfig::default() };
+    /// let calibration = Calibration::train(&data, &config, 42)?;
+    /// let a = calibration.apply(&data.raw()[0]);
+    /// assert!((a - labels[0]).norm() < 1e-6 * labels[0].norm().max(1.0));
+    /// # Ok::<(), ftwire_estimate::EstimateError>(())
+    /// ```
+    pub fn train(data: &Dataset, config: &TrainConfig, seed: u64) -> Result<Self, EstimateError> {
+        Self::train_with_progress(data, config, seed, |_| {})
+    }
+
+    /// [`Calibration::train`], calling `progress` after every epoch (for a progress bar).
+    ///
+    /// # Errors
+    /// [`EstimateError::InvalidSetting`] for a configuration out of range;
+    /// [`EstimateError::TooFewCalibrationSamples`] when `data` is too small for the split.
+    pub fn train_with_progress(
+        data: &Dataset,
+        config: &TrainConfig,
+        seed: u64,
+        mut progress: impl FnMut(&EpochProgress),
+    ) -> Result<Self, EstimateError> {
+        config.validate()?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let split = data.split(&config.split, &mut rng)?;
+        let problem = Problem::new(data, &split.train, config.residual);
+        let train = problem.targets(data, &split.train);
+        let validation = problem.targets(data, &split.validation);
+        let mut mlp = Mlp::new(&config.hidden, config.activation, &mut rng)?;
+        if config.residual {
+            mlp.zero_output_layer();
+        }
+        let mut descent = descend(mlp, &train, &validation, config, &mut rng, &mut progress)?;
+        let test_loss = if split.test.is_empty() {
+            None
+        } else {
+            let (test_z, test_t) = problem.targets(data, &split.test);
+            Some(descent.best.loss(&test_z, &test_t)?)
+        };
+        descent.best.scale_outputs(&problem.scale);
+        let record = TrainingRecord {
+            seed,
+            config: config.clone(),
+            samples: SplitSizes {
+                train: split.train.len(),
+                validation: split.validation.len(),
+                test: split.test.len(),
+            },
+            epochs: descent.history.len(),
+            best_epoch: descent.best_epoch,
+            stop: descent.stop,
+            initial_validation_loss: descent.initial_validation_loss,
+            validation_loss: descent.best_validation_loss,
+            test_loss,
+            test_rmse: None,
+            history: descent.history,
+        };
+        let mut calibration = Self::from_parts(
+            problem.input,
+            problem.output,
+            problem.affine,
+            descent.best,
+            record,
+        );
+        if !split.test.is_empty() {
+            let rmse = calibration.rmse(data.pairs(&split.test));
+            calibration.record.test_rmse = Some(rmse.into());
+        }
+        Ok(calibration)
+    }
+}
+
+/// What the network is trained on, fitted on the training split: the standardisations, the
+/// affine part, and the per-channel scale of what the affine part leaves.
+struct Problem {
+    input: Normaliser,
+    output: Normaliser,
+    affine: Option<Affine>,
+    /// The network's targets are the affine fit's residuals divided by this, per channel (ones
+    /// without an affine part).
+    scale: Vector6<f64>,
+}
+
+impl Problem {
+    fn new(data: &Dataset, train: &[usize], residual: bool) -> Self {
+        let input = Normaliser::fit(data.pairs(train).map(|(r, _)| r));
+        let output = Normaliser::fit(data.pairs(train).map(|(_, l)| l));
+        let mut problem = Self {
+            input,
+            output,
+            affine: None,
+            scale: Vector6::repeat(1.0),
+        };
+        if residual {
+            let normalised: Vec<_> = data
+                .pairs(train)
+                .map(|(r, l)| (input.normalise(r), output.normalise(l)))
+                .collect();
+            let affine = Affine::fit(normalised.iter().map(|(z, y)| (z, y)));
+            // Each channel's residual in units of its own spread, so that every channel weighs
+            // alike in the loss (a channel the affine part fits precisely would otherwise be
+            // invisible next to a noisy one).
+            let residuals: Vec<_> = normalised
+                .iter()
+                .map(|(z, y)| y - affine.apply(z))
+                .collect();
+            problem.scale = *Normaliser::fit(residuals.iter()).std();
+            problem.affine = Some(affine);
+        }
+        problem
+    }
+
+    /// The network's inputs (normalised readings) and targets for the samples at `indices`.
+    fn targets(&self, data: &Dataset, indices: &[usize]) -> (Vec<Vector6<f64>>, Vec<Vector6<f64>>) {
+        data.pairs(indices)
+            .map(|(r, l)| {
+                let z = self.input.normalise(r);
+                let y = self.output.normalise(l);
+                let left = self.affine.as_ref().map_or(y, |a| y - a.apply(&z));
+                (z, left.component_div(&self.scale))
+            })
+            .unzip()
+    }
+}
+
+/// The outcome of [`descend`].
+struct Descent {
+    best: Mlp,
+    best_epoch: usize,
+    best_validation_loss: f64,
+    initial_validation_loss: f64,
+    stop: StopReason,
+    history: Vec<EpochLosses>,
+}
+
+/// Mini-batch Adam from `mlp` on the `(inputs, targets)` of `train`, with step decay on
+/// plateaus and early stopping on the loss over `validation`, keeping the best weights.
+fn descend(
+    mut mlp: Mlp,
+    train: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
+    validation: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
+    config: &TrainConfig,
+    rng: &mut ChaCha8Rng,
+    progress: &mut impl FnMut(&EpochProgress),
+) -> Result<Descent, EstimateError> {
+    let (train_z, train_t) = train;
+    let (validation_z, validation_t) = validation;
+    let initial_validation_loss = mlp.loss(validation_z, validation_t)?;
+    let mut descent = Descent {
+        best: mlp.clone(),
+        best_epoch: 0,
+        best_validation_loss: initial_validation_loss,
+        initial_validation_loss,
+        stop: StopReason::MaxEpochs,
+        history: Vec::new(),
+    };
+    let mut adam = Adam::new(mlp.parameters().len(), config.learning_rate);
+    let mut workspace = Backprop::new(&mlp);
+    let mut gradient = vec![0.0; mlp.parameters().len()];
+    let mut order: Vec<usize> = (0..train_z.len()).collect();
+    let mut last_decay = 0;
+    for epoch in 1..=config.max_epochs {
+        let learning_rate = adam.learning_rate();
+        order.shuffle(rng);
+        let mut sum = 0.0;
+        for batch in order.chunks(config.batch_size) {
+            gradient.fill(0.0);
+            let pairs = batch
+                .iter()
+                .filter_map(|&i| Some((train_z.get(i)?, train_t.get(i)?)));
+            let loss = workspace.accumulate(&mlp, pairs, batch.len(), &mut gradient);
+            #[allow(clippy::cast_precision_loss)] // batch sizes are far below 2⁵²
+            let weight = batch.len() as f64;
+            sum += loss * weight;
+            adam.step(mlp.parameters_mut(), &gradient);
+        }
+        #[allow(clippy::cast_precision_loss)] // sample counts are far below 2⁵²
+        let train_loss = sum / order.len().max(1) as f64;
+        let validation_loss = mlp.loss(validation_z, validation_t)?;
+        if !(train_loss.is_finite() && validation_loss.is_finite()) {
+            descent.stop = StopReason::Diverged;
+            break;
+        }
+        descent.history.push(EpochLosses {
+            train: train_loss,
+            validation: validation_loss,
+        });
+        if validation_loss < descent.best_validation_loss {
+            descent.best.clone_from(&mlp);
+            descent.best_validation_loss = validation_loss;
+            descent.best_epoch = epoch;
+        }
+        progress(&EpochProgress {
+            epoch,
+            max_epochs: config.max_epochs,
+            train_loss,
+            validation_loss,
+            best_epoch: descent.best_epoch,
+            best_validation_loss: descent.best_validation_loss,
+            learning_rate,
+        });
+        if epoch - descent.best_epoch.max(last_decay) >= config.plateau {
+            adam.set_learning_rate(learning_rate * config.decay);
+            last_decay = epoch;
+        }
+        if epoch - descent.best_epoch >= config.patience && epoch < config.max_epochs {
+            descent.stop = StopReason::Patience;
+            break;
+        }
+    }
+    Ok(descent)
+}

@@ -1,0 +1,608 @@
+//! The identification driver: batch ([`identify`]) and streaming ([`Identifier`]).
+//!
+//! One driver owns the loop:
+//! 1. **coarse**: a particle swarm ([`super::pso`]) finds the basin in the 2-D space
+//!    `(ln c2, L)` of a round isotropic rod, `c3 = c2`, `c1 = ν0 c2` (`ν0` =
+//!    [`IdentifyConfig::coarse_torsion_ratio`], unless the configured constraints fix them),
+//!    and Levenberg–Marquardt ([`super::refine`]) polishes the few best distinct personal
+//!    bests there;
+//! 2. **fine**: Levenberg–Marquardt in the configured parameters, from each coarse optimum;
+//!    the lowest cost wins, and is checked for identifiability ([`Estimate`]);
+//! 3. **retry**: if that fit is far above the noise or on the box's edge (the wrong basin),
+//!    half the swarm is re-injected at random and steps 1–2 run again, up to
+//!    [`IdentifyConfig::search_rounds`] rounds; the best fit is kept.
+//!
+//! Why two stages: in the full 4-D box, `c_i ∈ [1e-3, 5]`, the absolute residual is rugged
+//! along `c1` (a tiny torsional stiffness spins the wire about its axis), and a 20-particle
+//! swarm there missed the basin of the 3 mm nitinol wire for some seeds. A round rod's 2-D
+//! search lands within a few per cent of a wire with `c3 = c2`, `c1/c2 ∈ [0.6, 0.9]`, and the
+//! fine fit converges from there (tests `absolute_form_recovers_both_nitinol_wires_…`,
+//! `unseen_wires_with_sensor_noise_…` and the ignored `survey`). A wire far from a round rod
+//! (`c3/c2` or `c1/c2` far from `1`, `ν0`) can fall outside the fine fit's basin; the result is
+//! then flagged by the χ² test, not returned as identified.
+
+use std::time::{Duration, Instant};
+
+use ftwire_core::Pose;
+use nalgebra::{DMatrix, Vector6};
+use rand::Rng;
+
+use super::parameters::{L_MAX, L_MIN};
+use super::refine::Refined;
+use super::{
+    Estimate, LevenbergMarquardt, NoiseModel, ParameterConstraints, ParticleSwarm, ResidualForm,
+    Residuals, Sample, Swarm, Unidentified, Weights,
+};
+use crate::{EstimateError, WireModel};
+
+/// Identification settings (a parameter bundle; checked when identification starts).
+#[derive(Debug, Clone, PartialEq)]
+pub struct IdentifyConfig {
+    /// The residual minimised (default [`ResidualForm::Absolute`]).
+    pub form: ResidualForm,
+    /// Known relations between the parameters (default none).
+    pub constraints: ParameterConstraints,
+    /// The reference length `ℓ` \[m\] that divides translation residuals (see
+    /// [`super::residual`]), or `None` for the gripper distance of the first sample, at least
+    /// 5 cm (default `None`).
+    pub length_scale: Option<f64>,
+    /// How much longer than the largest gripper distance `|p(b̃_i)|` the wire must be \[m\]
+    /// (default `5e-4`): the lower bound of `L` is `max(0.2, max_i |p(b̃_i)| + margin)`.
+    pub length_margin: f64,
+    /// The swarm settings (20 particles, `ω = φp = φg = 0.5`, 2 re-injected; its box is
+    /// replaced by the search box).
+    pub swarm: ParticleSwarm,
+    /// Swarm iterations on each new set of samples before refinement (default `20`).
+    pub swarm_iterations: usize,
+    /// The torsion ratio `c1/c2` of the swarm's coarse search (default `0.8`, a round rod of
+    /// Poisson's ratio 0.25); see [`super::identifier`].
+    pub coarse_torsion_ratio: f64,
+    /// The local refinement (default [`LevenbergMarquardt::default`]).
+    pub refine: LevenbergMarquardt,
+    /// Distinct swarm personal bests to refine from, best first (default `3`).
+    pub refine_starts: usize,
+    /// Search rounds at most (default `3`): when the refined fit is far above the noise or on
+    /// the box's edge (most likely the wrong basin), the worse half of the swarm is re-injected
+    /// at random and the swarm runs [`IdentifyConfig::swarm_iterations`] more before refining
+    /// again; the best fit of all rounds is kept.
+    pub search_rounds: usize,
+    /// The measurement noise, to test the final fit (default [`NoiseModel::default`]).
+    pub noise: NoiseModel,
+    /// The smallest motion of the second gripper accepted, in noise standard deviations of the
+    /// largest pose component (default `10`).
+    pub min_motion: f64,
+    /// The largest `χ²/dof` accepted (default `25`: a residual RMS 5× the noise).
+    pub max_chi2_per_dof: f64,
+    /// The smallest `σ_min/σ_max` of the residual's Jacobian in `(ln c, ln L)` accepted
+    /// (default `1e-4`: a parameter combination `1e4` times less visible than the best
+    /// one is determined `1e4` times less precisely, tens of per cent at this noise).
+    pub min_condition: f64,
+}
+
+impl Default for IdentifyConfig {
+    fn default() -> Self {
+        Self {
+            form: ResidualForm::default(),
+            constraints: ParameterConstraints::default(),
+            length_scale: None,
+            length_margin: 5e-4,
+            swarm: ParticleSwarm::default(),
+            swarm_iterations: 20,
+            coarse_torsion_ratio: 0.8,
+            refine: LevenbergMarquardt::default(),
+            refine_starts: 3,
+            search_rounds: 3,
+            noise: NoiseModel::default(),
+            min_motion: 10.0,
+            max_chi2_per_dof: 25.0,
+            min_condition: 1e-4,
+        }
+    }
+}
+
+impl IdentifyConfig {
+    /// Checks every setting.
+    ///
+    /// # Errors
+    /// [`EstimateError::BadIdentifySetting`] naming the first bad one.
+    pub fn validate(&self) -> Result<(), EstimateError> {
+        self.constraints.validate()?;
+        self.noise.validate()?;
+        self.refine.validate()?;
+        let bad = |field, value: f64, allowed| {
+            Err(EstimateError::BadIdentifySetting {
+                field,
+                value,
+                allowed,
+            })
+        };
+        if let Some(l) = self.length_scale.filter(|l| !(l.is_finite() && *l > 0.0)) {
+            return bad("length_scale", l, "finite and > 0");
+        }
+        if !(self.length_margin.is_finite() && self.length_margin >= 0.0) {
+            return bad("length_margin", self.length_margin, "finite and >= 0");
+        }
+        if !(self.coarse_torsion_ratio.is_finite() && self.coarse_torsion_ratio > 0.0) {
+            return bad(
+                "coarse_torsion_ratio",
+                self.coarse_torsion_ratio,
+                "finite and > 0",
+            );
+        }
+        if self.refine_starts == 0 {
+            return bad("refine_starts", 0.0, "at least 1");
+        }
+        if self.search_rounds == 0 {
+            return bad("search_rounds", 0.0, "at least 1");
+        }
+        for (field, value) in [
+            ("min_motion", self.min_motion),
+            ("max_chi2_per_dof", self.max_chi2_per_dof),
+            ("min_condition", self.min_condition),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return bad(field, value, "finite and >= 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Identifies `η = (c, L)` from a batch of samples: the streaming [`Identifier`] run to
+/// completion.
+///
+/// `samples` are `(ã_i, b̃_i)` pairs (see [`Sample`]) in the order recorded.
+///
+/// # Identifiability
+/// The data must determine `η`; an estimate is never returned as identified when they do not:
+/// - **errors** (nothing to estimate from): fewer samples than the smallest `m ≥ 2` whose
+///   equations exceed the unknowns (6 per sample for the absolute form, 6 per pair for the
+///   differential forms; two because identification needs motion, paper §III-B, and at least
+///   one degree of freedom must remain to estimate the residual variance); a second gripper
+///   that moved less than [`IdentifyConfig::min_motion`] noise standard deviations (all `b̃`
+///   equal, or one sample);
+/// - **flags** ([`Estimate::unidentified`]): a residual Jacobian whose relative smallest
+///   singular value is below [`IdentifyConfig::min_condition`] (the LM normal matrix `JᵀJ` has
+///   the squares of these singular values); a parameter on the edge of the search box; a
+///   final `χ²/dof` above [`IdentifyConfig::max_chi2_per_dof`] under the configured
+///   [`NoiseModel`] (the fit explains the data far worse than the noise would).
+///
+/// The standard deviations ([`Estimate::c_std`], [`Estimate::length_std`]) are the first-order
+/// `s² (JᵀJ)⁻¹` with `s²` the weighted residual variance per degree of freedom.
+///
+/// # Errors
+/// A bad setting or sample (naming it), too few samples, a degenerate motion. An estimate the
+/// data do not identify is returned flagged ([`Estimate::unidentified`]); call
+/// [`Estimate::identified`] to turn the flag into an error.
+///
+/// # Example
+/// ```
+/// use ftwire_core::WireParams;
+/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifyConfig, identify}};
+/// use nalgebra::Vector6;
+/// use rand::SeedableRng;
+/// let truth = KirchhoffModel::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
+/// let samples = [0.0, 0.3, -0.3].map(|d| {
+///     let a = Vector6::new(0.01 + 0.01 * d, 0.02, -0.03, -0.1, 0.2 - 0.1 * d, 0.05 + 0.05 * d);
+///     (a, truth.tip(&a).expect("solvable"))
+/// });
+/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+/// let estimate = identify(&truth, &samples, &IdentifyConfig::default(), &mut rng)?;
+/// assert!(estimate.is_identified());
+/// assert!((estimate.length - 0.63).abs() < 1e-3);
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+pub fn identify<M: WireModel, R: Rng + ?Sized>(
+    model: &M,
+    samples: &[(Vector6<f64>, Pose)],
+    config: &IdentifyConfig,
+    rng: &mut R,
+) -> Result<Estimate, EstimateError> {
+    let mut identifier = Identifier::new(model.clone(), config.clone(), rng)?;
+    for (a, b) in samples {
+        identifier.push(*a, *b)?;
+    }
+    identifier.run_to_completion()
+}
+
+/// Streaming identification for a sensor loop: [`Identifier::push`] samples as they come,
+/// [`Identifier::step`] within a time budget each tick.
+///
+/// The work is a sequence of indivisible units (a swarm iteration: 20 residual evaluations; the
+/// refinement: a few hundred), and `step` starts a unit only while its budget lasts, so the
+/// results depend only on the data and the seed when each set of samples is run to
+/// completion ([`Identifier::run_to_completion`]); how the work is cut into steps does not
+/// matter. New samples make the swarm current ([`ParticleSwarm::refresh`]) and restart the
+/// iteration count; how far the search got before they arrived does depend on the budgets,
+/// so for a reproducible estimate run to completion after the last push.
+///
+/// # Example
+/// ```
+/// use std::time::Duration;
+/// use ftwire_core::WireParams;
+/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifyConfig, Identifier}};
+/// use nalgebra::Vector6;
+/// use rand::SeedableRng;
+/// let truth = KirchhoffModel::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
+/// let rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+/// let mut id = Identifier::new(truth, IdentifyConfig::default(), rng)?;
+/// for d in [0.0, 0.5, -0.4] {
+///     let a = Vector6::new(0.05 * d, 0.1, 0.05, -0.2 + 0.2 * d, 0.3, 0.1 * d);
+///     id.push(a, truth.tip(&a)?)?;
+///     let _ = id.step(Duration::from_millis(20)); // an error until there are enough samples
+/// }
+/// let estimate = id.run_to_completion()?;
+/// assert!((estimate.c[1] / 0.278 - 1.0).abs() < 1e-3);
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Identifier<M: WireModel, R: Rng> {
+    model: M,
+    config: IdentifyConfig,
+    rng: R,
+    samples: Vec<Sample>,
+    swarm: Option<Swarm>,
+    stale: bool,
+    refined: Option<Estimate>,
+    /// Search rounds completed on the current samples.
+    round: usize,
+    /// The best refinement on the current samples.
+    best: Option<Refined>,
+    /// Residual evaluations spent in refinements since the start.
+    refine_evaluations: usize,
+}
+
+impl<M: WireModel, R: Rng> Identifier<M, R> {
+    /// A new identifier; `model` gives the model family (its radius and any load are kept), `rng`
+    /// all the randomness.
+    ///
+    /// # Errors
+    /// [`EstimateError::BadIdentifySetting`] for a bad setting.
+    pub fn new(model: M, config: IdentifyConfig, rng: R) -> Result<Self, EstimateError> {
+        config.validate()?;
+        Ok(Self {
+            model,
+            config,
+            rng,
+            samples: Vec::new(),
+            swarm: None,
+            stale: true,
+            refined: None,
+            round: 0,
+            best: None,
+            refine_evaluations: 0,
+        })
+    }
+
+    /// Adds a sample `(ã, b̃)`.
+    ///
+    /// # Errors
+    /// [`EstimateError::NonFiniteSample`], [`EstimateError::SampleOutsideA`] or
+    /// [`EstimateError::ChordTooLong`] naming the sample's index; the sample is not added.
+    pub fn push(&mut self, a: Vector6<f64>, b: Pose) -> Result<(), EstimateError> {
+        let index = self.samples.len();
+        let sample = Sample::new(index, a, b)?;
+        let max_length = L_MAX - self.config.length_margin;
+        if sample.chord() > max_length {
+            return Err(EstimateError::ChordTooLong {
+                index,
+                chord: sample.chord(),
+                max_length: L_MAX,
+            });
+        }
+        self.samples.push(sample);
+        self.stale = true;
+        self.refined = None;
+        Ok(())
+    }
+
+    /// The samples so far.
+    pub fn samples(&self) -> &[Sample] {
+        &self.samples
+    }
+
+    /// The swarm, once started.
+    pub fn swarm(&self) -> Option<&Swarm> {
+        self.swarm.as_ref()
+    }
+
+    /// Runs swarm iterations and then the refinement while `budget` lasts (each started only
+    /// within the budget), and returns the current estimate: refined if the search on the
+    /// current samples is complete, otherwise the swarm's best, flagged
+    /// [`Unidentified::Unfinished`].
+    ///
+    /// # Errors
+    /// As [`identify`].
+    pub fn step(&mut self, budget: Duration) -> Result<Estimate, EstimateError> {
+        let start = Instant::now();
+        self.run(|| start.elapsed() < budget)
+    }
+
+    /// Runs the search on the current samples to completion: deterministic for a given seed
+    /// and sequence of pushes.
+    ///
+    /// # Errors
+    /// As [`identify`].
+    pub fn run_to_completion(&mut self) -> Result<Estimate, EstimateError> {
+        self.run(|| true)
+    }
+
+    /// The search boxes for the current samples and the residual weighting.
+    fn search_space(&self) -> Result<SearchSpace, EstimateError> {
+        let unknowns = self.config.constraints.unknowns();
+        let form = self.config.form;
+        let required = (2..).find(|m| form.equations(*m) > unknowns).unwrap_or(2);
+        if self.samples.len() < required {
+            return Err(EstimateError::TooFewSamples {
+                samples: self.samples.len(),
+                required,
+                unknowns,
+                form: form.name(),
+            });
+        }
+        let spread = self
+            .config
+            .noise
+            .pose_spread(self.samples.iter().map(|s| &s.b));
+        if spread < self.config.min_motion {
+            return Err(EstimateError::DegenerateMotion {
+                spread,
+                required: self.config.min_motion,
+            });
+        }
+        let chord = self.samples.iter().map(Sample::chord).fold(0.0, f64::max);
+        let length_min = L_MIN.max(chord + self.config.length_margin);
+        let (lower, upper) = self.config.constraints.bounds(length_min);
+        let (coarse_lower, coarse_upper) = self.coarse_constraints().bounds(length_min);
+        let first_chord = self.samples.first().map_or(0.0, Sample::chord);
+        let length_scale = self.config.length_scale.unwrap_or(first_chord.max(0.05));
+        Ok(SearchSpace {
+            lower,
+            upper,
+            coarse_lower,
+            coarse_upper,
+            weights: Weights { length_scale },
+        })
+    }
+
+    fn run(&mut self, mut more: impl FnMut() -> bool) -> Result<Estimate, EstimateError> {
+        if let Some(done) = self.refined {
+            return Ok(done);
+        }
+        let space = self.search_space()?;
+        let full = self.config.constraints;
+        let coarse = self.coarse_constraints();
+        let residuals = |constraints| Residuals {
+            model: &self.model,
+            samples: &self.samples,
+            form: self.config.form,
+            weights: space.weights,
+            constraints,
+        };
+        let (fine_residuals, coarse_residuals) = (residuals(full), residuals(coarse));
+        let cost = |theta: &[f64]| coarse_residuals.cost(theta);
+        let (lower, upper) = (&space.coarse_lower, &space.coarse_upper);
+        let pso = self
+            .config
+            .swarm
+            .clone()
+            .with_bounds(lower.clone(), upper.clone())?;
+        let mut swarm = match self.swarm.take() {
+            Some(mut swarm) => {
+                if self.stale {
+                    pso.refresh(&cost, &mut swarm, &mut self.rng);
+                }
+                swarm
+            }
+            None => pso.init(&cost, &mut self.rng),
+        };
+        if self.stale {
+            self.round = 0;
+            self.best = None;
+        }
+        self.stale = false;
+        let span = lower
+            .iter()
+            .zip(upper)
+            .map(|(l, u)| u - l)
+            .fold(f64::INFINITY, f64::min);
+        let coarse_residual = |theta: &[f64]| coarse_residuals.evaluate(theta);
+        let fine_residual = |theta: &[f64]| fine_residuals.evaluate(theta);
+        loop {
+            let target = (self.round + 1) * self.config.swarm_iterations;
+            while swarm.iterations < target && more() {
+                pso.iterate(&cost, &mut swarm, &mut self.rng);
+            }
+            if swarm.iterations < target || !more() {
+                let estimate = provisional(
+                    &coarse_residuals,
+                    &swarm.best_position,
+                    swarm.evaluations + self.refine_evaluations,
+                    Unidentified::Unfinished {
+                        iterations: swarm.iterations,
+                        required: target,
+                    },
+                );
+                self.swarm = Some(swarm);
+                return Ok(estimate);
+            }
+            let mut evaluations = 0;
+            let mut round_best: Option<Refined> = None;
+            for start in swarm.distinct_bests(self.config.refine_starts, 0.01 * span) {
+                let mut refined =
+                    self.config
+                        .refine
+                        .minimise(&coarse_residual, &start, lower, upper);
+                evaluations += refined.evaluations;
+                if coarse != full {
+                    let (c, length) = coarse.eta(&refined.theta);
+                    let start = clamp(full.theta(c, length), &space.lower, &space.upper);
+                    refined = self.config.refine.minimise(
+                        &fine_residual,
+                        &start,
+                        &space.lower,
+                        &space.upper,
+                    );
+                    evaluations += refined.evaluations;
+                }
+                if round_best.as_ref().is_none_or(|b| refined.cost < b.cost) {
+                    round_best = Some(refined);
+                }
+            }
+            self.refine_evaluations += evaluations;
+            if let Some(candidate) = round_best
+                && self.best.as_ref().is_none_or(|b| candidate.cost < b.cost)
+            {
+                self.best = Some(candidate);
+            }
+            let Some(best) = self.best.as_ref() else {
+                self.swarm = Some(swarm);
+                return Err(EstimateError::BadIdentifySetting {
+                    field: "refine_starts",
+                    value: 0.0,
+                    allowed: "at least 1",
+                });
+            };
+            let total = swarm.evaluations + self.refine_evaluations;
+            let estimate = match self.assess(&fine_residuals, best, &space, total) {
+                Ok(estimate) => estimate,
+                Err(e) => {
+                    self.swarm = Some(swarm);
+                    return Err(e);
+                }
+            };
+            let retry = matches!(
+                estimate.unidentified,
+                Some(Unidentified::ResidualAboveNoise { .. } | Unidentified::AtBound { .. })
+            );
+            if !retry || self.round + 1 >= self.config.search_rounds {
+                self.swarm = Some(swarm);
+                self.refined = Some(estimate);
+                return Ok(estimate);
+            }
+            // A fit the noise cannot explain: most likely the wrong basin. Scatter the worse
+            // half of the swarm and search on.
+            self.round += 1;
+            let half = swarm.particles.len() / 2;
+            pso.reinject(&cost, &mut swarm, &mut self.rng, half);
+        }
+    }
+
+    /// The constraints of the swarm's coarse search: the configured ones, plus isotropic
+    /// bending and the coarse torsion ratio where they leave a parameter free.
+    fn coarse_constraints(&self) -> ParameterConstraints {
+        let k = self.config.constraints;
+        ParameterConstraints {
+            isotropic: true,
+            torsion_ratio: k.torsion_ratio.or(Some(self.config.coarse_torsion_ratio)),
+        }
+    }
+
+    /// The estimate at a refined optimum: uncertainty and identifiability.
+    fn assess(
+        &self,
+        residuals: &Residuals<'_, M>,
+        best: &Refined,
+        space: &SearchSpace,
+        evaluations: usize,
+    ) -> Result<Estimate, EstimateError> {
+        let (lower, upper) = (&space.lower, &space.upper);
+        let constraints = self.config.constraints;
+        let (c, length) = constraints.eta(&best.theta);
+        let p = best.theta.len();
+        let dof = residuals.len().saturating_sub(p).max(1) as f64;
+        // Condition in (ln c, ln L): scale the L column by L.
+        let mut scaled: DMatrix<f64> = best.jacobian.clone();
+        scaled.column_mut(p - 1).scale_mut(length);
+        let sv = scaled.singular_values();
+        let (smax, smin) = (sv.max(), sv.min());
+        let condition = if smax > 0.0 { smin / smax } else { 0.0 };
+        let s2 = best.cost / dof;
+        let jtj = best.jacobian.transpose() * &best.jacobian;
+        let std: Vec<f64> = match jtj.try_inverse() {
+            Some(inv) if condition > 0.0 => {
+                (0..p).map(|i| (s2 * inv[(i, i)]).max(0.0).sqrt()).collect()
+            }
+            _ => vec![f64::INFINITY; p],
+        };
+        let index = constraints.stiffness_index();
+        let c_std = [0, 1, 2].map(|i| c[i] * std.get(index[i]).copied().unwrap_or(f64::INFINITY));
+        let length_std = std.get(p - 1).copied().unwrap_or(f64::INFINITY);
+        let chi2_per_dof = residuals.chi_squared(&best.theta, &self.config.noise)? / dof;
+        let at_bound = best.theta.iter().enumerate().find(|(i, v)| {
+            let (l, u) = (lower[*i], upper[*i]);
+            let tol = 1e-6 * (u - l);
+            **v <= l + tol || **v >= u - tol
+        });
+        let unidentified = if condition < self.config.min_condition {
+            Some(Unidentified::IllConditioned {
+                condition,
+                threshold: self.config.min_condition,
+            })
+        } else if let Some((index, value)) = at_bound {
+            Some(Unidentified::AtBound {
+                index,
+                value: *value,
+            })
+        } else if chi2_per_dof > self.config.max_chi2_per_dof {
+            Some(Unidentified::ResidualAboveNoise {
+                chi2_per_dof,
+                threshold: self.config.max_chi2_per_dof,
+            })
+        } else {
+            None
+        };
+        Ok(Estimate {
+            c,
+            length,
+            c_std,
+            length_std,
+            cost: best.cost,
+            chi2_per_dof,
+            condition,
+            samples: self.samples.len(),
+            evaluations,
+            unidentified,
+        })
+    }
+}
+
+/// The search boxes of the fine (configured) and coarse parameterisations, and the weighting.
+#[derive(Debug, Clone)]
+struct SearchSpace {
+    lower: Vec<f64>,
+    upper: Vec<f64>,
+    coarse_lower: Vec<f64>,
+    coarse_upper: Vec<f64>,
+    weights: Weights,
+}
+
+/// `theta` clamped into the box.
+fn clamp(mut theta: Vec<f64>, lower: &[f64], upper: &[f64]) -> Vec<f64> {
+    for ((x, l), u) in theta.iter_mut().zip(lower).zip(upper) {
+        *x = x.clamp(*l, *u);
+    }
+    theta
+}
+
+/// An unrefined estimate at `theta`: no uncertainty.
+fn provisional<M: WireModel>(
+    residuals: &Residuals<'_, M>,
+    theta: &[f64],
+    evaluations: usize,
+    reason: Unidentified,
+) -> Estimate {
+    let (c, length) = residuals.constraints.eta(theta);
+    Estimate {
+        c,
+        length,
+        c_std: [f64::INFINITY; 3],
+        length_std: f64::INFINITY,
+        cost: residuals.cost(theta),
+        chi2_per_dof: f64::INFINITY,
+        condition: 0.0,
+        samples: residuals.samples.len(),
+        evaluations,
+        unidentified: Some(reason),
+    }
+}

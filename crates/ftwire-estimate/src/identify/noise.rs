@@ -1,0 +1,89 @@
+//! The measurement noise identification assumes, to judge whether a fit is as good as the data
+//! allow.
+
+use nalgebra::{Matrix6, Vector6};
+
+use crate::EstimateError;
+
+/// Standard deviations of the measurement errors, per component, independent.
+///
+/// Identification uses them only to test the final fit: a weighted cost far above what this
+/// noise explains means the model does not fit the data (wrong basin, untared sensor, a load
+/// the model lacks), and the estimate is flagged not identified.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NoiseModel {
+    /// Orientation error of `b̃` per axis \[rad\] (default `0.05°`).
+    pub rotation: f64,
+    /// Position error of `b̃` per axis \[m\] (default `1e-4`, 0.1 mm).
+    pub translation: f64,
+    /// Torque error of `ã` per axis after taring and averaging \[N·m\] (default `1e-4`).
+    pub torque: f64,
+    /// Force error of `ã` per axis after taring and averaging \[N\] (default `2e-3`).
+    pub force: f64,
+}
+
+impl Default for NoiseModel {
+    fn default() -> Self {
+        Self {
+            rotation: 0.05_f64.to_radians(),
+            translation: 1e-4,
+            torque: 1e-4,
+            force: 2e-3,
+        }
+    }
+}
+
+impl NoiseModel {
+    /// Checks that every standard deviation is finite and positive.
+    ///
+    /// # Errors
+    /// [`EstimateError::BadIdentifySetting`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), EstimateError> {
+        let fields = [
+            ("noise.rotation", self.rotation),
+            ("noise.translation", self.translation),
+            ("noise.torque", self.torque),
+            ("noise.force", self.force),
+        ];
+        for (field, value) in fields {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(EstimateError::BadIdentifySetting {
+                    field,
+                    value,
+                    allowed: "finite and > 0",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The covariance of a pose error as a body twist `(δω, δx)`.
+    pub fn pose_covariance(&self) -> Matrix6<f64> {
+        let (r, t) = (self.rotation.powi(2), self.translation.powi(2));
+        Matrix6::from_diagonal(&Vector6::new(r, r, r, t, t, t))
+    }
+
+    /// The covariance of a configuration error `(δτ, δf)`.
+    pub fn wrench_covariance(&self) -> Matrix6<f64> {
+        let (m, f) = (self.torque.powi(2), self.force.powi(2));
+        Matrix6::from_diagonal(&Vector6::new(m, m, m, f, f, f))
+    }
+
+    /// The largest pose change between `b̃_0` and any other `b̃`, in standard deviations of the
+    /// pose noise (largest component of the relative twist).
+    pub fn pose_spread<'a>(&self, poses: impl IntoIterator<Item = &'a ftwire_core::Pose>) -> f64 {
+        let mut poses = poses.into_iter();
+        let Some(first) = poses.next() else {
+            return 0.0;
+        };
+        poses
+            .map(|b| {
+                let xi = ftwire_rod::se3::log(&(first.inverse() * b));
+                let rot = xi.fixed_rows::<3>(0).amax() / self.rotation;
+                let pos =
+                    (b.translation.vector - first.translation.vector).amax() / self.translation;
+                rot.max(pos)
+            })
+            .fold(0.0, f64::max)
+    }
+}

@@ -1,0 +1,154 @@
+//! The unknowns `η = (c1, c2, c3, L)` and the vector the optimisers search over.
+//!
+//! The search vector `θ` holds `ln c_i` for the free stiffnesses and `L` itself:
+//! - logarithms, because the stiffnesses span three and a half decades (the search box is
+//!   `c_i ∈ [1e-3, 5] N·m²`) and the residuals depend on them through `u = μ/c`, so equal steps
+//!   in `ln c` are equal relative changes; they also keep `c > 0` without a constraint;
+//! - `L` directly: its box is `[max(0.2, max_i |p(b̃_i)| + margin), 2] m`, less than a decade.
+//!
+//! [`ParameterConstraints`] ties parameters together and removes them from `θ`: isotropic
+//! bending (`c3 = c2`) and a known torsion ratio (`c1 = ν c2`). The layout of `θ` is
+//! `[ln c1 (unless tied), ln c2, ln c3 (unless isotropic), L]`.
+
+use crate::EstimateError;
+
+/// Smallest stiffness searched for \[N·m²\].
+pub const C_MIN: f64 = 1e-3;
+/// Largest stiffness searched for \[N·m²\].
+pub const C_MAX: f64 = 5.0;
+/// Shortest wire searched for \[m\] (the lower bound is raised to the gripper distance).
+pub const L_MIN: f64 = 0.2;
+/// Longest wire searched for \[m\].
+pub const L_MAX: f64 = 2.0;
+
+/// Relations between the parameters known before identification; each removes one unknown.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ParameterConstraints {
+    /// Isotropic bending, `c3 = c2` (a wire of round cross-section) (default `false`).
+    pub isotropic: bool,
+    /// A known torsion ratio `ν = c1/c2` (for a round isotropic rod `ν = 1/(1 + Poisson's
+    /// ratio)`), or `None` to identify `c1` (default `None`).
+    pub torsion_ratio: Option<f64>,
+}
+
+impl ParameterConstraints {
+    /// Checks the torsion ratio.
+    ///
+    /// # Errors
+    /// [`EstimateError::BadIdentifySetting`] unless `torsion_ratio` is finite and positive.
+    pub fn validate(&self) -> Result<(), EstimateError> {
+        match self.torsion_ratio {
+            Some(nu) if !(nu.is_finite() && nu > 0.0) => Err(EstimateError::BadIdentifySetting {
+                field: "constraints.torsion_ratio",
+                value: nu,
+                allowed: "finite and > 0",
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// The number of free parameters (the length of `θ`): 2 to 4.
+    pub fn unknowns(&self) -> usize {
+        2 + usize::from(self.torsion_ratio.is_none()) + usize::from(!self.isotropic)
+    }
+
+    /// `η = (c, L)` of a search vector `θ` (see the module docs for the layout).
+    ///
+    /// A `θ` of the wrong length gives a non-finite `η`, which every caller treats as a
+    /// failed evaluation.
+    pub fn eta(&self, theta: &[f64]) -> ([f64; 3], f64) {
+        let mut k = 0;
+        let mut next = || {
+            let v = theta.get(k).copied().unwrap_or(f64::NAN);
+            k += 1;
+            v
+        };
+        let ln_c1 = if self.torsion_ratio.is_none() {
+            Some(next())
+        } else {
+            None
+        };
+        let c2 = next().exp();
+        let c3 = if self.isotropic { c2 } else { next().exp() };
+        let c1 = match (ln_c1, self.torsion_ratio) {
+            (Some(l), _) => l.exp(),
+            (None, Some(nu)) => nu * c2,
+            (None, None) => f64::NAN,
+        };
+        let length = next();
+        ([c1, c2, c3], length)
+    }
+
+    /// The search vector `θ` of `η = (c, L)` (tied parameters are dropped; their values in
+    /// `c` are ignored).
+    pub fn theta(&self, c: [f64; 3], length: f64) -> Vec<f64> {
+        let mut theta = Vec::with_capacity(4);
+        if self.torsion_ratio.is_none() {
+            theta.push(c[0].ln());
+        }
+        theta.push(c[1].ln());
+        if !self.isotropic {
+            theta.push(c[2].ln());
+        }
+        theta.push(length);
+        theta
+    }
+
+    /// The search box `(lower, upper)` for `θ`, with `L ≥ length_min`.
+    pub fn bounds(&self, length_min: f64) -> (Vec<f64>, Vec<f64>) {
+        let n = self.unknowns();
+        let mut lower = vec![C_MIN.ln(); n];
+        let mut upper = vec![C_MAX.ln(); n];
+        lower[n - 1] = length_min;
+        upper[n - 1] = L_MAX;
+        (lower, upper)
+    }
+
+    /// For each of `c1, c2, c3`, the index in `θ` of the `ln c` it is (or is tied to).
+    pub fn stiffness_index(&self) -> [usize; 3] {
+        let i2 = usize::from(self.torsion_ratio.is_none());
+        let i3 = if self.isotropic { i2 } else { i2 + 1 };
+        [if self.torsion_ratio.is_none() { 0 } else { i2 }, i2, i3]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn theta_round_trips_for_every_constraint() {
+        for (isotropic, torsion_ratio) in [
+            (false, None),
+            (true, None),
+            (false, Some(0.8)),
+            (true, Some(0.8)),
+        ] {
+            let k = ParameterConstraints {
+                isotropic,
+                torsion_ratio,
+            };
+            let c = [0.8 * 0.3, 0.3, if isotropic { 0.3 } else { 0.4 }];
+            let theta = k.theta(c, 0.7);
+            assert_eq!(theta.len(), k.unknowns());
+            let (back, length) = k.eta(&theta);
+            for i in 0..3 {
+                assert!((back[i] - c[i]).abs() < 1e-14);
+            }
+            assert!((length - 0.7).abs() < 1e-15);
+            let idx = k.stiffness_index();
+            for i in 0..3 {
+                assert!(
+                    (theta[idx[i]].exp() - c[i]).abs() < 1e-14 || torsion_ratio.is_some() && i == 0
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn wrong_length_is_not_finite() {
+        let k = ParameterConstraints::default();
+        let (c, length) = k.eta(&[0.0, 0.0]);
+        assert!(!(c.iter().all(|v| v.is_finite()) && length.is_finite()));
+    }
+}

@@ -1,0 +1,297 @@
+//! The JSON Lines log that the estimators read: what a real rig records.
+//!
+//! One JSON object per line, in time order:
+//!
+//! ```json
+//! {"time": 0.0, "raw": [0.41, -0.20, 0.63, 0.015, -0.006, 0.004], "b": {"position": [0.6, 0.05, 0.0], "rotation": [0.0, 0.0, 0.3]}}
+//! {"time": 0.1, "a": [0.002, 0.011, -0.004, -0.12, 0.05, 0.0], "b": {"position": [0.6, 0.06, 0.0], "rotation": [0.0, 0.0, 0.31]}, "markers": [[0.0, 0.0, 0.0], null]}
+//! ```
+//!
+//! | key | unit, frame | required |
+//! | --- | --- | --- |
+//! | `time` | s, the rig's clock, non-decreasing | yes |
+//! | `raw` | the F/T reading averaged over the rest period, **force first** `(f1, f2, f3, τ1, τ2, τ3)`, N and N·m, sensor frame | one of `raw` and `a` |
+//! | `a` | the configuration, already tared and calibrated, **torque first** `(τ1, τ2, τ3, f1, f2, f3)`, base clamp frame | one of `raw` and `a` |
+//! | `b` | the second gripper's clamp pose relative to the base clamp frame: `position` in m, `rotation` a rotation vector (axis × angle) in rad | yes |
+//! | `markers` | motion-capture markers in the base clamp frame, m, in the order of the marker arc lengths; `null` for a missing marker | no |
+//!
+//! Unknown keys are errors (a typo never passes silently). Blank lines and lines starting with
+//! `#` are skipped. Every error names the line and the offending value.
+
+use std::io::BufRead;
+
+use ftwire_core::Pose;
+use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3, Vector6};
+use serde::{Deserialize, Serialize};
+
+use crate::EstimateError;
+
+/// The second gripper's pose as it is written in a log.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LogPose {
+    /// Position \[m\] in the base clamp frame.
+    pub position: [f64; 3],
+    /// Orientation as a rotation vector \[rad\] (axis × angle), base clamp frame from tip clamp
+    /// frame.
+    pub rotation: [f64; 3],
+}
+
+impl LogPose {
+    /// The pose as an isometry.
+    pub fn to_pose(&self) -> Pose {
+        Pose::from_parts(
+            Translation3::from(Vector3::from(self.position)),
+            UnitQuaternion::from_scaled_axis(Vector3::from(self.rotation)),
+        )
+    }
+
+    /// The log form of a pose.
+    pub fn from_pose(pose: &Pose) -> Self {
+        let p = pose.translation.vector;
+        let r = pose.rotation.scaled_axis();
+        Self {
+            position: [p.x, p.y, p.z],
+            rotation: [r.x, r.y, r.z],
+        }
+    }
+}
+
+/// One line of a log.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LogRecord {
+    /// Time \[s\] on the rig's clock.
+    pub time: f64,
+    /// Averaged raw F/T reading, force first, sensor frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw: Option<[f64; 6]>,
+    /// Calibrated configuration, torque first, base clamp frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a: Option<[f64; 6]>,
+    /// The second gripper's pose relative to the base clamp frame.
+    pub b: LogPose,
+    /// Marker positions in the base clamp frame; `None` for a missing marker.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub markers: Option<Vec<Option<[f64; 3]>>>,
+}
+
+impl LogRecord {
+    /// The raw reading as a vector, if the line has one.
+    pub fn raw(&self) -> Option<Vector6<f64>> {
+        self.raw.map(|r| Vector6::from_column_slice(&r))
+    }
+
+    /// The configuration as a vector, if the line has one.
+    pub fn a(&self) -> Option<Vector6<f64>> {
+        self.a.map(|a| Vector6::from_column_slice(&a))
+    }
+
+    /// The markers as points (`None` where missing).
+    pub fn markers(&self) -> Option<Vec<Option<Point3<f64>>>> {
+        self.markers
+            .as_ref()
+            .map(|m| m.iter().map(|p| p.map(Point3::from)).collect())
+    }
+
+    fn check(&self, line: usize, previous_time: Option<f64>) -> Result<(), EstimateError> {
+        let bad = |key: String, value: f64, allowed: &'static str| EstimateError::BadLogLine {
+            line,
+            message: format!("{key} = {value} is not allowed: {allowed}"),
+        };
+        if !self.time.is_finite() {
+            return Err(bad("time".into(), self.time, "a finite number of seconds"));
+        }
+        if let Some(previous) = previous_time
+            && self.time < previous
+        {
+            return Err(bad(
+                "time".into(),
+                self.time,
+                "non-decreasing along the log (the previous line is later)",
+            ));
+        }
+        match (&self.raw, &self.a) {
+            (None, None) => {
+                return Err(EstimateError::BadLogLine {
+                    line,
+                    message: "the line has neither `raw` nor `a`: one of them is needed".into(),
+                });
+            }
+            (Some(_), Some(_)) => {
+                return Err(EstimateError::BadLogLine {
+                    line,
+                    message: "the line has both `raw` and `a`: give one of them".into(),
+                });
+            }
+            _ => {}
+        }
+        let vectors = [
+            ("raw", self.raw.as_ref().map(|v| v.as_slice())),
+            ("a", self.a.as_ref().map(|v| v.as_slice())),
+            ("b.position", Some(self.b.position.as_slice())),
+            ("b.rotation", Some(self.b.rotation.as_slice())),
+        ];
+        for (key, values) in vectors {
+            if let Some(values) = values
+                && let Some(i) = values.iter().position(|v| !v.is_finite())
+            {
+                return Err(bad(format!("{key}[{i}]"), values[i], "a finite number"));
+            }
+        }
+        for (k, marker) in self.markers.iter().flatten().enumerate() {
+            if let Some(p) = marker
+                && let Some(i) = p.iter().position(|v| !v.is_finite())
+            {
+                return Err(bad(format!("markers[{k}][{i}]"), p[i], "a finite number"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads a whole log. Empty logs are an error: there is nothing to estimate from.
+///
+/// # Errors
+/// [`EstimateError::BadLogLine`] naming the line (1-based) and the value for a line that is not
+/// valid JSON, has an unknown or missing key, a non-finite number, or a time earlier than the
+/// line before; [`EstimateError::EmptyLog`] when no record is found; [`EstimateError::Io`] when
+/// reading fails.
+///
+/// # Example
+/// ```
+/// let text = r#"{"time": 0.0, "a": [0, 0, 0.01, 0, 0, 0], "b": {"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}}"#;
+/// let log = ftwire_estimate::log::read_log(text.as_bytes())?;
+/// assert_eq!(log.len(), 1);
+/// assert!(ftwire_estimate::log::read_log("{\"time\": 0}".as_bytes()).is_err());
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+pub fn read_log(reader: impl BufRead) -> Result<Vec<LogRecord>, EstimateError> {
+    let mut records: Vec<LogRecord> = Vec::new();
+    for (index, line) in reader.lines().enumerate() {
+        let line_number = index + 1;
+        let text = line.map_err(|e| EstimateError::Io {
+            what: format!("line {line_number} of the log"),
+            message: e.to_string(),
+        })?;
+        let trimmed = text.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let record: LogRecord =
+            serde_json::from_str(trimmed).map_err(|e| EstimateError::BadLogLine {
+                line: line_number,
+                message: format!("{e}, near `{}`", snippet(trimmed, e.column())),
+            })?;
+        record.check(line_number, records.last().map(|r| r.time))?;
+        records.push(record);
+    }
+    if records.is_empty() {
+        return Err(EstimateError::EmptyLog);
+    }
+    Ok(records)
+}
+
+/// Up to 24 characters of `text` ending at the 1-based `column` serde_json reports, so that an
+/// error shows the offending value.
+fn snippet(text: &str, column: usize) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let end = column.clamp(1, chars.len().max(1)).min(chars.len());
+    let start = end.saturating_sub(24);
+    chars
+        .get(start..end)
+        .map_or_else(String::new, |c| c.iter().collect())
+}
+
+/// Writes one record as a line of JSON (no trailing newline).
+///
+/// # Errors
+/// [`EstimateError::Io`] if serialisation fails (it cannot for finite values).
+pub fn to_line(record: &LogRecord) -> Result<String, EstimateError> {
+    serde_json::to_string(record).map_err(|e| EstimateError::Io {
+        what: "a log record".into(),
+        message: e.to_string(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(extra: &str) -> String {
+        format!(
+            r#"{{"time": 0.5, "b": {{"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}}{extra}}}"#
+        )
+    }
+
+    #[test]
+    fn a_record_round_trips_through_its_line() -> Result<(), EstimateError> {
+        let record = LogRecord {
+            time: 1.25,
+            raw: Some([0.41, -0.2, 0.63, 0.015, -0.006, 0.004]),
+            a: None,
+            b: LogPose::from_pose(&Pose::from_parts(
+                Translation3::new(0.6, 0.05, -0.01),
+                UnitQuaternion::from_euler_angles(0.1, -0.2, 0.3),
+            )),
+            markers: Some(vec![Some([0.0, 0.0, 0.0]), None, Some([0.3, 0.01, 0.0])]),
+        };
+        let text = to_line(&record)?;
+        let back = read_log(text.as_bytes())?;
+        assert_eq!(back, vec![record.clone()]);
+        let pose = record.b.to_pose();
+        let again = LogPose::from_pose(&pose);
+        for i in 0..3 {
+            assert!((again.rotation[i] - record.b.rotation[i]).abs() < 1e-15);
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn every_bad_line_names_its_line_and_value() {
+        let cases = [
+            (line(r#", "a": [0, 0, 0.01, 0, 0, 0], "extra": 1"#), "extra"),
+            (line(""), "neither"),
+            (
+                line(r#", "a": [0, 0, 0.01], "raw": [1, 2, 3, 4, 5, 6]"#),
+                "invalid length",
+            ),
+            (line(r#", "a": [0, 0, 0.01, 0, 0, 1e999]"#), "1e999"),
+            ("{not json".to_string(), "key must be a string"),
+        ];
+        for (text, needle) in cases {
+            let input = format!("# a comment\n\n{text}\n");
+            match read_log(input.as_bytes()) {
+                Err(EstimateError::BadLogLine { line, message }) => {
+                    assert_eq!(line, 3, "{message}");
+                    assert!(
+                        message.contains(needle),
+                        "{message} should mention {needle}"
+                    );
+                }
+                other => panic!("{text}: expected BadLogLine, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn time_going_backwards_is_refused() {
+        let a = r#", "a": [0, 0, 0.01, 0, 0, 0]"#;
+        let input = format!("{}\n{}\n", line(a), line(a).replace("0.5", "0.25"));
+        match read_log(input.as_bytes()) {
+            Err(EstimateError::BadLogLine { line, message }) => {
+                assert_eq!(line, 2);
+                assert!(message.contains("time = 0.25"), "{message}");
+            }
+            other => panic!("expected BadLogLine, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn an_empty_log_is_an_error() {
+        assert!(matches!(
+            read_log("# only a comment\n\n".as_bytes()),
+            Err(EstimateError::EmptyLog)
+        ));
+    }
+}

@@ -1,0 +1,182 @@
+//! Shape estimation at sensor rate: the calibrated F/T configuration `ã` → the wire's
+//! centreline (paper §II-B, §IV-C), with a confidence flag.
+//!
+//! The estimate is the model's shape `Φ(ã)`. It is flagged as not confident when `ã` is not in
+//! `A_stable` (the model's shape is then an equilibrium the wire cannot rest in) or when `ã`
+//! jumped from the previous sample by more than a threshold in normalised units: a wire moved
+//! smoothly by the grippers changes `a` gradually at sensor rate, so a jump points to a contact
+//! with an obstacle or a snap (§IV-E), where the contact-free model does not hold.
+
+use ftwire_core::ensure_finite;
+use ftwire_rod::{Shape, to_normalised};
+use nalgebra::Vector6;
+
+use crate::shape::setting;
+use crate::{EstimateError, WireModel};
+
+/// Settings of the shape estimator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EstimatorConfig {
+    /// Shape nodes, uniformly spaced in arc length, both ends included (default `64`; at least
+    /// 50 so that metrics can compare 50 arc lengths).
+    pub nodes: usize,
+    /// A change of `ã` from the previous sample larger than this (Euclidean norm in normalised
+    /// units: torque in `c2/L`, force in `c2/L²`) is flagged as a jump (default `2.0`). The
+    /// default is a starting point, not tuned: the threshold must sit above the calibrated
+    /// sensor's noise and a smooth motion's change per sample, and below the change a contact
+    /// causes; the collision-detection experiment should set it.
+    pub jump_threshold: f64,
+}
+
+impl Default for EstimatorConfig {
+    fn default() -> Self {
+        Self {
+            nodes: 64,
+            jump_threshold: 2.0,
+        }
+    }
+}
+
+/// Fewest shape nodes the estimator accepts.
+pub const MIN_ESTIMATE_NODES: usize = 50;
+
+/// Whether a shape estimate can be relied on, and if not why.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Confidence {
+    /// `ã ∈ A_stable` and close to the previous sample.
+    Confident,
+    /// `ã` is not in `A_stable`. Takes precedence over a jump.
+    NotStable,
+    /// `ã` changed from the previous sample by `change` (normalised units), more than
+    /// `threshold`: a possible contact.
+    Jump {
+        /// `‖z − z_prev‖` in normalised units.
+        change: f64,
+        /// The configured threshold.
+        threshold: f64,
+    },
+}
+
+impl Confidence {
+    /// Whether the estimate is [`Confidence::Confident`].
+    pub fn is_confident(&self) -> bool {
+        matches!(self, Self::Confident)
+    }
+}
+
+/// One shape estimate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeEstimate {
+    /// The estimated shape: positions \[m\] and frames at the configured nodes, base clamp
+    /// frame.
+    pub shape: Shape,
+    /// The confidence flag.
+    pub confidence: Confidence,
+    /// `ã` in normalised units.
+    pub normalised: Vector6<f64>,
+}
+
+/// Estimates the wire's shape from each calibrated F/T configuration `ã`, and flags samples it
+/// cannot trust. Keeps the last sample to measure jumps.
+///
+/// # Example
+/// ```
+/// use ftwire_core::WireParams;
+/// use ftwire_estimate::KirchhoffModel;
+/// use ftwire_estimate::shape::{Confidence, ShapeEstimator};
+/// use nalgebra::Vector6;
+/// let model = KirchhoffModel::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
+/// let mut estimator = ShapeEstimator::new(model);
+/// let a = Vector6::new(0.0, 0.02, 0.01, -0.05, 0.03, 0.0);
+/// let estimate = estimator.estimate(&a)?;
+/// assert_eq!(estimate.shape.len(), 64);
+/// assert_eq!(estimate.confidence, Confidence::Confident);
+/// // A sudden large change of the wrench: flagged.
+/// let jumped = estimator.estimate(&(a * 10.0))?;
+/// assert!(matches!(jumped.confidence, Confidence::Jump { .. }));
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeEstimator<M> {
+    model: M,
+    config: EstimatorConfig,
+    previous: Option<Vector6<f64>>,
+}
+
+impl<M: WireModel> ShapeEstimator<M> {
+    /// An estimator with the default settings.
+    #[must_use]
+    pub fn new(model: M) -> Self {
+        Self {
+            model,
+            config: EstimatorConfig::default(),
+            previous: None,
+        }
+    }
+
+    /// The same estimator with other settings (the last sample kept).
+    ///
+    /// # Errors
+    /// [`EstimateError::BadShapeSetting`] if `nodes < 50` or above the model's limit of
+    /// 1 000 000, or the jump threshold is not finite and positive.
+    pub fn with_config(self, config: EstimatorConfig) -> Result<Self, EstimateError> {
+        setting::count(
+            "nodes",
+            config.nodes,
+            MIN_ESTIMATE_NODES,
+            ftwire_rod::rod::MAX_NODES,
+            "50 to 1000000",
+        )?;
+        setting::positive(
+            "jump_threshold",
+            config.jump_threshold,
+            "finite and > 0 (normalised units)",
+        )?;
+        Ok(Self { config, ..self })
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &EstimatorConfig {
+        &self.config
+    }
+
+    /// The wire model.
+    pub fn model(&self) -> &M {
+        &self.model
+    }
+
+    /// Forgets the last sample: the next one is not tested for a jump.
+    pub fn reset(&mut self) {
+        self.previous = None;
+    }
+
+    /// The shape for `ã` \[N·m, N\] (torque first, base clamp frame) and its confidence. The
+    /// sample becomes the reference for the next jump test, jump or not, so that a lasting
+    /// change is flagged once.
+    ///
+    /// # Errors
+    /// [`EstimateError::Core`] naming a non-finite component of `ã` (field `a_tilde`),
+    /// [`EstimateError::Model`] for `ã ∉ A` or a diverged solve. Errors leave the last sample
+    /// unchanged.
+    pub fn estimate(&mut self, a_tilde: &Vector6<f64>) -> Result<ShapeEstimate, EstimateError> {
+        ensure_finite("a_tilde", a_tilde.as_slice())?;
+        let shape = self.model.shape(a_tilde, self.config.nodes)?;
+        let stable = self.model.is_stable(a_tilde)?;
+        let normalised = to_normalised(self.model.wire(), a_tilde);
+        let change = self.previous.map(|previous| (normalised - previous).norm());
+        self.previous = Some(normalised);
+        let confidence = match change {
+            _ if !stable => Confidence::NotStable,
+            Some(change) if change > self.config.jump_threshold => Confidence::Jump {
+                change,
+                threshold: self.config.jump_threshold,
+            },
+            _ => Confidence::Confident,
+        };
+        Ok(ShapeEstimate {
+            shape,
+            confidence,
+            normalised,
+        })
+    }
+}

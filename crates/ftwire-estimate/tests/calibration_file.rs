@@ -1,0 +1,119 @@
+//! The calibration weights file: a bit-identical round trip, and clear errors for malformed
+//! files.
+
+use ftwire_estimate::EstimateError;
+use ftwire_estimate::calibration::{Activation, Calibration, Dataset, TrainConfig};
+use nalgebra::Vector6;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn trained(residual: bool) -> Calibration {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let labels: Vec<Vector6<f64>> = (0..80)
+        .map(|_| Vector6::from_fn(|_, _| rng.random_range(-1.0..=1.0)))
+        .collect();
+    let raw = labels
+        .iter()
+        .map(|a| a.map(|x| 2.0 * x + 0.1 * x.powi(3)))
+        .collect();
+    let data = Dataset::new(raw, labels).expect("finite");
+    let config = TrainConfig {
+        hidden: vec![5, 3],
+        activation: Activation::Gelu,
+        residual,
+        max_epochs: 20,
+        ..TrainConfig::default()
+    };
+    Calibration::train(&data, &config, 8).expect("trains")
+}
+
+#[test]
+fn round_trip_is_bit_identical() {
+    for residual in [true, false] {
+        let calibration = trained(residual);
+        let json = calibration.to_json().expect("serialises");
+        let loaded = Calibration::from_json(&json).expect("loads");
+        assert_eq!(loaded, calibration);
+        let raw = Vector6::new(0.3, -0.2, 0.1, 0.5, -0.7, 0.05);
+        assert_eq!(loaded.apply(&raw), calibration.apply(&raw));
+        assert_eq!(loaded.to_json().expect("serialises"), json);
+    }
+}
+
+#[test]
+fn save_and_load_through_a_file() {
+    let calibration = trained(true);
+    let path = std::env::temp_dir().join(format!("ftwire-calibration-{}.json", std::process::id()));
+    calibration.save(&path).expect("writes");
+    let loaded = Calibration::load(&path);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(loaded.expect("reads"), calibration);
+    let missing = Calibration::load(std::path::Path::new("/nonexistent/calibration.json"));
+    assert!(matches!(
+        missing,
+        Err(EstimateError::CalibrationIo {
+            kind: std::io::ErrorKind::NotFound,
+            ..
+        })
+    ));
+}
+
+/// Edits the saved JSON and loads it.
+fn load_edited(edit: impl FnOnce(&mut serde_json::Value)) -> Result<Calibration, EstimateError> {
+    let json = trained(true).to_json().expect("serialises");
+    let mut value: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
+    edit(&mut value);
+    Calibration::from_json(&value.to_string())
+}
+
+#[test]
+fn malformed_files_are_rejected_with_the_reason() {
+    assert!(matches!(
+        Calibration::from_json("{ not json"),
+        Err(EstimateError::CalibrationSyntax { line: 1, .. })
+    ));
+    assert!(matches!(
+        load_edited(|v| v["version"] = 2.into()),
+        Err(EstimateError::CalibrationVersion {
+            found: 2,
+            supported: 1
+        })
+    ));
+    assert!(matches!(
+        load_edited(|v| v["format"] = "something-else".into()),
+        Err(EstimateError::CalibrationSyntax { .. })
+    ));
+    assert!(matches!(
+        load_edited(|v| v["layers"][1]["weights"][2] = serde_json::json!([1.0, 2.0])),
+        Err(EstimateError::CalibrationShape { ref what, expected: 5, found: 2 })
+            if what == "layers[1].weights[2]"
+    ));
+    assert!(matches!(
+        load_edited(|v| v["layers"][2]["bias"] = serde_json::json!([0.0])),
+        Err(EstimateError::CalibrationShape { ref what, expected: 6, found: 1 })
+            if what == "layers[2].bias"
+    ));
+    assert!(matches!(
+        load_edited(|v| v["architecture"]["hidden"] = serde_json::json!([5])),
+        Err(EstimateError::CalibrationShape { ref what, expected: 2, found: 3 }) if what == "layers"
+    ));
+    assert!(matches!(
+        load_edited(|v| v["input_normaliser"]["std"][4] = 0.0.into()),
+        Err(EstimateError::CalibrationValue { ref what, index: 4, .. })
+            if what == "input_normaliser.std"
+    ));
+    assert!(matches!(
+        load_edited(|v| v["layers"][0]["weights"][1][3] = serde_json::Value::Null),
+        Err(EstimateError::CalibrationSyntax { .. })
+    ));
+    assert!(matches!(
+        load_edited(|v| v["architecture"]["extra"] = 1.into()),
+        Err(EstimateError::CalibrationSyntax { .. })
+    ));
+    // A number too large for f64 is rejected, not read as infinity.
+    let json = trained(true).to_json().expect("serialises");
+    let mut value: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
+    value["affine"]["offset"][0] = 12345.5.into();
+    let overflow = value.to_string().replace("12345.5", "1e999");
+    assert!(Calibration::from_json(&overflow).is_err());
+}

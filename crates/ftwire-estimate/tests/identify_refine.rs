@@ -1,0 +1,63 @@
+//! The Levenberg–Marquardt Jacobian of the identification residual against a known derivative
+//! and against a second finite-difference step.
+
+mod identify_common;
+
+use ftwire_estimate::identify::{
+    LevenbergMarquardt, ParameterConstraints, ResidualForm, Residuals, Sample, Weights,
+};
+use ftwire_estimate::{EstimateError, WireModel};
+use identify_common::{samples, thick, thin};
+
+#[test]
+fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
+    for model in [thick()?, thin()?] {
+        for seed in 0..4 {
+            let data = samples(&model, 500 + seed, 3, 0.5, None)?;
+            let samples: Vec<Sample> = data
+                .iter()
+                .enumerate()
+                .map(|(i, (a, b))| Sample::new(i, *a, *b))
+                .collect::<Result<_, _>>()?;
+            let constraints = ParameterConstraints::default();
+            let weights = Weights { length_scale: 0.5 };
+            let residuals = Residuals {
+                model: &model,
+                samples: &samples,
+                form: ResidualForm::Absolute,
+                weights,
+                constraints,
+            };
+            let wire = model.wire();
+            let theta = constraints.theta(wire.c(), wire.length());
+            let f = |x: &[f64]| residuals.evaluate(x);
+            let (lower, upper) = constraints.bounds(0.2);
+            let jac =
+                LevenbergMarquardt::jacobian(&f, &theta, &lower, &upper, 1e-5, residuals.len());
+            // At an exact fit, ∂/∂L log(Γ_L⁻¹ b) = −(u(L), e1), u = μ(L)/c (the body twist of
+            // q at the tip, paper eq. 1).
+            let c = wire.c();
+            for (i, s) in samples.iter().enumerate() {
+                let mu = model.jacobian(&s.a)?.costate_tip;
+                let xi =
+                    nalgebra::Vector6::new(mu[0] / c[0], mu[1] / c[1], mu[2] / c[2], 1.0, 0.0, 0.0);
+                let expected = -weights.apply(&xi);
+                let got = jac.fixed_view::<6, 1>(6 * i, 3).into_owned();
+                let gap = (got - expected).norm() / expected.norm();
+                assert!(
+                    gap < 1e-6,
+                    "seed {seed} sample {i}: L column off by {gap:.1e}"
+                );
+            }
+            // Every column against a step ten times larger.
+            let coarse =
+                LevenbergMarquardt::jacobian(&f, &theta, &lower, &upper, 1e-4, residuals.len());
+            let gap = (&coarse - &jac).norm() / jac.norm();
+            assert!(
+                gap < 1e-5,
+                "seed {seed}: steps 1e-4 and 1e-5 differ by {gap:.1e}"
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,311 @@
+//! Argument groups and value parsers shared by the `ftwire` subcommands.
+//!
+//! Each group is one `#[derive(Args)]` struct, flattened (`#[command(flatten)]`) into the
+//! commands that use it, so that every command spells, parses, checks and documents an option
+//! the same way. Defaults come from the library presets (`ftwire_sim::RodParams::default()`, the
+//! 2 mm nitinol wire of the paper's Table I), never from numbers copied here.
+//!
+//! Vectors are comma separated, `X,Y,Z`; a leading minus sign is allowed in both
+//! `--opt -1,2,3` and `--opt=-1,2,3` (the options take hyphen values); every component must be
+//! a finite number, so `nan` and `inf` are bad input (exit 2) naming the option.
+//!
+//! The options' doc comments are clap's `--help` text, which shows them verbatim: their units
+//! are written `[m]`, not as escaped Markdown, hence the allowed "links" below.
+#![allow(rustdoc::broken_intra_doc_links)]
+
+use std::path::PathBuf;
+
+use clap::Args;
+use ftwire_core::Pose;
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use serde::Serialize;
+
+use crate::error::CliError;
+
+/// `N` finite numbers given as one comma-separated option value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Numbers<const N: usize>(pub [f64; N]);
+
+/// Serialised as a JSON array of `N` numbers (serde derives arrays only up to 32, not for `N`).
+impl<const N: usize> Serialize for Numbers<N> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.0.as_slice().serialize(serializer)
+    }
+}
+
+/// Three numbers, e.g. a position `X,Y,Z` \[m\] or a rotation vector `RX,RY,RZ` \[rad\].
+pub type Vec3 = Numbers<3>;
+/// Six numbers, e.g. a configuration `a = (τ1,τ2,τ3,f1,f2,f3)`.
+pub type Vec6 = Numbers<6>;
+/// Seven numbers, e.g. the joint angles of one SDA10F arm \[rad\].
+pub type Vec7 = Numbers<7>;
+
+impl<const N: usize> Numbers<N> {
+    /// As a nalgebra vector.
+    pub fn to_vector(&self) -> nalgebra::SVector<f64, N> {
+        nalgebra::SVector::from(self.0)
+    }
+}
+
+/// The value parser of every vector option: `N` comma-separated finite numbers. The error
+/// text is the same for every option (clap prefixes the option's name):
+/// `expected 3 comma-separated finite numbers, got "1,x,3" ("x" is not a number)`.
+///
+/// # Errors
+/// A wrong count, a part that is not a number, or a non-finite number.
+///
+/// # Example
+/// ```
+/// use ftwire::args::parse_numbers;
+/// assert_eq!(parse_numbers::<3>("-0.5,0.1,0").map(|v| v.0), Ok([-0.5, 0.1, 0.0]));
+/// assert!(parse_numbers::<3>("1,nan,0").is_err());
+/// ```
+pub fn parse_numbers<const N: usize>(text: &str) -> Result<Numbers<N>, String> {
+    let fail = |why: String| {
+        format!("expected {N} comma-separated finite numbers, got \"{text}\" ({why})")
+    };
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(fail(format!("{} values", parts.len())));
+    }
+    let mut out = [0.0; N];
+    for (slot, part) in out.iter_mut().zip(&parts) {
+        *slot = parse_finite(part).map_err(fail)?;
+    }
+    Ok(Numbers(out))
+}
+
+/// The value parser of every scalar option: one finite number (a leading minus allowed).
+///
+/// # Errors
+/// Not a number, or not finite.
+pub fn parse_finite(text: &str) -> Result<f64, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{text}\" is not a number"))?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("\"{text}\" is not a finite number"))
+    }
+}
+
+/// Default wire radius \[m\]: that of `ftwire_sim::RodParams::default()`.
+pub fn default_radius() -> f64 {
+    ftwire_sim::RodParams::default().radius
+}
+
+/// Default material density \[kg/m³\]: that of `ftwire_sim::RodParams::default()` (nitinol).
+pub fn default_density() -> f64 {
+    ftwire_sim::RodParams::default().density
+}
+
+/// Default gravity \[m/s²\]: that of `ftwire_sim::RodParams::default()`.
+pub fn default_gravity() -> Vec3 {
+    Numbers(ftwire_sim::RodParams::default().gravity.into())
+}
+
+impl std::fmt::Display for Numbers<3> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [x, y, z] = self.0;
+        write!(f, "{x},{y},{z}")
+    }
+}
+
+/// The wire: stiffnesses, length and radius.
+///
+/// Commands read it through [`WireArgs::params`], not field by field, so that a later
+/// `--wire PRESET|FILE.toml` (filling in what the flags leave out) changes only that method.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct WireArgs {
+    /// Stiffnesses C1,C2,C3 [N·m²]: torsion, bending about body y, bending about body z.
+    #[arg(
+        long,
+        value_name = "C1,C2,C3",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub c: Option<Vec3>,
+    /// Wire length L between the clamp points [m].
+    #[arg(
+        long,
+        value_name = "L",
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
+    pub length: Option<f64>,
+    /// Wire radius [m] (self-intersection, contact and weight).
+    #[arg(
+        long,
+        value_name = "R",
+        default_value_t = default_radius(),
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
+    pub radius: f64,
+}
+
+impl WireArgs {
+    /// The validated wire.
+    ///
+    /// # Errors
+    /// Bad input: `--c` or `--length` missing, or a value that is not finite and positive.
+    pub fn params(&self) -> Result<ftwire_core::WireParams, CliError> {
+        let c = self
+            .c
+            .ok_or_else(|| CliError::bad_input("the wire needs --c C1,C2,C3"))?;
+        let length = self
+            .length
+            .ok_or_else(|| CliError::bad_input("the wire needs --length L"))?;
+        ftwire_core::WireParams::new(c.0, length, self.radius)
+            .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))
+    }
+}
+
+/// The wire's weight: its density (the radius is in [`WireArgs`]).
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct DensityArgs {
+    /// Material density [kg/m³] (the default is nitinol's).
+    #[arg(
+        long,
+        value_name = "RHO",
+        default_value_t = default_density(),
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
+    pub density: f64,
+}
+
+/// A pose from a position and a rotation vector.
+fn pose(position: &Vec3, rotation: &Vec3) -> Pose {
+    Isometry3::from_parts(
+        Translation3::from(position.to_vector()),
+        UnitQuaternion::from_scaled_axis(Vector3::from(rotation.0)),
+    )
+}
+
+/// A target pose: `--position` and `--rotation` (a rotation vector, axis × angle).
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct PoseArgs {
+    /// Target position [m]: X,Y,Z.
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub position: Vec3,
+    /// Target rotation as a rotation vector (axis times angle) [rad]: RX,RY,RZ.
+    #[arg(
+        long,
+        value_name = "RX,RY,RZ",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub rotation: Vec3,
+}
+
+impl PoseArgs {
+    /// The pose.
+    pub fn pose(&self) -> Pose {
+        pose(&self.position, &self.rotation)
+    }
+}
+
+/// The tip clamp's pose in the base clamp frame: `--tip-position`, `--tip-rotation`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct TipPoseArgs {
+    /// Tip clamp position [m] in the base clamp frame: X,Y,Z.
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub tip_position: Vec3,
+    /// Tip clamp orientation as a rotation vector (axis × angle) [rad] in the base clamp frame:
+    /// RX,RY,RZ.
+    #[arg(
+        long,
+        value_name = "RX,RY,RZ",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub tip_rotation: Vec3,
+}
+
+impl TipPoseArgs {
+    /// The tip clamp pose.
+    pub fn pose(&self) -> Pose {
+        pose(&self.tip_position, &self.tip_rotation)
+    }
+}
+
+/// The seed of every random choice of a command (same seed, same result).
+#[derive(Debug, Clone, Copy, Args, Serialize)]
+pub struct SeedArgs {
+    /// Seed of every random choice; the same seed gives the same result.
+    #[arg(
+        long,
+        value_name = "SEED",
+        default_value_t = 0,
+        allow_hyphen_values = true
+    )]
+    pub seed: u64,
+}
+
+/// Print JSON instead of the human-readable text.
+#[derive(Debug, Clone, Copy, Args, Serialize)]
+pub struct JsonArgs {
+    /// Print JSON instead of a human-readable summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Where an experiment writes its results folder (see [`crate::results::ResultsFolder`]).
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct OutArgs {
+    /// Results folder; written whole into a temporary sibling and renamed into place at the
+    /// end, so an existing folder is never left half-overwritten. Its parent must exist.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vectors_parse_with_signs_and_say_what_is_wrong() {
+        assert_eq!(
+            parse_numbers::<3>("1, -2,3e-1").map(|v| v.0),
+            Ok([1.0, -2.0, 0.3])
+        );
+        assert_eq!(
+            parse_numbers::<6>("-0,-1,-2,-3,-4,-5").map(|v| v.0),
+            Ok([-0.0, -1.0, -2.0, -3.0, -4.0, -5.0])
+        );
+        let e = parse_numbers::<7>("1,2,3").expect_err("too few");
+        assert_eq!(
+            e,
+            "expected 7 comma-separated finite numbers, got \"1,2,3\" (3 values)"
+        );
+        let e = parse_numbers::<3>("1,x,3").expect_err("not a number");
+        assert!(e.contains("\"x\" is not a number"), "{e}");
+        for bad in ["1,NaN,3", "inf,0,0", "0,0,-inf"] {
+            let e = parse_numbers::<3>(bad).expect_err("not finite");
+            assert!(e.contains("not a finite number"), "{e}");
+        }
+        assert_eq!(parse_finite("-0.3"), Ok(-0.3));
+        assert!(parse_finite("nan").is_err());
+    }
+
+    #[test]
+    fn defaults_are_the_presets() {
+        let preset = ftwire_sim::RodParams::default();
+        assert_eq!(default_radius().to_bits(), preset.radius.to_bits());
+        assert_eq!(default_density().to_bits(), preset.density.to_bits());
+        assert_eq!(default_gravity().to_vector(), preset.gravity);
+    }
+}

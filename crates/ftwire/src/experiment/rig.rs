@@ -1,0 +1,118 @@
+//! The simulated rig of an experiment: the true wire between the grippers, the sensor, the
+//! markers; and the measurements a real robot makes on it.
+
+use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
+use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
+use ftwire_rod::Rod;
+use ftwire_sim::{RigConfig, SimRig, Simulator, World};
+use nalgebra::Vector6;
+
+use super::{Gravity, SIM_EDGES};
+use crate::bridge::kirchhoff_guess;
+use crate::error::{CliError, from_rod, from_sim};
+use crate::wire::WireSpec;
+
+/// F/T samples averaged per rest period (0.1 s at the simulated sensor's 1 kHz): the noise of
+/// the mean is a tenth of one sample's.
+pub const SAMPLES_PER_REST: usize = 100;
+
+/// F/T samples of the tare (0.5 s at 1 kHz): the tare's own error is then well below a rest
+/// period's.
+pub const TARE_SAMPLES: usize = 500;
+
+/// A simulated rig holding `wire` with the base clamp at the world origin (x horizontal, z up)
+/// and the second gripper at `Γ(a0)` of the true wire: the operator placed the wire in the
+/// configuration `a0`. The simulator starts from the Kirchhoff shape of `a0`, so it lands on
+/// that equilibrium branch (with gravity on, the wire then sags from it).
+///
+/// # Errors
+/// No answer (exit 1) when the model or the simulator cannot place the wire there.
+pub fn place_wire(
+    wire: &WireSpec,
+    gravity: Gravity,
+    a0: &Vector6<f64>,
+    config: RigConfig,
+) -> Result<SimRig, CliError> {
+    let params = wire.rod_params(gravity.vector(), SIM_EDGES);
+    let world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
+    let model = Rod::new(
+        wire.wire_params()
+            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
+    );
+    let tip = model
+        .tip(a0)
+        .map_err(|e| from_rod(e, "placing the wire at its start configuration"))?;
+    let guess = kirchhoff_guess(&model, a0, world.rod())
+        .map_err(|e| from_rod(e, "the start shape of the wire"))?;
+    let base = Pose::identity();
+    let sim = Simulator::with_guess(world, &guess, &base, &tip)
+        .map_err(|e| from_sim(e, "placing the wire in the simulator"))?;
+    SimRig::from_simulator(sim, config).map_err(|e| from_sim(e, "building the simulated rig"))
+}
+
+/// Reads `n` samples; a dropout is `None` (the pipeline skips and counts it).
+pub fn read_samples(rig: &mut SimRig, n: usize) -> Vec<Option<FtSample>> {
+    (0..n).map(|_| rig.read_ft().ok()).collect()
+}
+
+/// Tares the sensor as a robot does before it picks the wire up: [`TARE_SAMPLES`] readings
+/// with nothing in the base gripper (`ftwire_estimate::ft::Tare`).
+///
+/// # Errors
+/// No answer when too many samples drop out.
+pub fn tare(rig: &mut SimRig) -> Result<Tare, CliError> {
+    let samples: Vec<Option<FtSample>> = (0..TARE_SAMPLES)
+        .map(|_| rig.read_ft_empty_gripper().ok())
+        .collect();
+    let rest = RestAverage::new(TARE_SAMPLES / 2)
+        .map_err(|e| CliError::bad_input(e.to_string()))?
+        .average(samples.iter().map(Option::as_ref))
+        .map_err(|e| CliError::no_answer(format!("taring the F/T sensor: {e}")))?;
+    Ok(Tare::from_rest(&rest, &Vector6::zeros()))
+}
+
+/// The mounting the robot knows from its drawings: the simulated sensor's `sensor_from_clamp`.
+///
+/// # Errors
+/// Bad input for a non-finite mounting in the rig's sensor settings.
+pub fn mounting(config: &RigConfig) -> Result<Mounting, CliError> {
+    Mounting::new(config.sensor.sensor_from_clamp())
+        .map_err(|e| CliError::bad_input(format!("the sensor's mounting: {e}")))
+}
+
+/// A pipeline with the default rest average ([`SAMPLES_PER_REST`], at least half of them
+/// good), the given tare and calibration.
+///
+/// # Errors
+/// Never for the constants here; kept fallible for the pipeline's own checks.
+pub fn pipeline<C: FtCalibration>(tare: Tare, calibration: C) -> Result<FtPipeline<C>, CliError> {
+    let average =
+        RestAverage::new(SAMPLES_PER_REST / 2).map_err(|e| CliError::bad_input(e.to_string()))?;
+    Ok(FtPipeline::new(average, tare, calibration))
+}
+
+/// One measured configuration at the rig's current rest: [`SAMPLES_PER_REST`] samples through
+/// the pipeline.
+///
+/// # Errors
+/// No answer when too few samples survive screening.
+pub fn measure<C: FtCalibration>(
+    rig: &mut SimRig,
+    pipeline: &FtPipeline<C>,
+) -> Result<Measurement, CliError> {
+    let samples = read_samples(rig, SAMPLES_PER_REST);
+    pipeline
+        .measure(samples.iter().map(Option::as_ref))
+        .map_err(|e| CliError::no_answer(format!("measuring the wire's configuration: {e}")))
+}
+
+/// The second gripper's pose relative to the base clamp, as the robot believes it.
+///
+/// # Errors
+/// Never on the simulated rig; kept fallible as [`Rig::gripper_poses`] is.
+pub fn believed_tip(rig: &SimRig) -> Result<Pose, CliError> {
+    let poses: GripperPoses = rig
+        .gripper_poses()
+        .map_err(|e| from_sim(e, "reading the gripper poses"))?;
+    Ok(poses.relative())
+}

@@ -1,0 +1,201 @@
+//! The one output writer of the `ftwire` binary: a result as JSON or as human text, JSON Lines
+//! flushed per line, and the run header of a results folder.
+
+use std::io::{self, Write};
+
+use serde::Serialize;
+
+use crate::error::CliError;
+
+/// The `ftwire` version (`Cargo.toml`).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The git revision the binary was built from (`git rev-parse --short HEAD` at build time), or
+/// `"unknown"` when git or the repository was not available.
+pub const GIT_REVISION: &str = env!("FTWIRE_GIT_REVISION");
+
+/// A command's result: serialised for `--json`, written as text otherwise.
+pub trait Report: Serialize {
+    /// Writes the human-readable text.
+    ///
+    /// # Errors
+    /// The writer's.
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()>;
+}
+
+/// Prints `report` on stdout: one JSON object on one line with `json`, the text otherwise.
+///
+/// # Errors
+/// [`CliError::Io`] if stdout cannot be written (e.g. a closed pipe).
+pub fn print(report: &impl Report, json: bool) -> Result<(), CliError> {
+    let stdout = io::stdout();
+    let mut out = stdout.lock();
+    write(&mut out, report, json)
+}
+
+/// Writes `report` to `out` as [`print()`] does.
+///
+/// # Errors
+/// [`CliError::Io`] if `out` cannot be written.
+pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(), CliError> {
+    let written = if json {
+        serde_json::to_writer(&mut *out, report)
+            .map_err(io::Error::from)
+            .and_then(|()| out.write_all(b"\n"))
+    } else {
+        report.write_text(out)
+    };
+    written
+        .and_then(|()| out.flush())
+        .map_err(|e| CliError::io("writing the result", e))
+}
+
+/// JSON Lines: one object per line, each flushed as soon as it is written, so that a process
+/// reading the other end of a pipe gets every answer at once.
+#[derive(Debug)]
+pub struct JsonLines<W: Write> {
+    out: W,
+}
+
+impl<W: Write> JsonLines<W> {
+    /// Writes to `out` (e.g. `io::stdout().lock()`).
+    pub fn new(out: W) -> Self {
+        Self { out }
+    }
+
+    /// Writes one value on one line and flushes.
+    ///
+    /// # Errors
+    /// [`CliError::Io`] if the writer fails.
+    pub fn write(&mut self, value: &impl Serialize) -> Result<(), CliError> {
+        serde_json::to_writer(&mut self.out, value)
+            .map_err(io::Error::from)
+            .and_then(|()| self.out.write_all(b"\n"))
+            .and_then(|()| self.out.flush())
+            .map_err(|e| CliError::io("writing a JSON line", e))
+    }
+
+    /// The writer back.
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+}
+
+/// The error object of one bad JSON Lines request: `{"error": ..., "kind": ..., "line": ...}`
+/// (`kind` is [`CliError::kind`], `line` counts from 1).
+#[derive(Debug, Serialize)]
+pub struct ErrorLine {
+    /// What was wrong.
+    pub error: String,
+    /// `"bad_input"`, `"no_answer"` or `"io"`.
+    pub kind: &'static str,
+    /// The input line, from 1.
+    pub line: usize,
+}
+
+impl ErrorLine {
+    /// The error object of input line `line` (from 1).
+    pub fn new(error: &CliError, line: usize) -> Self {
+        Self {
+            error: error.to_string(),
+            kind: error.kind(),
+            line,
+        }
+    }
+}
+
+/// What produced a result: the first thing in a results folder's `summary.json`.
+///
+/// The same version, revision, seed and configuration give the same results (timings are kept
+/// out of `summary.json` for that reason).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunHeader {
+    /// `ftwire` version ([`VERSION`]).
+    pub ftwire_version: String,
+    /// Git revision of the build ([`GIT_REVISION`], `"unknown"` if not known).
+    pub git_revision: String,
+    /// The command, e.g. `"experiment"`.
+    pub command: String,
+    /// The seed of every random choice, if the command makes any.
+    pub seed: Option<u64>,
+    /// The full configuration: the command's arguments, serialised.
+    pub configuration: serde_json::Value,
+}
+
+impl RunHeader {
+    /// The header of a run of `command` with arguments `configuration`.
+    ///
+    /// # Errors
+    /// Bad input if the configuration cannot be serialised (e.g. a non-string map key).
+    ///
+    /// # Example
+    /// ```
+    /// let h = ftwire::output::RunHeader::new("demo", Some(7), &[1.0, 2.0])?;
+    /// assert_eq!(h.seed, Some(7));
+    /// assert_eq!(h.configuration, serde_json::json!([1.0, 2.0]));
+    /// assert_eq!(h.ftwire_version, env!("CARGO_PKG_VERSION"));
+    /// # Ok::<(), ftwire::error::CliError>(())
+    /// ```
+    pub fn new(
+        command: &str,
+        seed: Option<u64>,
+        configuration: &impl Serialize,
+    ) -> Result<Self, CliError> {
+        let configuration = serde_json::to_value(configuration).map_err(|e| {
+            CliError::bad_input(format!("cannot record the configuration of {command}: {e}"))
+        })?;
+        Ok(Self {
+            ftwire_version: VERSION.to_owned(),
+            git_revision: GIT_REVISION.to_owned(),
+            command: command.to_owned(),
+            seed,
+            configuration,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Serialize)]
+    struct Answer {
+        x: f64,
+    }
+
+    impl Report for Answer {
+        fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+            writeln!(out, "x = {}", self.x)
+        }
+    }
+
+    #[test]
+    fn json_and_text_and_lines() {
+        let mut json = Vec::new();
+        write(&mut json, &Answer { x: -1.5 }, true).expect("writes");
+        assert_eq!(json, b"{\"x\":-1.5}\n");
+        let mut text = Vec::new();
+        write(&mut text, &Answer { x: 2.0 }, false).expect("writes");
+        assert_eq!(text, b"x = 2\n");
+        let mut lines = JsonLines::new(Vec::new());
+        lines.write(&Answer { x: 1.0 }).expect("writes");
+        let error = CliError::bad_input("c must have 3 values");
+        lines.write(&ErrorLine::new(&error, 2)).expect("writes");
+        assert_eq!(
+            String::from_utf8_lossy(&lines.into_inner()),
+            "{\"x\":1.0}\n{\"error\":\"c must have 3 values\",\"kind\":\"bad_input\",\"line\":2}\n"
+        );
+    }
+
+    #[test]
+    fn the_header_names_the_build() {
+        let h = RunHeader::new("test", None, &serde_json::json!({"a": 1})).expect("serialises");
+        assert_eq!(h.ftwire_version, VERSION);
+        let hex =
+            h.git_revision.len() >= 4 && h.git_revision.chars().all(|c| c.is_ascii_hexdigit());
+        assert!(hex || h.git_revision == "unknown", "{}", h.git_revision);
+        let v = serde_json::to_value(&h).expect("serialises");
+        assert_eq!(v["configuration"]["a"], 1);
+        assert!(v["seed"].is_null());
+    }
+}

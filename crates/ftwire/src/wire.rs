@@ -1,0 +1,276 @@
+//! Wires as users name them: a preset, or a TOML file.
+//!
+//! A wire file holds exactly these keys (unknown keys are errors):
+//!
+//! ```toml
+//! name = "nitinol-3mm-820"
+//! c = [0.214, 0.278, 0.278]    # stiffnesses c1 (torsion), c2, c3 (bending) [N·m²]
+//! length = 0.82                # between the clamp points [m]
+//! radius = 0.0015              # [m]
+//! density = 6450.0             # [kg/m³]
+//! natural_curvature = [0.0, 0.0, 0.0]   # optional: rest twist and curvatures κ1, κ2, κ3 [1/m]
+//! ```
+//!
+//! The presets are the simulator's wires of the paper (`ftwire_sim::RodParams`), so there is one
+//! source for their numbers.
+
+use std::path::Path;
+
+use ftwire_core::WireParams;
+use ftwire_sim::RodParams;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The names of the preset wires, as `--wire` takes them.
+pub const PRESETS: [&str; 4] = [
+    "nitinol-2mm-630",
+    "nitinol-3mm-910",
+    "nitinol-3mm-820",
+    "cable-3mm-920",
+];
+
+/// A wire: its name and physical properties.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WireSpec {
+    /// Name, for reports.
+    pub name: String,
+    /// Stiffnesses `(c1, c2, c3)` \[N·m²\]: torsion, bending about body y and z.
+    pub c: [f64; 3],
+    /// Length between the clamp points \[m\].
+    pub length: f64,
+    /// Radius \[m\].
+    pub radius: f64,
+    /// Density \[kg/m³\].
+    pub density: f64,
+    /// Rest twist and curvatures `(κ1, κ2, κ3)` \[1/m\] in the body frame (default zero: a
+    /// straight rest shape).
+    #[serde(default)]
+    pub natural_curvature: [f64; 3],
+}
+
+/// Why a wire could not be had.
+#[derive(Debug, Error)]
+pub enum WireSpecError {
+    /// Neither a preset nor an existing file.
+    #[error(
+        "unknown wire {given:?}: give a preset ({}) or a path to a .toml wire file",
+        PRESETS.join(", ")
+    )]
+    Unknown {
+        /// What was given.
+        given: String,
+    },
+    /// The file could not be read.
+    #[error("cannot read wire file {path}: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+    /// The file is not a valid wire file (the message names the line and the key).
+    #[error("bad wire file {path}: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// What `toml` said, with the line and the key.
+        message: String,
+    },
+    /// A value is out of range.
+    #[error("wire {name:?}: {key} = {value} is not allowed: {allowed}")]
+    Value {
+        /// The wire.
+        name: String,
+        /// The key.
+        key: &'static str,
+        /// The value.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+}
+
+impl WireSpec {
+    /// A preset wire by name, if there is one.
+    ///
+    /// # Example
+    /// ```
+    /// let wire = ftwire::wire::WireSpec::preset("nitinol-3mm-820").expect("a preset");
+    /// assert_eq!(wire.c, [0.214, 0.278, 0.278]);
+    /// assert!(ftwire::wire::WireSpec::preset("copper").is_none());
+    /// ```
+    pub fn preset(name: &str) -> Option<Self> {
+        let params = match name {
+            "nitinol-2mm-630" => RodParams::nitinol_2mm_630(),
+            "nitinol-3mm-910" => RodParams::nitinol_3mm_910(),
+            "nitinol-3mm-820" => RodParams::nitinol_3mm_820(),
+            "cable-3mm-920" => RodParams::electric_cable_3mm_920(),
+            _ => return None,
+        };
+        Some(Self {
+            name: name.to_owned(),
+            c: params.stiffness,
+            length: params.length,
+            radius: params.radius,
+            density: params.density,
+            natural_curvature: params.rest_strain.into(),
+        })
+    }
+
+    /// A preset name, or else a path to a wire file.
+    ///
+    /// # Errors
+    /// [`WireSpecError`] naming what was wrong.
+    pub fn load(given: &str) -> Result<Self, WireSpecError> {
+        if let Some(wire) = Self::preset(given) {
+            return Ok(wire);
+        }
+        let path = Path::new(given);
+        if !path.exists() {
+            return Err(WireSpecError::Unknown {
+                given: given.to_owned(),
+            });
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| WireSpecError::Read {
+            path: given.to_owned(),
+            message: e.to_string(),
+        })?;
+        Self::from_toml(&text, given)
+    }
+
+    /// A wire from the text of a wire file (`path` names it in errors).
+    ///
+    /// # Errors
+    /// [`WireSpecError::Parse`] with the line and key, or [`WireSpecError::Value`].
+    pub fn from_toml(text: &str, path: &str) -> Result<Self, WireSpecError> {
+        let wire: Self = toml::from_str(text).map_err(|e| WireSpecError::Parse {
+            path: path.to_owned(),
+            message: e.to_string().trim_end().to_owned(),
+        })?;
+        wire.validate()?;
+        Ok(wire)
+    }
+
+    fn validate(&self) -> Result<(), WireSpecError> {
+        let value = |key: &'static str, value: f64, allowed: &'static str| WireSpecError::Value {
+            name: self.name.clone(),
+            key,
+            value,
+            allowed,
+        };
+        for (key, v) in ["c1", "c2", "c3"].into_iter().zip(self.c) {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(value(key, v, "a finite stiffness > 0 [N·m²]"));
+            }
+        }
+        let positive = [
+            ("length", self.length, "a finite length > 0 [m]"),
+            ("radius", self.radius, "a finite radius > 0 [m]"),
+            ("density", self.density, "a finite density > 0 [kg/m³]"),
+        ];
+        for (key, v, allowed) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(value(key, v, allowed));
+            }
+        }
+        if 2.0 * self.radius >= self.length {
+            return Err(value(
+                "radius",
+                self.radius,
+                "less than half the length (a wire, not a disc)",
+            ));
+        }
+        for (key, v) in [
+            "natural_curvature[0]",
+            "natural_curvature[1]",
+            "natural_curvature[2]",
+        ]
+        .into_iter()
+        .zip(self.natural_curvature)
+        {
+            if !v.is_finite() {
+                return Err(value(key, v, "a finite curvature [1/m]"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The model's wire parameters (stiffness, length, radius).
+    ///
+    /// # Errors
+    /// Never for a validated spec; kept fallible for the core type's own checks.
+    pub fn wire_params(&self) -> Result<WireParams, ftwire_core::CoreError> {
+        WireParams::new(self.c, self.length, self.radius)
+    }
+
+    /// The simulator's parameters of this wire, with gravity `gravity` \[m/s²\] in the world
+    /// frame (zero switches it off) and `edges` edges.
+    pub fn rod_params(&self, gravity: Vector3<f64>, edges: usize) -> RodParams {
+        RodParams {
+            stiffness: self.c,
+            length: self.length,
+            radius: self.radius,
+            density: self.density,
+            gravity,
+            rest_strain: Vector3::from(self.natural_curvature),
+            edges,
+            ..RodParams::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_preset_loads_and_matches_the_simulator() -> Result<(), WireSpecError> {
+        for name in PRESETS {
+            let wire = WireSpec::load(name)?;
+            assert_eq!(wire.name, name);
+            let back = wire.rod_params(Vector3::new(0.0, 0.0, -9.81), 100);
+            let original = match name {
+                "nitinol-2mm-630" => RodParams::nitinol_2mm_630(),
+                "nitinol-3mm-910" => RodParams::nitinol_3mm_910(),
+                "nitinol-3mm-820" => RodParams::nitinol_3mm_820(),
+                _ => RodParams::electric_cable_3mm_920(),
+            };
+            assert_eq!(back, original, "{name}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn a_wire_file_round_trips() -> Result<(), Box<dyn std::error::Error>> {
+        let wire = WireSpec::preset("cable-3mm-920").ok_or("preset")?;
+        let text = toml::to_string(&wire)?;
+        assert_eq!(WireSpec::from_toml(&text, "cable.toml")?, wire);
+        Ok(())
+    }
+
+    #[test]
+    fn a_bad_file_names_the_line_and_the_key() {
+        let text = "name = \"w\"\nc = [0.1, 0.1, 0.1]\nlength = 0.5\nradius = 0.001\ndensity = 6450\nstifness = 3\n";
+        let message = match WireSpec::from_toml(text, "w.toml") {
+            Err(e) => e.to_string(),
+            Ok(w) => panic!("accepted {w:?}"),
+        };
+        assert!(message.contains("w.toml"), "{message}");
+        assert!(message.contains("line 6"), "{message}");
+        assert!(message.contains("stifness"), "{message}");
+        let negative = text
+            .replace("stifness = 3\n", "")
+            .replace("length = 0.5", "length = -0.5");
+        let message = WireSpec::from_toml(&negative, "w.toml")
+            .map(|_| ())
+            .err()
+            .map(|e| e.to_string());
+        assert!(message.is_some_and(|m| m.contains("length = -0.5")));
+        assert!(matches!(
+            WireSpec::load("no-such-wire"),
+            Err(WireSpecError::Unknown { .. })
+        ));
+    }
+}
