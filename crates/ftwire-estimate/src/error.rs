@@ -4,7 +4,7 @@ use ftwire_core::CoreError;
 use ftwire_rod::RodError;
 use thiserror::Error;
 
-use crate::identify::Unidentified;
+use crate::identify::unidentified::Unidentified;
 
 /// Errors of the estimators.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -317,7 +317,7 @@ pub enum EstimateError {
         /// Samples needed.
         needed: usize,
         /// What was skipped and why.
-        report: Box<crate::ft::ScreenReport>,
+        report: Box<crate::ft::report::ScreenReport>,
     },
     /// A calibration produced a non-finite configuration.
     #[error("the calibration produced a non-finite configuration: a[{index}] = {value}")]

@@ -1,7 +1,7 @@
 use ftwire_core::CoreError;
 use thiserror::Error;
 
-use crate::Arm;
+use crate::arm::Arm;
 
 /// Errors of the robot model, its kinematics and its queries.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+mod arm;
 mod chain;
 mod collision;
 mod dual_arm;
@@ -9,6 +10,7 @@ mod reach;
 mod robot;
 mod urdf;
 
+pub use arm::Arm;
 pub use chain::{
     ARM_DOF, ArmChain, ArmJacobian, ArmJoints, ArmTorsoJacobian, JointLimit, RevoluteJoint,
     arm_joints, pose_from_vectors,
@@ -22,7 +24,7 @@ pub use error::RobotError;
 pub use ik::{IkParams, IkSolution, IkTarget, Posture};
 pub use reach::{ReachParams, Reachability};
 pub use robot::{
-    Arm, DEFAULT_FT_STACK_LENGTH, DEFAULT_GRIPPER_LENGTH, DEFAULT_PREFERRED_POSTURE, EndFrame,
+    DEFAULT_FT_STACK_LENGTH, DEFAULT_GRIPPER_LENGTH, DEFAULT_PREFERRED_POSTURE, EndFrame,
     GripperFrames, Robot, TORSO_JOINT_INDEX,
 };
 pub use urdf::{ChainNames, SDA10F_URDF};

@@ -1,6 +1,5 @@
 //! The dual-arm robot: the shared torso joint, two arm chains, the gripper frames.
 
-use std::fmt;
 use std::path::Path;
 
 use ftwire_core::Pose;
@@ -8,41 +7,12 @@ use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::RobotError;
+use crate::arm::Arm;
 use crate::chain::{ArmChain, ArmFrames, ArmJacobian, ArmJoints, ArmTorsoJacobian, RevoluteJoint};
 use crate::urdf::{self, ChainNames, SDA10F_URDF};
 
 /// Index used for the torso joint in [`RobotError::OutOfLimit`].
 pub const TORSO_JOINT_INDEX: usize = 7;
-
-/// One of the two arms.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum Arm {
-    /// The left arm: carries the F/T sensor and the **base** gripper (wire end `t = 0`).
-    Left,
-    /// The right arm: carries the **second** gripper (wire end `t = L`).
-    Right,
-}
-
-impl Arm {
-    /// Both arms, left first.
-    pub const BOTH: [Arm; 2] = [Arm::Left, Arm::Right];
-
-    fn index(self) -> usize {
-        match self {
-            Arm::Left => 0,
-            Arm::Right => 1,
-        }
-    }
-}
-
-impl fmt::Display for Arm {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Arm::Left => "left",
-            Arm::Right => "right",
-        })
-    }
-}
 
 /// Which frame of the arm's end a pose refers to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

@@ -27,11 +27,13 @@
 mod average;
 mod mounting;
 mod pipeline;
+pub mod report;
 mod screen;
 mod tare;
 
 pub use average::{Averaged, RestAverage};
 pub use mounting::Mounting;
 pub use pipeline::{FtCalibration, FtPipeline, Measurement};
-pub use screen::{Screen, ScreenReport, SkipReason};
+pub use report::{ScreenReport, SkipReason};
+pub use screen::Screen;
 pub use tare::Tare;

@@ -35,8 +35,9 @@ pub mod pso;
 pub mod refine;
 pub mod residual;
 pub mod sample;
+pub mod unidentified;
 
-pub use estimate::{Estimate, Unidentified};
+pub use estimate::Estimate;
 pub use identifier::{Identifier, IdentifyConfig, identify};
 pub use motion::MotionPlan;
 pub use noise::NoiseModel;
@@ -45,3 +46,4 @@ pub use pso::{CostFunction, Particle, ParticleSwarm, Swarm};
 pub use refine::{LevenbergMarquardt, Refined};
 pub use residual::{MAX_NORMALISED_LOAD, PENALTY, ResidualForm, Residuals, Weights};
 pub use sample::Sample;
+pub use unidentified::Unidentified;
