@@ -39,6 +39,26 @@ fn colour(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// Draws one figure twice, into `dir/stem.png` and `dir/stem.svg` (the two drawings are the
+/// same generic code; plotters' backends are different types, hence two closures).
+fn write_png_and_svg(
+    dir: &Path,
+    stem: &str,
+    png_drawing: impl FnOnce(DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>,
+    svg_drawing: impl FnOnce(DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>,
+) -> Result<Vec<PathBuf>, ReportError> {
+    register_font();
+    let png = dir.join(format!("{stem}.png"));
+    let svg = dir.join(format!("{stem}.svg"));
+    let failed = |path: &Path| {
+        let path = path.to_path_buf();
+        move |message| ReportError::Draw { path, message }
+    };
+    png_drawing(BitMapBackend::new(&png, SIZE).into_drawing_area()).map_err(failed(&png))?;
+    svg_drawing(SVGBackend::new(&svg, SIZE).into_drawing_area()).map_err(failed(&svg))?;
+    Ok(vec![png, svg])
+}
+
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SeriesKind {
@@ -156,27 +176,15 @@ impl LineChart {
     /// [`ReportError::Empty`] when no series has a drawable point; [`ReportError::Draw`] when a
     /// file cannot be written.
     pub fn write(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, ReportError> {
-        register_font();
         let bounds = self.bounds().ok_or_else(|| ReportError::Empty {
             name: self.title.clone(),
         })?;
-        let png = dir.join(format!("{stem}.png"));
-        let svg = dir.join(format!("{stem}.svg"));
-        let draw = |path: &Path, result: Result<(), String>| {
-            result.map_err(|message| ReportError::Draw {
-                path: path.to_path_buf(),
-                message,
-            })
-        };
-        draw(
-            &png,
-            self.draw(BitMapBackend::new(&png, SIZE).into_drawing_area(), bounds),
-        )?;
-        draw(
-            &svg,
-            self.draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), bounds),
-        )?;
-        Ok(vec![png, svg])
+        write_png_and_svg(
+            dir,
+            stem,
+            |area| self.draw(area, bounds),
+            |area| self.draw(area, bounds),
+        )
     }
 
     /// `(x_min, x_max, y_min, y_max)` over the drawable points, padded, or `None`.
@@ -370,27 +378,15 @@ impl Chart3d {
     /// # Errors
     /// As [`LineChart::write`].
     pub fn write(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, ReportError> {
-        register_font();
         let cube = self.cube().ok_or_else(|| ReportError::Empty {
             name: self.title.clone(),
         })?;
-        let png = dir.join(format!("{stem}.png"));
-        let svg = dir.join(format!("{stem}.svg"));
-        let draw = |path: &Path, result: Result<(), String>| {
-            result.map_err(|message| ReportError::Draw {
-                path: path.to_path_buf(),
-                message,
-            })
-        };
-        draw(
-            &png,
-            self.draw(BitMapBackend::new(&png, SIZE).into_drawing_area(), cube),
-        )?;
-        draw(
-            &svg,
-            self.draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), cube),
-        )?;
-        Ok(vec![png, svg])
+        write_png_and_svg(
+            dir,
+            stem,
+            |area| self.draw(area, cube),
+            |area| self.draw(area, cube),
+        )
     }
 
     /// A cube `(centre, half side)` around every finite point, so the axes share one scale.
