@@ -4,8 +4,8 @@
 
 use ftwire_core::WireParams;
 use ftwire_estimate::shape::{
-    Correspondence, FitConfig, Markers, MultiStart, ShapeFit, ShapeFitter, centreline_distance,
-    centreline_point, evenly_spaced_fractions,
+    Correspondence, FitConfig, GlobalSearch, Markers, MultiStart, ShapeFit, ShapeFitter,
+    SwarmSearch, centreline_distance, centreline_point, evenly_spaced_fractions,
 };
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::sampling::Sampler;
@@ -123,7 +123,29 @@ fn run(
     sigma: f64,
     max_dropouts: usize,
 ) -> Result<Summary, EstimateError> {
-    let fitter = ShapeFitter::new(*model).with_config(config)?;
+    run_with(
+        model,
+        config,
+        MultiStart::default(),
+        seeds,
+        per_seed,
+        sigma,
+        max_dropouts,
+    )
+}
+
+fn run_with<G: GlobalSearch>(
+    model: &KirchhoffModel,
+    config: FitConfig,
+    global: G,
+    seeds: &[u64],
+    per_seed: usize,
+    sigma: f64,
+    max_dropouts: usize,
+) -> Result<Summary, EstimateError> {
+    let fitter = ShapeFitter::new(*model)
+        .with_config(config)?
+        .with_global(global);
     let sampler = Sampler::new(10.0)?;
     let mut summary = Summary {
         relative: Vec::new(),
@@ -260,5 +282,26 @@ fn bad_settings_are_named() -> Result<(), EstimateError> {
             ..
         })
     ));
+    Ok(())
+}
+
+/// The paper's route (§IV-A): PSO over normalised A on the marker cost ([`SwarmSearch`]), then
+/// the local refinement; the continuation from the straight wire is switched off so that the
+/// swarm alone finds the basin. Noisy markers, both wires, several seeds.
+#[test]
+fn the_particle_swarm_then_refinement_recovers_the_shape() -> Result<(), EstimateError> {
+    let config = FitConfig {
+        continuation_steps: 0,
+        ..FitConfig::default()
+    };
+    for (model, seeds) in [(two_mm()?, [21, 22]), (three_mm()?, [23, 24])] {
+        let summary = run_with(&model, config, SwarmSearch::default(), &seeds, 3, 3e-4, 1)?;
+        eprintln!(
+            "swarm L = {}: shape max {:.3} mm",
+            model.wire().length(),
+            max(&summary.shape) * 1e3
+        );
+        assert!(max(&summary.shape) < 1e-3, "{:?}", summary.shape);
+    }
     Ok(())
 }

@@ -11,7 +11,8 @@
 //! [`ftwire_rod::to_normalised`]) and residuals in units of `L`, so that its settings suit any
 //! wire. It runs in two stages:
 //!
-//! 1. **Global** ([`GlobalSearch`], [`MultiStart`] by default): first a coarse continuation
+//! 1. **Global** ([`GlobalSearch`]; [`MultiStart`] by default, the paper's PSO
+//!    [`crate::shape::SwarmSearch`] on request): first a coarse continuation
 //!    from the straight wire (the markers are blended from their straight-wire places to the
 //!    measured ones in a few steps, each refined from the last); if that does not give a
 //!    trusted fit, the cheapest samples of `A_stable` the global search returns.

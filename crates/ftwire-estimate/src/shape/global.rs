@@ -2,14 +2,17 @@
 //!
 //! The paper solves eq. 15 with PSO (§IV-A). The fit asks its global stage only for a few
 //! promising starts, given the fit's cost as a function of the normalised configuration, through
-//! the [`GlobalSearch`] trait. [`MultiStart`] is the stage for now: the best of `K` seeded
-//! samples of `A_stable`. A particle swarm (the streaming PSO of `identify/`) can take its place
-//! by implementing the same trait.
+//! the [`GlobalSearch`] trait. Two stages implement it: [`MultiStart`], the best of `K` seeded
+//! samples of `A_stable` (the default), and [`SwarmSearch`], the paper's PSO (the particle swarm
+//! of `identify`) over normalised `A`.
+
+use std::cell::RefCell;
 
 use nalgebra::Vector6;
 use rand::{Rng, RngExt};
 
 use crate::EstimateError;
+use crate::identify::ParticleSwarm;
 use crate::shape::setting;
 
 /// A global search over normalised configurations `z` (torque in `c2/L`, force in `c2/L²`).
@@ -114,5 +117,99 @@ impl GlobalSearch for MultiStart {
             .take(self.starts)
             .map(|(_, z)| z)
             .collect())
+    }
+}
+
+/// The paper's global stage (§IV-A solves eq. 15 with PSO): the particle swarm of
+/// [`crate::identify::ParticleSwarm`] over the box `[−half_width, half_width]⁶` of normalised
+/// configurations, run for a fixed number of iterations; inadmissible points (outside
+/// `A_stable`, or not solvable) cost [`SwarmSearch::PENALTY`]. It returns the swarm's distinct
+/// personal bests, best first.
+///
+/// # Example
+/// ```
+/// use ftwire_estimate::shape::{GlobalSearch, SwarmSearch};
+/// use nalgebra::Vector6;
+/// use rand::SeedableRng;
+/// let target = Vector6::new(1.0, -2.0, 0.5, 3.0, -1.0, 2.0);
+/// let mut cost = |z: &Vector6<f64>| Some((z - target).norm_squared());
+/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+/// let starts = SwarmSearch::default().starts(&mut cost, &mut rng)?;
+/// assert!((starts[0] - target).norm() < 1.0);
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SwarmSearch {
+    /// Particles (default `20`, the authors' count).
+    pub particles: usize,
+    /// Iterations (default `40`).
+    pub iterations: usize,
+    /// Half-width of the box in normalised units (default `20`).
+    pub half_width: f64,
+    /// Starts handed to the local refinement (default `4`).
+    pub starts: usize,
+}
+
+impl Default for SwarmSearch {
+    fn default() -> Self {
+        Self {
+            particles: 20,
+            iterations: 40,
+            half_width: 20.0,
+            starts: 4,
+        }
+    }
+}
+
+impl SwarmSearch {
+    /// The cost of an inadmissible point: larger than any fit's cost in normalised units.
+    pub const PENALTY: f64 = 1e12;
+}
+
+impl GlobalSearch for SwarmSearch {
+    fn starts<R: Rng + ?Sized>(
+        &self,
+        cost: &mut dyn FnMut(&Vector6<f64>) -> Option<f64>,
+        rng: &mut R,
+    ) -> Result<Vec<Vector6<f64>>, EstimateError> {
+        setting::count(
+            "global.iterations",
+            self.iterations,
+            1,
+            usize::MAX,
+            "at least 1",
+        )?;
+        setting::count("global.starts", self.starts, 1, usize::MAX, "at least 1")?;
+        setting::positive(
+            "global.half_width",
+            self.half_width,
+            "finite and > 0 (normalised units)",
+        )?;
+        let w = self.half_width;
+        let pso = ParticleSwarm::new(vec![-w; 6], vec![w; 6], self.particles)?;
+        // The swarm takes a cost by shared reference; the fit's cost is a mutable closure.
+        let cost = RefCell::new(cost);
+        let objective = |x: &[f64]| {
+            let z = Vector6::from_iterator(x.iter().copied());
+            (cost.borrow_mut())(&z)
+                .filter(|c| c.is_finite())
+                .map_or(Self::PENALTY, |c| c.min(Self::PENALTY))
+        };
+        let mut swarm = pso.init(&objective, rng);
+        for _ in 0..self.iterations {
+            pso.iterate(&objective, &mut swarm, rng);
+        }
+        let starts: Vec<Vector6<f64>> = swarm
+            .distinct_bests(self.starts, 0.1)
+            .into_iter()
+            .filter(|best| objective(best) < Self::PENALTY)
+            .map(|best| Vector6::from_iterator(best))
+            .collect();
+        if starts.is_empty() {
+            return Err(EstimateError::NoFitStart {
+                attempts: swarm.evaluations,
+            });
+        }
+        Ok(starts)
     }
 }

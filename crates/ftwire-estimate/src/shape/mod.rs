@@ -29,7 +29,7 @@ pub use estimate::{
     Confidence, EstimatorConfig, MIN_ESTIMATE_NODES, ShapeEstimate, ShapeEstimator,
 };
 pub use fit::{Correspondence, FitConfig, ShapeFit, ShapeFitter};
-pub use global::{GlobalSearch, MultiStart};
+pub use global::{GlobalSearch, MultiStart, SwarmSearch};
 pub use levenberg_marquardt::{LevenbergMarquardt, Termination};
 pub use markers::{DEFAULT_MARKER_COUNT, MIN_MARKERS, Marker, Markers, evenly_spaced_fractions};
 pub use metrics::{
