@@ -1,5 +1,6 @@
 //! Command-line types (clap). One submodule per subcommand.
 
+pub mod experiment;
 pub mod robot;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -24,4 +25,6 @@ pub enum Command {
     SimEquilibrium(sim_equilibrium::SimEquilibriumArgs),
     /// Kinematics of the SDA10F dual-arm robot.
     Robot(robot::RobotArgs),
+    /// Run an experiment of paper §IV in the simulator; writes a results folder.
+    Experiment(experiment::ExperimentArgs),
 }

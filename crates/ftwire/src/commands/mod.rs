@@ -1,6 +1,7 @@
 //! One module per subcommand; each exposes `run(args) -> Result<(), CliError>` and `main` maps
 //! the error to the exit code.
 
+pub mod experiment;
 pub mod robot;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -15,5 +16,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Solve(args) => solve::run(args),
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),
+        Command::Experiment(args) => experiment::run(args),
     }
 }
