@@ -58,6 +58,13 @@ pub struct IdentifyExperimentArgs {
     /// format `ftwire identify --log` reads.
     #[arg(long)]
     pub save_log: bool,
+    /// Sample counts to identify from, each from the first N samples of every trial
+    /// [default: 2,3,4,5,7,10,15,20,30].
+    #[arg(long, value_name = "N,N,..", value_delimiter = ',')]
+    pub samples: Option<Vec<usize>>,
+    /// The residual form and the known relations between the parameters.
+    #[command(flatten)]
+    pub settings: crate::cli::identify::IdentifySettingsArgs,
 }
 
 /// `ftwire experiment calibrate`.

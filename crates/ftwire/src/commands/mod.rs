@@ -2,6 +2,7 @@
 //! the error to the exit code.
 
 pub mod experiment;
+pub mod identify;
 pub mod robot;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -17,5 +18,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),
         Command::Experiment(args) => experiment::run(args),
+        Command::Identify(args) => identify::run(args),
     }
 }
