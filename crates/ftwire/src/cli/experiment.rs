@@ -65,6 +65,11 @@ pub struct IdentifyExperimentArgs {
     /// The residual form and the known relations between the parameters.
     #[command(flatten)]
     pub settings: crate::cli::identify::IdentifySettingsArgs,
+    /// The simulated F/T sensor: `distorted` has the default gain, cross-talk and
+    /// nonlinearity, which the tared, mounting-only pipeline leaves in `ã`; `undistorted`
+    /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives.
+    #[arg(long, value_enum, default_value_t = crate::cli::identify::SensorArg::Distorted)]
+    pub sensor: crate::cli::identify::SensorArg,
 }
 
 /// `ftwire experiment calibrate`.

@@ -48,14 +48,14 @@ use ftwire_estimate::identify::{IdentifyConfig, MotionPlan};
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_report::{LineChart, Series};
 use ftwire_rod::{Rod, from_normalised};
-use ftwire_sim::{RigConfig, SimRig};
+use ftwire_sim::{FtSensorConfig, RigConfig, SimRig};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::cli::experiment::IdentifyExperimentArgs;
-use crate::cli::identify::FormArg;
+use crate::cli::identify::{FormArg, SensorArg};
 use crate::commands::identify::{flag_name, run_identification};
 
 /// The wires of Table I: 2 mm / 630 mm and 3 mm / 820 mm nitinol.
@@ -167,6 +167,7 @@ struct WireResults {
 struct Summary<'a> {
     form: FormArg,
     gravity: Gravity,
+    sensor: SensorArg,
     trials: usize,
     sample_counts: &'a [usize],
     wire: &'a WireOut,
@@ -205,7 +206,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
-            let samples = record_trial(wire, gravity, seed, stream, recorded)
+            let samples = record_trial(wire, gravity, args.sensor, seed, stream, recorded)
                 .map_err(|e| e.context(format!("wire {} trial {trial}", wire.name)))?;
             let line = identify_trial(&samples, &counts, &config, seed, w, trial, &mut rows);
             eprintln!("identify: {} trial {trial}: {line}", wire.name);
@@ -242,6 +243,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     let summary = Summary {
         form: args.settings.form,
         gravity,
+        sensor: args.sensor,
         trials,
         sample_counts: &counts,
         wire: &first.wire,
@@ -316,6 +318,7 @@ fn out_dir(given: Option<&Path>) -> Result<PathBuf, CliError> {
 fn record_trial(
     wire: &WireSpec,
     gravity: Gravity,
+    sensor: SensorArg,
     seed: u64,
     stream: u64,
     count: usize,
@@ -340,6 +343,7 @@ fn record_trial(
             continue;
         }
         let config = RigConfig {
+            sensor: sensor_config(sensor),
             seed: rng.random(),
             ..RigConfig::default()
         };
@@ -354,6 +358,19 @@ fn record_trial(
         }
     }
     Err(last)
+}
+
+/// The simulated sensor's settings for `--sensor`.
+fn sensor_config(sensor: SensorArg) -> FtSensorConfig {
+    let default = FtSensorConfig::default();
+    match sensor {
+        SensorArg::Distorted => default,
+        SensorArg::Undistorted => FtSensorConfig {
+            gain: FtSensorConfig::ideal().gain,
+            cubic_nonlinearity: [0.0; 6],
+            ..default
+        },
+    }
 }
 
 /// One attempt of a trial from `a0`.
@@ -669,8 +686,9 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
-        "identify: gravity {:?}, {:?} residual, {} trials; results in {}",
+        "identify: gravity {:?}, {:?} sensor, {:?} residual, {} trials; results in {}",
         summary.gravity,
+        summary.sensor,
         summary.form,
         summary.trials,
         target.display()
