@@ -1,13 +1,17 @@
-//! `ftwire identify --log` on a log that `ftwire experiment identify --save-log` wrote gives the
-//! live run's estimate (same data, same seed); a bad log line and an empty log are bad input
-//! (exit 2) naming the line.
+//! `ftwire experiment identify` and `ftwire identify --log`:
+//! - the log command on a log that the experiment wrote (`--save-log`) gives the live run's
+//!   estimate (same data, same seed); a bad log line and an empty log are bad input (exit 2)
+//!   naming the line;
+//! - with gravity off and the sensor's gain and cross-talk removed (what a perfect calibration
+//!   gives), a short run recovers both nitinol wires, and the results folder holds what issue
+//!   13 asks; bad options are bad input.
 
 mod cli_support;
 
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use cli_support::{assert_exit, ftwire, json, numbers};
+use cli_support::{assert_exit, assert_success, ftwire, json, numbers};
 
 /// A fresh folder under the system's temporary folder, removed on drop.
 struct TempDir(PathBuf);
@@ -15,7 +19,7 @@ struct TempDir(PathBuf);
 impl TempDir {
     fn new(tag: &str) -> Self {
         let path =
-            std::env::temp_dir().join(format!("ftwire-identify-log-{tag}-{}", std::process::id()));
+            std::env::temp_dir().join(format!("ftwire-identify-{tag}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&path);
         fs::create_dir_all(&path).expect("creates a temporary folder");
         Self(path)
@@ -73,7 +77,7 @@ fn a_saved_log_gives_the_live_estimate() {
         "--out",
         &out_text,
     ]);
-    cli_support::assert_success(&run, "experiment identify");
+    assert_success(&run, "experiment identify");
     let summary: serde_json::Value =
         serde_json::from_slice(&fs::read(out.join("summary.json")).expect("a summary"))
             .expect("JSON");
@@ -173,4 +177,108 @@ fn a_bad_log_line_or_an_empty_log_is_bad_input() {
     fs::write(&one, format!("{good}\n")).expect("writes");
     let out = ftwire(&["identify", "--log", &one.to_string_lossy()]);
     assert_exit(&out, 2, "at least", "too few samples");
+}
+
+#[test]
+fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
+    let tmp = TempDir::new("experiment");
+    let out = tmp.0.join("run");
+    let run = ftwire(&[
+        "experiment",
+        "identify",
+        "--trials",
+        "3",
+        "--samples",
+        "3",
+        "--gravity",
+        "off",
+        "--sensor",
+        "undistorted",
+        "--seed",
+        "11",
+        "--out",
+        &out.to_string_lossy(),
+    ]);
+    assert_success(&run, "experiment identify");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("Table I"), "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&fs::read(out.join("summary.json")).expect("a summary"))
+            .expect("JSON");
+    assert_eq!(summary["header"]["seed"], 11);
+    let body = &summary["summary"];
+    let wires = body["wires"].as_array().expect("a list of wires");
+    let names: Vec<&str> = wires
+        .iter()
+        .map(|w| w["wire"]["name"].as_str().expect("a name"))
+        .collect();
+    assert_eq!(names, ["nitinol-2mm-630", "nitinol-3mm-820"]);
+    assert_eq!(
+        body["wire"], wires[0]["wire"],
+        "the first wire at the top level"
+    );
+    for wire in wires {
+        let row = &wire["by_samples"][0];
+        assert_eq!(row["samples"], 3);
+        assert_eq!(row["estimated"], 3);
+        // The measured floor is 0.1–0.5 % (the simulator's discretisation, the tare and the
+        // noise); twice the worst parameter's is allowed here, for any seed.
+        for (name, error) in ["c1", "c2", "c3", "L"]
+            .iter()
+            .zip(numbers(&row["mean_abs_relative_error"]))
+        {
+            assert!(error < 0.01, "{}: {name} {error}", wire["wire"]["name"]);
+        }
+        let identified = row["identified"].as_u64().expect("a count");
+        assert!(
+            identified >= 1,
+            "{}: {identified} of 3",
+            wire["wire"]["name"]
+        );
+    }
+    let csv = fs::read_to_string(out.join("identify.csv")).expect("the CSV");
+    assert_eq!(csv.lines().count(), 1 + 2 * 3, "a row per wire and trial");
+    for file in [
+        "timings.json",
+        "error_vs_samples_nitinol-3mm-820.png",
+        "error_vs_samples_nitinol-3mm-820.svg",
+        "time_vs_samples.png",
+    ] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+    assert!(!out.join("logs").exists(), "logs only with --save-log");
+}
+
+#[test]
+fn bad_options_are_bad_input() {
+    let tmp = TempDir::new("bad-options");
+    let out = tmp.0.join("run").to_string_lossy().into_owned();
+    let cases: [(&[&str], &str); 4] = [
+        (&["--wire", "copper"], "unknown wire"),
+        (&["--samples", "1"], "at least two samples"),
+        (&["--trials", "0"], "--trials"),
+        (&["--torsion-ratio", "-1"], "--torsion-ratio"),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["experiment", "identify", "--out", &out];
+        args.extend_from_slice(extra);
+        assert_exit(&ftwire(&args), 2, needle, needle);
+    }
+    let missing = tmp.0.join("no").join("such").join("run");
+    let args = [
+        "experiment",
+        "identify",
+        "--samples",
+        "2",
+        "--trials",
+        "1",
+        "--out",
+        &missing.to_string_lossy(),
+    ];
+    assert_exit(
+        &ftwire(&args),
+        2,
+        "does not exist",
+        "a missing --out parent",
+    );
 }

@@ -28,7 +28,8 @@
 //!   value is the same for the same seed. All timings are in `timings.json`.
 //! - `identify.csv`: one row per wire, trial and sample count (estimate, relative errors,
 //!   `χ²/dof`, flags).
-//! - `error_vs_samples.{png,svg}` (Fig. 3, log y) and `time_vs_samples.{png,svg}` (Fig. 4).
+//! - `error_vs_samples_<wire>.{png,svg}` (Fig. 3, log y, one per wire) and
+//!   `time_vs_samples.{png,svg}` (Fig. 4).
 //! - with `--save-log`, `logs/<wire>-trial<k>.jsonl`: each trial's records
 //!   `{time, a, b}` in the format of `ftwire_estimate::log`, with `a` the configuration as
 //!   identified from (tared, mounting only), `time` the rig's clock.
@@ -559,29 +560,34 @@ fn csv(wires: &[WireSpec], rows: &[Row]) -> String {
 
 /// Figs. 3 and 4 into the results folder (rendered in a temporary folder, then copied).
 fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), CliError> {
-    let mut error = LineChart::new(
-        "identification error against samples (Fig. 3)",
-        "samples",
-        "mean |relative error| [%]",
-    )
-    .with_log_y();
+    let mut charts = Vec::new();
     let mut time = LineChart::new(
         "identification time against samples (Fig. 4)",
         "samples",
         "compute time, median over trials [ms]",
     );
     for result in results {
+        let mut error = LineChart::new(
+            format!(
+                "{}: identification error against samples (Fig. 3)",
+                result.wire.name
+            ),
+            "samples",
+            "mean |relative error| [%]",
+        )
+        .with_log_y();
         for (j, parameter) in PARAMETERS.iter().enumerate() {
             let points = result
                 .by_samples
                 .iter()
                 .map(|r| (r.samples as f64, 100.0 * r.mean_abs_relative_error[j]))
                 .collect();
-            error = error.with_series(Series::line_points(
-                format!("{} {parameter}", result.wire.name),
-                points,
-            ));
+            error = error.with_series(Series::line_points(*parameter, points));
         }
+        charts.push((
+            error,
+            format!("error_vs_samples_{}", safe_name(&result.wire.name)),
+        ));
         let points = result
             .by_samples
             .iter()
@@ -589,6 +595,7 @@ fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), 
             .collect();
         time = time.with_series(Series::line_points(result.wire.name.clone(), points));
     }
+    charts.push((time, "time_vs_samples".to_owned()));
     let nanos = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map(|d| d.as_nanos())
@@ -597,11 +604,7 @@ fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), 
         std::env::temp_dir().join(format!("ftwire-identify-{}-{nanos}", std::process::id()));
     std::fs::create_dir_all(&scratch)
         .map_err(|e| CliError::io(format!("creating {}", scratch.display()), e))?;
-    let written = copy_figures(
-        folder,
-        &scratch,
-        &[(&error, "error_vs_samples"), (&time, "time_vs_samples")],
-    );
+    let written = copy_figures(folder, &scratch, &charts);
     let _ = std::fs::remove_dir_all(&scratch);
     written
 }
@@ -610,7 +613,7 @@ fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), 
 fn copy_figures(
     folder: &ResultsFolder,
     scratch: &Path,
-    charts: &[(&LineChart, &str)],
+    charts: &[(LineChart, String)],
 ) -> Result<(), CliError> {
     for (chart, stem) in charts {
         let files = match chart.write(scratch, stem) {
@@ -632,11 +635,10 @@ fn copy_figures(
     Ok(())
 }
 
-/// `<wire>-trial<k>.jsonl`, with characters other than letters, digits, `-`, `_` and `.`
+/// A wire's name for file names: characters other than letters, digits, `-`, `_` and `.`
 /// replaced by `_` (a wire file's name may hold anything).
-fn log_name(wire: &str, trial: usize) -> String {
-    let safe: String = wire
-        .chars()
+fn safe_name(wire: &str) -> String {
+    wire.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
                 c
@@ -644,8 +646,12 @@ fn log_name(wire: &str, trial: usize) -> String {
                 '_'
             }
         })
-        .collect();
-    format!("{safe}-trial{trial}.jsonl")
+        .collect()
+}
+
+/// `<wire>-trial<k>.jsonl` (see [`safe_name`]).
+fn log_name(wire: &str, trial: usize) -> String {
+    format!("{}-trial{trial}.jsonl", safe_name(wire))
 }
 
 /// A trial's JSON Lines log.
