@@ -1,5 +1,7 @@
 //! Command-line types (clap). One submodule per subcommand.
 
+pub mod experiment;
+pub mod identify;
 pub mod robot;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -24,4 +26,8 @@ pub enum Command {
     SimEquilibrium(sim_equilibrium::SimEquilibriumArgs),
     /// Kinematics of the SDA10F dual-arm robot.
     Robot(robot::RobotArgs),
+    /// Run an experiment of paper §IV in the simulator; writes a results folder.
+    Experiment(experiment::ExperimentArgs),
+    /// Identify a wire's stiffnesses and length from a recorded JSON Lines log.
+    Identify(identify::IdentifyArgs),
 }

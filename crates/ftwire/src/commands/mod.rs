@@ -1,6 +1,8 @@
 //! One module per subcommand; each exposes `run(args) -> Result<(), CliError>` and `main` maps
 //! the error to the exit code.
 
+pub mod experiment;
+pub mod identify;
 pub mod robot;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -15,5 +17,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Solve(args) => solve::run(args),
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),
+        Command::Experiment(args) => experiment::run(args),
+        Command::Identify(args) => identify::run(args),
     }
 }

@@ -1,0 +1,100 @@
+//! Arguments of `ftwire experiment <id>`: the experiments of paper §IV, run in the simulator.
+
+use std::path::PathBuf;
+
+use clap::{Args, Subcommand};
+use ftwire::args::SeedArgs;
+use ftwire::experiment::Gravity;
+use serde::Serialize;
+
+/// `ftwire experiment <id>`.
+#[derive(Debug, Args)]
+pub struct ExperimentArgs {
+    /// Which experiment.
+    #[command(subcommand)]
+    pub id: ExperimentId,
+}
+
+/// The experiments.
+#[derive(Debug, Subcommand)]
+pub enum ExperimentId {
+    /// Table I, Figs. 3–4: identify c and L of the nitinol wires from random motion at 10 Hz.
+    Identify(IdentifyExperimentArgs),
+    /// §IV-A: collect F/T and markers on a known wire, label by shape fitting (eq. 15), train
+    /// and evaluate the calibration network.
+    Calibrate(CalibrateExperimentArgs),
+    /// Table II, Fig. 5: shape error from F/T over configurations of A_free, for the four wires.
+    Shape(ShapeExperimentArgs),
+}
+
+/// Options every experiment takes.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct CommonExperimentArgs {
+    /// A wire preset (nitinol-2mm-630, nitinol-3mm-910, nitinol-3mm-820, cable-3mm-920) or a
+    /// wire file (TOML); replaces the experiment's default wires, so one wire can be run alone.
+    #[arg(long, value_name = "PRESET|FILE.toml")]
+    pub wire: Option<String>,
+    /// The seed of every random choice.
+    #[command(flatten)]
+    pub seed: SeedArgs,
+    /// Number of trials (each experiment has its own default, the paper's).
+    #[arg(long)]
+    pub trials: Option<usize>,
+    /// Results folder [default: results/<id>].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Gravity in the simulated world.
+    #[arg(long, value_enum, default_value_t = Gravity::On)]
+    pub gravity: Gravity,
+}
+
+/// `ftwire experiment identify`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct IdentifyExperimentArgs {
+    /// The options every experiment takes.
+    #[command(flatten)]
+    pub common: CommonExperimentArgs,
+    /// Write each trial's samples as a JSON Lines log into the results folder (`logs/`), in the
+    /// format `ftwire identify --log` reads.
+    #[arg(long)]
+    pub save_log: bool,
+    /// Sample counts to identify from, each from the first N samples of every trial
+    /// [default: 2,3,4,5,7,10,15,20,30].
+    #[arg(long, value_name = "N,N,..", value_delimiter = ',')]
+    pub samples: Option<Vec<usize>>,
+    /// The residual form and the known relations between the parameters.
+    #[command(flatten)]
+    pub settings: crate::cli::identify::IdentifySettingsArgs,
+    /// The simulated F/T sensor: `distorted` has the default gain, cross-talk and
+    /// nonlinearity, which the tared, mounting-only pipeline leaves in `ã`; `undistorted`
+    /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives.
+    #[arg(long, value_enum, default_value_t = crate::cli::identify::SensorArg::Distorted)]
+    pub sensor: crate::cli::identify::SensorArg,
+}
+
+/// `ftwire experiment calibrate`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct CalibrateExperimentArgs {
+    /// The options every experiment takes.
+    #[command(flatten)]
+    pub common: CommonExperimentArgs,
+}
+
+/// `ftwire experiment shape`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct ShapeExperimentArgs {
+    /// The options every experiment takes.
+    #[command(flatten)]
+    pub common: CommonExperimentArgs,
+    /// Configurations of A_free per wire (the paper: 50).
+    #[arg(long)]
+    pub configs: Option<usize>,
+    /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
+    /// calibration is first run on the default known wire and cached in the results folder.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+    /// Write the samples as a JSON Lines log into the results folder (`logs/`), in the format
+    /// `ftwire shape --log` reads.
+    #[arg(long)]
+    pub save_log: bool,
+}

@@ -1,0 +1,123 @@
+//! Arguments of `ftwire identify --log FILE.jsonl`, and the identification settings that it
+//! shares with `ftwire experiment identify`.
+#![allow(rustdoc::broken_intra_doc_links)]
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use ftwire::args::{JsonArgs, SeedArgs, parse_finite};
+use ftwire::error::CliError;
+use ftwire_estimate::identify::{IdentifyConfig, ParameterConstraints, ResidualForm};
+use serde::Serialize;
+
+/// The residual identification minimises (`--form`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FormArg {
+    /// The exact absolute form `log(Γ_η(ã_i)⁻¹ b̃_i)`: reaches the noise floor.
+    Absolute,
+    /// The paper's eq. 12, `J_η(ã_i) δã_i − δb̃_i`: limited to 2–3 % by its linearisation.
+    Eq12,
+    /// Eq. 12 with `J` at the midpoint of each step.
+    Midpoint,
+    /// Exact relative poses of consecutive samples.
+    Relative,
+}
+
+impl FormArg {
+    /// The library's residual form.
+    pub fn form(self) -> ResidualForm {
+        match self {
+            Self::Absolute => ResidualForm::Absolute,
+            Self::Eq12 => ResidualForm::Eq12,
+            Self::Midpoint => ResidualForm::Midpoint,
+            Self::Relative => ResidualForm::Relative,
+        }
+    }
+}
+
+/// The simulated F/T sensor of `ftwire experiment identify` (`--sensor`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SensorArg {
+    /// The default sensor: gain and cross-talk of 1–1.5 %, a mild cubic nonlinearity, noise,
+    /// bias, drift and dropouts.
+    Distorted,
+    /// The default sensor without gain, cross-talk and nonlinearity (noise, bias, drift and
+    /// dropouts kept): the best a learnt calibration can do.
+    Undistorted,
+}
+
+/// How to identify: the residual form and the known relations between the parameters. Shared
+/// by `ftwire identify` and `ftwire experiment identify`, so both read the same flags the same
+/// way.
+#[derive(Debug, Clone, Copy, Args, Serialize)]
+pub struct IdentifySettingsArgs {
+    /// The residual minimised.
+    #[arg(long, value_enum, default_value_t = FormArg::Absolute)]
+    pub form: FormArg,
+    /// Isotropic bending, c3 = c2 (a wire of round cross-section).
+    #[arg(long)]
+    pub isotropic: bool,
+    /// A known torsion ratio NU = c1/c2 (a round rod: 1/(1 + Poisson's ratio)).
+    #[arg(
+        long,
+        value_name = "NU",
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
+    pub torsion_ratio: Option<f64>,
+}
+
+impl IdentifySettingsArgs {
+    /// The library's settings: its defaults with these flags applied.
+    ///
+    /// # Errors
+    /// Bad input (exit 2) for a torsion ratio that is not positive.
+    pub fn config(&self) -> Result<IdentifyConfig, CliError> {
+        let config = IdentifyConfig {
+            form: self.form.form(),
+            constraints: ParameterConstraints {
+                isotropic: self.isotropic,
+                torsion_ratio: self.torsion_ratio,
+            },
+            ..IdentifyConfig::default()
+        };
+        config
+            .validate()
+            .map_err(|e| CliError::bad_input(format!("--torsion-ratio: {e}")))?;
+        Ok(config)
+    }
+}
+
+/// `ftwire identify --log FILE.jsonl`: identify `η = (c1, c2, c3, L)` from a recorded log.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:\n  \
+    ftwire experiment identify --wire nitinol-2mm-630 --trials 1 --save-log --out run\n  \
+    ftwire identify --log run/logs/nitinol-2mm-630-trial0.jsonl --samples 3 --json\n\n\
+    Exit codes: 0 identified, 1 the data do not identify the wire (the estimate is printed \
+    with the reason), 2 bad input (a bad log line, an empty log, too few samples or too \
+    little motion).")]
+pub struct IdentifyArgs {
+    /// The JSON Lines log (format: `ftwire_estimate::log`): time, `a` (tared, calibrated,
+    /// torque first, base clamp frame) or `raw` (force first, sensor frame, tared), and `b` the
+    /// second gripper's pose relative to the base clamp.
+    #[arg(long, value_name = "FILE.jsonl")]
+    pub log: PathBuf,
+    /// Learnt calibration weights (from `ftwire experiment calibrate`), to turn `raw` records
+    /// into configurations; records with `a` are used as they are.
+    #[arg(long, value_name = "W")]
+    pub calibration: Option<PathBuf>,
+    /// Use only the first N records (default: all).
+    #[arg(long, value_name = "N")]
+    pub samples: Option<usize>,
+    /// The residual form and the known relations between the parameters.
+    #[command(flatten)]
+    pub settings: IdentifySettingsArgs,
+    /// The seed of the particle swarm.
+    #[command(flatten)]
+    pub seed: SeedArgs,
+    /// Output format.
+    #[command(flatten)]
+    pub output: JsonArgs,
+}

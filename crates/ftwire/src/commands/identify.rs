@@ -1,0 +1,246 @@
+//! `ftwire identify --log FILE.jsonl`: identify a wire's `η = (c1, c2, c3, L)` from a recorded
+//! log (paper §III-B, eq. 12; the library's `ftwire_estimate::identify`), and what the live
+//! experiment (`ftwire experiment identify`) shares with it so that both give the same answer
+//! on the same data and seed: the model template, the swarm's random generator and the
+//! estimate's report.
+//!
+//! Records with `a` (tared and calibrated) are used as they are; records with `raw` need
+//! `--calibration W` (the learnt weights of `ftwire_estimate::calibration`), which maps the
+//! tared raw reading to `a`.
+
+use std::fs::File;
+use std::io::{self, BufReader, Write};
+use std::path::Path;
+
+use ftwire::args::default_radius;
+use ftwire::error::CliError;
+use ftwire::output::{self, Report};
+use ftwire_core::{Pose, WireParams};
+use ftwire_estimate::identify::{Estimate, IdentifyConfig, Unidentified, identify};
+use ftwire_estimate::log::{LogRecord, read_log};
+use ftwire_estimate::{Calibration, EstimateError, KirchhoffModel};
+use nalgebra::Vector6;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
+
+use crate::cli::identify::{FormArg, IdentifyArgs};
+
+/// Runs `ftwire identify`.
+pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
+    let config = args.settings.config()?;
+    let records = read(&args.log)?;
+    let calibration = args
+        .calibration
+        .as_deref()
+        .map(|path| {
+            Calibration::load(path)
+                .map_err(|e| CliError::bad_input(format!("--calibration {}: {e}", path.display())))
+        })
+        .transpose()?;
+    let mut samples = samples_of(&records, calibration.as_ref(), &args.log)?;
+    if let Some(n) = args.samples {
+        if n > samples.len() {
+            return Err(CliError::bad_input(format!(
+                "--samples {n}: the log {} holds only {} records",
+                args.log.display(),
+                samples.len()
+            )));
+        }
+        samples.truncate(n);
+    }
+    let estimate = run_identification(&samples, &config, args.seed.seed)
+        .map_err(|e| e.context(format!("identifying from {}", args.log.display())))?;
+    let report = EstimateReport::new(&estimate, args.settings.form);
+    output::print(&report, args.output.json)?;
+    match estimate.unidentified {
+        None => Ok(()),
+        Some(reason) => Err(CliError::no_answer(format!(
+            "the data of {} do not identify the wire: {reason}",
+            args.log.display()
+        ))),
+    }
+}
+
+/// Reads the log; a bad line or an empty log is bad input naming the file (the library's error
+/// names the line and the value).
+fn read(path: &Path) -> Result<Vec<LogRecord>, CliError> {
+    let file = File::open(path)
+        .map_err(|e| CliError::bad_input(format!("cannot open log {}: {e}", path.display())))?;
+    read_log(BufReader::new(file))
+        .map_err(|e| CliError::bad_input(format!("log {}: {e}", path.display())))
+}
+
+/// The `(ã, b̃)` pairs of the records, in order.
+fn samples_of(
+    records: &[LogRecord],
+    calibration: Option<&Calibration>,
+    path: &Path,
+) -> Result<Vec<(Vector6<f64>, Pose)>, CliError> {
+    records
+        .iter()
+        .enumerate()
+        .map(|(index, record)| {
+            let a = match (record.a(), record.raw(), calibration) {
+                (Some(a), _, _) => a,
+                (None, Some(raw), Some(calibration)) => {
+                    let a = calibration.apply(&raw);
+                    if let Some(i) = a.iter().position(|v| !v.is_finite()) {
+                        return Err(CliError::bad_input(format!(
+                            "log {}: record {} (time {}): the calibration maps raw = {:?} to \
+                             a[{i}] = {}, not a finite number",
+                            path.display(),
+                            index + 1,
+                            record.time,
+                            record.raw,
+                            a[i]
+                        )));
+                    }
+                    a
+                }
+                (None, _, None) => {
+                    return Err(CliError::bad_input(format!(
+                        "log {}: record {} (time {}) holds `raw`, not `a`: give the learnt \
+                         calibration with --calibration W to turn raw readings into \
+                         configurations",
+                        path.display(),
+                        index + 1,
+                        record.time
+                    )));
+                }
+                (None, None, Some(_)) => {
+                    return Err(CliError::bad_input(format!(
+                        "log {}: record {} has neither `raw` nor `a`",
+                        path.display(),
+                        index + 1
+                    )));
+                }
+            };
+            Ok((a, record.b.to_pose()))
+        })
+        .collect()
+}
+
+/// The model identification starts from. Only its radius and integrator are used (the search
+/// replaces `c` and `L`); the radius is the simulator's default, which the estimate does not
+/// depend on. The live experiment and the log command use this one template, so the same data
+/// and seed give the same estimate.
+///
+/// # Errors
+/// Never for the constants here; kept fallible for the core type's checks.
+pub fn template_model() -> Result<KirchhoffModel, CliError> {
+    let wire = WireParams::new([0.1, 0.1, 0.1], 1.0, default_radius())
+        .map_err(|e| CliError::bad_input(format!("the identification template: {e}")))?;
+    Ok(KirchhoffModel::new(wire))
+}
+
+/// Identifies from `samples` with the swarm seeded by `seed` (a fresh generator per call, so an
+/// estimate depends only on its data and the seed, not on what ran before).
+///
+/// # Errors
+/// Bad input for data that cannot be identified from (too few samples, too little motion, a
+/// sample outside `A`); no answer for anything else the library reports.
+pub fn run_identification(
+    samples: &[(Vector6<f64>, Pose)],
+    config: &IdentifyConfig,
+    seed: u64,
+) -> Result<Estimate, CliError> {
+    let model = template_model()?;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    identify(&model, samples, config, &mut rng).map_err(from_estimate)
+}
+
+/// Sorts a library error: what the data or settings lack is bad input; the rest no answer.
+fn from_estimate(error: EstimateError) -> CliError {
+    match error {
+        EstimateError::NotIdentified { .. } | EstimateError::Model(_) => {
+            CliError::no_answer(error.to_string())
+        }
+        _ => CliError::bad_input(error.to_string()),
+    }
+}
+
+/// A short machine-readable name of why an estimate is not trusted (`None`: identified).
+pub fn flag_name(reason: Option<&Unidentified>) -> Option<&'static str> {
+    reason.map(|reason| match reason {
+        Unidentified::IllConditioned { .. } => "ill_conditioned",
+        Unidentified::ResidualAboveNoise { .. } => "residual_above_noise",
+        Unidentified::AtBound { .. } => "at_bound",
+        Unidentified::Unfinished { .. } => "unfinished",
+        _ => "unidentified",
+    })
+}
+
+/// The estimate as printed (`--json`: one object).
+#[derive(Debug, Serialize)]
+pub struct EstimateReport {
+    /// Samples used.
+    pub samples: usize,
+    /// The residual form.
+    pub form: FormArg,
+    /// Stiffnesses `(c1, c2, c3)` \[N·m²\].
+    pub c: [f64; 3],
+    /// Length \[m\].
+    pub length: f64,
+    /// Standard deviations of `c` \[N·m²\] (first order).
+    pub c_std: [f64; 3],
+    /// Standard deviation of `L` \[m\].
+    pub length_std: f64,
+    /// `χ²` per degree of freedom under the assumed noise.
+    pub chi2_per_dof: f64,
+    /// `σ_min/σ_max` of the residual's Jacobian.
+    pub condition: f64,
+    /// Whether the data identify the wire.
+    pub identified: bool,
+    /// Why not ([`flag_name`]), or `null`.
+    pub flag: Option<&'static str>,
+    /// The reason in words, or `null`.
+    pub reason: Option<String>,
+}
+
+impl EstimateReport {
+    /// The report of `estimate`.
+    pub fn new(estimate: &Estimate, form: FormArg) -> Self {
+        Self {
+            samples: estimate.samples,
+            form,
+            c: estimate.c,
+            length: estimate.length,
+            c_std: estimate.c_std,
+            length_std: estimate.length_std,
+            chi2_per_dof: estimate.chi2_per_dof,
+            condition: estimate.condition,
+            identified: estimate.is_identified(),
+            flag: flag_name(estimate.unidentified.as_ref()),
+            reason: estimate.unidentified.map(|r| r.to_string()),
+        }
+    }
+}
+
+impl Report for EstimateReport {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(
+            out,
+            "identified from {} samples ({:?} residual):",
+            self.samples, self.form
+        )?;
+        let names = ["c1 [N·m²]", "c2 [N·m²]", "c3 [N·m²]"];
+        for ((name, value), std) in names.iter().zip(self.c).zip(self.c_std) {
+            writeln!(out, "  {name:<10} {value:.6} ± {std:.2e}")?;
+        }
+        writeln!(
+            out,
+            "  {:<10} {:.6} ± {:.2e}",
+            "L [m]", self.length, self.length_std
+        )?;
+        writeln!(
+            out,
+            "  χ²/dof {:.3}, condition {:.2e}",
+            self.chi2_per_dof, self.condition
+        )?;
+        match &self.reason {
+            None => writeln!(out, "  identified: yes"),
+            Some(reason) => writeln!(out, "  identified: NO: {reason}"),
+        }
+    }
+}
