@@ -2,6 +2,7 @@
 
 pub mod experiment;
 pub mod robot;
+pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
 
@@ -27,4 +28,6 @@ pub enum Command {
     Robot(robot::RobotArgs),
     /// Run an experiment of paper §IV in the simulator; writes a results folder.
     Experiment(experiment::ExperimentArgs),
+    /// Estimate the wire's shape for every record of a rig log (JSON Lines), from F/T alone.
+    Shape(shape::ShapeArgs),
 }

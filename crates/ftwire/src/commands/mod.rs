@@ -3,6 +3,7 @@
 
 pub mod experiment;
 pub mod robot;
+pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
 
@@ -17,5 +18,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),
         Command::Experiment(args) => experiment::run(args),
+        Command::Shape(args) => shape::run(args),
     }
 }
