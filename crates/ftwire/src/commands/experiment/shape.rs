@@ -49,6 +49,9 @@ use crate::cli::experiment::ShapeExperimentArgs;
 /// Configurations per wire by default (the paper's 50).
 const DEFAULT_CONFIGS: usize = 50;
 
+/// Draws of `A_free` per requested configuration before the experiment gives up on a wire.
+const MAX_DRAWS_PER_CONFIG: usize = 3;
+
 /// Calls of the shape estimate timed per configuration (their median is reported).
 const TIMED_REPEATS: usize = 9;
 
@@ -73,8 +76,8 @@ struct WireResult {
     mounting_mean_mm: f64,
     /// Configurations the estimator did not flag as confident.
     not_confident: usize,
-    /// Configurations skipped because the simulator could not place the wire or too few
-    /// F/T samples survived.
+    /// Configurations skipped (and replaced by another draw) because the simulator could not
+    /// place the wire, too few F/T samples survived, or the model could not solve at `ã`.
     skipped: usize,
 }
 
@@ -278,11 +281,15 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         // The log's clock: each placement's rig starts its own clock at 0, so the log adds
         // them up, one placement after the other.
         let mut clock = 0.0;
-        for k in 0..configs {
+        // A configuration the simulator cannot place is skipped and another one drawn, up to
+        // MAX_DRAWS_PER_CONFIG draws per configuration in all.
+        let mut k = 0;
+        while rows.len() < configs && k < MAX_DRAWS_PER_CONFIG * configs {
             let placed = Sampler::default()
                 .sample_free(&rod, &mut rng)
                 .map_err(|e| from_rod(e, "sampling A_free"))?;
             let rig = rig_seed(seed.wrapping_add(1_000 * (w as u64 + 1)), k);
+            k += 1;
             match run_config(wire, &args, &calibration, &mut estimator, &placed, rig)? {
                 Some(mut row) => {
                     clock += row.record.time;
