@@ -3,6 +3,7 @@
 pub mod experiment;
 pub mod identify;
 pub mod robot;
+pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
 
@@ -30,4 +31,6 @@ pub enum Command {
     Experiment(experiment::ExperimentArgs),
     /// Identify a wire's stiffnesses and length from a recorded JSON Lines log.
     Identify(identify::IdentifyArgs),
+    /// Estimate the wire's shape for every record of a rig log (JSON Lines), from F/T alone.
+    Shape(shape::ShapeArgs),
 }

@@ -96,3 +96,11 @@ impl Calibration {
         &self.record
     }
 }
+
+/// The learnt calibration as the last stage of the F/T pipeline
+/// ([`crate::ft::FtPipeline`]): a tared raw reading in, `ã` out.
+impl crate::ft::FtCalibration for Calibration {
+    fn configuration(&self, tared: &Vector6<f64>) -> Vector6<f64> {
+        self.apply(tared)
+    }
+}

@@ -4,6 +4,7 @@
 pub mod experiment;
 pub mod identify;
 pub mod robot;
+pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
 
@@ -19,5 +20,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Robot(args) => robot::run(args),
         Command::Experiment(args) => experiment::run(args),
         Command::Identify(args) => identify::run(args),
+        Command::Shape(args) => shape::run(args),
     }
 }

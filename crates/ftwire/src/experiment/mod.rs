@@ -4,6 +4,7 @@
 //! The true wire is given to the simulator only; the estimators see what a real rig gives them
 //! (raw F/T samples and the believed gripper poses).
 
+pub mod calibration;
 pub mod rig;
 
 use clap::ValueEnum;

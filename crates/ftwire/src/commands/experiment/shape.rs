@@ -1,12 +1,437 @@
-//! `ftwire experiment shape` (placeholder of the scaffolding branch; replaced by the experiment).
+//! `ftwire experiment shape` (paper Table II, Fig. 5): the shape seen from the F/T sensor
+//! alone, against the simulator's true centreline, over configurations of `A_free`.
+//!
+//! Per wire (default: the four presets; `--wire` replaces them), `--configs N` (default 50)
+//! seeded configurations of `A_free` of the true wire. For each, the operator places the wire
+//! there anew and the robot tares before it grips it (as in
+//! [`ftwire::experiment::calibration`]); `ã` is measured through the learnt calibration
+//! (`--calibration FILE`, or a calibration run first on the known wire and cached as
+//! `calibration.json`), and `ShapeEstimator` gives the shape with the true wire's parameters
+//! (the wire is known, as in the paper's Table II). Metrics: `mean_mm` (100 matched arc
+//! lengths), `marker_mean_mm` (each observed marker to the closest point of the estimate),
+//! the same mean for the tared mounting-only pipeline (`mounting_mean_mm`), and the time of one
+//! shape estimate.
+//!
+//! Writes `summary.json`, `configs.csv`, `timings.json`, `calibration.json` (when it ran one),
+//! figures `shape_<wire>` (the first configuration, estimate against truth and markers, 3-D)
+//! and `error_per_wire`, and with `--save-log` the JSON Lines log `logs/<wire>.jsonl` that
+//! `ftwire shape --log` reads: `raw` is the **tared** reading averaged at rest (the
+//! calibration's input), `b` the believed tip pose, `markers` the frame in the base clamp frame.
 
-use ftwire::error::CliError;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use ftwire::error::{CliError, from_rod};
+use ftwire::experiment::calibration::{from_estimate, load_or_run, rig_seed};
+use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
+use ftwire::output::RunHeader;
+use ftwire::results::ResultsFolder;
+use ftwire::wire::{PRESETS, WireSpec};
+use ftwire_core::Rig;
+use ftwire_estimate::calibration::Calibration;
+use ftwire_estimate::log::{LogPose, LogRecord, to_line};
+use ftwire_estimate::shape::{
+    DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance, marker_distances,
+};
+use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
+use ftwire_rod::Rod;
+use ftwire_rod::sampling::Sampler;
+use ftwire_sim::RigConfig;
+use nalgebra::{Point3, Vector3, Vector6};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
 
 use crate::cli::experiment::ShapeExperimentArgs;
 
+/// Configurations per wire by default (the paper's 50).
+const DEFAULT_CONFIGS: usize = 50;
+
+/// Draws of `A_free` per requested configuration before the experiment gives up on a wire.
+const MAX_DRAWS_PER_CONFIG: usize = 3;
+
+/// Calls of the shape estimate timed per configuration (their median is reported).
+const TIMED_REPEATS: usize = 9;
+
+/// Paper Table II: mean shape error \[mm\] of the real wires, for the printed comparison.
+const TABLE_II: [(&str, f64); 4] = [
+    ("nitinol-2mm-630", 5.72),
+    ("nitinol-3mm-910", 7.42),
+    ("nitinol-3mm-820", 6.55),
+    ("cable-3mm-920", 52.3),
+];
+
+/// One wire's row of `summary.json` (issue 13).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+struct WireResult {
+    name: String,
+    configs: usize,
+    mean_mm: f64,
+    std_mm: f64,
+    marker_mean_mm: f64,
+    estimate_us_median: f64,
+    /// The tared mounting-only pipeline's `mean_mm`, for comparison.
+    mounting_mean_mm: f64,
+    /// Configurations the estimator did not flag as confident.
+    not_confident: usize,
+    /// Configurations skipped (and replaced by another draw) because the simulator could not
+    /// place the wire, too few F/T samples survived, or the model could not solve at `ã`.
+    skipped: usize,
+}
+
+#[derive(Serialize)]
+struct ShapeSummary {
+    wires: Vec<WireResult>,
+}
+
+/// One configuration's result.
+struct ConfigResult {
+    a_tilde: Vector6<f64>,
+    mean: f64,
+    mounting_mean: f64,
+    marker_mean: f64,
+    estimate_us: f64,
+    confident: bool,
+    estimate: Vec<Vector3<f64>>,
+    truth: Vec<Vector3<f64>>,
+    markers: Vec<Option<Point3<f64>>>,
+    record: LogRecord,
+}
+
+fn mean(values: &[f64]) -> f64 {
+    values.iter().sum::<f64>() / values.len().max(1) as f64
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
+/// Writes a figure through a temporary folder into the results folder (which takes files by
+/// name only).
+fn write_figure(
+    folder: &ResultsFolder,
+    stem: &str,
+    draw: impl FnOnce(&Path) -> Result<Vec<PathBuf>, ftwire_report::ReportError>,
+) -> Result<(), CliError> {
+    let tmp = std::env::temp_dir().join(format!("ftwire-fig-{}-{stem}", std::process::id()));
+    std::fs::create_dir_all(&tmp).map_err(|e| CliError::io("a temporary figure folder", e))?;
+    let written = draw(&tmp).map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")));
+    let result = written.and_then(|paths| {
+        paths.iter().try_for_each(|path| {
+            let bytes = std::fs::read(path).map_err(|e| CliError::io("reading a figure", e))?;
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            folder.write(&name, bytes)
+        })
+    });
+    let _ = std::fs::remove_dir_all(&tmp);
+    result
+}
+
+/// Runs one configuration `k` of `wire` at `placed`.
+fn run_config(
+    wire: &WireSpec,
+    args: &ShapeExperimentArgs,
+    calibration: &Calibration,
+    estimator: &mut ShapeEstimator<KirchhoffModel>,
+    placed: &Vector6<f64>,
+    rig_seed: u64,
+) -> Result<Option<ConfigResult>, CliError> {
+    let config = RigConfig {
+        seed: rig_seed,
+        ..RigConfig::default()
+    };
+    let Ok(mut rig) = place_wire(wire, args.common.gravity, placed, config.clone()) else {
+        return Ok(None);
+    };
+    let tared = pipeline(tare(&mut rig)?, calibration.clone())?;
+    let Ok(measured) = measure(&mut rig, &tared) else {
+        return Ok(None);
+    };
+    let raw = tared.tare().apply(&measured.raw.mean);
+    let a_tilde = measured.a;
+    let frame = rig
+        .observe_markers()
+        .map_err(|e| ftwire::error::from_sim(e, "observing the markers"))?;
+    let truth: Vec<Vector3<f64>> = rig
+        .equilibrium()
+        .wire_centreline()
+        .iter()
+        .map(|p| p.coords)
+        .collect();
+    // The time of one estimate: the median of TIMED_REPEATS calls (each a fresh sample).
+    let mut times = [0.0; TIMED_REPEATS];
+    for time in &mut times {
+        estimator.reset();
+        let start = Instant::now();
+        let estimate = estimator.estimate(&a_tilde);
+        *time = start.elapsed().as_secs_f64() * 1e6;
+        std::hint::black_box(estimate.is_ok());
+    }
+    let estimate_us = median(&mut times);
+    estimator.reset();
+    let Ok(estimate) = estimator.estimate(&a_tilde) else {
+        return Ok(None);
+    };
+    let positions = estimate.shape.positions.clone();
+    let distance = |shape: &[Vector3<f64>]| {
+        centreline_distance(shape, &truth, DEFAULT_METRIC_SAMPLES)
+            .map_err(|e| from_estimate(e, "the shape error"))
+    };
+    let centreline_mean = distance(&positions)?;
+    let mounting_a = mounting(&config)?.to_configuration(&raw);
+    let mounting_mean = match estimator.model().shape(&mounting_a, positions.len()) {
+        Ok(shape) => distance(&shape.positions)?,
+        Err(_) => f64::NAN,
+    };
+    let seen: Vec<Point3<f64>> = frame.positions.iter().flatten().copied().collect();
+    let marker_mean =
+        mean(&marker_distances(&seen, &positions).map_err(|e| from_estimate(e, "marker errors"))?);
+    let record = LogRecord {
+        time: rig.time(),
+        raw: Some(raw.into()),
+        a: None,
+        b: LogPose::from_pose(&believed_tip(&rig)?),
+        markers: Some(
+            frame
+                .positions
+                .iter()
+                .map(|p| p.map(|p| [p.x, p.y, p.z]))
+                .collect(),
+        ),
+    };
+    Ok(Some(ConfigResult {
+        a_tilde,
+        mean: centreline_mean,
+        mounting_mean,
+        marker_mean,
+        estimate_us,
+        confident: estimate.confidence.is_confident(),
+        estimate: positions,
+        truth,
+        markers: frame.positions,
+        record,
+    }))
+}
+
 /// Runs the experiment.
 pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
-    Err(CliError::no_answer(format!(
-        "experiment shape is not written yet: {args:?}"
-    )))
+    let common = &args.common;
+    let seed = common.seed.seed;
+    let wires: Vec<WireSpec> = match &common.wire {
+        Some(given) => vec![WireSpec::load(given).map_err(|e| CliError::bad_input(e.to_string()))?],
+        None => PRESETS
+            .iter()
+            .filter_map(|name| WireSpec::preset(name))
+            .collect(),
+    };
+    let configs = args.configs.unwrap_or(DEFAULT_CONFIGS);
+    if configs == 0 {
+        return Err(CliError::bad_input("--configs 0: give at least 1"));
+    }
+    let out = match &common.out {
+        Some(out) => out.clone(),
+        None => {
+            std::fs::create_dir_all("results")
+                .map_err(|e| CliError::io("creating the folder results", e))?;
+            PathBuf::from("results/shape")
+        }
+    };
+    let folder = ResultsFolder::create(&out)?;
+    let header = RunHeader::new("experiment shape", Some(seed), &args)?;
+    if args.calibration.is_none() {
+        eprintln!("no --calibration: calibrating on the known wire first");
+    }
+    let start = Instant::now();
+    let (calibration, calibration_run) =
+        load_or_run(args.calibration.as_deref(), common.gravity, seed, |_| {})?;
+    let calibration_s = start.elapsed().as_secs_f64();
+    if calibration_run.is_some() {
+        let json = calibration
+            .to_json()
+            .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
+        folder.write("calibration.json", json)?;
+    }
+    let mut csv = String::from(
+        "wire,config,mean_mm,mounting_mean_mm,marker_mean_mm,confident,estimate_us,a1,a2,a3,a4,a5,a6\n",
+    );
+    let mut results = Vec::new();
+    let mut logs: Vec<(String, String)> = Vec::new();
+    let mut first_shapes = Vec::new();
+    let start = Instant::now();
+    for (w, wire) in wires.iter().enumerate() {
+        let params = wire
+            .wire_params()
+            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
+        let model = KirchhoffModel::new(params);
+        let rod = Rod::new(params);
+        let mut estimator = ShapeEstimator::new(model);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(1 + w as u64));
+        let mut rows: Vec<ConfigResult> = Vec::new();
+        let mut skipped = 0;
+        // The log's clock: each placement's rig starts its own clock at 0, so the log adds
+        // them up, one placement after the other.
+        let mut clock = 0.0;
+        // A configuration the simulator cannot place is skipped and another one drawn, up to
+        // MAX_DRAWS_PER_CONFIG draws per configuration in all.
+        let mut k = 0;
+        while rows.len() < configs && k < MAX_DRAWS_PER_CONFIG * configs {
+            let placed = Sampler::default()
+                .sample_free(&rod, &mut rng)
+                .map_err(|e| from_rod(e, "sampling A_free"))?;
+            let rig = rig_seed(seed.wrapping_add(1_000 * (w as u64 + 1)), k);
+            k += 1;
+            match run_config(wire, &args, &calibration, &mut estimator, &placed, rig)? {
+                Some(mut row) => {
+                    clock += row.record.time;
+                    row.record.time = clock;
+                    rows.push(row);
+                }
+                None => skipped += 1,
+            }
+        }
+        let mut log = String::new();
+        for (k, row) in rows.iter().enumerate() {
+            let _ = write!(
+                csv,
+                "{},{k},{},{},{},{},{}",
+                wire.name,
+                1e3 * row.mean,
+                1e3 * row.mounting_mean,
+                1e3 * row.marker_mean,
+                row.confident,
+                row.estimate_us
+            );
+            for v in &row.a_tilde {
+                let _ = write!(csv, ",{v}");
+            }
+            csv.push('\n');
+            log.push_str(&to_line(&row.record).map_err(|e| from_estimate(e, "the log"))?);
+            log.push('\n');
+        }
+        logs.push((wire.name.clone(), log));
+        let means: Vec<f64> = rows.iter().map(|r| 1e3 * r.mean).collect();
+        let m = mean(&means);
+        let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>()
+            / (means.len().saturating_sub(1).max(1)) as f64;
+        let mut times: Vec<f64> = rows.iter().map(|r| r.estimate_us).collect();
+        results.push(WireResult {
+            name: wire.name.clone(),
+            configs: rows.len(),
+            mean_mm: m,
+            std_mm: var.sqrt(),
+            marker_mean_mm: mean(&rows.iter().map(|r| 1e3 * r.marker_mean).collect::<Vec<_>>()),
+            estimate_us_median: median(&mut times),
+            mounting_mean_mm: mean(
+                &rows
+                    .iter()
+                    .map(|r| 1e3 * r.mounting_mean)
+                    .collect::<Vec<_>>(),
+            ),
+            not_confident: rows.iter().filter(|r| !r.confident).count(),
+            skipped,
+        });
+        if let Some(first) = rows.into_iter().next() {
+            first_shapes.push((wire.name.clone(), first));
+        }
+    }
+    let experiment_s = start.elapsed().as_secs_f64();
+    folder.write("configs.csv", csv)?;
+    folder.write_json(
+        "timings.json",
+        &serde_json::json!({
+            "calibration_s": calibration_s,
+            "experiment_s": experiment_s,
+            "estimate_us_median": results.iter().map(|r| (r.name.clone(), r.estimate_us_median)).collect::<Vec<_>>(),
+        }),
+    )?;
+    let to_points = |v: &[Vector3<f64>]| v.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>();
+    for (name, row) in &first_shapes {
+        let markers: Vec<[f64; 3]> = row
+            .markers
+            .iter()
+            .flatten()
+            .map(|p| [p.x, p.y, p.z])
+            .collect();
+        let chart = Chart3d::new(format!("{name}: shape from F/T against the truth"))
+            .with_curve("truth (simulator)", to_points(&row.truth), SeriesKind::Line)
+            .with_curve(
+                "estimate from F/T",
+                to_points(&row.estimate),
+                SeriesKind::Line,
+            )
+            .with_curve("markers", markers, SeriesKind::Points);
+        write_figure(&folder, &format!("shape_{name}"), |dir| {
+            chart.write(dir, &format!("shape_{name}"))
+        })?;
+    }
+    let points: Vec<(f64, f64)> = results
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (i as f64, r.mean_mm))
+        .collect();
+    let chart = LineChart::new(
+        format!(
+            "mean shape error per wire ({})",
+            results
+                .iter()
+                .map(|r| r.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        "wire (in the order of the title)",
+        "mean error along the wire [mm]",
+    )
+    .with_series(
+        Series::points("learnt calibration", points)
+            .with_error_bars(results.iter().map(|r| r.std_mm).collect()),
+    );
+    write_figure(&folder, "error_per_wire", |dir| {
+        chart.write(dir, "error_per_wire")
+    })?;
+    let summary = ShapeSummary { wires: results };
+    let target = folder.finish(&header, &summary)?;
+    if args.save_log {
+        let dir = target.join("logs");
+        std::fs::create_dir_all(&dir).map_err(|e| CliError::io("creating logs/", e))?;
+        for (name, log) in &logs {
+            std::fs::write(dir.join(format!("{name}.jsonl")), log)
+                .map_err(|e| CliError::io(format!("writing logs/{name}.jsonl"), e))?;
+        }
+    }
+    println!(
+        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>8} {:>9}",
+        "wire", "configs", "mean_mm", "std_mm", "marker_mm", "mounting", "est_us", "Table II"
+    );
+    for r in &summary.wires {
+        let paper = TABLE_II
+            .iter()
+            .find(|(n, _)| *n == r.name)
+            .map_or_else(|| "-".to_owned(), |(_, v)| format!("{v:.2}"));
+        println!(
+            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>10.2} {:>8.1} {:>9}",
+            r.name,
+            r.configs,
+            r.mean_mm,
+            r.std_mm,
+            r.marker_mean_mm,
+            r.mounting_mean_mm,
+            r.estimate_us_median,
+            paper
+        );
+    }
+    println!(
+        "calibration {calibration_s:.1} s, experiment {experiment_s:.1} s; results in {}",
+        target.display()
+    );
+    Ok(())
 }

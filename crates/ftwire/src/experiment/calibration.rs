@@ -1,0 +1,370 @@
+//! The F/T calibration of paper §IV-A as the experiments run it: collect raw readings and
+//! motion-capture markers on a known wire, label each reading by shape fitting (eq. 15), and
+//! train the network (`ftwire_estimate::calibration`). `ftwire experiment calibrate` runs it
+//! and reports it; `ftwire experiment shape` (and later `goal`, `track`, `passage`) run it or
+//! load a cached one ([`load_or_run`]).
+//!
+//! **Collection.** Each of the `K` configurations `a_k` is a seeded uniform sample of `A_free`
+//! of the known wire (`ftwire_rod::sampling::Sampler`, default box). The operator places the
+//! wire at `Γ(a_k)` anew for every sample, and the robot tares its sensor on the empty gripper
+//! before it grips the wire (as it does at every re-grip); then it averages
+//! [`rig::SAMPLES_PER_REST`] samples at rest and the motion-capture system takes one frame of
+//! the 11 markers (noise and dropouts). Re-placing rather than moving from one configuration
+//! to the next keeps every sample on the intended equilibrium branch (a long move can snap the
+//! wire) and makes the samples independent. A placement the simulator cannot solve, a rest with
+//! too few good samples or a marker frame with too few markers is skipped and counted.
+//!
+//! **Labels.** `ShapeFitter` with the known wire's weight-free Kirchhoff model fits the
+//! markers (eq. 15). With gravity on the model cannot follow the sag exactly: the label is the
+//! weight-free configuration closest to the markers, so the network learns the map to *that*
+//! `a` and absorbs part of gravity, as the paper's network does on its real wire.
+//!
+//! **Evaluation** (on the test split only, against the ground truth the binary alone sees):
+//! the relative error of the torque and force parts against the true base wrench, and the mean
+//! distance between `Φ(ã)` and the simulator's centreline at 100 matched arc lengths; for the
+//! network and for the tared mounting-only pipeline.
+
+use std::path::Path;
+use std::time::Instant;
+
+use ftwire_core::WireParams;
+use ftwire_estimate::calibration::{Calibration, Dataset, Split, TrainConfig};
+use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, Markers, ShapeFitter, centreline_distance};
+use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
+use ftwire_rod::Rod;
+use ftwire_rod::sampling::Sampler;
+use ftwire_sim::RigConfig;
+use nalgebra::{Vector3, Vector6};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
+
+use super::Gravity;
+use super::rig::{measure, mounting, pipeline, place_wire, tare};
+use crate::error::{CliError, from_rod};
+use crate::wire::WireSpec;
+
+/// The known wire the calibration is collected on by default: the 3 mm nitinol wire of 820 mm,
+/// the stiffest of the presets relative to its weight, so that gravity bends it least.
+pub const KNOWN_WIRE: &str = "nitinol-3mm-820";
+
+/// Configurations collected by default (`--trials` of `experiment calibrate`).
+pub const DEFAULT_SAMPLES: usize = 600;
+
+/// Nodes of the model shapes compared with the ground truth.
+const SHAPE_NODES: usize = 64;
+
+/// One collected configuration: what the robot measured, the label, and the ground truth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationSample {
+    /// The configuration the wire was placed at (sampled from `A_free` of the known wire).
+    pub placed: Vector6<f64>,
+    /// The tared raw reading averaged at rest, force first, sensor frame \[N, N·m\].
+    pub raw: Vector6<f64>,
+    /// `ã` of the tared mounting-only pipeline, torque first, base clamp frame.
+    pub mounting: Vector6<f64>,
+    /// Ground truth: the wire's wrench on the base gripper, torque first, base clamp frame.
+    pub true_wrench: Vector6<f64>,
+    /// Ground truth: the simulator's centreline \[m\], base clamp frame (= world frame).
+    pub truth: Vec<Vector3<f64>>,
+    /// The label: the shape fit of the markers (eq. 15).
+    pub label: Vector6<f64>,
+    /// RMS marker residual of the label's fit \[m\].
+    pub label_rms: f64,
+}
+
+/// The errors of one configuration map on the test split.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MapErrors {
+    /// Mean of `‖τ̃ − τ‖ / ‖τ‖` against the true base wrench.
+    pub torque_rel: f64,
+    /// Mean of `‖f̃ − f‖ / ‖f‖` against the true base wrench.
+    pub force_rel: f64,
+    /// Mean distance \[mm\] between `Φ(ã)` and the true centreline at 100 matched arc lengths.
+    pub shape_mm: f64,
+}
+
+/// Sizes of the train, validation and test splits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SampleCounts {
+    /// Training samples.
+    pub train: usize,
+    /// Validation samples.
+    pub validation: usize,
+    /// Test samples.
+    pub test: usize,
+}
+
+/// Configurations that could not be used, by reason.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Skipped {
+    /// The simulator could not place the wire there.
+    pub placement: usize,
+    /// Too few good F/T samples at rest.
+    pub measurement: usize,
+    /// Too few markers seen, or the fit failed.
+    pub label: usize,
+}
+
+/// `summary.json` of `ftwire experiment calibrate` (issue 13).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CalibrationSummary {
+    /// The known wire.
+    pub wire: WireSpec,
+    /// The split sizes.
+    pub samples: SampleCounts,
+    /// The tared mounting-only pipeline on the test split.
+    pub raw: MapErrors,
+    /// The learnt calibration on the test split.
+    pub calibrated: MapErrors,
+    /// Mean RMS marker residual of the labels' fits \[mm\] (all samples).
+    pub label_fit_mm: f64,
+    /// Mean distance \[mm\] between the labels' shapes `Φ(label)` and the true centreline (all
+    /// samples): what the weight-free model can do at best on this wire.
+    pub label_shape_mm: f64,
+    /// Configurations skipped, by reason.
+    pub skipped: Skipped,
+}
+
+/// Wall-clock times of a calibration run \[s\] (kept apart from the summary).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CalibrationTimings {
+    /// Placing, measuring and labelling every configuration.
+    pub collect_s: f64,
+    /// Training the network.
+    pub train_s: f64,
+}
+
+/// A finished calibration run.
+#[derive(Debug, Clone)]
+pub struct CalibrationRun {
+    /// The learnt calibration.
+    pub calibration: Calibration,
+    /// Every used configuration, in collection order.
+    pub samples: Vec<CalibrationSample>,
+    /// The train/validation/test split (indices into `samples`), as training drew it.
+    pub split: Split,
+    /// The summary.
+    pub summary: CalibrationSummary,
+    /// Timings.
+    pub timings: CalibrationTimings,
+}
+
+/// An estimator error as the binary reports it: bad input for a bad setting or file, no
+/// answer otherwise.
+pub fn from_estimate(error: EstimateError, context: &str) -> CliError {
+    match error {
+        EstimateError::Io { .. } | EstimateError::Model(_) | EstimateError::NoFitStart { .. } => {
+            CliError::no_answer(format!("{context}: {error}"))
+        }
+        _ => CliError::bad_input(format!("{context}: {error}")),
+    }
+}
+
+fn model(wire: &WireSpec) -> Result<KirchhoffModel, CliError> {
+    let params: WireParams = wire
+        .wire_params()
+        .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
+    Ok(KirchhoffModel::new(params))
+}
+
+/// The seed of the simulated rig of configuration `k` of a run seeded `seed`.
+pub fn rig_seed(seed: u64, k: usize) -> u64 {
+    seed.wrapping_mul(1_000_003).wrapping_add(k as u64)
+}
+
+/// Collects `count` configurations on `wire` (see the module docs); `progress(k)` is called
+/// after each.
+///
+/// # Errors
+/// Bad input for a bad wire; no answer when `A_free` cannot be sampled.
+pub fn collect(
+    wire: &WireSpec,
+    gravity: Gravity,
+    count: usize,
+    seed: u64,
+    mut progress: impl FnMut(usize),
+) -> Result<(Vec<CalibrationSample>, Skipped), CliError> {
+    let model = model(wire)?;
+    let rod = Rod::new(*model.wire());
+    let fitter = ShapeFitter::new(model);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let sampler = Sampler::default();
+    let mut samples = Vec::with_capacity(count);
+    let mut skipped = Skipped::default();
+    for k in 0..count {
+        let placed = sampler
+            .sample_free(&rod, &mut rng)
+            .map_err(|e| from_rod(e, "sampling A_free of the known wire"))?;
+        progress(k);
+        let config = RigConfig {
+            seed: rig_seed(seed, k),
+            ..RigConfig::default()
+        };
+        let Ok(mut rig) = place_wire(wire, gravity, &placed, config.clone()) else {
+            skipped.placement += 1;
+            continue;
+        };
+        let tared = pipeline(tare(&mut rig)?, mounting(&config)?)?;
+        let Ok(measured) = measure(&mut rig, &tared) else {
+            skipped.measurement += 1;
+            continue;
+        };
+        let frame = rig
+            .observe_markers()
+            .map_err(|e| crate::error::from_sim(e, "observing the markers"))?;
+        let fit = Markers::new(&config.markers.fractions, &frame.positions)
+            .and_then(|markers| fitter.fit(&markers, &mut rng));
+        let Ok(fit) = fit else {
+            skipped.label += 1;
+            continue;
+        };
+        let equilibrium = rig.equilibrium();
+        samples.push(CalibrationSample {
+            placed,
+            raw: tared.tare().apply(&measured.raw.mean),
+            mounting: measured.a,
+            true_wrench: equilibrium.base_wrench.to_vector(),
+            truth: equilibrium
+                .wire_centreline()
+                .iter()
+                .map(|p| p.coords)
+                .collect(),
+            label: fit.a,
+            label_rms: fit.rms,
+        });
+    }
+    Ok((samples, skipped))
+}
+
+/// The mean distance \[m\] between `Φ(a)` of `model` and a true centreline (100 matched arc
+/// lengths).
+///
+/// # Errors
+/// No answer when the model cannot solve at `a`.
+pub fn shape_error(
+    model: &KirchhoffModel,
+    a: &Vector6<f64>,
+    truth: &[Vector3<f64>],
+) -> Result<f64, CliError> {
+    let shape = model
+        .shape(a, SHAPE_NODES)
+        .map_err(|e| from_estimate(e, "the model's shape"))?;
+    centreline_distance(&shape.positions, truth, DEFAULT_METRIC_SAMPLES)
+        .map_err(|e| from_estimate(e, "the shape error"))
+}
+
+/// The errors of a map (`a_of` of each sample) on the samples `indices`.
+///
+/// # Errors
+/// As [`shape_error`].
+pub fn map_errors(
+    model: &KirchhoffModel,
+    samples: &[CalibrationSample],
+    indices: &[usize],
+    a_of: impl Fn(&CalibrationSample) -> Vector6<f64>,
+) -> Result<MapErrors, CliError> {
+    let (mut torque, mut force, mut shape, mut n) = (0.0, 0.0, 0.0, 0_usize);
+    for sample in indices.iter().filter_map(|&i| samples.get(i)) {
+        let a = a_of(sample);
+        let t = sample.true_wrench;
+        torque += (a.fixed_rows::<3>(0) - t.fixed_rows::<3>(0)).norm()
+            / t.fixed_rows::<3>(0).norm().max(f64::MIN_POSITIVE);
+        force += (a.fixed_rows::<3>(3) - t.fixed_rows::<3>(3)).norm()
+            / t.fixed_rows::<3>(3).norm().max(f64::MIN_POSITIVE);
+        shape += shape_error(model, &a, &sample.truth)?;
+        n += 1;
+    }
+    let n = n.max(1) as f64;
+    Ok(MapErrors {
+        torque_rel: torque / n,
+        force_rel: force / n,
+        shape_mm: 1e3 * shape / n,
+    })
+}
+
+/// Collects `count` configurations on `wire`, trains the network with the default
+/// [`TrainConfig`] and `seed`, and evaluates it (see the module docs).
+///
+/// # Errors
+/// Bad input for a bad wire or too few usable samples for the split; no answer when the
+/// collection fails.
+pub fn run(
+    wire: &WireSpec,
+    gravity: Gravity,
+    count: usize,
+    seed: u64,
+    progress: impl FnMut(usize),
+) -> Result<CalibrationRun, CliError> {
+    let start = Instant::now();
+    let (samples, skipped) = collect(wire, gravity, count, seed, progress)?;
+    let collect_s = start.elapsed().as_secs_f64();
+    let data = Dataset::new(
+        samples.iter().map(|s| s.raw).collect(),
+        samples.iter().map(|s| s.label).collect(),
+    )
+    .map_err(|e| from_estimate(e, "the calibration data"))?;
+    let config = TrainConfig::default();
+    let start = Instant::now();
+    let calibration = Calibration::train(&data, &config, seed).map_err(|e| {
+        from_estimate(
+            e,
+            &format!("training the calibration on {count} configurations"),
+        )
+    })?;
+    let train_s = start.elapsed().as_secs_f64();
+    // `Calibration::train` draws its split first from ChaCha8(seed): the same draw here gives
+    // the same indices.
+    let split = data
+        .split(&config.split, &mut ChaCha8Rng::seed_from_u64(seed))
+        .map_err(|e| from_estimate(e, "the calibration split"))?;
+    let model = model(wire)?;
+    let raw = map_errors(&model, &samples, &split.test, |s| s.mounting)?;
+    let calibrated = map_errors(&model, &samples, &split.test, |s| calibration.apply(&s.raw))?;
+    let all: Vec<usize> = (0..samples.len()).collect();
+    let label_shape = map_errors(&model, &samples, &all, |s| s.label)?.shape_mm;
+    let n = samples.len().max(1) as f64;
+    let summary = CalibrationSummary {
+        wire: wire.clone(),
+        samples: SampleCounts {
+            train: split.train.len(),
+            validation: split.validation.len(),
+            test: split.test.len(),
+        },
+        raw,
+        calibrated,
+        label_fit_mm: 1e3 * samples.iter().map(|s| s.label_rms).sum::<f64>() / n,
+        label_shape_mm: label_shape,
+        skipped,
+    };
+    Ok(CalibrationRun {
+        calibration,
+        samples,
+        split,
+        summary,
+        timings: CalibrationTimings { collect_s, train_s },
+    })
+}
+
+/// The calibration weights of `file`, or else a fresh run on [`KNOWN_WIRE`] with
+/// [`DEFAULT_SAMPLES`] configurations (the experiments that need a calibration cache it in
+/// their results folder as `calibration.json`). Returns the run when one was made.
+///
+/// # Errors
+/// Bad input for an unreadable or invalid weights file; as [`run`] otherwise.
+pub fn load_or_run(
+    file: Option<&Path>,
+    gravity: Gravity,
+    seed: u64,
+    progress: impl FnMut(usize),
+) -> Result<(Calibration, Option<CalibrationRun>), CliError> {
+    if let Some(path) = file {
+        let calibration = Calibration::load(path)
+            .map_err(|e| CliError::bad_input(format!("--calibration {}: {e}", path.display())))?;
+        return Ok((calibration, None));
+    }
+    let wire = WireSpec::preset(KNOWN_WIRE)
+        .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
+    let run = run(&wire, gravity, DEFAULT_SAMPLES, seed, progress)?;
+    Ok((run.calibration.clone(), Some(run)))
+}
