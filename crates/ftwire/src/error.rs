@@ -127,6 +127,23 @@ pub fn from_rod(error: ftwire_rod::RodError, context: &str) -> CliError {
     }
 }
 
+/// Sorts an estimator error: a model that cannot be solved is sorted as [`from_rod`] does;
+/// data that do not identify the wire, too few good sensor samples, no start for a shape fit
+/// and unreadable files are "no answer"; bad settings, logs and samples are bad input.
+pub fn from_estimate(error: ftwire_estimate::EstimateError, context: &str) -> CliError {
+    use ftwire_estimate::EstimateError;
+    match error {
+        EstimateError::Model(error) => from_rod(error, context),
+        EstimateError::Io { .. }
+        | EstimateError::NotIdentified { .. }
+        | EstimateError::NoFitStart { .. }
+        | EstimateError::TooFewGoodSamples { .. } => {
+            CliError::no_answer(format!("{context}: {error}"))
+        }
+        _ => CliError::bad_input(format!("{context}: {error}")),
+    }
+}
+
 /// Sorts a robot error: an unreachable target is "no answer"; limits, joint counts, parameters
 /// and unreadable models are bad input.
 pub fn from_robot(error: ftwire_robot::RobotError, context: &str) -> CliError {

@@ -13,12 +13,12 @@ use std::io::{self, BufReader, Write};
 use std::path::Path;
 
 use ftwire::args::default_radius;
-use ftwire::error::CliError;
+use ftwire::error::{CliError, from_estimate};
 use ftwire::output::{self, Report};
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::identify::{Estimate, IdentifyConfig, Unidentified, identify};
 use ftwire_estimate::log::{LogRecord, read_log};
-use ftwire_estimate::{Calibration, EstimateError, KirchhoffModel};
+use ftwire_estimate::{Calibration, KirchhoffModel};
 use nalgebra::Vector6;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -147,17 +147,8 @@ pub fn run_identification(
 ) -> Result<Estimate, CliError> {
     let model = template_model()?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    identify(&model, samples, config, &mut rng).map_err(from_estimate)
-}
-
-/// Sorts a library error: what the data or settings lack is bad input; the rest no answer.
-fn from_estimate(error: EstimateError) -> CliError {
-    match error {
-        EstimateError::NotIdentified { .. } | EstimateError::Model(_) => {
-            CliError::no_answer(error.to_string())
-        }
-        _ => CliError::bad_input(error.to_string()),
-    }
+    identify(&model, samples, config, &mut rng)
+        .map_err(|e| from_estimate(e, "identifying the wire"))
 }
 
 /// A short machine-readable name of why an estimate is not trusted (`None`: identified).

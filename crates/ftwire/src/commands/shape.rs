@@ -14,8 +14,7 @@
 
 use std::io::{self, BufReader, Write};
 
-use ftwire::error::CliError;
-use ftwire::experiment::calibration::from_estimate;
+use ftwire::error::{CliError, from_estimate};
 use ftwire::output::JsonLines;
 use ftwire::wire::WireSpec;
 use ftwire_estimate::KirchhoffModel;

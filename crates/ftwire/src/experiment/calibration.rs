@@ -30,7 +30,7 @@ use std::time::Instant;
 use ftwire_core::WireParams;
 use ftwire_estimate::calibration::{Calibration, Dataset, Split, TrainConfig};
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, Markers, ShapeFitter, centreline_distance};
-use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
+use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
 use ftwire_sim::RigConfig;
@@ -41,7 +41,7 @@ use serde::Serialize;
 
 use super::Gravity;
 use super::rig::{measure, mounting, pipeline, place_wire, tare};
-use crate::error::{CliError, from_rod};
+use crate::error::{CliError, from_estimate, from_rod};
 use crate::wire::WireSpec;
 
 /// The known wire the calibration is collected on by default: the 3 mm nitinol wire of 820 mm,
@@ -148,17 +148,6 @@ pub struct CalibrationRun {
     pub summary: CalibrationSummary,
     /// Timings.
     pub timings: CalibrationTimings,
-}
-
-/// An estimator error as the binary reports it: bad input for a bad setting or file, no
-/// answer otherwise.
-pub fn from_estimate(error: EstimateError, context: &str) -> CliError {
-    match error {
-        EstimateError::Io { .. } | EstimateError::Model(_) | EstimateError::NoFitStart { .. } => {
-            CliError::no_answer(format!("{context}: {error}"))
-        }
-        _ => CliError::bad_input(format!("{context}: {error}")),
-    }
 }
 
 fn model(wire: &WireSpec) -> Result<KirchhoffModel, CliError> {

@@ -10,10 +10,8 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use ftwire::error::CliError;
-use ftwire::experiment::calibration::{
-    DEFAULT_SAMPLES, KNOWN_WIRE, from_estimate, run as calibrate,
-};
+use ftwire::error::{CliError, from_estimate};
+use ftwire::experiment::calibration::{DEFAULT_SAMPLES, KNOWN_WIRE, run as calibrate};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::wire::WireSpec;

@@ -22,8 +22,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
-use ftwire::experiment::calibration::{from_estimate, load_or_run, rig_seed};
+use ftwire::experiment::calibration::{load_or_run, rig_seed};
 use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
