@@ -59,6 +59,14 @@ fn write_png_and_svg(
     Ok(vec![png, svg])
 }
 
+/// A tick label: the value rounded to 7 significant digits, written as briefly as it reads
+/// back (so a log axis shows `0.3`, not `0.30000000000000004`).
+fn tick(value: &f64) -> String {
+    format!("{:.6e}", value)
+        .parse::<f64>()
+        .map_or_else(|_| value.to_string(), |v| v.to_string())
+}
+
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SeriesKind {
@@ -275,6 +283,8 @@ impl LineChart {
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .label_style(("sans-serif", 16))
             .axis_desc_style(("sans-serif", 18))
             .light_line_style(WHITE.mix(0.0))
@@ -471,5 +481,18 @@ impl Chart3d {
             .draw()
             .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick;
+
+    #[test]
+    fn tick_labels_drop_float_noise_and_keep_real_digits() {
+        assert_eq!(tick(&0.300_000_000_000_000_04), "0.3");
+        assert_eq!(tick(&1234.5), "1234.5");
+        assert_eq!(tick(&-0.0125), "-0.0125");
+        assert_eq!(tick(&1e-9), "0.000000001");
     }
 }
