@@ -1,10 +1,14 @@
 //! `ftwire experiment identify` and `ftwire identify --log`:
-//! - the log command on a log that the experiment wrote (`--save-log`) gives the live run's
-//!   estimate (same data, same seed); a bad log line and an empty log are bad input (exit 2)
-//!   naming the line;
+//! - the log command on a log that the experiment wrote (`--save-log`, mounting pipeline)
+//!   gives the live run's estimate (same data, same seed); a bad log line and an empty log are
+//!   bad input (exit 2) naming the line;
 //! - with gravity off and the sensor's gain and cross-talk removed (what a perfect calibration
 //!   gives), a short run recovers both nitinol wires, and the results folder holds what issue
-//!   13 asks; bad options are bad input.
+//!   13 asks; bad options are bad input;
+//! - through the learnt calibration with `--calibration FILE` (a tiny calibration, to keep the
+//!   test fast) the summary names the pipeline and the weights, `ã` differs from the mounting
+//!   pipeline's on the same readings, and a saved log replayed by `ftwire identify --log`
+//!   gives the live estimate.
 
 mod cli_support;
 
@@ -59,29 +63,7 @@ fn live_row(dir: &Path, trial: &str, samples: &str) -> ([f64; 4], bool) {
 fn a_saved_log_gives_the_live_estimate() {
     let tmp = TempDir::new("replay");
     let out = tmp.0.join("run");
-    let out_text = out.to_string_lossy().into_owned();
-    let run = ftwire(&[
-        "experiment",
-        "identify",
-        "--wire",
-        "nitinol-2mm-630",
-        "--trials",
-        "1",
-        "--gravity",
-        "off",
-        "--samples",
-        "2,3",
-        "--seed",
-        "5",
-        "--save-log",
-        "--out",
-        &out_text,
-    ]);
-    assert_success(&run, "experiment identify");
-    let summary: serde_json::Value =
-        serde_json::from_slice(&fs::read(out.join("summary.json")).expect("a summary"))
-            .expect("JSON");
-    let body = &summary["summary"];
+    let body = identify(&out, &["--pipeline", "mounting"]);
     assert_eq!(body["wire"]["name"], "nitinol-2mm-630");
     assert_eq!(body["by_samples"][1]["samples"], 3);
     for key in ["mean", "std", "relative_error", "mean_abs_relative_error"] {
@@ -92,41 +74,8 @@ fn a_saved_log_gives_the_live_estimate() {
             .as_f64()
             .is_some()
     );
-
+    assert_replay_gives_the_live_estimate(&out);
     let log = out.join("logs").join("nitinol-2mm-630-trial0.jsonl");
-    assert_eq!(
-        fs::read_to_string(&log).expect("the log").lines().count(),
-        3,
-        "one record per sample"
-    );
-    let (live, identified) = live_row(&out, "0", "3");
-    let replay = ftwire(&[
-        "identify",
-        "--log",
-        &log.to_string_lossy(),
-        "--samples",
-        "3",
-        "--seed",
-        "5",
-        "--json",
-    ]);
-    // Exit 0 when identified, 1 when the estimate is flagged; either way it is printed.
-    let expected_code = if identified { 0 } else { 1 };
-    assert_eq!(
-        replay.status.code(),
-        Some(expected_code),
-        "{}",
-        String::from_utf8_lossy(&replay.stderr)
-    );
-    let answer = json(&replay);
-    assert_eq!(answer["identified"], identified);
-    let mut logged = numbers(&answer["c"]);
-    logged.push(answer["length"].as_f64().expect("a length"));
-    for (name, (l, r)) in ["c1", "c2", "c3", "L"].iter().zip(live.iter().zip(&logged)) {
-        // The log holds the samples at full precision but the pose as a rotation vector: a
-        // rounding-level change, which the fit does not amplify.
-        assert!((l - r).abs() <= 1e-6 * l.abs(), "{name}: live {l}, log {r}");
-    }
     // Asking for more records than the log holds is bad input.
     let wrong = ftwire(&[
         "identify",
@@ -194,6 +143,8 @@ fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
         "off",
         "--sensor",
         "undistorted",
+        "--pipeline",
+        "mounting",
         "--seed",
         "11",
         "--out",
@@ -207,6 +158,12 @@ fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
             .expect("JSON");
     assert_eq!(summary["header"]["seed"], 11);
     let body = &summary["summary"];
+    assert_eq!(body["pipeline"], "mounting");
+    assert!(
+        body["calibration"].is_null(),
+        "no weights: {}",
+        body["calibration"]
+    );
     let wires = body["wires"].as_array().expect("a list of wires");
     let names: Vec<&str> = wires
         .iter()
@@ -253,11 +210,21 @@ fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
 fn bad_options_are_bad_input() {
     let tmp = TempDir::new("bad-options");
     let out = tmp.0.join("run").to_string_lossy().into_owned();
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 7] = [
         (&["--wire", "copper"], "unknown wire"),
         (&["--samples", "1"], "at least two samples"),
         (&["--trials", "0"], "--trials"),
         (&["--torsion-ratio", "-1"], "--torsion-ratio"),
+        // The undistorted sensor is what a perfect calibration gives: not learnt on top.
+        (&["--sensor", "undistorted"], "--pipeline mounting"),
+        (
+            &["--pipeline", "mounting", "--calibration", "weights.json"],
+            "--pipeline calibrated",
+        ),
+        (
+            &["--calibration", "/no/such/weights.json", "--trials", "1"],
+            "--calibration /no/such/weights.json",
+        ),
     ];
     for (extra, needle) in cases {
         let mut args = vec!["experiment", "identify", "--out", &out];
@@ -281,4 +248,149 @@ fn bad_options_are_bad_input() {
         "does not exist",
         "a missing --out parent",
     );
+}
+
+fn text(path: &Path) -> &str {
+    path.to_str().expect("a UTF-8 path")
+}
+
+/// Runs `experiment identify` on the 2 mm wire, one trial, 2 and 3 samples, seed 5, gravity
+/// off, with the log saved, plus `extra`; returns the summary's body.
+fn identify(out: &Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "experiment",
+        "identify",
+        "--wire",
+        "nitinol-2mm-630",
+        "--trials",
+        "1",
+        "--samples",
+        "2,3",
+        "--gravity",
+        "off",
+        "--seed",
+        "5",
+        "--save-log",
+        "--out",
+        text(out),
+    ];
+    args.extend_from_slice(extra);
+    assert_success(&ftwire(&args), "experiment identify");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&fs::read(out.join("summary.json")).expect("a summary"))
+            .expect("JSON");
+    summary["summary"].clone()
+}
+
+/// The `a` of every record of a trial's log.
+fn logged_a(out: &Path) -> Vec<Vec<f64>> {
+    let log = out.join("logs").join("nitinol-2mm-630-trial0.jsonl");
+    fs::read_to_string(log)
+        .expect("the log")
+        .lines()
+        .map(|line| numbers(&serde_json::from_str::<serde_json::Value>(line).expect("JSON")["a"]))
+        .collect()
+}
+
+/// `ftwire identify --log` on the 3-sample log of trial 0 in the results folder `out` (seed
+/// 5) gives the live run's estimate and flag.
+fn assert_replay_gives_the_live_estimate(out: &Path) {
+    let log = out.join("logs").join("nitinol-2mm-630-trial0.jsonl");
+    assert_eq!(
+        fs::read_to_string(&log).expect("the log").lines().count(),
+        3,
+        "one record per sample"
+    );
+    let (live, identified) = live_row(out, "0", "3");
+    let replay = ftwire(&[
+        "identify",
+        "--log",
+        text(&log),
+        "--samples",
+        "3",
+        "--seed",
+        "5",
+        "--json",
+    ]);
+    // Exit 0 when identified, 1 when the estimate is flagged; either way it is printed.
+    let expected_code = if identified { 0 } else { 1 };
+    assert_eq!(
+        replay.status.code(),
+        Some(expected_code),
+        "{}",
+        String::from_utf8_lossy(&replay.stderr)
+    );
+    let answer = json(&replay);
+    assert_eq!(answer["identified"], identified);
+    let mut logged = numbers(&answer["c"]);
+    logged.push(answer["length"].as_f64().expect("a length"));
+    for (name, (l, r)) in ["c1", "c2", "c3", "L"].iter().zip(live.iter().zip(&logged)) {
+        // The log holds the samples at full precision but the pose as a rotation vector: a
+        // rounding-level change, which the fit does not amplify.
+        assert!((l - r).abs() <= 1e-6 * l.abs(), "{name}: live {l}, log {r}");
+    }
+}
+
+#[test]
+fn given_weights_are_used_recorded_and_replayed() {
+    let tmp = TempDir::new("given");
+    let cal = tmp.0.join("cal");
+    let output = ftwire(&[
+        "experiment",
+        "calibrate",
+        "--trials",
+        "40",
+        "--gravity",
+        "off",
+        "--out",
+        text(&cal),
+    ]);
+    assert_success(&output, "experiment calibrate");
+    let weights = cal.join("calibration.json");
+
+    let calibrated = tmp.0.join("calibrated");
+    let body = identify(&calibrated, &["--calibration", text(&weights)]);
+    assert_eq!(body["pipeline"], "calibrated");
+    assert_eq!(body["calibration"], text(&weights));
+    assert_eq!(body["by_samples"][1]["samples"], 3);
+    for key in ["mean", "std", "relative_error", "mean_abs_relative_error"] {
+        assert_eq!(numbers(&body["by_samples"][1][key]).len(), 4, "{key}");
+    }
+    assert!(body["by_samples"][1]["mean_abs_relative_error_identified"].is_array());
+    assert!(
+        !calibrated.join("calibration.json").exists(),
+        "given weights are not cached again"
+    );
+    let timings: serde_json::Value =
+        serde_json::from_slice(&fs::read(calibrated.join("timings.json")).expect("timings"))
+            .expect("JSON");
+    assert_eq!(timings["calibration_s"].as_f64(), Some(0.0));
+    assert_eq!(timings["identifications"].as_array().map(Vec::len), Some(2));
+
+    // The same seed reads the same raw samples: the two pipelines map them differently.
+    let mounting = tmp.0.join("mounting");
+    let body = identify(&mounting, &["--pipeline", "mounting"]);
+    assert_eq!(body["pipeline"], "mounting");
+    assert!(body["calibration"].is_null());
+    let (learnt, mounted) = (logged_a(&calibrated), logged_a(&mounting));
+    assert_eq!(learnt.len(), 3);
+    assert_eq!(mounted.len(), 3);
+    for (l, m) in learnt.iter().zip(&mounted) {
+        let difference = l
+            .iter()
+            .zip(m)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        let size = m.iter().map(|y| y.abs()).fold(0.0, f64::max);
+        assert!(
+            difference > 1e-6 * size,
+            "the calibration is applied: {l:?} against {m:?}"
+        );
+        // A calibration learnt on 40 samples is rough but not wild: within 20 % of the
+        // mounting pipeline's `ã` (whose own error is about 1 %).
+        assert!(difference < 0.2 * size, "{l:?} against {m:?}");
+    }
+
+    // The log holds the calibrated `ã`: replaying it gives the live estimate.
+    assert_replay_gives_the_live_estimate(&calibrated);
 }

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Subcommand};
+use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::SeedArgs;
 use ftwire::experiment::Gravity;
 use serde::Serialize;
@@ -67,9 +67,30 @@ pub struct IdentifyExperimentArgs {
     pub settings: crate::cli::identify::IdentifySettingsArgs,
     /// The simulated F/T sensor: `distorted` has the default gain, cross-talk and
     /// nonlinearity, which the tared, mounting-only pipeline leaves in `ã`; `undistorted`
-    /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives.
+    /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives,
+    /// so it goes with `--pipeline mounting` only.
     #[arg(long, value_enum, default_value_t = crate::cli::identify::SensorArg::Distorted)]
     pub sensor: crate::cli::identify::SensorArg,
+    /// How `ã` is computed from the tared reading.
+    #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
+    pub pipeline: IdentifyPipeline,
+    /// Learnt calibration weights (from `ftwire experiment calibrate`) for `--pipeline
+    /// calibrated`; without it, a calibration is first run on the default known wire (with
+    /// this run's `--gravity` and `--seed`) and cached in the results folder.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+}
+
+/// The F/T pipeline of `ftwire experiment identify`: how `ã` is computed from the tared reading.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IdentifyPipeline {
+    /// The learnt calibration network (`--calibration FILE`, or one run and cached first):
+    /// corrects the sensor's gain, cross-talk and nonlinearity (issue 13).
+    Calibrated,
+    /// The sensor's mounting transform only (no learnt correction): the sensor's gain error
+    /// and cross-talk of about 1 % stay in `ã`. For comparison.
+    Mounting,
 }
 
 /// `ftwire experiment calibrate`.

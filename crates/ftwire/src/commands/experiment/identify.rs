@@ -7,15 +7,21 @@
 //!    `[−5, 5]⁶`, stable for the true wire; [`place_wire`]) and the robot tares its sensor
 //!    before the pick-up ([`tare`]);
 //! 2. the second gripper follows the library's identification [`MotionPlan`] (seeded), and at
-//!    each rest the robot records `(ã, b̃)`: `ã` through the tared, mounting-only F/T pipeline
-//!    ([`measure`] with [`mounting`]; the learnt calibration is not applied here, so the
-//!    sensor's gain error and cross-talk of about 1 % stay in `ã`), `b̃` the believed pose;
+//!    each rest the robot records `(ã, b̃)`: `ã` from the tared reading ([`measure`]) through
+//!    the learnt calibration by default (`--pipeline calibrated`: `--calibration FILE`, or a
+//!    calibration run first on the known wire with this run's gravity and seed and cached as
+//!    `calibration.json`, [`load_or_run`]), or through the sensor's mounting only
+//!    (`--pipeline mounting`, [`mounting`]: the sensor's gain error and cross-talk of about
+//!    1 % stay in `ã`; for comparison, and with `--sensor undistorted` what a perfect
+//!    calibration gives); `b̃` the believed pose;
 //! 3. for every sample count `n` of `--samples`, `η` is identified from the first `n` samples
 //!    with the swarm seeded by `--seed` (a fresh generator per identification, as
 //!    `ftwire identify --log` does, so the log command reproduces each estimate).
 //!
 //! Results folder (`--out`, default `results/identify`):
-//! - `summary.json`: the run header, then `form`, `gravity`, `trials`, `sample_counts`;
+//! - `summary.json`: the run header, then `form`, `gravity`, `sensor`, `pipeline`
+//!   (`calibrated` or `mounting`), `calibration` (the `--calibration` path, `"cached"` when one
+//!   was run and cached, `null` for the mounting pipeline), `trials`, `sample_counts`;
 //!   `wires`: a list of `{wire: {name, c, length}, by_samples}`; and `wire` and `by_samples`
 //!   repeated at the top level for the first wire (issue 13's contract). Each `by_samples`
 //!   row is `{samples, estimated, identified, mean[4], std[4], relative_error[4],
@@ -34,7 +40,9 @@
 //!   `time_vs_samples.{png,svg}` (Fig. 4).
 //! - with `--save-log`, `logs/<wire>-trial<k>.jsonl`: each trial's records
 //!   `{time, a, b}` in the format of `ftwire_estimate::log`, with `a` the configuration as
-//!   identified from (tared, mounting only), `time` the rig's clock.
+//!   identified from (tared, through `--pipeline`), `time` the rig's clock.
+//! - `calibration.json`: the weights, when a calibration was run (no `--calibration`);
+//!   its time is `calibration_s` in `timings.json`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -42,11 +50,14 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use ftwire::error::{CliError, from_rod, from_sim};
 use ftwire::experiment::Gravity;
+use ftwire::experiment::calibration::{from_estimate, load_or_run};
 use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::wire::WireSpec;
 use ftwire_core::{Pose, Rig};
+use ftwire_estimate::calibration::Calibration;
+use ftwire_estimate::ft::{FtCalibration, FtPipeline};
 use ftwire_estimate::identify::{IdentifyConfig, MotionPlan};
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_report::{LineChart, Series};
@@ -57,7 +68,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use crate::cli::experiment::IdentifyExperimentArgs;
+use crate::cli::experiment::{IdentifyExperimentArgs, IdentifyPipeline};
 use crate::cli::identify::{FormArg, SensorArg};
 use crate::commands::identify::{flag_name, run_identification};
 
@@ -115,7 +126,7 @@ const PARAMETERS: [&str; 4] = ["c1", "c2", "c3", "L"];
 struct Recorded {
     /// The rig's clock \[s\].
     time: f64,
-    /// `ã` (tared, mounting only; torque first, base clamp frame).
+    /// `ã` (tared, through the pipeline; torque first, base clamp frame).
     a: Vector6<f64>,
     /// `b̃`, the believed second-gripper pose relative to the base clamp.
     b: Pose,
@@ -172,6 +183,9 @@ struct Summary<'a> {
     form: FormArg,
     gravity: Gravity,
     sensor: SensorArg,
+    pipeline: IdentifyPipeline,
+    /// The `--calibration` path, `"cached"` when one was run, `None` for the mounting pipeline.
+    calibration: Option<String>,
     trials: usize,
     sample_counts: &'a [usize],
     wire: &'a WireOut,
@@ -179,7 +193,16 @@ struct Summary<'a> {
     wires: &'a [WireResults],
 }
 
-/// One timing in `timings.json`.
+/// `timings.json`.
+#[derive(Debug, Serialize)]
+struct Timings<'a> {
+    /// The calibration run \[s\] (0 when loaded or not needed).
+    calibration_s: f64,
+    /// Every identification.
+    identifications: Vec<Timing<'a>>,
+}
+
+/// One identification's timing in `timings.json`.
 #[derive(Debug, Serialize)]
 struct Timing<'a> {
     wire: &'a str,
@@ -199,18 +222,41 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     }
     let counts = sample_counts(args.samples.as_deref())?;
     let config = args.settings.config()?;
+    check_pipeline(&args)?;
     let out = out_dir(args.common.out.as_deref())?;
     let folder = ResultsFolder::create(&out)?;
     let seed = args.common.seed.seed;
     let gravity = args.common.gravity;
     let recorded = counts.last().copied().unwrap_or(2);
+    let (learnt, calibration, calibration_s) = match args.pipeline {
+        IdentifyPipeline::Mounting => (None, None, 0.0),
+        IdentifyPipeline::Calibrated => {
+            if args.calibration.is_none() {
+                eprintln!("identify: no --calibration: calibrating on the known wire first");
+            }
+            let start = Instant::now();
+            let (learnt, _) = load_or_run(args.calibration.as_deref(), gravity, seed, |_| {})?;
+            match &args.calibration {
+                Some(path) => (Some(learnt), Some(path.display().to_string()), 0.0),
+                None => {
+                    let seconds = start.elapsed().as_secs_f64();
+                    let json = learnt
+                        .to_json()
+                        .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
+                    folder.write("calibration.json", json)?;
+                    (Some(learnt), Some("cached".to_owned()), seconds)
+                }
+            }
+        }
+    };
+    let map = learnt.as_ref().map_or(Map::Mounting, Map::Learnt);
 
     let mut rows = Vec::new();
     let mut logs = Vec::new();
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
-            let samples = record_trial(wire, gravity, args.sensor, seed, stream, recorded)
+            let samples = record_trial(wire, gravity, args.sensor, map, seed, stream, recorded)
                 .map_err(|e| e.context(format!("wire {} trial {trial}", wire.name)))?;
             let line = identify_trial(&samples, &counts, &config, seed, w, trial, &mut rows);
             eprintln!("identify: {} trial {trial}: {line}", wire.name);
@@ -248,21 +294,26 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         form: args.settings.form,
         gravity,
         sensor: args.sensor,
+        pipeline: args.pipeline,
+        calibration,
         trials,
         sample_counts: &counts,
         wire: &first.wire,
         by_samples: &first.by_samples,
         wires: &results,
     };
-    let timings: Vec<Timing> = rows
-        .iter()
-        .map(|r| Timing {
-            wire: &wires[r.wire].name,
-            trial: r.trial,
-            samples: r.samples,
-            compute_ms: r.compute_ms,
-        })
-        .collect();
+    let timings = Timings {
+        calibration_s,
+        identifications: rows
+            .iter()
+            .map(|r| Timing {
+                wire: &wires[r.wire].name,
+                trial: r.trial,
+                samples: r.samples,
+                compute_ms: r.compute_ms,
+            })
+            .collect(),
+    };
     folder.write("identify.csv", csv(&wires, &rows))?;
     folder.write_json("timings.json", &timings)?;
     write_figures(&folder, &results)?;
@@ -273,6 +324,34 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     }
     print!("{}", table(&summary, &target));
     Ok(())
+}
+
+/// `--pipeline` against `--sensor` and `--calibration`: the undistorted sensor is what a
+/// perfect calibration gives, so a learnt one on top of it is not meant; weights given to the
+/// mounting pipeline would be silently unused.
+fn check_pipeline(args: &IdentifyExperimentArgs) -> Result<(), CliError> {
+    match args.pipeline {
+        IdentifyPipeline::Calibrated if args.sensor == SensorArg::Undistorted => {
+            Err(CliError::bad_input(
+                "--sensor undistorted already removes what the calibration learns (and the \
+                 calibration is learnt on the distorted sensor): use it with --pipeline mounting",
+            ))
+        }
+        IdentifyPipeline::Mounting if args.calibration.is_some() => Err(CliError::bad_input(
+            "--calibration is for --pipeline calibrated; --pipeline mounting uses no weights",
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The map from the tared reading to `ã`: the sensor's mounting (built per trial from the
+/// rig's configuration), or the learnt calibration.
+#[derive(Debug, Clone, Copy)]
+enum Map<'a> {
+    /// `--pipeline mounting`.
+    Mounting,
+    /// `--pipeline calibrated`.
+    Learnt(&'a Calibration),
 }
 
 /// The wires: `--wire`, or Table I's.
@@ -323,6 +402,7 @@ fn record_trial(
     wire: &WireSpec,
     gravity: Gravity,
     sensor: SensorArg,
+    map: Map<'_>,
     seed: u64,
     stream: u64,
     count: usize,
@@ -355,7 +435,7 @@ fn record_trial(
             moves: count - 1,
             ..MotionPlan::default()
         };
-        match follow_plan(wire, gravity, &a0, config, &plan, &mut rng) {
+        match follow_plan(wire, gravity, &a0, config, map, &plan, &mut rng) {
             Ok(samples) => return Ok(samples),
             Err(e) if e.exit_code() == ftwire::error::EXIT_NO_ANSWER => last = e,
             Err(e) => return Err(e),
@@ -377,21 +457,36 @@ fn sensor_config(sensor: SensorArg) -> FtSensorConfig {
     }
 }
 
-/// One attempt of a trial from `a0`.
+/// One attempt of a trial from `a0`: places the wire, tares, and follows the plan through
+/// `map`.
 fn follow_plan(
     wire: &WireSpec,
     gravity: Gravity,
     a0: &Vector6<f64>,
     config: RigConfig,
+    map: Map<'_>,
     plan: &MotionPlan,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<Recorded>, CliError> {
     let mut rig = place_wire(wire, gravity, a0, config.clone())?;
-    let pipeline = pipeline(tare(&mut rig)?, mounting(&config)?)?;
-    let b0 = believed_tip(&rig)?;
+    let tared = tare(&mut rig)?;
+    match map {
+        Map::Mounting => follow(&mut rig, &pipeline(tared, mounting(&config)?)?, plan, rng),
+        Map::Learnt(learnt) => follow(&mut rig, &pipeline(tared, learnt.clone())?, plan, rng),
+    }
+}
+
+/// Records the sample at the current rest, then one after each move of the plan.
+fn follow<C: FtCalibration>(
+    rig: &mut SimRig,
+    pipeline: &FtPipeline<C>,
+    plan: &MotionPlan,
+    rng: &mut ChaCha8Rng,
+) -> Result<Vec<Recorded>, CliError> {
+    let b0 = believed_tip(rig)?;
     let poses = plan.poses(&b0, rng);
     let mut samples = Vec::with_capacity(poses.len() + 1);
-    samples.push(record(&mut rig, &pipeline)?);
+    samples.push(record(rig, pipeline)?);
     for b in poses {
         let base = rig
             .gripper_poses()
@@ -399,15 +494,15 @@ fn follow_plan(
             .base;
         rig.move_tip(base * b)
             .map_err(|e| from_sim(e, "moving the second gripper"))?;
-        samples.push(record(&mut rig, &pipeline)?);
+        samples.push(record(rig, pipeline)?);
     }
     Ok(samples)
 }
 
 /// One sample at the rig's current rest.
-fn record(
+fn record<C: FtCalibration>(
     rig: &mut SimRig,
-    pipeline: &ftwire_estimate::ft::FtPipeline<ftwire_estimate::ft::Mounting>,
+    pipeline: &FtPipeline<C>,
 ) -> Result<Recorded, CliError> {
     let a = measure(rig, pipeline)?.a;
     Ok(Recorded {
@@ -708,9 +803,15 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
-        "identify: gravity {:?}, {:?} sensor, {:?} residual, {} trials; results in {}",
+        "identify: gravity {:?}, {:?} sensor, {:?} pipeline{}, {:?} residual, {} trials; \
+         results in {}",
         summary.gravity,
         summary.sensor,
+        summary.pipeline,
+        summary
+            .calibration
+            .as_ref()
+            .map_or_else(String::new, |c| format!(" ({c})")),
         summary.form,
         summary.trials,
         target.display()
