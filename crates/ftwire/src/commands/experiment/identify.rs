@@ -48,9 +48,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
-use ftwire::error::{CliError, from_rod, from_sim};
+use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::Gravity;
-use ftwire::experiment::calibration::{from_estimate, load_or_run};
+use ftwire::experiment::calibration::load_or_run;
 use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
