@@ -37,7 +37,8 @@ pub struct CommonExperimentArgs {
     /// The seed of every random choice.
     #[command(flatten)]
     pub seed: SeedArgs,
-    /// Number of trials (each experiment has its own default, the paper's).
+    /// Number of trials; for `calibrate`, the configurations visited (each experiment has its own
+    /// default, the paper's where it gives one).
     #[arg(long)]
     pub trials: Option<usize>,
     /// Results folder [default: results/<id>].
