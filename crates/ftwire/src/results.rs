@@ -91,21 +91,36 @@ impl ResultsFolder {
         &self.target
     }
 
-    /// Writes a file `name` (e.g. `"samples.csv"`) into the folder.
+    /// Writes a file `name` into the folder: a file name (`"samples.csv"`) or a relative path
+    /// in a sub-folder (`"logs/trial0.jsonl"`), whose folders are created.
     ///
     /// # Errors
-    /// Bad input if `name` is not a plain file name; [`CliError::Io`] if writing fails.
+    /// Bad input if `name` is empty, absolute, leaves the folder (`..`), or is `summary.json`;
+    /// [`CliError::Io`] if writing fails.
     pub fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> Result<(), CliError> {
-        let plain = Path::new(name)
-            .file_name()
-            .is_some_and(|n| n == std::ffi::OsStr::new(name));
-        if !plain || name == "summary.json" {
+        let path = Path::new(name);
+        let inside = !name.is_empty()
+            && path
+                .components()
+                .all(|c| matches!(c, std::path::Component::Normal(_)));
+        if !inside || name == "summary.json" {
             return Err(CliError::bad_input(format!(
-                "results file name {name:?} must be a plain file name other than summary.json"
+                "results file name {name:?} must be a relative path inside the results folder, \
+                 other than summary.json"
             )));
         }
-        fs::write(self.staging.join(name), contents)
-            .map_err(|e| CliError::io(format!("writing {name} for {}", self.target.display()), e))
+        let file = self.staging.join(path);
+        let context = || format!("writing {name} for {}", self.target.display());
+        if let Some(parent) = file.parent() {
+            fs::create_dir_all(parent).map_err(|e| CliError::io(context(), e))?;
+        }
+        fs::write(file, contents).map_err(|e| CliError::io(context(), e))
+    }
+
+    /// The folder the files are written into until [`ResultsFolder::finish`] moves it into
+    /// place: for writers that take a folder (figures). Write nothing named `summary.json`.
+    pub fn dir(&self) -> &Path {
+        &self.staging
     }
 
     /// Writes `value` as pretty JSON into the file `name`.
@@ -213,11 +228,22 @@ mod tests {
         let header = RunHeader::new("test", Some(3), &serde_json::json!({"k": 1})).expect("header");
         let folder = ResultsFolder::create(&target).expect("creates");
         folder.write("samples.csv", "a,b\n1,2\n").expect("writes");
+        folder
+            .write("logs/trial0.jsonl", "{}\n")
+            .expect("writes in a sub-folder");
+        fs::write(folder.dir().join("figure.svg"), "<svg/>").expect("writes into dir()");
         assert!(!target.exists(), "nothing appears before finish");
         folder
             .finish(&header, &serde_json::json!({"ok": true}))
             .expect("finishes");
-        assert_eq!(entries(&target), ["samples.csv", "summary.json"]);
+        assert_eq!(
+            entries(&target),
+            ["figure.svg", "logs", "samples.csv", "summary.json"]
+        );
+        assert_eq!(
+            fs::read_to_string(target.join("logs/trial0.jsonl")).expect("reads"),
+            "{}\n"
+        );
         let summary: serde_json::Value =
             serde_json::from_slice(&fs::read(target.join("summary.json")).expect("reads"))
                 .expect("json");
@@ -228,7 +254,10 @@ mod tests {
         // A second run replaces the folder; an unfinished third leaves it as it was.
         let folder = ResultsFolder::create(&target).expect("creates");
         folder.write_json("other.json", &[1, 2]).expect("writes");
-        assert_eq!(entries(&target), ["samples.csv", "summary.json"]);
+        assert_eq!(
+            entries(&target),
+            ["figure.svg", "logs", "samples.csv", "summary.json"]
+        );
         folder.finish(&header, &2).expect("finishes");
         assert_eq!(entries(&target), ["other.json", "summary.json"]);
         let unfinished = ResultsFolder::create(&target).expect("creates");
@@ -256,7 +285,13 @@ mod tests {
         let e = ResultsFolder::create(&file.join("run")).expect_err("parent is a file");
         assert_eq!(e.exit_code(), 2);
         let folder = ResultsFolder::create(&tmp.0.join("ok")).expect("creates");
-        for bad in ["../escape.csv", "summary.json", "a/b.csv"] {
+        for bad in [
+            "../escape.csv",
+            "summary.json",
+            "a/../../b.csv",
+            "/abs.csv",
+            "",
+        ] {
             assert_eq!(folder.write(bad, "x").map_err(|e| e.exit_code()), Err(2));
         }
     }

@@ -46,7 +46,7 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::{Instant, SystemTime, UNIX_EPOCH};
+use std::time::Instant;
 
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::Gravity;
@@ -252,7 +252,6 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     let map = learnt.as_ref().map_or(Map::Mounting, Map::Learnt);
 
     let mut rows = Vec::new();
-    let mut logs = Vec::new();
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
@@ -261,7 +260,10 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
             let line = identify_trial(&samples, &counts, &config, seed, w, trial, &mut rows);
             eprintln!("identify: {} trial {trial}: {line}", wire.name);
             if args.save_log {
-                logs.push((log_name(&wire.name, trial), log_text(&samples)?));
+                folder.write(
+                    &format!("logs/{}", log_name(&wire.name, trial)),
+                    log_text(&samples)?,
+                )?;
             }
         }
     }
@@ -319,9 +321,6 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     write_figures(&folder, &results)?;
     let header = RunHeader::new("experiment identify", Some(seed), &args)?;
     let target = folder.finish(&header, &summary)?;
-    if !logs.is_empty() {
-        write_logs(&target, &logs)?;
-    }
     print!("{}", table(&summary, &target));
     Ok(())
 }
@@ -669,7 +668,7 @@ fn csv(wires: &[WireSpec], rows: &[Row]) -> String {
     text
 }
 
-/// Figs. 3 and 4 into the results folder (rendered in a temporary folder, then copied).
+/// Figs. 3 and 4 into the results folder.
 fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), CliError> {
     let mut charts = Vec::new();
     let mut time = LineChart::new(
@@ -707,40 +706,11 @@ fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), 
         time = time.with_series(Series::line_points(result.wire.name.clone(), points));
     }
     charts.push((time, "time_vs_samples".to_owned()));
-    let nanos = SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map(|d| d.as_nanos())
-        .unwrap_or(0);
-    let scratch =
-        std::env::temp_dir().join(format!("ftwire-identify-{}-{nanos}", std::process::id()));
-    std::fs::create_dir_all(&scratch)
-        .map_err(|e| CliError::io(format!("creating {}", scratch.display()), e))?;
-    let written = copy_figures(folder, &scratch, &charts);
-    let _ = std::fs::remove_dir_all(&scratch);
-    written
-}
-
-/// Renders each chart into `scratch` and writes its files into the folder.
-fn copy_figures(
-    folder: &ResultsFolder,
-    scratch: &Path,
-    charts: &[(LineChart, String)],
-) -> Result<(), CliError> {
-    for (chart, stem) in charts {
-        let files = match chart.write(scratch, stem) {
-            Ok(files) => files,
+    for (chart, stem) in &charts {
+        match chart.write(folder.dir(), stem) {
             // A figure without a drawable point (every estimate failed) is left out.
-            Err(ftwire_report::ReportError::Empty { .. }) => continue,
+            Ok(_) | Err(ftwire_report::ReportError::Empty { .. }) => {}
             Err(e) => return Err(CliError::no_answer(format!("drawing {stem}: {e}"))),
-        };
-        for file in files {
-            let bytes = std::fs::read(&file)
-                .map_err(|e| CliError::io(format!("reading {}", file.display()), e))?;
-            let name = file
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            folder.write(&name, bytes)?;
         }
     }
     Ok(())
@@ -781,20 +751,6 @@ fn log_text(samples: &[Recorded]) -> Result<String, CliError> {
         text.push('\n');
     }
     Ok(text)
-}
-
-/// Writes the logs into `target/logs/` (after the folder is in place: the results folder takes
-/// plain file names only).
-fn write_logs(target: &Path, logs: &[(String, String)]) -> Result<(), CliError> {
-    let dir = target.join("logs");
-    std::fs::create_dir_all(&dir)
-        .map_err(|e| CliError::io(format!("creating {}", dir.display()), e))?;
-    for (name, text) in logs {
-        let path = dir.join(name);
-        std::fs::write(&path, text)
-            .map_err(|e| CliError::io(format!("writing {}", path.display()), e))?;
-    }
-    Ok(())
 }
 
 /// The printed table: per wire, the 3-sample row (or the smallest count) beside Table I, and

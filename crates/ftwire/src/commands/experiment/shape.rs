@@ -114,28 +114,15 @@ fn median(values: &mut [f64]) -> f64 {
     }
 }
 
-/// Writes a figure through a temporary folder into the results folder (which takes files by
-/// name only).
+/// Writes a figure into the results folder.
 fn write_figure(
     folder: &ResultsFolder,
     stem: &str,
     draw: impl FnOnce(&Path) -> Result<Vec<PathBuf>, ftwire_report::ReportError>,
 ) -> Result<(), CliError> {
-    let tmp = std::env::temp_dir().join(format!("ftwire-fig-{}-{stem}", std::process::id()));
-    std::fs::create_dir_all(&tmp).map_err(|e| CliError::io("a temporary figure folder", e))?;
-    let written = draw(&tmp).map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")));
-    let result = written.and_then(|paths| {
-        paths.iter().try_for_each(|path| {
-            let bytes = std::fs::read(path).map_err(|e| CliError::io("reading a figure", e))?;
-            let name = path
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            folder.write(&name, bytes)
-        })
-    });
-    let _ = std::fs::remove_dir_all(&tmp);
-    result
+    draw(folder.dir())
+        .map(|_| ())
+        .map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")))
 }
 
 /// Runs one configuration `k` of `wire` at `placed`.
@@ -400,15 +387,12 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         chart.write(dir, "error_per_wire")
     })?;
     let summary = ShapeSummary { wires: results };
-    let target = folder.finish(&header, &summary)?;
     if args.save_log {
-        let dir = target.join("logs");
-        std::fs::create_dir_all(&dir).map_err(|e| CliError::io("creating logs/", e))?;
         for (name, log) in &logs {
-            std::fs::write(dir.join(format!("{name}.jsonl")), log)
-                .map_err(|e| CliError::io(format!("writing logs/{name}.jsonl"), e))?;
+            folder.write(&format!("logs/{name}.jsonl"), log)?;
         }
     }
+    let target = folder.finish(&header, &summary)?;
     println!(
         "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>8} {:>9}",
         "wire", "configs", "mean_mm", "std_mm", "marker_mm", "mounting", "est_us", "Table II"
