@@ -15,7 +15,7 @@ mod cli_support;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use cli_support::{assert_exit, assert_success, ftwire, json, numbers};
+use cli_support::{assert_exit, assert_success, ftwire, json, numbers, tiny_calibration};
 
 /// A fresh folder under the system's temporary folder, removed on drop.
 struct TempDir(PathBuf);
@@ -334,19 +334,7 @@ fn assert_replay_gives_the_live_estimate(out: &Path) {
 #[test]
 fn given_weights_are_used_recorded_and_replayed() {
     let tmp = TempDir::new("given");
-    let cal = tmp.0.join("cal");
-    let output = ftwire(&[
-        "experiment",
-        "calibrate",
-        "--trials",
-        "40",
-        "--gravity",
-        "off",
-        "--out",
-        text(&cal),
-    ]);
-    assert_success(&output, "experiment calibrate");
-    let weights = cal.join("calibration.json");
+    let weights = tiny_calibration(&tmp.0);
 
     let calibrated = tmp.0.join("calibrated");
     let body = identify(&calibrated, &["--calibration", text(&weights)]);

@@ -6,7 +6,7 @@ mod cli_support;
 
 use std::path::{Path, PathBuf};
 
-use cli_support::{assert_exit, assert_success, ftwire};
+use cli_support::{assert_exit, assert_success, ftwire, tiny_calibration};
 
 struct TempDir(PathBuf);
 
@@ -31,19 +31,7 @@ fn text(path: &Path) -> &str {
 #[test]
 fn a_saved_log_gives_the_live_runs_answer() -> Result<(), Box<dyn std::error::Error>> {
     let tmp = TempDir::new("log");
-    let cal = tmp.0.join("cal");
-    let output = ftwire(&[
-        "experiment",
-        "calibrate",
-        "--trials",
-        "40",
-        "--gravity",
-        "off",
-        "--out",
-        text(&cal),
-    ]);
-    assert_success(&output, "experiment calibrate");
-    let weights = cal.join("calibration.json");
+    let weights = tiny_calibration(&tmp.0);
     let live = tmp.0.join("live");
     let output = ftwire(&[
         "experiment",

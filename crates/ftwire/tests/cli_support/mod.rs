@@ -75,3 +75,23 @@ pub fn both_forms(option: &str, value: &str) -> [Vec<String>; 2] {
         vec![format!("{option}={value}")],
     ]
 }
+
+/// Runs a small calibration (`ftwire experiment calibrate`, 40 configurations, gravity off)
+/// into `dir/cal` and returns the path of its weights, `dir/cal/calibration.json`: enough for a
+/// test that needs learnt weights, in a few seconds.
+pub fn tiny_calibration(dir: &std::path::Path) -> std::path::PathBuf {
+    let cal = dir.join("cal");
+    let out = cal.to_str().expect("a UTF-8 path");
+    let output = ftwire(&[
+        "experiment",
+        "calibrate",
+        "--trials",
+        "40",
+        "--gravity",
+        "off",
+        "--out",
+        out,
+    ]);
+    assert_success(&output, "experiment calibrate");
+    cal.join("calibration.json")
+}
