@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use ftwire::error::CliError;
+
 use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::SeedArgs;
 use ftwire::experiment::Gravity;
@@ -47,6 +49,24 @@ pub struct CommonExperimentArgs {
     /// Gravity in the simulated world.
     #[arg(long, value_enum, default_value_t = Gravity::On)]
     pub gravity: Gravity,
+}
+
+impl CommonExperimentArgs {
+    /// The results folder: `--out`, or `results/<id>` (creating `results/` in the working
+    /// folder when it is missing; a given `--out` must have an existing parent).
+    ///
+    /// # Errors
+    /// [`CliError::Io`] when `results/` cannot be created.
+    pub fn out_dir(&self, id: &str) -> Result<PathBuf, CliError> {
+        match &self.out {
+            Some(out) => Ok(out.clone()),
+            None => {
+                std::fs::create_dir_all("results")
+                    .map_err(|e| CliError::io("creating the folder results", e))?;
+                Ok(PathBuf::from("results").join(id))
+            }
+        }
+    }
 }
 
 /// `ftwire experiment identify`.

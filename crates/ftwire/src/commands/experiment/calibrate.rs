@@ -8,7 +8,6 @@
 //! `--calibration` loads), `samples.csv` (one row per configuration) and `timings.json`.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
 use ftwire::error::{CliError, from_estimate};
 use ftwire::experiment::calibration::{DEFAULT_SAMPLES, KNOWN_WIRE, run as calibrate};
@@ -24,14 +23,7 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
     let wire_name = common.wire.clone().unwrap_or_else(|| KNOWN_WIRE.to_owned());
     let wire = WireSpec::load(&wire_name).map_err(|e| CliError::bad_input(e.to_string()))?;
     let count = common.trials.unwrap_or(DEFAULT_SAMPLES);
-    let out = match &common.out {
-        Some(out) => out.clone(),
-        None => {
-            std::fs::create_dir_all("results")
-                .map_err(|e| CliError::io("creating the folder results", e))?;
-            PathBuf::from("results/calibrate")
-        }
-    };
+    let out = common.out_dir("calibrate")?;
     let folder = ResultsFolder::create(&out)?;
     let header = RunHeader::new("experiment calibrate", Some(common.seed.seed), &args)?;
     eprintln!(

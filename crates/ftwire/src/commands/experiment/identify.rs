@@ -45,7 +45,7 @@
 //!   its time is `calibration_s` in `timings.json`.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
@@ -223,7 +223,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     let counts = sample_counts(args.samples.as_deref())?;
     let config = args.settings.config()?;
     check_pipeline(&args)?;
-    let out = out_dir(args.common.out.as_deref())?;
+    let out = args.common.out_dir("identify")?;
     let folder = ResultsFolder::create(&out)?;
     let seed = args.common.seed.seed;
     let gravity = args.common.gravity;
@@ -380,18 +380,6 @@ fn sample_counts(given: Option<&[usize]>) -> Result<Vec<usize>, CliError> {
     counts.sort_unstable();
     counts.dedup();
     Ok(counts)
-}
-
-/// `--out`, or `results/identify` (whose parent is created).
-fn out_dir(given: Option<&Path>) -> Result<PathBuf, CliError> {
-    match given {
-        Some(path) => Ok(path.to_path_buf()),
-        None => {
-            std::fs::create_dir_all("results")
-                .map_err(|e| CliError::bad_input(format!("cannot create results/: {e}")))?;
-            Ok(PathBuf::from("results/identify"))
-        }
-    }
 }
 
 /// Places the wire, tares, follows the motion plan, and records `count` samples (the start

@@ -226,14 +226,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     if configs == 0 {
         return Err(CliError::bad_input("--configs 0: give at least 1"));
     }
-    let out = match &common.out {
-        Some(out) => out.clone(),
-        None => {
-            std::fs::create_dir_all("results")
-                .map_err(|e| CliError::io("creating the folder results", e))?;
-            PathBuf::from("results/shape")
-        }
-    };
+    let out = common.out_dir("shape")?;
     let folder = ResultsFolder::create(&out)?;
     let header = RunHeader::new("experiment shape", Some(seed), &args)?;
     if args.calibration.is_none() {
