@@ -27,6 +27,7 @@ fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
                 form: ResidualForm::Absolute,
                 weights,
                 constraints,
+                whitening: None,
             };
             let wire = model.wire();
             let theta = constraints.theta(wire.c(), wire.length());
@@ -58,6 +59,55 @@ fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
                 "seed {seed}: steps 1e-4 and 1e-5 differ by {gap:.1e}"
             );
         }
+    }
+    Ok(())
+}
+
+/// The whitening of each residual turns the covariance the noise model predicts into the
+/// identity: `L_i⁻¹ W (Σ_b + J_i Σ_a J_iᵀ) W L_i⁻ᵀ = I`, with `J_i` solved here independently.
+#[test]
+fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<(), EstimateError> {
+    let noise = ftwire_estimate::identify::NoiseModel::default();
+    for model in [thick()?, thin()?] {
+        let data = samples(&model, 700, 3, 0.5, None)?;
+        let samples: Vec<Sample> = data
+            .iter()
+            .enumerate()
+            .map(|(i, (a, b))| Sample::new(i, *a, *b))
+            .collect::<Result<_, _>>()?;
+        let constraints = ParameterConstraints::default();
+        let weights = Weights { length_scale: 0.5 };
+        let residuals = Residuals {
+            model: &model,
+            samples: &samples,
+            form: ResidualForm::Absolute,
+            weights,
+            constraints,
+            whitening: None,
+        };
+        let wire = model.wire();
+        let theta = constraints.theta(wire.c(), wire.length());
+        let whitening = residuals.whitening(&theta, &noise)?;
+        assert_eq!(whitening.len(), samples.len());
+        let w = weights.matrix();
+        for (white, s) in whitening.iter().zip(&samples) {
+            let j = model.jacobian(&s.a)?.jacobian;
+            let cov =
+                w * (noise.pose_covariance() + j * noise.wrench_covariance() * j.transpose()) * w;
+            let identity = white * cov * white.transpose();
+            let gap = (identity - nalgebra::Matrix6::identity()).amax();
+            assert!(
+                gap < 1e-9,
+                "whitened covariance off the identity by {gap:.1e}"
+            );
+        }
+        // χ² is the whitened cost.
+        let whitened = Residuals {
+            whitening: Some(&whitening),
+            ..residuals
+        };
+        let chi2 = residuals.chi_squared(&theta, &noise)?;
+        assert!((chi2 - whitened.cost(&theta)).abs() <= 1e-12 * chi2.max(1e-300));
     }
     Ok(())
 }

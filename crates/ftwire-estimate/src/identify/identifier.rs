@@ -10,7 +10,10 @@
 //!    the lowest cost wins, and is checked for identifiability ([`Estimate`]);
 //! 3. **retry**: if that fit is far above the noise or on the box's edge (the wrong basin),
 //!    half the swarm is re-injected at random and steps 1–2 run again, up to
-//!    [`IdentifyConfig::search_rounds`] rounds; the best fit is kept.
+//!    [`IdentifyConfig::search_rounds`] rounds; the best fit is kept;
+//! 4. **polish**: Levenberg–Marquardt from the best fit on the residuals whitened by the
+//!    noise's predicted covariance (generalised least squares, [`super::residual`]), which
+//!    the fixed weighting of steps 1–3 only approximates.
 //!
 //! Why two stages: in the full 4-D box, `c_i ∈ [1e-3, 5]`, the absolute residual is rugged
 //! along `c1` (a tiny torsional stiffness spins the wire about its axis), and a 20-particle
@@ -66,8 +69,12 @@ pub struct IdentifyConfig {
     /// at random and the swarm runs [`IdentifyConfig::swarm_iterations`] more before refining
     /// again; the best fit of all rounds is kept.
     pub search_rounds: usize,
-    /// The measurement noise, to test the final fit (default [`NoiseModel::default`]).
+    /// The measurement noise, to whiten the residuals of the final polish and to test the final
+    /// fit (default [`NoiseModel::default`]).
     pub noise: NoiseModel,
+    /// Whether the search's best fit is polished on the noise-whitened residuals (step 4 of
+    /// [`super::identifier`]; default `true`).
+    pub polish: bool,
     /// The smallest motion of the second gripper accepted, in noise standard deviations of the
     /// largest pose component (default `10`).
     pub min_motion: f64,
@@ -93,6 +100,7 @@ impl Default for IdentifyConfig {
             refine_starts: 3,
             search_rounds: 3,
             noise: NoiseModel::default(),
+            polish: true,
             min_motion: 10.0,
             max_chi2_per_dof: 25.0,
             min_condition: 1e-4,
@@ -378,6 +386,7 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             form: self.config.form,
             weights: space.weights,
             constraints,
+            whitening: None,
         };
         let (fine_residuals, coarse_residuals) = (residuals(full), residuals(coarse));
         let cost = |theta: &[f64]| coarse_residuals.cost(theta);
@@ -477,6 +486,11 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             );
             if !retry || self.round + 1 >= self.config.search_rounds {
                 self.swarm = Some(swarm);
+                let polished = self
+                    .config
+                    .polish
+                    .then(|| self.polish(&fine_residuals, best, &space, total));
+                let estimate = polished.flatten().unwrap_or(estimate);
                 self.refined = Some(estimate);
                 return Ok(estimate);
             }
@@ -496,6 +510,59 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             isotropic: true,
             torsion_ratio: k.torsion_ratio.or(Some(self.config.coarse_torsion_ratio)),
         }
+    }
+
+    /// Step 4 of the driver: Levenberg–Marquardt on the noise-whitened residuals from the
+    /// search's best fit (generalised least squares, see [`super::residual`]), and the
+    /// estimate there. `None` when the whitening cannot be computed at the best fit (the model
+    /// fails at a sample), or the polish ends at a higher `χ²` (never expected: it starts from
+    /// the best fit and only accepts steps that lower its cost); the caller keeps the
+    /// unpolished estimate then.
+    fn polish(
+        &self,
+        fine: &Residuals<'_, M>,
+        best: &Refined,
+        space: &SearchSpace,
+        evaluations: usize,
+    ) -> Option<Estimate> {
+        let noise = &self.config.noise;
+        let whitening = fine.whitening(&best.theta, noise).ok()?;
+        let whitened = Residuals {
+            whitening: Some(&whitening),
+            ..*fine
+        };
+        let residual = |theta: &[f64]| whitened.evaluate(theta);
+        let polished =
+            self.config
+                .refine
+                .minimise(&residual, &best.theta, &space.lower, &space.upper);
+        let before = fine.chi_squared(&best.theta, noise).ok()?;
+        let after = fine.chi_squared(&polished.theta, noise).ok()?;
+        if after > before {
+            return None;
+        }
+        // Judge the polished fit exactly as the unpolished one: the fixed weighting's cost and
+        // Jacobian (its conditioning threshold is in those units), at the polished θ.
+        let unwhitened = |theta: &[f64]| fine.evaluate(theta);
+        let residual = unwhitened(&polished.theta);
+        let jacobian = LevenbergMarquardt::jacobian(
+            &unwhitened,
+            &polished.theta,
+            &space.lower,
+            &space.upper,
+            self.config.refine.fd_step,
+            residual.len(),
+        );
+        let judged = Refined {
+            cost: residual.norm_squared(),
+            residual,
+            jacobian,
+            theta: polished.theta,
+            iterations: polished.iterations,
+            evaluations: polished.evaluations + 1 + 2 * space.lower.len(),
+        };
+        let total = evaluations + judged.evaluations;
+        self.assess(fine, &judged, space, total).ok()
     }
 
     /// The estimate at a refined optimum: uncertainty and identifiability.
