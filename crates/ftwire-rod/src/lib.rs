@@ -10,6 +10,8 @@
 //! - [`rod`]: [`Rod`], the entry point: [`Rod::solve`], [`Rod::shape`], [`Rod::jacobian`],
 //!   [`Rod::is_stable`], [`Rod::tip`]. The flat states and hot right-hand sides it integrates
 //!   are in the private `kirchhoff` module.
+//! - [`load`]: [`Load`], a distributed weight and rest strains, and the derivation of the
+//!   loaded equations (the loaded solver is the private `loaded` module).
 //! - [`stability`]: the `det J` sign test and the first-step pitfall.
 //! - [`intersection`]: self-contact of the centreline.
 //! - [`perturbation`]: the perturbation map of paper eq. 8–11.
@@ -26,6 +28,8 @@ mod hermite;
 pub mod integrator;
 pub mod intersection;
 mod kirchhoff;
+pub mod load;
+mod loaded;
 pub mod perturbation;
 pub mod rod;
 pub mod sampling;
@@ -41,5 +45,6 @@ pub use error::RodError;
 pub use ftwire_core::{CoreError, Pose, WireParams};
 pub use integrator::{Integrator, Method};
 pub use intersection::{Contact, segment_distance, self_contact};
+pub use load::Load;
 pub use rod::{DEFAULT_NODES, JacobianSolution, Rod, Shape, Solution};
 pub use stability::Stability;

@@ -21,7 +21,7 @@ use crate::kirchhoff::{
     frame_of, jacobian_determinant, jacobian_of, shape_initial,
 };
 use crate::stability::{SignTracker, Stability};
-use crate::{RodError, validate_configuration};
+use crate::{Load, RodError, validate_configuration};
 
 /// Default number of shape nodes (both ends included).
 pub const DEFAULT_NODES: usize = 64;
@@ -35,6 +35,7 @@ pub const MAX_NODES: usize = 1_000_000;
 pub struct Rod {
     wire: WireParams,
     integrator: Integrator,
+    load: Load,
 }
 
 /// The wire's shape at `N` nodes uniformly spaced in arc length from `t = 0` to `t = L`.
@@ -134,7 +135,33 @@ impl Rod {
         Self {
             wire,
             integrator: Integrator::default(),
+            load: Load::none(),
         }
+    }
+
+    /// The same rod under a distributed load (weight per length, rest strains; see
+    /// [`crate::load`]). Every solve honours it; with [`Load::none`] (the default) the
+    /// unloaded solver runs, bit for bit as without this call.
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::{Vector3, Vector6};
+    /// use ftwire_rod::{Load, Rod, WireParams};
+    /// let rod = Rod::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
+    /// let a = Vector6::new(0.0, 0.0, 0.01, 0.0, 0.0, 0.0);
+    /// assert_eq!(rod.with_load(Load::none()).solve(&a, 16)?, rod.solve(&a, 16)?);
+    /// let bent = Load::none().with_natural_curvature(Vector3::new(0.0, 0.0, 1.0))?;
+    /// assert!(rod.with_load(bent).tip(&a)?.translation.y > rod.tip(&a)?.translation.y);
+    /// # Ok::<(), ftwire_rod::RodError>(())
+    /// ```
+    #[must_use]
+    pub fn with_load(self, load: Load) -> Self {
+        Self { load, ..self }
+    }
+
+    /// The distributed load ([`Load::none`] unless set by [`Rod::with_load`]).
+    pub fn load(&self) -> &Load {
+        &self.load
     }
 
     /// The same rod with other integration settings.
@@ -170,6 +197,9 @@ impl Rod {
     /// # Errors
     /// As [`Rod::solve`].
     pub fn steps_for_configuration(&self, a: &Vector6<f64>) -> Result<usize, RodError> {
+        if !self.load.is_none() {
+            return self.loaded_steps(a);
+        }
         Ok(self.steps_for(&self.model(a)?))
     }
 
@@ -379,9 +409,9 @@ impl Rod {
     /// fewer were asked for.
     ///
     /// # Errors
-    /// [`RodError::Core`] for a non-finite `a`, [`RodError::OutsideA`] for `a ∉ A`,
-    /// [`RodError::TooFewNodes`]/[`RodError::TooManyNodes`], [`RodError::Diverged`] if the
-    /// integration overflows.
+    /// [`RodError::Core`] for a non-finite `a` or a non-finite [`Load`] field,
+    /// [`RodError::OutsideA`] for `a ∉ A`, [`RodError::TooFewNodes`]/[`RodError::TooManyNodes`],
+    /// [`RodError::Diverged`] if the integration overflows.
     ///
     /// # Example
     /// ```
@@ -397,6 +427,9 @@ impl Rod {
     /// ```
     pub fn solve(&self, a: &Vector6<f64>, nodes: usize) -> Result<Solution, RodError> {
         Self::check_nodes(nodes)?;
+        if !self.load.is_none() {
+            return self.loaded_solve(a, nodes);
+        }
         let model = self.model(a)?;
         let mut knots = Vec::with_capacity(self.steps_for(&model) + 1);
         let (y, tracker) = self.integrate_full(&model, Some(&mut knots), true, false);
@@ -433,6 +466,9 @@ impl Rod {
     /// As [`Rod::solve`].
     pub fn shape(&self, a: &Vector6<f64>, nodes: usize) -> Result<Shape, RodError> {
         Self::check_nodes(nodes)?;
+        if !self.load.is_none() {
+            return self.loaded_shape(a, nodes);
+        }
         let model = self.model(a)?;
         let steps = self.steps_for(&model);
         let mut knots = Vec::with_capacity(steps + 1);
@@ -463,6 +499,9 @@ impl Rod {
     /// # Errors
     /// As [`Rod::solve`].
     pub fn jacobian(&self, a: &Vector6<f64>) -> Result<JacobianSolution, RodError> {
+        if !self.load.is_none() {
+            return self.loaded_jacobian(a);
+        }
         let model = self.model(a)?;
         let (y, tracker) = self.integrate_full(&model, None, true, false);
         self.jacobian_solution(a, &model, &y, tracker)
@@ -471,7 +510,8 @@ impl Rod {
     /// Whether `a ∈ A_stable`, stopping at the first sign change of `det J`.
     ///
     /// # Errors
-    /// [`RodError::Core`] for a non-finite `a`, [`RodError::OutsideA`] for `a ∉ A`.
+    /// [`RodError::Core`] for a non-finite `a` or [`Load`] field, [`RodError::OutsideA`] for
+    /// `a ∉ A`.
     ///
     /// # Example
     /// ```
@@ -484,6 +524,9 @@ impl Rod {
     /// # Ok::<(), ftwire_rod::RodError>(())
     /// ```
     pub fn is_stable(&self, a: &Vector6<f64>) -> Result<bool, RodError> {
+        if !self.load.is_none() {
+            return self.loaded_is_stable(a);
+        }
         let model = self.model(a)?;
         let (_, tracker) = self.integrate_full(&model, None, false, true);
         Ok(tracker.finish().stable)
@@ -608,7 +651,7 @@ fn grid_points<'a>(
 /// Gram–Schmidt on the first two columns, keeping the tangent's direction; the third column
 /// is their cross product.
 #[inline(always)]
-fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
+pub(crate) fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(orthonormalise(r))
 }
 
