@@ -1,12 +1,13 @@
 //! The wire model the estimators use, behind one trait.
 //!
 //! The estimators ask a model three things: the second gripper's pose `Γ(a)`, the Jacobian
-//! `J(L)` with it, and the shape. [`KirchhoffModel`] answers with the paper's model
-//! (`ftwire_rod::Rod`); a gravity- and rest-curvature-aware model will implement the same trait.
+//! `J(L)` with it, and the shape. [`KirchhoffModel`] answers with the Kirchhoff rod of
+//! `ftwire_rod::Rod`: the paper's weightless, straight-at-rest model by default, or the loaded
+//! model with a weight per length and rest strains ([`KirchhoffModel::with_load`]).
 
 use ftwire_core::{Pose, WireParams};
-use ftwire_rod::{JacobianSolution, Rod, Shape};
-use nalgebra::Vector6;
+use ftwire_rod::{JacobianSolution, Load, Rod, Shape};
+use nalgebra::{Vector3, Vector6};
 
 use crate::EstimateError;
 
@@ -22,6 +23,16 @@ pub trait WireModel: Clone + Send + Sync {
     /// kept).
     #[must_use]
     fn with_wire(&self, wire: WireParams) -> Self;
+
+    /// The wire's weight per length `w` \[N/m\] in the base clamp frame (zero for a weightless
+    /// model).
+    fn weight_per_length(&self) -> Vector3<f64>;
+
+    /// The same model with weight per length `w` (base clamp frame), everything else kept.
+    ///
+    /// # Errors
+    /// When `w` is not finite, or the model cannot carry a weight.
+    fn with_weight_per_length(&self, w: Vector3<f64>) -> Result<Self, EstimateError>;
 
     /// `Γ(a)`: the second gripper's clamp pose in the base clamp frame.
     ///
@@ -82,6 +93,15 @@ impl KirchhoffModel {
     pub fn rod(&self) -> &Rod {
         &self.rod
     }
+
+    /// The same model with a distributed load: a weight per length and rest strains
+    /// ([`ftwire_rod::Load`]; the loaded model, beyond the paper).
+    #[must_use]
+    pub fn with_load(self, load: Load) -> Self {
+        Self {
+            rod: self.rod.with_load(load),
+        }
+    }
 }
 
 impl WireModel for KirchhoffModel {
@@ -91,8 +111,22 @@ impl WireModel for KirchhoffModel {
 
     fn with_wire(&self, wire: WireParams) -> Self {
         Self {
-            rod: Rod::new(wire).with_integrator(*self.rod.integrator()),
+            rod: Rod::new(wire)
+                .with_integrator(*self.rod.integrator())
+                .with_load(*self.rod.load()),
         }
+    }
+
+    fn weight_per_length(&self) -> Vector3<f64> {
+        self.rod.load().weight_per_length
+    }
+
+    fn with_weight_per_length(&self, w: Vector3<f64>) -> Result<Self, EstimateError> {
+        ftwire_core::ensure_finite("weight_per_length", w.as_slice())?;
+        Ok(self.with_load(Load {
+            weight_per_length: w,
+            ..*self.rod.load()
+        }))
     }
 
     fn tip(&self, a: &Vector6<f64>) -> Result<Pose, EstimateError> {

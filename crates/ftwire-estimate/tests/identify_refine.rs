@@ -30,7 +30,7 @@ fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
                 whitening: None,
             };
             let wire = model.wire();
-            let theta = constraints.theta(wire.c(), wire.length());
+            let theta = constraints.theta(wire.c(), wire.length(), 0.0);
             let f = |x: &[f64]| residuals.evaluate(x);
             let (lower, upper) = constraints.bounds(0.2);
             let jac =
@@ -86,7 +86,7 @@ fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<()
             whitening: None,
         };
         let wire = model.wire();
-        let theta = constraints.theta(wire.c(), wire.length());
+        let theta = constraints.theta(wire.c(), wire.length(), 0.0);
         let whitening = residuals.whitening(&theta, &noise)?;
         assert_eq!(whitening.len(), samples.len());
         let w = weights.matrix();

@@ -17,6 +17,11 @@ pub struct Estimate {
     pub c_std: [f64; 3],
     /// Standard deviation of `L` \[m\] (as `c_std`).
     pub length_std: f64,
+    /// The linear density `λ` \[kg/m\], when it was identified
+    /// ([`super::ParameterConstraints::weight`]).
+    pub linear_density: Option<f64>,
+    /// Standard deviation of `λ` \[kg/m\] (as `c_std`), when it was identified.
+    pub linear_density_std: Option<f64>,
     /// The weighted cost `Σ‖r_i‖²` at the estimate.
     pub cost: f64,
     /// `χ²` per degree of freedom under the configured noise model (about 1 for a fit as good

@@ -27,10 +27,14 @@
 use std::time::{Duration, Instant};
 
 use ftwire_core::Pose;
-use nalgebra::{DMatrix, Vector6};
+use nalgebra::{DMatrix, Vector3, Vector6};
 use rand::Rng;
 
-use super::parameters::{L_MAX, L_MIN};
+use super::parameters::{L_MAX, L_MIN, LAMBDA_MAX, LAMBDA_MIN};
+
+/// The prior linear density of a weight identification when the model has none \[kg/m\]:
+/// about a 2.5 mm steel or nitinol wire (the paper's nitinol wires are 0.020 and 0.046 kg/m).
+pub const DEFAULT_LINEAR_DENSITY: f64 = 0.03;
 use super::refine::Refined;
 use super::{
     Estimate, LevenbergMarquardt, NoiseModel, ParameterConstraints, ParticleSwarm, ResidualForm,
@@ -268,6 +272,12 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     /// [`EstimateError::BadIdentifySetting`] for a bad setting.
     pub fn new(model: M, config: IdentifyConfig, rng: R) -> Result<Self, EstimateError> {
         config.validate()?;
+        // With the linear density identified, the model's weight along `g` is the prior the
+        // coarse search holds fixed and the fine fit starts from.
+        let model = match config.constraints.weight {
+            Some(g) => model.with_weight_per_length(prior_linear_density(&model, &g) * g)?,
+            None => model,
+        };
         Ok(Self {
             model,
             config,
@@ -445,7 +455,10 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
                 evaluations += refined.evaluations;
                 if coarse != full {
                     let (c, length) = coarse.eta(&refined.theta);
-                    let start = clamp(full.theta(c, length), &space.lower, &space.upper);
+                    let lambda = full
+                        .weight
+                        .map_or(0.0, |g| prior_linear_density(&self.model, &g));
+                    let start = clamp(full.theta(c, length, lambda), &space.lower, &space.upper);
                     refined = self.config.refine.minimise(
                         &fine_residual,
                         &start,
@@ -473,7 +486,7 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
                 });
             };
             let total = swarm.evaluations + self.refine_evaluations;
-            let estimate = match self.assess(&fine_residuals, best, &space, total) {
+            let estimate = match self.assess(&fine_residuals, best, &space, total, None) {
                 Ok(estimate) => estimate,
                 Err(e) => {
                     self.swarm = Some(swarm);
@@ -509,6 +522,8 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         ParameterConstraints {
             isotropic: true,
             torsion_ratio: k.torsion_ratio.or(Some(self.config.coarse_torsion_ratio)),
+            // The weight stays at its prior in the coarse search.
+            weight: None,
         }
     }
 
@@ -562,30 +577,42 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             evaluations: polished.evaluations + 1 + 2 * space.lower.len(),
         };
         let total = evaluations + judged.evaluations;
-        self.assess(fine, &judged, space, total).ok()
+        self.assess(fine, &judged, space, total, Some(&polished.jacobian))
+            .ok()
     }
 
     /// The estimate at a refined optimum: uncertainty and identifiability.
+    ///
+    /// The standard deviations are first order: `s² (JᵀJ)⁻¹` of the fixed weighting's
+    /// Jacobian, `s²` its cost per degree of freedom; or, after the polish, `(J_wᵀJ_w)⁻¹` of
+    /// the whitened Jacobian `whitened` (the covariance of a generalised least-squares fit),
+    /// inflated by `χ²/dof` when the fit is worse than the noise explains.
     fn assess(
         &self,
         residuals: &Residuals<'_, M>,
         best: &Refined,
         space: &SearchSpace,
         evaluations: usize,
+        whitened: Option<&DMatrix<f64>>,
     ) -> Result<Estimate, EstimateError> {
         let (lower, upper) = (&space.lower, &space.upper);
         let constraints = self.config.constraints;
         let (c, length) = constraints.eta(&best.theta);
         let p = best.theta.len();
         let dof = residuals.len().saturating_sub(p).max(1) as f64;
-        // Condition in (ln c, ln L): scale the L column by L.
+        // Condition in (ln c, ln L, ln λ): scale the L column by L.
+        let l = constraints.length_index();
         let mut scaled: DMatrix<f64> = best.jacobian.clone();
-        scaled.column_mut(p - 1).scale_mut(length);
+        scaled.column_mut(l).scale_mut(length);
         let sv = scaled.singular_values();
         let (smax, smin) = (sv.max(), sv.min());
         let condition = if smax > 0.0 { smin / smax } else { 0.0 };
-        let s2 = best.cost / dof;
-        let jtj = best.jacobian.transpose() * &best.jacobian;
+        let chi2_per_dof = residuals.chi_squared(&best.theta, &self.config.noise)? / dof;
+        let (jacobian, s2) = match whitened {
+            Some(jw) => (jw, chi2_per_dof.max(1.0)),
+            None => (&best.jacobian, best.cost / dof),
+        };
+        let jtj = jacobian.transpose() * jacobian;
         let std: Vec<f64> = match jtj.try_inverse() {
             Some(inv) if condition > 0.0 => {
                 (0..p).map(|i| (s2 * inv[(i, i)]).max(0.0).sqrt()).collect()
@@ -594,8 +621,10 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         };
         let index = constraints.stiffness_index();
         let c_std = [0, 1, 2].map(|i| c[i] * std.get(index[i]).copied().unwrap_or(f64::INFINITY));
-        let length_std = std.get(p - 1).copied().unwrap_or(f64::INFINITY);
-        let chi2_per_dof = residuals.chi_squared(&best.theta, &self.config.noise)? / dof;
+        let length_std = std.get(l).copied().unwrap_or(f64::INFINITY);
+        let linear_density = constraints.linear_density(&best.theta);
+        let linear_density_std =
+            linear_density.map(|lambda| lambda * std.get(l + 1).copied().unwrap_or(f64::INFINITY));
         let at_bound = best.theta.iter().enumerate().find(|(i, v)| {
             let (l, u) = (lower[*i], upper[*i]);
             let tol = 1e-6 * (u - l);
@@ -624,6 +653,8 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             length,
             c_std,
             length_std,
+            linear_density,
+            linear_density_std,
             cost: best.cost,
             chi2_per_dof,
             condition,
@@ -665,6 +696,8 @@ fn provisional<M: WireModel>(
         length,
         c_std: [f64::INFINITY; 3],
         length_std: f64::INFINITY,
+        linear_density: None,
+        linear_density_std: None,
         cost: residuals.cost(theta),
         chi2_per_dof: f64::INFINITY,
         condition: 0.0,
@@ -672,4 +705,13 @@ fn provisional<M: WireModel>(
         evaluations,
         unidentified: Some(reason),
     }
+}
+
+/// The prior linear density \[kg/m\] of a weight identification under gravity `g`: the model's
+/// own weight along `g`, or [`DEFAULT_LINEAR_DENSITY`] for a weightless model, clamped into
+/// the search box.
+fn prior_linear_density<M: WireModel>(model: &M, g: &Vector3<f64>) -> f64 {
+    let w = model.weight_per_length().dot(g) / g.norm_squared();
+    let lambda = if w > 0.0 { w } else { DEFAULT_LINEAR_DENSITY };
+    lambda.clamp(LAMBDA_MIN, LAMBDA_MAX)
 }

@@ -7,8 +7,13 @@
 //! - `L` directly: its box is `[max(0.2, max_i |p(b̃_i)| + margin), 2] m`, less than a decade.
 //!
 //! [`ParameterConstraints`] ties parameters together and removes them from `θ`: isotropic
-//! bending (`c3 = c2`) and a known torsion ratio (`c1 = ν c2`). The layout of `θ` is
-//! `[ln c1 (unless tied), ln c2, ln c3 (unless isotropic), L]`.
+//! bending (`c3 = c2`) and a known torsion ratio (`c1 = ν c2`). It can also add one: the
+//! wire's linear density `λ` \[kg/m\] under a known gravity `g` (the loaded model, weight per
+//! length `w = λ g`; [`ParameterConstraints::weight`]), searched as `ln λ` in
+//! `[LAMBDA_MIN, LAMBDA_MAX]`. The layout of `θ` is
+//! `[ln c1 (unless tied), ln c2, ln c3 (unless isotropic), L, ln λ (if weighed)]`.
+
+use nalgebra::Vector3;
 
 use crate::EstimateError;
 
@@ -20,6 +25,10 @@ pub const C_MAX: f64 = 5.0;
 pub const L_MIN: f64 = 0.2;
 /// Longest wire searched for \[m\].
 pub const L_MAX: f64 = 2.0;
+/// Smallest linear density searched for \[kg/m\] (a 0.07 mm steel wire).
+pub const LAMBDA_MIN: f64 = 1e-4;
+/// Largest linear density searched for \[kg/m\] (a 6 mm steel rod).
+pub const LAMBDA_MAX: f64 = 0.25;
 
 /// Relations between the parameters known before identification; each removes one unknown.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -29,6 +38,11 @@ pub struct ParameterConstraints {
     /// A known torsion ratio `ν = c1/c2` (for a round isotropic rod `ν = 1/(1 + Poisson's
     /// ratio)`), or `None` to identify `c1` (default `None`).
     pub torsion_ratio: Option<f64>,
+    /// Identify the wire's linear density `λ` too, under this gravity vector `g` \[m/s²\] in the
+    /// base clamp frame: the model's weight per length becomes `λ g` (needs a model that
+    /// carries a weight, [`crate::WireModel::with_weight_per_length`]). `None` (default): the
+    /// model's weight, if any, is known and kept.
+    pub weight: Option<Vector3<f64>>,
 }
 
 impl ParameterConstraints {
@@ -37,19 +51,47 @@ impl ParameterConstraints {
     /// # Errors
     /// [`EstimateError::BadIdentifySetting`] unless `torsion_ratio` is finite and positive.
     pub fn validate(&self) -> Result<(), EstimateError> {
-        match self.torsion_ratio {
-            Some(nu) if !(nu.is_finite() && nu > 0.0) => Err(EstimateError::BadIdentifySetting {
+        if let Some(nu) = self.torsion_ratio
+            && !(nu.is_finite() && nu > 0.0)
+        {
+            return Err(EstimateError::BadIdentifySetting {
                 field: "constraints.torsion_ratio",
                 value: nu,
                 allowed: "finite and > 0",
-            }),
-            _ => Ok(()),
+            });
         }
+        if let Some(g) = self.weight
+            && !(g.iter().all(|v| v.is_finite()) && g.norm() > 0.0)
+        {
+            return Err(EstimateError::BadIdentifySetting {
+                field: "constraints.weight",
+                value: g.norm(),
+                allowed: "a finite, non-zero gravity vector",
+            });
+        }
+        Ok(())
     }
 
-    /// The number of free parameters (the length of `θ`): 2 to 4.
+    /// The number of free parameters (the length of `θ`): 2 to 5.
     pub fn unknowns(&self) -> usize {
-        2 + usize::from(self.torsion_ratio.is_none()) + usize::from(!self.isotropic)
+        self.length_index() + 1 + usize::from(self.weight.is_some())
+    }
+
+    /// The index of `L` in `θ`.
+    pub fn length_index(&self) -> usize {
+        1 + usize::from(self.torsion_ratio.is_none()) + usize::from(!self.isotropic)
+    }
+
+    /// The linear density `λ` \[kg/m\] of a search vector `θ`, when it is identified.
+    pub fn linear_density(&self, theta: &[f64]) -> Option<f64> {
+        self.weight?;
+        Some(
+            theta
+                .get(self.length_index() + 1)
+                .copied()
+                .unwrap_or(f64::NAN)
+                .exp(),
+        )
     }
 
     /// `η = (c, L)` of a search vector `θ` (see the module docs for the layout).
@@ -79,10 +121,11 @@ impl ParameterConstraints {
         ([c1, c2, c3], length)
     }
 
-    /// The search vector `θ` of `η = (c, L)` (tied parameters are dropped; their values in
-    /// `c` are ignored).
-    pub fn theta(&self, c: [f64; 3], length: f64) -> Vec<f64> {
-        let mut theta = Vec::with_capacity(4);
+    /// The search vector `θ` of `η = (c, L)` and the linear density `λ` (tied parameters are
+    /// dropped, their values in `c` ignored; `λ` is ignored unless it is identified, and
+    /// clamped into the box when it is).
+    pub fn theta(&self, c: [f64; 3], length: f64, linear_density: f64) -> Vec<f64> {
+        let mut theta = Vec::with_capacity(5);
         if self.torsion_ratio.is_none() {
             theta.push(c[0].ln());
         }
@@ -91,6 +134,9 @@ impl ParameterConstraints {
             theta.push(c[2].ln());
         }
         theta.push(length);
+        if self.weight.is_some() {
+            theta.push(linear_density.clamp(LAMBDA_MIN, LAMBDA_MAX).ln());
+        }
         theta
     }
 
@@ -99,8 +145,13 @@ impl ParameterConstraints {
         let n = self.unknowns();
         let mut lower = vec![C_MIN.ln(); n];
         let mut upper = vec![C_MAX.ln(); n];
-        lower[n - 1] = length_min;
-        upper[n - 1] = L_MAX;
+        let l = self.length_index();
+        lower[l] = length_min;
+        upper[l] = L_MAX;
+        if self.weight.is_some() {
+            lower[l + 1] = LAMBDA_MIN.ln();
+            upper[l + 1] = LAMBDA_MAX.ln();
+        }
         (lower, upper)
     }
 
@@ -118,19 +169,28 @@ mod tests {
 
     #[test]
     fn theta_round_trips_for_every_constraint() {
-        for (isotropic, torsion_ratio) in [
-            (false, None),
-            (true, None),
-            (false, Some(0.8)),
-            (true, Some(0.8)),
+        let weights = [None, Some(Vector3::new(0.0, 0.0, -9.81))];
+        for (isotropic, torsion_ratio, weight) in [
+            (false, None, weights[0]),
+            (true, None, weights[1]),
+            (false, Some(0.8), weights[1]),
+            (true, Some(0.8), weights[0]),
         ] {
             let k = ParameterConstraints {
                 isotropic,
                 torsion_ratio,
+                weight,
             };
             let c = [0.8 * 0.3, 0.3, if isotropic { 0.3 } else { 0.4 }];
-            let theta = k.theta(c, 0.7);
+            let theta = k.theta(c, 0.7, 0.02);
             assert_eq!(theta.len(), k.unknowns());
+            assert_eq!(theta[k.length_index()], 0.7);
+            let (lower, upper) = k.bounds(0.5);
+            assert_eq!((lower.len(), upper.len()), (theta.len(), theta.len()));
+            match k.linear_density(&theta) {
+                Some(lambda) => assert!((lambda - 0.02).abs() < 1e-15),
+                None => assert!(weight.is_none()),
+            }
             let (back, length) = k.eta(&theta);
             for i in 0..3 {
                 assert!((back[i] - c[i]).abs() < 1e-14);

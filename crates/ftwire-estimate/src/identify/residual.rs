@@ -156,9 +156,26 @@ impl<M: WireModel> Residuals<'_, M> {
 
     /// The model at `θ`, or `None` if `θ` maps to an invalid `η`.
     pub fn model_at(&self, theta: &[f64]) -> Option<M> {
+        self.try_model_at(theta).ok()
+    }
+
+    /// The model at `θ`: its stiffnesses and length, and its weight `λ g` when the linear
+    /// density is identified ([`ParameterConstraints::weight`]).
+    ///
+    /// # Errors
+    /// When `θ` maps to an invalid `η` or weight.
+    pub fn try_model_at(&self, theta: &[f64]) -> Result<M, EstimateError> {
         let (c, length) = self.constraints.eta(theta);
-        let wire = self.model.wire().with_c(c).ok()?.with_length(length).ok()?;
-        Some(self.model.with_wire(wire))
+        let model = self
+            .model
+            .with_wire(self.model.wire().with_c(c)?.with_length(length)?);
+        match (
+            self.constraints.weight,
+            self.constraints.linear_density(theta),
+        ) {
+            (Some(g), Some(lambda)) => model.with_weight_per_length(lambda * g),
+            _ => Ok(model),
+        }
     }
 
     /// The stacked weighted residual at `θ`; failed evaluations are [`PENALTY`].
@@ -230,10 +247,7 @@ impl<M: WireModel> Residuals<'_, M> {
         theta: &[f64],
         noise: &NoiseModel,
     ) -> Result<Vec<Matrix6<f64>>, EstimateError> {
-        let (c, length) = self.constraints.eta(theta);
-        let model = self
-            .model
-            .with_wire(self.model.wire().with_c(c)?.with_length(length)?);
+        let model = self.try_model_at(theta)?;
         let w = self.weights.matrix();
         let (sigma_b, sigma_a) = (noise.pose_covariance(), noise.wrench_covariance());
         let factor = match self.form {

@@ -80,6 +80,7 @@ impl IdentifySettingsArgs {
             constraints: ParameterConstraints {
                 isotropic: self.isotropic,
                 torsion_ratio: self.torsion_ratio,
+                weight: None,
             },
             ..IdentifyConfig::default()
         };
