@@ -31,6 +31,7 @@ fn each_constraint_recovers_the_truth() -> Result<(), EstimateError> {
         let k = ParameterConstraints {
             isotropic,
             torsion_ratio,
+            stiffness_per_length: false,
             weight: None,
         };
         let mut rng = ChaCha8Rng::seed_from_u64(4);

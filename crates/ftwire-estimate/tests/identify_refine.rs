@@ -20,7 +20,10 @@ fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
                 .map(|(i, (a, b))| Sample::new(i, *a, *b))
                 .collect::<Result<_, _>>()?;
             let constraints = ParameterConstraints::default();
-            let weights = Weights { length_scale: 0.5 };
+            let weights = Weights {
+                length_scale: 0.5,
+                tangent_rotation: 1.0,
+            };
             let residuals = Residuals {
                 model: &model,
                 samples: &samples,
@@ -76,7 +79,10 @@ fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<()
             .map(|(i, (a, b))| Sample::new(i, *a, *b))
             .collect::<Result<_, _>>()?;
         let constraints = ParameterConstraints::default();
-        let weights = Weights { length_scale: 0.5 };
+        let weights = Weights {
+            length_scale: 0.5,
+            tangent_rotation: 1.0,
+        };
         let residuals = Residuals {
             model: &model,
             samples: &samples,

@@ -38,6 +38,14 @@ pub struct ParameterConstraints {
     /// A known torsion ratio `ν = c1/c2` (for a round isotropic rod `ν = 1/(1 + Poisson's
     /// ratio)`), or `None` to identify `c1` (default `None`).
     pub torsion_ratio: Option<f64>,
+    /// Search the stiffnesses per length, `ln(c_i / L)`, instead of `ln c_i` (default
+    /// `false`; the swarm's coarse search sets it). A wire's measured poses pin `c/L` far
+    /// more tightly than `c` and `L` apart (the bending angle of a moment `τ` is `τ L / c`),
+    /// so in `(ln c2, L)` the cost's basin is a thin diagonal valley along `c2 ∝ L`, a needle
+    /// for a swarm: one grid column in eighty wide on a simulated 1 m wire. In
+    /// `(ln(c2/L), L)` the valley is straight along `L`. The box is then
+    /// `ln(c/L) ∈ [ln(C_MIN/L_MAX), ln(C_MAX/L_MIN)]`.
+    pub stiffness_per_length: bool,
     /// Identify the wire's linear density `λ` too, under this gravity vector `g` \[m/s²\] in the
     /// base clamp frame: the model's weight per length becomes `λ g` (needs a model that
     /// carries a weight, [`crate::WireModel::with_weight_per_length`]). `None` (default): the
@@ -110,14 +118,21 @@ impl ParameterConstraints {
         } else {
             None
         };
-        let c2 = next().exp();
-        let c3 = if self.isotropic { c2 } else { next().exp() };
+        let ln_c2 = next();
+        let ln_c3 = if self.isotropic { ln_c2 } else { next() };
+        let length = next();
+        // Stiffnesses per length are scaled back by L (see `stiffness_per_length`).
+        let scale = if self.stiffness_per_length {
+            length
+        } else {
+            1.0
+        };
+        let (c2, c3) = (ln_c2.exp() * scale, ln_c3.exp() * scale);
         let c1 = match (ln_c1, self.torsion_ratio) {
-            (Some(l), _) => l.exp(),
+            (Some(l), _) => l.exp() * scale,
             (None, Some(nu)) => nu * c2,
             (None, None) => f64::NAN,
         };
-        let length = next();
         ([c1, c2, c3], length)
     }
 
@@ -126,12 +141,17 @@ impl ParameterConstraints {
     /// clamped into the box when it is).
     pub fn theta(&self, c: [f64; 3], length: f64, linear_density: f64) -> Vec<f64> {
         let mut theta = Vec::with_capacity(5);
+        let scale = if self.stiffness_per_length {
+            length
+        } else {
+            1.0
+        };
         if self.torsion_ratio.is_none() {
-            theta.push(c[0].ln());
+            theta.push((c[0] / scale).ln());
         }
-        theta.push(c[1].ln());
+        theta.push((c[1] / scale).ln());
         if !self.isotropic {
-            theta.push(c[2].ln());
+            theta.push((c[2] / scale).ln());
         }
         theta.push(length);
         if self.weight.is_some() {
@@ -143,8 +163,13 @@ impl ParameterConstraints {
     /// The search box `(lower, upper)` for `θ`, with `L ≥ length_min`.
     pub fn bounds(&self, length_min: f64) -> (Vec<f64>, Vec<f64>) {
         let n = self.unknowns();
-        let mut lower = vec![C_MIN.ln(); n];
-        let mut upper = vec![C_MAX.ln(); n];
+        let (c_min, c_max) = if self.stiffness_per_length {
+            (C_MIN / L_MAX, C_MAX / L_MIN)
+        } else {
+            (C_MIN, C_MAX)
+        };
+        let mut lower = vec![c_min.ln(); n];
+        let mut upper = vec![c_max.ln(); n];
         let l = self.length_index();
         lower[l] = length_min;
         upper[l] = L_MAX;
@@ -179,6 +204,7 @@ mod tests {
             let k = ParameterConstraints {
                 isotropic,
                 torsion_ratio,
+                stiffness_per_length: false,
                 weight,
             };
             let c = [0.8 * 0.3, 0.3, if isotropic { 0.3 } else { 0.4 }];
@@ -203,6 +229,26 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn stiffnesses_per_length_round_trip_and_scale_the_box() {
+        let k = ParameterConstraints {
+            stiffness_per_length: true,
+            ..ParameterConstraints::default()
+        };
+        let c = [0.2, 0.3, 0.4];
+        let theta = k.theta(c, 0.5, 0.0);
+        assert!((theta[1] - (0.3_f64 / 0.5).ln()).abs() < 1e-15);
+        let (back, length) = k.eta(&theta);
+        for i in 0..3 {
+            assert!((back[i] - c[i]).abs() < 1e-15, "{back:?}");
+        }
+        assert_eq!(length, 0.5);
+        let (lower, upper) = k.bounds(0.3);
+        assert!((lower[1] - (C_MIN / L_MAX).ln()).abs() < 1e-15);
+        assert!((upper[1] - (C_MAX / L_MIN).ln()).abs() < 1e-15);
+        assert_eq!((lower[3], upper[3]), (0.3, L_MAX));
     }
 
     #[test]

@@ -54,6 +54,7 @@ pub struct ParticleSwarm {
     cognitive: f64,
     social: f64,
     reinjected: usize,
+    candidates: usize,
 }
 
 /// One particle.
@@ -104,8 +105,9 @@ fn setting(
 }
 
 impl Default for ParticleSwarm {
-    /// 20 particles (the authors' count), `ω = φp = φg = 0.5`, 2 re-injected, over the box
-    /// `[0, 1]` (replace it with [`ParticleSwarm::with_bounds`]).
+    /// 20 particles (the authors' count), `ω = φp = φg = 0.5`, 2 re-injected, each new one the
+    /// best of 10 stratified candidates, over the box `[0, 1]` (replace it with
+    /// [`ParticleSwarm::with_bounds`]).
     fn default() -> Self {
         Self {
             lower: vec![0.0],
@@ -115,6 +117,7 @@ impl Default for ParticleSwarm {
             cognitive: 0.5,
             social: 0.5,
             reinjected: 2,
+            candidates: 10,
         }
     }
 }
@@ -155,6 +158,7 @@ impl ParticleSwarm {
             cognitive: 0.5,
             social: 0.5,
             reinjected: 2,
+            candidates: 10,
         })
     }
 
@@ -223,6 +227,27 @@ impl ParticleSwarm {
         Ok(self)
     }
 
+    /// How many stratified candidates each new particle is chosen from (default `10`): a new
+    /// swarm of `n` particles (and `k` re-injected ones) are the lowest-cost `n` (`k`) of `10 n`
+    /// (`10 k`) Latin-hypercube candidates. One costs one evaluation, the same as a particle's
+    /// move. A cost whose basin is a small fraction of the box in some coordinate (the
+    /// stiffness of a strongly bent wire; see [`super::ParameterConstraints`]) is then found
+    /// from the start instead of by chance; `1` is the plain stratified swarm.
+    ///
+    /// # Errors
+    /// [`EstimateError::BadIdentifySetting`] for `0`.
+    #[must_use = "returns the changed swarm settings"]
+    pub fn with_candidates(mut self, candidates: usize) -> Result<Self, EstimateError> {
+        setting(
+            "pso.candidates",
+            candidates as f64,
+            candidates >= 1,
+            "at least 1",
+        )?;
+        self.candidates = candidates;
+        Ok(self)
+    }
+
     /// The same settings over another box (e.g. when new samples raise the lower bound on `L`).
     ///
     /// # Errors
@@ -247,34 +272,74 @@ impl ParticleSwarm {
         (&self.lower, &self.upper)
     }
 
-    fn random_particle<F: CostFunction, R: Rng + ?Sized>(&self, cost: &F, rng: &mut R) -> Particle {
-        let mut position = Vec::with_capacity(self.lower.len());
-        let mut velocity = Vec::with_capacity(self.lower.len());
-        for (l, u) in self.lower.iter().zip(&self.upper) {
-            position.push(rng.random_range(*l..*u));
-            let w = u - l;
-            velocity.push(rng.random_range(-w..w));
-        }
-        let c = cost.cost(&position);
-        Particle {
-            best_position: position.clone(),
-            position,
-            velocity,
-            cost: c,
-            best_cost: c,
-        }
+    /// `count` particles placed by Latin hypercube sampling of the box: each dimension cut into
+    /// `count` equal strata, one particle in each, the strata paired across dimensions by
+    /// random permutations. A narrow basin in one coordinate (the stiffness of a strongly
+    /// bent wire: its basin in `ln c2` can be a thirtieth of the box) is then never left
+    /// between particles by chance, as uniform draws can; velocities are uniform in
+    /// `±(upper − lower)`.
+    fn stratified_particles<F: CostFunction, R: Rng + ?Sized>(
+        &self,
+        cost: &F,
+        rng: &mut R,
+        count: usize,
+    ) -> Vec<Particle> {
+        let mut candidates = self.stratified(cost, rng, count * self.candidates);
+        // Lowest cost first; a stable sort keeps equal costs in draw order (deterministic).
+        candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        candidates.truncate(count);
+        candidates
     }
 
-    /// A new swarm, uniform in the box, velocities uniform in `±(upper − lower)`.
-    pub fn init<F: CostFunction, R: Rng + ?Sized>(&self, cost: &F, rng: &mut R) -> Swarm {
-        let particles: Vec<Particle> = (0..self.particles)
-            .map(|_| self.random_particle(cost, rng))
+    /// `count` Latin-hypercube particles (see [`Self::stratified_particles`]).
+    fn stratified<F: CostFunction, R: Rng + ?Sized>(
+        &self,
+        cost: &F,
+        rng: &mut R,
+        count: usize,
+    ) -> Vec<Particle> {
+        let dims = self.lower.len();
+        let strata: Vec<Vec<usize>> = (0..dims)
+            .map(|_| {
+                let mut order: Vec<usize> = (0..count).collect();
+                // Fisher–Yates.
+                for i in (1..order.len()).rev() {
+                    order.swap(i, rng.random_range(0..=i));
+                }
+                order
+            })
             .collect();
+        (0..count)
+            .map(|k| {
+                let mut position = Vec::with_capacity(dims);
+                let mut velocity = Vec::with_capacity(dims);
+                for (d, (l, u)) in self.lower.iter().zip(&self.upper).enumerate() {
+                    let w = u - l;
+                    let stratum = strata[d][k] as f64 + rng.random::<f64>();
+                    position.push((l + w * stratum / count as f64).clamp(*l, *u));
+                    velocity.push(rng.random_range(-w..w));
+                }
+                let c = cost.cost(&position);
+                Particle {
+                    best_position: position.clone(),
+                    position,
+                    velocity,
+                    cost: c,
+                    best_cost: c,
+                }
+            })
+            .collect()
+    }
+
+    /// A new swarm, Latin-hypercube stratified in the box (see `stratified_particles`),
+    /// velocities uniform in `±(upper − lower)`.
+    pub fn init<F: CostFunction, R: Rng + ?Sized>(&self, cost: &F, rng: &mut R) -> Swarm {
+        let particles = self.stratified_particles(cost, rng, self.particles);
         let mut swarm = Swarm {
             best_position: Vec::new(),
             best_cost: f64::INFINITY,
             iterations: 0,
-            evaluations: particles.len(),
+            evaluations: particles.len() * self.candidates,
             particles,
         };
         swarm.update_best();
@@ -351,7 +416,7 @@ impl ParticleSwarm {
         self.reinject(cost, swarm, rng, self.reinjected);
     }
 
-    /// Replaces the `count` particles with the worst personal bests by random ones (uniform in
+    /// Replaces the `count` particles with the worst personal bests by new ones (stratified in
     /// the box) and recomputes the global best: diversity against a swarm that has collapsed
     /// into a local minimum. The iteration count is kept.
     pub fn reinject<F: CostFunction, R: Rng + ?Sized>(
@@ -365,10 +430,11 @@ impl ParticleSwarm {
             .particles
             .sort_by(|a, b| a.best_cost.total_cmp(&b.best_cost));
         let keep = swarm.particles.len().saturating_sub(count);
-        for p in swarm.particles.iter_mut().skip(keep) {
-            *p = self.random_particle(cost, rng);
+        let fresh = self.stratified_particles(cost, rng, swarm.particles.len() - keep);
+        for (p, new) in swarm.particles.iter_mut().skip(keep).zip(fresh) {
+            *p = new;
         }
-        swarm.evaluations += swarm.particles.len() - keep;
+        swarm.evaluations += (swarm.particles.len() - keep) * self.candidates;
         swarm.update_best();
     }
 }

@@ -108,19 +108,26 @@ impl ResidualForm {
 pub struct Weights {
     /// `ℓ` \[m\]: the translation part of each residual is divided by it.
     pub length_scale: f64,
+    /// The factor on the rotation about the second gripper's x axis (the wire's tangent at
+    /// the tip), `1` by default. The swarm's coarse search uses `0`: that component is what
+    /// the torsional stiffness sets, and leaving it out makes the coarse cost nearly
+    /// independent of the torsion ratio, so the swarm's 3-D search is a 2-D one in effect.
+    pub tangent_rotation: f64,
 }
 
 impl Weights {
     /// `W ξ` for a twist `ξ = (δω, δx)`.
     pub fn apply(&self, xi: &Vector6<f64>) -> Vector6<f64> {
         let s = 1.0 / self.length_scale;
-        Vector6::new(xi[0], xi[1], xi[2], s * xi[3], s * xi[4], s * xi[5])
+        let t = self.tangent_rotation;
+        Vector6::new(t * xi[0], xi[1], xi[2], s * xi[3], s * xi[4], s * xi[5])
     }
 
     /// `W` as a matrix.
     pub fn matrix(&self) -> Matrix6<f64> {
         let s = 1.0 / self.length_scale;
-        Matrix6::from_diagonal(&Vector6::new(1.0, 1.0, 1.0, s, s, s))
+        let t = self.tangent_rotation;
+        Matrix6::from_diagonal(&Vector6::new(t, 1.0, 1.0, s, s, s))
     }
 }
 

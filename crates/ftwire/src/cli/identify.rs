@@ -80,6 +80,7 @@ impl IdentifySettingsArgs {
             constraints: ParameterConstraints {
                 isotropic: self.isotropic,
                 torsion_ratio: self.torsion_ratio,
+                stiffness_per_length: false,
                 weight: None,
             },
             ..IdentifyConfig::default()
