@@ -50,10 +50,15 @@
 //! Ad_qᵀ a`, becomes the two lines above: `n` stays algebraic in `(q, t)`, `m` needs `P`. Closed
 //! form (B), `M = Ad_qᵀ + K(μ) J`, keeps its force rows (`δn = n̂ ω + Rᵀ δa_f`) but its torque
 //! rows gain `Rᵀ ŵ ∫₀ᵗ R J_v ds` (`J_v` the translational rows of `J`), an integral of the
-//! Jacobian that no function of `(q, J)` at `t` gives. So the loaded solver integrates the full
-//! system: `R`, `p`, `m`, `n`, `M` and `J` (90 numbers, the crate's DOP853 tableau at fixed
-//! step). `n` is integrated rather than read from its closed form; the closed form
-//! `R n = a_f − w t` is an invariant the tests check (`tests/loaded.rs`).
+//! Jacobian that no function of `(q, J)` at `t` gives. So the loaded solver integrates `R`,
+//! `p`, `m`, `n`, the torque rows `M_m` of `M` and `J`, with the force rows by their closed form
+//! `M_n = [0, Rᵀ] + n̂ J_ω` (then `M_n`'s own rate, with the `E J` term, is not needed), plus
+//! `P = ∫ p`: 75 numbers, the crate's DOP853 tableau at fixed step (the private `loaded`
+//! module). `m` and `n` are integrated; at the shape nodes between grid points `μ` comes from
+//! the closed forms above (`P` interpolated like the frame). The closed forms, the
+//! Hamiltonian and the spatial moment balance are checked along the wire in `tests/loaded.rs`,
+//! and `M(L)`, `J(L)` against finite differences and an independent integration of the full
+//! system (`M' = F M + E J`, 90 numbers).
 //!
 //! **Step count.** With `K = H(0) + n_max + |w| L`, `n_max = |a_f| + |w| L` (so that `n1 ≥
 //! −n_max` and `|w·p| ≤ |w| L`), `k = |C^{-1/2} m|` obeys `½ k² ≤ K + β k`, `β = |C^{1/2} u₀|`,

@@ -1,13 +1,23 @@
-//! The loaded solver: the full system of [`crate::load`] (`R`, `p`, `m`, `n`, `M`, `J`;
-//! 90 numbers) integrated with the crate's fixed-step tableaux on the same grid as the unloaded
-//! solver, and the shape-only system (`R`, `p`, `m`, `n`; 18 numbers).
+//! The loaded solver: the system of [`crate::load`] (`R`, `p`, `m`, `n`, the torque rows of
+//! `M`, and `J`; 72 numbers) integrated with the crate's fixed-step tableaux on the same grid as
+//! the unloaded solver, and the shape-only system (`R`, `p`, `m`, `n`; 18 numbers).
 //!
-//! Shape nodes between grid points are reached by one step of the 18-number system from the
-//! grid point before them (a step no longer than the grid's, so as accurate as the grid
-//! points), which gives `μ` there too.
+//! The force rows of `M` keep their closed form under load, `M_n = [0, Rᵀ] + n̂ J_ω`
+//! (`δn = n̂ ω + Rᵀ δa_f`, see [`crate::load`]), so only the torque rows `M_m` are integrated:
+//! `M_m' = (m̂ C⁻¹ − û) M_m − ê1 M_n` (the force rows' rate, with its `E J` term, is then not
+//! needed). This takes 18 numbers and most of the products off every stage.
+//!
+//! Shape nodes between grid points are interpolated as in the unloaded solver: septic Hermite
+//! dense output of the frame from its jets `q, q', q'', q'''` at the grid points (the same
+//! `FrameJet`s and interpolation code; the loaded jets come from `u' = C⁻¹ m'` and
+//! `u'' = C⁻¹ m''` with the loaded `m'`, `n'`). `μ` at the nodes is the loaded closed form
+//! `n = Rᵀ N`, `N = a_f − w t`, `m = Rᵀ (a_m − P × w − p × N)` of [`crate::load`], with
+//! `P = ∫₀ᵗ p` integrated alongside (3 numbers) and interpolated from `P, p, p', p''`.
 //!
 //! Flat layouts (nalgebra's column-major order): `R` in `0..9`, `p` in `9..12`, `m` in
-//! `12..15`, `n` in `15..18`; the full state adds `M` in `18..54` and `J` in `54..90`.
+//! `12..15`, `n` in `15..18`; the full state adds `P` in `18..21`, `M_m` (3 × 6) in `21..39`, and
+//! `J` as its rotational rows `J_ω` (3 × 6) in `39..57` and translational rows `J_v` in `57..75`
+//! (each block contiguous, so that the rate reads and writes them without reassembling `J`).
 //!
 //! Guarded by `tests/loaded.rs`: agreement with the unloaded solver as the load vanishes,
 //! `J(L)` and `M(L)` against finite differences, the invariants, a rest arc, and an independent
@@ -17,8 +27,9 @@ use ftwire_core::Pose;
 use nalgebra::{Matrix3, Matrix3x6, Matrix6, Translation3, UnitQuaternion, Vector3, Vector6};
 
 use crate::arith::Separate;
+use crate::hermite::septic_hermite;
 use crate::integrator::{Integrator, Workspace};
-use crate::kirchhoff::determinant6;
+use crate::kirchhoff::{FrameArray, FrameJet, determinant6};
 use crate::rod::{DEFAULT_NODES, JacobianSolution, Rod, Shape, Solution, rotation_from_columns};
 use crate::se3::hat;
 use crate::stability::SignTracker;
@@ -26,13 +37,22 @@ use crate::{Load, RodError, intersection::self_contact, validate_configuration};
 
 /// The flat shape state: `R`, `p`, `m`, `n`.
 pub(crate) type LoadedShapeArray = [f64; 18];
-/// The flat full state: the shape state, then `M` and `J`.
-pub(crate) type LoadedFullArray = [f64; 90];
+/// The flat full state: the shape state, then the torque rows of `M`, and `J`.
+pub(crate) type LoadedFullArray = [f64; FULL];
 
-/// Where `M` starts in the full state.
-const M_AT: usize = 18;
-/// Where `J` starts in the full state.
-const J_AT: usize = 54;
+/// The knots of the full solve: the shape state and `P` (the first 21 numbers).
+pub(crate) type LoadedKnotArray = [f64; 21];
+
+/// Numbers in the full state.
+const FULL: usize = 75;
+/// Where `P = ∫ p` starts in the full state.
+const P_AT: usize = 18;
+/// Where the torque rows of `M` start in the full state.
+const M_AT: usize = 21;
+/// Where `J` (its rows `J_ω`) starts in the full state.
+const J_AT: usize = 39;
+/// Where the rows `J_v` of `J` start in the full state.
+const JV_AT: usize = 57;
 
 /// The right-hand sides of the loaded equations for one wire, load and configuration.
 #[derive(Debug, Clone, Copy)]
@@ -61,12 +81,12 @@ impl Loaded {
         }
     }
 
-    /// The initial full state: `q = I`, `μ = a`, `M = I`, `J = 0`.
+    /// The initial full state: `q = I`, `μ = a`, `M_m = [I, 0]`, `J = 0`.
     pub fn full_initial(&self) -> LoadedFullArray {
-        let mut y = [0.0; 90];
+        let mut y = [0.0; FULL];
         y[..18].copy_from_slice(&self.shape_initial());
-        for i in 0..6 {
-            y[M_AT + 7 * i] = 1.0;
+        for i in 0..3 {
+            y[M_AT + 4 * i] = 1.0;
         }
         y
     }
@@ -109,34 +129,37 @@ impl Loaded {
         self.shape_part(&l, out);
     }
 
-    /// The full system's rate: the shape part, `M' = F M + E J` and `J' = G M + H J` (see
-    /// [`crate::load`]), written by blocks of three rows.
+    /// The full system's rate: the shape part, `M_m' = (m̂ C⁻¹ − û) M_m − ê1 M_n` with the
+    /// closed form `M_n = [0, Rᵀ] + n̂ J_ω`, and `J' = G M + H J`, i.e. `J_ω' = C⁻¹ M_m − û J_ω`,
+    /// `J_v' = −ê1 J_ω − û J_v` (see [`crate::load`] and the module docs), by blocks of three
+    /// rows. (`ê1 X` is `X`'s rows `(0, −x_2, x_1)`: no product needed.)
     #[inline(always)]
     pub fn full_rate(&self, y: &LoadedFullArray, out: &mut LoadedFullArray) {
         let l = self.local(y);
         self.shape_part(&l, out);
-        let mm = Matrix6::from_column_slice(&y[M_AT..J_AT]);
-        let jj = Matrix6::from_column_slice(&y[J_AT..90]);
-        let (m_top, m_bot): (Matrix3x6<f64>, Matrix3x6<f64>) =
-            (mm.fixed_rows::<3>(0).into(), mm.fixed_rows::<3>(3).into());
-        let (j_top, j_bot): (Matrix3x6<f64>, Matrix3x6<f64>) =
-            (jj.fixed_rows::<3>(0).into(), jj.fixed_rows::<3>(3).into());
-        let inv_c = Matrix3::from_diagonal(&self.inv_c);
+        out[P_AT..M_AT].copy_from_slice(&y[9..12]);
+        let m_top = Matrix3x6::from_column_slice(&y[M_AT..J_AT]);
+        let j_top = Matrix3x6::from_column_slice(&y[J_AT..JV_AT]);
+        let j_bot = Matrix3x6::from_column_slice(&y[JV_AT..FULL]);
         let uh = hat(&l.u);
-        let e1h = hat(&Vector3::x());
-        let cm = inv_c * m_top;
-        let dm_top = hat(&l.m) * cm - uh * m_top - e1h * m_bot;
-        let dm_bot = hat(&l.n) * cm - uh * m_bot - hat(&l.r.tr_mul(&self.w)) * j_top;
-        let dj_top = cm - uh * j_top;
-        let dj_bot = -(e1h * j_top) - uh * j_bot;
-        let mut dmm = Matrix6::zeros();
-        dmm.fixed_rows_mut::<3>(0).copy_from(&dm_top);
-        dmm.fixed_rows_mut::<3>(3).copy_from(&dm_bot);
-        let mut djj = Matrix6::zeros();
-        djj.fixed_rows_mut::<3>(0).copy_from(&dj_top);
-        djj.fixed_rows_mut::<3>(3).copy_from(&dj_bot);
-        out[M_AT..J_AT].copy_from_slice(dmm.as_slice());
-        out[J_AT..90].copy_from_slice(djj.as_slice());
+        let mut m_bot = hat(&l.n) * j_top;
+        m_bot
+            .fixed_columns_mut::<3>(3)
+            .iter_mut()
+            .zip(l.r.transpose().iter())
+            .for_each(|(v, r)| *v += r);
+        let a = hat(&l.m) * Matrix3::from_diagonal(&self.inv_c) - uh;
+        let mut dm_top = a * m_top;
+        minus_e1_hat_add(&m_bot, &mut dm_top);
+        let mut dj_top = -(uh * j_top);
+        for (i, mut row) in dj_top.row_iter_mut().enumerate() {
+            row += m_top.row(i) * self.inv_c[i];
+        }
+        let mut dj_bot = -(uh * j_bot);
+        minus_e1_hat_add(&j_top, &mut dj_bot);
+        out[M_AT..J_AT].copy_from_slice(dm_top.as_slice());
+        out[J_AT..JV_AT].copy_from_slice(dj_top.as_slice());
+        out[JV_AT..FULL].copy_from_slice(dj_bot.as_slice());
     }
 
     /// Integrates the full system over the grid of `steps` steps of `h`, tracking `det J`;
@@ -147,22 +170,22 @@ impl Loaded {
         integrator: &Integrator,
         h: f64,
         steps: usize,
-        mut knots: Option<&mut Vec<LoadedShapeArray>>,
+        mut knots: Option<&mut Vec<LoadedKnotArray>>,
         record_det: bool,
         early_exit: bool,
     ) -> (LoadedFullArray, SignTracker) {
         let mut tracker = SignTracker::new(h, steps, record_det);
         let mut y = self.full_initial();
         if let Some(k) = knots.as_deref_mut() {
-            k.push(shape_of(&y));
+            k.push(knot_of(&y));
         }
         let f = |y: &LoadedFullArray, out: &mut LoadedFullArray| self.full_rate(y, out);
         let mut work = Workspace::new();
         for (step, grid_point) in integrator.grid(h, steps) {
-            integrator.step_in_place::<Separate, 90>(&mut y, step, f, &mut work);
+            integrator.step_in_place::<Separate, FULL>(&mut y, step, f, &mut work);
             if let Some(index) = grid_point {
                 if let Some(k) = knots.as_deref_mut() {
-                    k.push(shape_of(&y));
+                    k.push(knot_of(&y));
                 }
                 let stable = tracker.push(index as f64 * h, determinant6(jacobian_rows(&y)));
                 if !stable && early_exit {
@@ -194,43 +217,85 @@ impl Loaded {
         }
     }
 
-    /// The shape states at `nodes` nodes uniform in `[0, L]`, `L = h · (knots.len() − 1)`: the
-    /// knot itself on a grid point, else one step of the shape system from the knot before.
-    pub fn nodes(
-        &self,
-        integrator: &Integrator,
-        knots: &[LoadedShapeArray],
-        h: f64,
-        nodes: usize,
-    ) -> Vec<LoadedShapeArray> {
-        let steps = knots.len().saturating_sub(1).max(1);
-        let last = nodes.saturating_sub(1).max(1) as f64;
-        let f = |y: &LoadedShapeArray, out: &mut LoadedShapeArray| self.shape_rate(y, out);
-        let mut work = Workspace::new();
-        let mut k = 0;
-        (0..nodes)
-            .map(|i| {
-                let x = i as f64 * steps as f64 / last;
-                while k + 1 < steps && x >= (k + 1) as f64 {
-                    k += 1;
-                }
-                let theta = (x - k as f64).clamp(0.0, 1.0);
-                let at = if theta == 1.0 { k + 1 } else { k };
-                let mut y = knots
-                    .get(at)
-                    .copied()
-                    .unwrap_or_else(|| self.shape_initial());
-                if theta > 0.0 && theta < 1.0 {
-                    integrator.step_in_place::<Separate, 18>(&mut y, theta * h, f, &mut work);
-                }
-                y
+    /// `q, q', q'', q'''` at a state (its first 18 numbers), as flat frame states by rows
+    /// (`FrameJet`, the unloaded solver's layout): `R' = R û`, `R'' = R (û² + û')`,
+    /// `R''' = R (û³ + 2 û û' + û' û + û'')`, `p⁽ᵏ⁺¹⁾ = R⁽ᵏ⁾ e1`, with `u' = C⁻¹ m'` and
+    /// `u'' = C⁻¹ (m' × u + m × u' + n' × e1)` from the loaded `m'`, `n'`.
+    pub fn jet(&self, y: &[f64]) -> FrameJet {
+        let l = self.local(y);
+        let times_e1 = |v: &Vector3<f64>| Vector3::new(0.0, v.z, -v.y);
+        let dm = l.m.cross(&l.u) + times_e1(&l.n);
+        let dn = l.n.cross(&l.u) - l.r.tr_mul(&self.w);
+        let du = self.inv_c.component_mul(&dm);
+        let ddm = dm.cross(&l.u) + l.m.cross(&du) + times_e1(&dn);
+        let ddu = self.inv_c.component_mul(&ddm);
+        let (uh, duh, dduh) = (hat(&l.u), hat(&du), hat(&ddu));
+        let r1 = l.r * uh;
+        let r2 = l.r * (uh * uh + duh);
+        let r3 = l.r * (uh * uh * uh + 2.0 * uh * duh + duh * uh + dduh);
+        let rows = |r: &Matrix3<f64>, p: Vector3<f64>| -> FrameArray {
+            std::array::from_fn(|k| {
+                let (i, j) = (k / 4, k % 4);
+                if j < 3 { r[(i, j)] } else { p[i] }
             })
-            .collect()
+        };
+        let p = Vector3::new(y[9], y[10], y[11]);
+        FrameJet {
+            d: [
+                rows(&l.r, p),
+                rows(&r1, l.r.column(0).into()),
+                rows(&r2, r1.column(0).into()),
+                rows(&r3, r2.column(0).into()),
+            ],
+        }
+    }
+
+    /// `μ(t)` at a node from its frame `(r, p)` and `P(t) = ∫₀ᵗ p`: `n = Rᵀ N`,
+    /// `m = Rᵀ (a_m − P × w − p × N)`, `N = a_f − w t`.
+    pub fn costate_at(
+        &self,
+        t: f64,
+        r: &Matrix3<f64>,
+        p: &Vector3<f64>,
+        big_p: &Vector3<f64>,
+    ) -> Vector6<f64> {
+        let a_m = Vector3::new(self.a[0], self.a[1], self.a[2]);
+        let big_n = Vector3::new(self.a[3], self.a[4], self.a[5]) - self.w * t;
+        let m = r.tr_mul(&(a_m - big_p.cross(&self.w) - p.cross(&big_n)));
+        let n = r.tr_mul(&big_n);
+        Vector6::new(m.x, m.y, m.z, n.x, n.y, n.z)
     }
 }
 
-/// The shape part (first 18 numbers) of a full state.
-pub(crate) fn shape_of(y: &LoadedFullArray) -> LoadedShapeArray {
+/// `P = ∫₀ᵗ p` at fraction `theta` of the step `h` from knot `k0` to knot `k1` (with their jets
+/// `j0`, `j1`): septic Hermite from `P, P' = p, P'' = p', P''' = p''` at both ends.
+pub(crate) fn interpolate_integral(
+    (k0, j0): (&LoadedKnotArray, &FrameJet),
+    (k1, j1): (&LoadedKnotArray, &FrameJet),
+    h: f64,
+    theta: f64,
+) -> Vector3<f64> {
+    let w = septic_hermite(theta);
+    let scale = [1.0, h, h * h, h * h * h];
+    let mut out = Vector3::zeros();
+    for (side, (k, j)) in [(k0, j0), (k1, j1)].into_iter().enumerate() {
+        for order in 0..4 {
+            let c = w[4 * side + order] * scale[order];
+            for (i, o) in out.iter_mut().enumerate() {
+                let v = if order == 0 {
+                    k[P_AT + i]
+                } else {
+                    j.d[order - 1][4 * i + 3]
+                };
+                *o += c * v;
+            }
+        }
+    }
+    out
+}
+
+/// The knot part (first 21 numbers: shape state and `P`) of a full state.
+pub(crate) fn knot_of(y: &LoadedFullArray) -> LoadedKnotArray {
     std::array::from_fn(|i| y[i])
 }
 
@@ -247,19 +312,47 @@ pub(crate) fn costate_of(y: &[f64]) -> Vector6<f64> {
     Vector6::from_column_slice(&y[12..18])
 }
 
-/// `M` of a full state.
+/// `M` of a full state: its torque rows, and the force rows by closed form
+/// `M_n = [0, Rᵀ] + n̂ J_ω`.
 pub(crate) fn m_of(y: &LoadedFullArray) -> Matrix6<f64> {
-    Matrix6::from_column_slice(&y[M_AT..J_AT])
+    let (r, _) = frame_of(y);
+    let n = Vector3::new(y[15], y[16], y[17]);
+    let j_top = Matrix3x6::from_column_slice(&y[J_AT..JV_AT]);
+    let mut m = Matrix6::zeros();
+    m.fixed_rows_mut::<3>(0)
+        .copy_from(&Matrix3x6::from_column_slice(&y[M_AT..J_AT]));
+    m.fixed_rows_mut::<3>(3).copy_from(&(hat(&n) * j_top));
+    let mut force_block = m.fixed_view_mut::<3, 3>(3, 3);
+    force_block += r.transpose();
+    m
 }
 
 /// `J` of a full state.
 pub(crate) fn jacobian_of(y: &LoadedFullArray) -> Matrix6<f64> {
-    Matrix6::from_column_slice(&y[J_AT..90])
+    let mut j = Matrix6::zeros();
+    j.fixed_rows_mut::<3>(0)
+        .copy_from(&Matrix3x6::from_column_slice(&y[J_AT..JV_AT]));
+    j.fixed_rows_mut::<3>(3)
+        .copy_from(&Matrix3x6::from_column_slice(&y[JV_AT..FULL]));
+    j
 }
 
-/// The rows of `J` of a full state.
+/// `out −= ê1 x` row-wise on 3 × 6 blocks: `ê1 x = (0, −x_2, x_1)` (rows), so row 1 of `out`
+/// gains `x_2` and row 2 loses `x_1`.
+#[inline(always)]
+fn minus_e1_hat_add(x: &Matrix3x6<f64>, out: &mut Matrix3x6<f64>) {
+    for c in 0..6 {
+        out[(1, c)] += x[(2, c)];
+        out[(2, c)] -= x[(1, c)];
+    }
+}
+
+/// The rows of `J` of a full state (each 3 × 6 block column-major).
 fn jacobian_rows(y: &LoadedFullArray) -> [[f64; 6]; 6] {
-    std::array::from_fn(|r| std::array::from_fn(|c| y[J_AT + 6 * c + r]))
+    std::array::from_fn(|r| {
+        let (at, i) = if r < 3 { (J_AT, r) } else { (JV_AT, r - 3) };
+        std::array::from_fn(|c| y[at + 3 * c + i])
+    })
 }
 
 /// The loaded solves behind [`Rod`]'s methods when its load is not [`Load::none`].
@@ -277,26 +370,6 @@ impl Rod {
     /// [`Rod::steps_for_configuration`] under load.
     pub(crate) fn loaded_steps(&self, a: &Vector6<f64>) -> Result<usize, RodError> {
         Ok(self.loaded_model(a)?.2)
-    }
-
-    /// The shape from the node states.
-    fn loaded_shape_of(&self, states: &[LoadedShapeArray]) -> Shape {
-        let length = self.wire().length();
-        let last = states.len().saturating_sub(1).max(1) as f64;
-        let (positions, rotations) = states
-            .iter()
-            .map(|y| {
-                let (r, p) = frame_of(y);
-                (p, rotation_from_columns(&r))
-            })
-            .unzip();
-        Shape {
-            arc_length: (0..states.len())
-                .map(|i| length * i as f64 / last)
-                .collect(),
-            positions,
-            rotations,
-        }
     }
 
     fn loaded_jacobian_solution(
@@ -337,19 +410,43 @@ impl Rod {
         let (y, tracker) =
             model.integrate_full(self.integrator(), h, steps, Some(&mut knots), true, false);
         let jacobian = self.loaded_jacobian_solution(a, steps, &y, tracker)?;
-        let states = model.nodes(self.integrator(), &knots, h, nodes);
-        let shape = self.loaded_shape_of(&states);
+        let jets: Vec<FrameJet> = knots.iter().map(|k| model.jet(k)).collect();
+        let shape = self.shape_from_knots(&jets, nodes);
         let radius = self.wire().radius();
         let self_intersecting = if nodes >= DEFAULT_NODES {
             self_contact(&shape.positions, shape.spacing(), radius).is_some()
         } else {
-            let dense = model.nodes(self.integrator(), &knots, h, DEFAULT_NODES);
-            let dense = self.loaded_shape_of(&dense);
+            let dense = self.shape_from_knots(&jets, DEFAULT_NODES);
             self_contact(&dense.positions, dense.spacing(), radius).is_some()
         };
+        // μ at the nodes by the loaded closed form, with P = ∫p interpolated in the same knot
+        // intervals as the frames (the walk of `Rod::shape_from_knots_with`).
+        let last = nodes.saturating_sub(1).max(1) as f64;
+        let mut k = 0;
+        let costate = (0..nodes)
+            .map(|i| {
+                let x = i as f64 * steps as f64 / last;
+                while k + 1 < steps && x >= (k + 1) as f64 {
+                    k += 1;
+                }
+                let theta = (x - k as f64).clamp(0.0, 1.0);
+                let big_p = match (knots.get(k), knots.get(k + 1), jets.get(k), jets.get(k + 1)) {
+                    (Some(k0), Some(k1), Some(j0), Some(j1)) => {
+                        interpolate_integral((k0, j0), (k1, j1), h, theta)
+                    }
+                    _ => Vector3::zeros(),
+                };
+                let (t, r, p) = (
+                    shape.arc_length[i],
+                    shape.rotations[i].matrix(),
+                    &shape.positions[i],
+                );
+                model.costate_at(t, r, p, &big_p)
+            })
+            .collect();
         Ok(Solution {
             shape,
-            costate: states.iter().map(|y| costate_of(y)).collect(),
+            costate,
             jacobian,
             self_intersecting,
         })
@@ -366,8 +463,8 @@ impl Rod {
                 steps,
             });
         }
-        let states = model.nodes(self.integrator(), &knots, h, nodes);
-        Ok(self.loaded_shape_of(&states))
+        let jets: Vec<FrameJet> = knots.iter().map(|k| model.jet(k)).collect();
+        Ok(self.shape_from_knots(&jets, nodes))
     }
 
     /// [`Rod::jacobian`] under load.

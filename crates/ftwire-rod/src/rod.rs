@@ -534,7 +534,7 @@ impl Rod {
 
     /// The shape at `nodes` nodes from the frame jets at the grid points (septic Hermite
     /// dense output). AVX2+FMA when the CPU has it.
-    fn shape_from_knots(&self, knots: &[FrameJet], nodes: usize) -> Shape {
+    pub(crate) fn shape_from_knots(&self, knots: &[FrameJet], nodes: usize) -> Shape {
         #[cfg(target_arch = "x86_64")]
         if crate::arith::fast_path() {
             // SAFETY: as in `integrate_full`.

@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use cli_support::{assert_exit, assert_success, ftwire_with_input as ftwire, json};
+use cli_support::{assert_exit, assert_success, ftwire_with_input as ftwire, json, numbers};
 
 const SINGLE: [&str; 7] = [
     "solve",
@@ -407,4 +407,113 @@ fn batch_answers_each_line_before_the_next_arrives() {
     assert_eq!(replies[1]["line"], 2);
     assert_eq!(replies[2]["shape"].as_array().map(Vec::len), Some(4));
     assert_eq!(status.code(), Some(2), "a bad line makes the exit code 2");
+}
+
+/// `--gravity`, `--density`, `--radius` and `--natural-curvature` solve the loaded model
+/// (`ftwire_rod::Rod::with_load`): the same numbers as the library, the same JSON keys as
+/// without a load, and a tip that the weight and rest curvature have moved.
+#[test]
+fn gravity_and_rest_curvature_solve_the_loaded_model() {
+    let mut args = SINGLE.to_vec();
+    args.extend([
+        "--json",
+        "--nodes",
+        "10",
+        "--radius",
+        "0.0015",
+        "--gravity",
+        "0,-9.81,0",
+        "--density",
+        "6450",
+        "--natural-curvature",
+        "0,0.5,-1",
+    ]);
+    let out = ftwire(&args, None);
+    assert_success(&out, "loaded solve");
+    let v = json(&out);
+    let wire = ftwire_rod::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid");
+    let load =
+        ftwire_rod::Load::from_gravity(6450.0, 0.0015, nalgebra::Vector3::new(0.0, -9.81, 0.0))
+            .and_then(|l| l.with_natural_curvature(nalgebra::Vector3::new(0.0, 0.5, -1.0)))
+            .expect("valid load");
+    let a = nalgebra::Vector6::new(0.0, 0.2, 0.1, -0.5, 0.3, 0.0);
+    let rod = ftwire_rod::Rod::new(wire);
+    let loaded = rod.with_load(load).solve(&a, 10).expect("solves");
+    let unloaded = rod.solve(&a, 10).expect("solves");
+    let position = numbers(&v["tip"]["position"]);
+    let tip = loaded.jacobian.tip.translation.vector;
+    for k in 0..3 {
+        assert!(
+            (position[k] - tip[k]).abs() < 1e-15,
+            "{position:?} vs {tip}"
+        );
+    }
+    let moved = (tip - unloaded.jacobian.tip.translation.vector).norm();
+    assert!(moved > 1e-3, "the load moved the tip only {moved} m");
+    assert_eq!(
+        v["stable"].as_bool(),
+        Some(loaded.jacobian.stability.stable)
+    );
+    let j = v["jacobian"].as_array().expect("jacobian");
+    assert!((j[3][4].as_f64().expect("number") - loaded.jacobian.jacobian[(3, 4)]).abs() < 1e-12);
+    // The JSON keys are those of the unloaded answer.
+    let mut plain = SINGLE.to_vec();
+    plain.extend(["--json", "--nodes", "10"]);
+    let plain = json(&ftwire(&plain, None));
+    let keys = |v: &serde_json::Value| {
+        let mut k: Vec<String> = v.as_object().expect("object").keys().cloned().collect();
+        k.sort();
+        k
+    };
+    assert_eq!(keys(&v), keys(&plain));
+    // Without the flags, the answer is the unloaded model's.
+    let plain_tip = numbers(&plain["tip"]["position"]);
+    let unloaded_tip = unloaded.jacobian.tip.translation.vector;
+    assert!((0..3).all(|k| (plain_tip[k] - unloaded_tip[k]).abs() < 1e-15));
+    // The human summary states the load.
+    let mut text = args.clone();
+    text.retain(|a| *a != "--json");
+    let out = ftwire(&text, None);
+    assert_success(&out, "loaded summary");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("load: w = "));
+}
+
+/// A bad load is bad input (exit 2) naming the value.
+#[test]
+fn bad_load_arguments_exit_2_naming_the_value() {
+    let with = |extra: &[&'static str]| {
+        let mut v = SINGLE.to_vec();
+        v.extend_from_slice(extra);
+        ftwire(&v, None)
+    };
+    assert_exit(
+        &with(&["--gravity", "0,0,-9.81", "--density", "-1"]),
+        2,
+        "density",
+        "negative density",
+    );
+    assert_exit(
+        &with(&["--gravity", "0,0,-9.81", "--density", "0"]),
+        2,
+        "density = 0 must be finite and > 0",
+        "zero density",
+    );
+    assert_exit(
+        &with(&["--gravity", "0,nan,-9.81"]),
+        2,
+        "expected 3 comma-separated finite numbers",
+        "non-finite gravity",
+    );
+    assert_exit(
+        &with(&["--natural-curvature", "1,2"]),
+        2,
+        "expected 3 comma-separated finite numbers",
+        "two curvatures",
+    );
+    assert_exit(
+        &with(&["--natural-curvature", "1,inf,0"]),
+        2,
+        "--natural-curvature",
+        "infinite curvature",
+    );
 }

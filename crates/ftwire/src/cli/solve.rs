@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{ArgGroup, Args};
-use ftwire::args::{JsonArgs, Vec6, WireArgs, parse_numbers};
+use ftwire::args::{DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
 use ftwire_rod::DEFAULT_NODES;
 
 /// Arguments of `ftwire solve`: one configuration from flags, or a JSON Lines batch.
@@ -11,7 +11,16 @@ use ftwire_rod::DEFAULT_NODES;
 #[command(
     group(
         ArgGroup::new("single")
-            .args(["c", "length", "a", "radius", "nodes"])
+            .args([
+                "c",
+                "length",
+                "a",
+                "radius",
+                "nodes",
+                "gravity",
+                "density",
+                "natural_curvature",
+            ])
             .multiple(true)
             .conflicts_with("batch")
     ),
@@ -19,6 +28,7 @@ use ftwire_rod::DEFAULT_NODES;
     mut_arg("length", |a| a.required_unless_present("batch")),
     after_help = "Examples:\n  \
     ftwire solve --c 0.214,0.278,0.278 --length 0.82 --a 0,0.2,0.1,-0.5,0.3,0 --json\n  \
+    ftwire solve --c 0.042,0.055,0.055 --length 0.63 --a 0,0.02,0,0,0.1,0 --gravity 0,0,-9.81\n  \
     echo '{\"c\":[0.042,0.055,0.055],\"length\":0.63,\"a\":[0,0,0.01,0,0,0]}' | ftwire solve --batch -\n\n\
     Exit codes: 0 solved, 1 no answer (the integration diverged), 2 bad input.")]
 pub struct SolveArgs {
@@ -36,6 +46,30 @@ pub struct SolveArgs {
         required_unless_present = "batch"
     )]
     pub a: Option<Vec6>,
+
+    /// Gravity [m/s²] in the base clamp frame: GX,GY,GZ. Solves the loaded model with the
+    /// wire's weight per length density · π · radius² · gravity (default: no weight).
+    #[arg(
+        long,
+        value_name = "GX,GY,GZ",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub gravity: Option<Vec3>,
+
+    /// The wire's density, for its weight under --gravity (unused without it).
+    #[command(flatten)]
+    pub density: DensityArgs,
+
+    /// Natural (rest) strains K1,K2,K3 [1/m] in the body frame: twist rate, then the rest
+    /// curvatures about body y and z (default: a straight, untwisted wire).
+    #[arg(
+        long,
+        value_name = "K1,K2,K3",
+        allow_hyphen_values = true,
+        value_parser = parse_numbers::<3>
+    )]
+    pub natural_curvature: Option<Vec3>,
 
     /// Number of shape nodes from t = 0 to t = L, both ends included (at least 2).
     #[arg(

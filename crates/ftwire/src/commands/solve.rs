@@ -13,7 +13,7 @@ use std::path::Path;
 use ftwire::args::default_radius;
 use ftwire::error::{CliError, EXIT_BAD_INPUT, from_rod};
 use ftwire::output::{self, ErrorLine, JsonLines, Report};
-use ftwire_rod::{DEFAULT_NODES, Rod, Solution, WireParams};
+use ftwire_rod::{DEFAULT_NODES, Load, Rod, Solution, WireParams};
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
@@ -32,19 +32,36 @@ fn run_single(args: &SolveArgs) -> Result<(), CliError> {
     let a = args
         .a
         .ok_or_else(|| CliError::bad_input("solve needs --a A1,..,A6"))?;
-    let solution = solve(wire, &a.0, args.nodes)?;
+    let load = load(args, &wire)?;
+    let solution = solve(wire, load, &a.0, args.nodes)?;
     let report = SingleReport {
         output: Output::from(&solution),
         wire,
+        load,
         a: a.0,
         solution: &solution,
     };
     output::print(&report, args.output.json)
 }
 
+/// The load of `--gravity`, `--density` (with the wire's radius) and `--natural-curvature`;
+/// none without them.
+fn load(args: &SolveArgs, wire: &WireParams) -> Result<Load, CliError> {
+    let weight = match &args.gravity {
+        Some(g) => Load::from_gravity(args.density.density, wire.radius(), g.to_vector()),
+        None => Ok(Load::none()),
+    };
+    let load = match &args.natural_curvature {
+        Some(k) => weight.and_then(|l| l.with_natural_curvature(k.to_vector())),
+        None => weight,
+    };
+    load.map_err(|e| CliError::bad_input(format!("invalid load: {e}")))
+}
+
 /// Solves one configuration; every failure is sorted into bad input or no answer.
-fn solve(wire: WireParams, a: &[f64; 6], nodes: usize) -> Result<Solution, CliError> {
+fn solve(wire: WireParams, load: Load, a: &[f64; 6], nodes: usize) -> Result<Solution, CliError> {
     Rod::new(wire)
+        .with_load(load)
         .solve(&Vector6::from(*a), nodes)
         .map_err(|e| from_rod(e, "solve"))
 }
@@ -113,7 +130,12 @@ fn answer(line: &str) -> Result<Solution, CliError> {
     let radius = request.radius.unwrap_or_else(default_radius);
     let wire = WireParams::new(c, request.length, radius)
         .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
-    solve(wire, &a, request.nodes.unwrap_or(DEFAULT_NODES))
+    solve(
+        wire,
+        Load::none(),
+        &a,
+        request.nodes.unwrap_or(DEFAULT_NODES),
+    )
 }
 
 /// One batch request.
@@ -173,6 +195,8 @@ struct SingleReport<'a> {
     #[serde(skip)]
     wire: WireParams,
     #[serde(skip)]
+    load: Load,
+    #[serde(skip)]
     a: [f64; 6],
     #[serde(skip)]
     solution: &'a Solution,
@@ -194,6 +218,14 @@ impl Report for SingleReport<'_> {
             self.wire.length(),
             self.a
         )?;
+        if !self.load.is_none() {
+            let (w, k) = (self.load.weight_per_length, self.load.natural_curvature);
+            writeln!(
+                out,
+                "load: w = ({:+.4e}, {:+.4e}, {:+.4e}) N/m, u₀ = ({:+.4}, {:+.4}, {:+.4}) 1/m",
+                w.x, w.y, w.z, k.x, k.y, k.z
+            )?;
+        }
         writeln!(
             out,
             "tip position  [m]:   ({:+.6}, {:+.6}, {:+.6})",
