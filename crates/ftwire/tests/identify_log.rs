@@ -382,3 +382,89 @@ fn given_weights_are_used_recorded_and_replayed() {
     // The log holds the calibrated `ã`: replaying it gives the live estimate.
     assert_replay_gives_the_live_estimate(&calibrated);
 }
+
+/// With gravity on, the loaded model identifies the wire's weight too; both models are
+/// reported from the same data, and `ftwire identify --log --gravity` replays the live loaded
+/// estimate, linear density included.
+#[test]
+fn the_loaded_model_identifies_the_weight_and_its_log_replays() {
+    let tmp = TempDir::new("loaded");
+    let out = tmp.0.join("run");
+    let args = [
+        "experiment",
+        "identify",
+        "--wire",
+        "nitinol-3mm-820",
+        "--trials",
+        "1",
+        "--samples",
+        "3",
+        "--gravity",
+        "on",
+        "--pipeline",
+        "mounting",
+        "--seed",
+        "5",
+        "--save-log",
+        "--out",
+        text(&out),
+    ];
+    assert_success(&ftwire(&args), "experiment identify, gravity on");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&fs::read(out.join("summary.json")).expect("a summary"))
+            .expect("JSON");
+    let body = &summary["summary"];
+    assert_eq!(body["model"], "loaded", "the default with gravity on");
+    let models: Vec<&str> = body["by_model"]
+        .as_array()
+        .expect("by_model")
+        .iter()
+        .map(|m| m["model"].as_str().expect("a name"))
+        .collect();
+    assert_eq!(models, ["loaded", "kirchhoff"]);
+    let truth = body["wire"]["linear_density"].as_f64().expect("true λ");
+    assert!((truth - 6450.0 * std::f64::consts::PI * 0.0015 * 0.0015).abs() < 1e-12);
+    let density = &body["by_samples"][0]["linear_density"];
+    assert!(density["mean"].as_f64().is_some(), "{density}");
+    assert!(body["by_model"][1]["wires"][0]["by_samples"][0]["linear_density"].is_null());
+
+    // The replay: c, L and λ as live.
+    let text_csv = fs::read_to_string(out.join("identify.csv")).expect("the CSV");
+    let mut lines = text_csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let row: Vec<&str> = lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .find(|r| r[col("model")] == "loaded")
+        .expect("the loaded row");
+    let live: Vec<f64> = ["c1", "c2", "c3", "L", "linear_density"]
+        .iter()
+        .map(|k| row[col(k)].parse().expect("a number"))
+        .collect();
+    let log = out.join("logs").join("nitinol-3mm-820-trial0.jsonl");
+    let replay = ftwire(&[
+        "identify",
+        "--log",
+        text(&log),
+        "--samples",
+        "3",
+        "--seed",
+        "5",
+        "--gravity",
+        "0,0,-9.81",
+        "--json",
+    ]);
+    let answer = json(&replay);
+    let mut logged = numbers(&answer["c"]);
+    logged.push(answer["length"].as_f64().expect("a length"));
+    logged.push(answer["linear_density"].as_f64().expect("λ"));
+    for (name, (l, r)) in ["c1", "c2", "c3", "L", "λ"]
+        .iter()
+        .zip(live.iter().zip(&logged))
+    {
+        assert!((l - r).abs() <= 1e-6 * l.abs(), "{name}: live {l}, log {r}");
+    }
+    // A zero gravity names the option.
+    let zero = ftwire(&["identify", "--log", text(&log), "--gravity", "0,0,0"]);
+    assert_exit(&zero, 2, "--gravity", "a zero gravity");
+}

@@ -49,6 +49,20 @@ pub struct CommonExperimentArgs {
     /// Gravity in the simulated world.
     #[arg(long, value_enum, default_value_t = Gravity::On)]
     pub gravity: Gravity,
+    /// The estimators' wire model: `kirchhoff`, the paper's (weightless, straight at rest), or
+    /// `loaded`, with the wire's weight under the known gravity and its rest curvature (for a
+    /// wire being identified, its linear density is identified too) [default: `loaded` with
+    /// `--gravity on`, `kirchhoff` with `--gravity off`]. The summaries report the other model
+    /// beside it.
+    #[arg(long, value_enum)]
+    pub model: Option<ModelArg>,
+}
+
+impl CommonExperimentArgs {
+    /// `--model`, or its default for `--gravity`.
+    pub fn model(&self) -> ModelArg {
+        ModelArg::resolve(self.model, self.gravity)
+    }
 }
 
 impl CommonExperimentArgs {
@@ -86,6 +100,11 @@ pub struct IdentifyExperimentArgs {
     /// The residual form and the known relations between the parameters.
     #[command(flatten)]
     pub settings: crate::cli::identify::IdentifySettingsArgs,
+    /// The twist of each identification move about the wire's tangent at the second gripper
+    /// [degrees], alternating in sign (0: the paper's purely random moves; see
+    /// `ftwire_estimate::identify::MotionPlan`).
+    #[arg(long, value_name = "DEG", default_value_t = 20.0, allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
+    pub twist: f64,
     /// The simulated F/T sensor: `distorted` has the default gain, cross-talk and
     /// nonlinearity, which the tared, mounting-only pipeline leaves in `ã`; `undistorted`
     /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives,
@@ -101,6 +120,8 @@ pub struct IdentifyExperimentArgs {
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
 }
+
+pub use ftwire::experiment::ModelKind as ModelArg;
 
 /// The F/T pipeline of `ftwire experiment identify`: how `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]

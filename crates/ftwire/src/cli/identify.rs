@@ -113,6 +113,16 @@ pub struct IdentifyArgs {
     /// Use only the first N records (default: all).
     #[arg(long, value_name = "N")]
     pub samples: Option<usize>,
+    /// Gravity in the base clamp frame [m/s²]: identify with the loaded model, the wire's
+    /// linear density (its weight) as well as `c` and `L` (default: the paper's weightless
+    /// model).
+    #[arg(
+        long,
+        value_name = "GX,GY,GZ",
+        allow_hyphen_values = true,
+        value_parser = ftwire::args::parse_numbers::<3>
+    )]
+    pub gravity: Option<ftwire::args::Vec3>,
     /// The residual form and the known relations between the parameters.
     #[command(flatten)]
     pub settings: IdentifySettingsArgs,

@@ -19,7 +19,7 @@ use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::identify::{Estimate, IdentifyConfig, Unidentified, identify};
 use ftwire_estimate::log::{LogRecord, read_log};
 use ftwire_estimate::{Calibration, KirchhoffModel};
-use nalgebra::Vector6;
+use nalgebra::{Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -28,7 +28,13 @@ use crate::cli::identify::{FormArg, IdentifyArgs};
 
 /// Runs `ftwire identify`.
 pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
-    let config = args.settings.config()?;
+    let mut config = args.settings.config()?;
+    if let Some(g) = args.gravity {
+        config.constraints.weight = Some(Vector3::from(g.0));
+        config
+            .validate()
+            .map_err(|e| CliError::bad_input(format!("--gravity: {e}")))?;
+    }
     let records = read(&args.log)?;
     let calibration = args
         .calibration
@@ -177,6 +183,12 @@ pub struct EstimateReport {
     pub c_std: [f64; 3],
     /// Standard deviation of `L` \[m\].
     pub length_std: f64,
+    /// The linear density `λ` \[kg/m\] (with `--gravity`; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_density: Option<f64>,
+    /// Standard deviation of `λ` \[kg/m\] (with `--gravity`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_density_std: Option<f64>,
     /// `χ²` per degree of freedom under the assumed noise.
     pub chi2_per_dof: f64,
     /// `σ_min/σ_max` of the residual's Jacobian.
@@ -199,6 +211,8 @@ impl EstimateReport {
             length: estimate.length,
             c_std: estimate.c_std,
             length_std: estimate.length_std,
+            linear_density: estimate.linear_density,
+            linear_density_std: estimate.linear_density_std,
             chi2_per_dof: estimate.chi2_per_dof,
             condition: estimate.condition,
             identified: estimate.is_identified(),
@@ -224,6 +238,9 @@ impl Report for EstimateReport {
             "  {:<10} {:.6} ± {:.2e}",
             "L [m]", self.length, self.length_std
         )?;
+        if let (Some(lambda), Some(std)) = (self.linear_density, self.linear_density_std) {
+            writeln!(out, "  {:<10} {lambda:.6} ± {std:.2e}", "λ [kg/m]")?;
+        }
         writeln!(
             out,
             "  χ²/dof {:.3}, condition {:.2e}",

@@ -14,10 +14,14 @@
 //! wire) and makes the samples independent. A placement the simulator cannot solve, a rest with
 //! too few good samples or a marker frame with too few markers is skipped and counted.
 //!
-//! **Labels.** `ShapeFitter` with the known wire's weight-free Kirchhoff model fits the
-//! markers (eq. 15). With gravity on the model cannot follow the sag exactly: the label is the
-//! weight-free configuration closest to the markers, so the network learns the map to *that*
-//! `a` and absorbs part of gravity, as the paper's network does on its real wire.
+//! **Labels.** `ShapeFitter` with the known wire's model fits the markers (eq. 15). With the
+//! paper's weight-free model (`--model kirchhoff`) and gravity on, the model cannot follow the
+//! sag exactly: the label is the weight-free configuration closest to the markers, so the
+//! network learns the map to *that* `a` and absorbs part of gravity, as the paper's network
+//! does on its real wire, and only on this wire. With the loaded model (`--model loaded`, the
+//! known wire's weight and rest curvature; [`super::known_model`]) the label is the true
+//! wrench up to the fit's noise, so the network learns only the sensor's distortion, which
+//! carries over to any wire.
 //!
 //! **Evaluation** (on the test split only, against the ground truth the binary alone sees):
 //! the relative error of the torque and force parts against the true base wrench, and the mean
@@ -27,7 +31,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use ftwire_core::WireParams;
 use ftwire_estimate::calibration::{Calibration, Dataset, Split, TrainConfig};
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, Markers, ShapeFitter, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
@@ -39,8 +42,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::Gravity;
 use super::rig::{measure, mounting, pipeline, place_wire, tare};
+use super::{Gravity, ModelKind, known_model};
 use crate::error::{CliError, from_estimate, from_rod};
 use crate::wire::WireSpec;
 
@@ -111,6 +114,8 @@ pub struct Skipped {
 pub struct CalibrationSummary {
     /// The known wire.
     pub wire: WireSpec,
+    /// The model that labelled the samples (`--model`).
+    pub model: ModelKind,
     /// The split sizes.
     pub samples: SampleCounts,
     /// The tared mounting-only pipeline on the test split.
@@ -150,13 +155,6 @@ pub struct CalibrationRun {
     pub timings: CalibrationTimings,
 }
 
-fn model(wire: &WireSpec) -> Result<KirchhoffModel, CliError> {
-    let params: WireParams = wire
-        .wire_params()
-        .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
-    Ok(KirchhoffModel::new(params))
-}
-
 /// The seed of the simulated rig of configuration `k` of a run seeded `seed`.
 pub fn rig_seed(seed: u64, k: usize) -> u64 {
     seed.wrapping_mul(1_000_003).wrapping_add(k as u64)
@@ -169,12 +167,14 @@ pub fn rig_seed(seed: u64, k: usize) -> u64 {
 /// Bad input for a bad wire; no answer when `A_free` cannot be sampled.
 pub fn collect(
     wire: &WireSpec,
-    gravity: Gravity,
+    (gravity, kind): (Gravity, ModelKind),
     count: usize,
     seed: u64,
     mut progress: impl FnMut(usize),
 ) -> Result<(Vec<CalibrationSample>, Skipped), CliError> {
-    let model = model(wire)?;
+    let model = known_model(wire, gravity, kind)?;
+    // The configurations are placed as the weight-free model gives them, whatever the labels'
+    // model, so that both models label the same collection.
     let rod = Rod::new(*model.wire());
     let fitter = ShapeFitter::new(model);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -280,13 +280,13 @@ pub fn map_errors(
 /// collection fails.
 pub fn run(
     wire: &WireSpec,
-    gravity: Gravity,
+    (gravity, kind): (Gravity, ModelKind),
     count: usize,
     seed: u64,
     progress: impl FnMut(usize),
 ) -> Result<CalibrationRun, CliError> {
     let start = Instant::now();
-    let (samples, skipped) = collect(wire, gravity, count, seed, progress)?;
+    let (samples, skipped) = collect(wire, (gravity, kind), count, seed, progress)?;
     let collect_s = start.elapsed().as_secs_f64();
     let data = Dataset::new(
         samples.iter().map(|s| s.raw).collect(),
@@ -307,7 +307,7 @@ pub fn run(
     let split = data
         .split(&config.split, &mut ChaCha8Rng::seed_from_u64(seed))
         .map_err(|e| from_estimate(e, "the calibration split"))?;
-    let model = model(wire)?;
+    let model = known_model(wire, gravity, kind)?;
     let raw = map_errors(&model, &samples, &split.test, |s| s.mounting)?;
     let calibrated = map_errors(&model, &samples, &split.test, |s| calibration.apply(&s.raw))?;
     let all: Vec<usize> = (0..samples.len()).collect();
@@ -315,6 +315,7 @@ pub fn run(
     let n = samples.len().max(1) as f64;
     let summary = CalibrationSummary {
         wire: wire.clone(),
+        model: kind,
         samples: SampleCounts {
             train: split.train.len(),
             validation: split.validation.len(),
@@ -343,7 +344,7 @@ pub fn run(
 /// Bad input for an unreadable or invalid weights file; as [`run`] otherwise.
 pub fn load_or_run(
     file: Option<&Path>,
-    gravity: Gravity,
+    (gravity, kind): (Gravity, ModelKind),
     seed: u64,
     progress: impl FnMut(usize),
 ) -> Result<(Calibration, Option<CalibrationRun>), CliError> {
@@ -354,6 +355,6 @@ pub fn load_or_run(
     }
     let wire = WireSpec::preset(KNOWN_WIRE)
         .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
-    let run = run(&wire, gravity, DEFAULT_SAMPLES, seed, progress)?;
+    let run = run(&wire, (gravity, kind), DEFAULT_SAMPLES, seed, progress)?;
     Ok((run.calibration.clone(), Some(run)))
 }

@@ -30,11 +30,17 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
         "calibrating on {} ({count} configurations, gravity {:?})",
         wire.name, common.gravity
     );
-    let result = calibrate(&wire, common.gravity, count, common.seed.seed, |k| {
-        if (k + 1) % 50 == 0 {
-            eprintln!("  {} / {count}", k + 1);
-        }
-    })?;
+    let result = calibrate(
+        &wire,
+        (common.gravity, common.model()),
+        count,
+        common.seed.seed,
+        |k| {
+            if (k + 1) % 50 == 0 {
+                eprintln!("  {} / {count}", k + 1);
+            }
+        },
+    )?;
     let json = result
         .calibration
         .to_json()

@@ -6,7 +6,8 @@
 //! 1. the operator places the wire at a random start configuration `a0` (normalised within
 //!    `[−5, 5]⁶`, stable for the true wire; [`place_wire`]) and the robot tares its sensor
 //!    before the pick-up ([`tare`]);
-//! 2. the second gripper follows the library's identification [`MotionPlan`] (seeded), and at
+//! 2. the second gripper follows the library's identification [`MotionPlan`] (seeded; its
+//!    twist about the wire's tangent is `--twist`, default 20°), and at
 //!    each rest the robot records `(ã, b̃)`: `ã` from the tared reading ([`measure`]) through
 //!    the learnt calibration by default (`--pipeline calibrated`: `--calibration FILE`, or a
 //!    calibration run first on the known wire with this run's gravity and seed and cached as
@@ -16,17 +17,24 @@
 //!    calibration gives); `b̃` the believed pose;
 //! 3. for every sample count `n` of `--samples`, `η` is identified from the first `n` samples
 //!    with the swarm seeded by `--seed` (a fresh generator per identification, as
-//!    `ftwire identify --log` does, so the log command reproduces each estimate).
+//!    `ftwire identify --log` does, so the log command reproduces each estimate), with the
+//!    model of `--model`: `kirchhoff`, the paper's, or `loaded` (default with gravity on),
+//!    which also identifies the wire's linear density `λ` under the known gravity
+//!    (`ftwire identify --log --gravity 0,0,-9.81` replays it). With gravity on, the other
+//!    model identifies from the same data as well, reported beside it.
 //!
 //! Results folder (`--out`, default `results/identify`):
-//! - `summary.json`: the run header, then `form`, `gravity`, `sensor`, `pipeline`
+//! - `summary.json`: the run header, then `model`, `form`, `gravity`, `sensor`, `pipeline`
 //!   (`calibrated` or `mounting`), `calibration` (the `--calibration` path, `"cached"` when one
 //!   was run and cached, `null` for the mounting pipeline), `trials`, `sample_counts`;
-//!   `wires`: a list of `{wire: {name, c, length}, by_samples}`; and `wire` and `by_samples`
-//!   repeated at the top level for the first wire (issue 13's contract). Each `by_samples`
-//!   row is `{samples, estimated, identified, mean[4], std[4], relative_error[4],
-//!   mean_abs_relative_error[4], mean_abs_relative_error_identified[4], compute_ms_median,
-//!   evaluations_median}` over `(c1, c2, c3, L)`:
+//!   `wires`: a list of `{wire: {name, c, length, linear_density}, by_samples}` of `--model`;
+//!   `wire` and `by_samples` repeated at the top level for the first wire (issue 13's
+//!   contract); and `by_model`, a list of `{model, wires}` for every model run, `--model`
+//!   first. Each `by_samples` row is `{samples, estimated, identified, mean[4], std[4],
+//!   relative_error[4], mean_abs_relative_error[4], mean_abs_relative_error_identified[4],
+//!   compute_ms_median, evaluations_median, linear_density}` over `(c1, c2, c3, L)`, with
+//!   `linear_density` `{mean, std, mean_abs_relative_error}` for the loaded model (`null`
+//!   otherwise):
 //!   `relative_error` is that of the mean over trials (Table I), `mean_abs_relative_error` the
 //!   mean of each trial's absolute relative error, both as fractions (0.005 is 0.5 %), over
 //!   the trials that returned an estimate (`estimated`), flagged ones included; `identified`
@@ -34,8 +42,8 @@
 //!   is the mean over those only (`null` if none): what a user who heeds the flags gets. `compute_ms_median` is the one timing
 //!   in the summary (the contract asks for it there): it varies from run to run, every other
 //!   value is the same for the same seed. All timings are in `timings.json`.
-//! - `identify.csv`: one row per wire, trial and sample count (estimate, relative errors,
-//!   `χ²/dof`, flags).
+//! - `identify.csv`: one row per model, wire, trial and sample count (estimate, relative
+//!   errors, `χ²/dof`, flags, `model`, `linear_density`).
 //! - `error_vs_samples_<wire>.{png,svg}` (Fig. 3, log y, one per wire) and
 //!   `time_vs_samples.{png,svg}` (Fig. 4).
 //! - with `--save-log`, `logs/<wire>-trial<k>.jsonl`: each trial's records
@@ -68,7 +76,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use crate::cli::experiment::{IdentifyExperimentArgs, IdentifyPipeline};
+use crate::cli::experiment::{IdentifyExperimentArgs, IdentifyPipeline, ModelArg};
 use crate::cli::identify::{FormArg, SensorArg};
 use crate::commands::identify::{flag_name, run_identification};
 
@@ -135,11 +143,15 @@ struct Recorded {
 /// One identification: a wire, a trial, a sample count.
 #[derive(Debug, Clone)]
 struct Row {
+    /// The estimator's model.
+    model: ModelArg,
     wire: usize,
     trial: usize,
     samples: usize,
     /// `(c1, c2, c3, L)`, or `None` when identification returned an error.
     eta: Option<[f64; 4]>,
+    /// The identified linear density \[kg/m\] (the loaded model only).
+    linear_density: Option<f64>,
     chi2_per_dof: f64,
     /// Flag name, `"error"`, or `None` when identified.
     flag: Option<&'static str>,
@@ -153,6 +165,8 @@ struct WireOut {
     name: String,
     c: [f64; 3],
     length: f64,
+    /// The true linear density `ρ π r²` \[kg/m\] (what the loaded model identifies).
+    linear_density: f64,
 }
 
 /// One row of `by_samples`.
@@ -168,6 +182,23 @@ struct BySamples {
     mean_abs_relative_error_identified: [f64; 4],
     compute_ms_median: f64,
     evaluations_median: f64,
+    /// The identified linear density over the trials (the loaded model only).
+    linear_density: Option<DensityStats>,
+}
+
+/// The identified linear density over trials.
+#[derive(Debug, Serialize)]
+struct DensityStats {
+    mean: f64,
+    std: f64,
+    mean_abs_relative_error: f64,
+}
+
+/// One model's results over the wires.
+#[derive(Debug, Serialize)]
+struct ModelResults {
+    model: ModelArg,
+    wires: Vec<WireResults>,
 }
 
 /// A wire's results.
@@ -180,6 +211,8 @@ struct WireResults {
 /// `summary.json`'s body.
 #[derive(Debug, Serialize)]
 struct Summary<'a> {
+    /// The estimator's model (`--model`); `wire`, `by_samples` and `wires` are its results.
+    model: ModelArg,
     form: FormArg,
     gravity: Gravity,
     sensor: SensorArg,
@@ -191,6 +224,8 @@ struct Summary<'a> {
     wire: &'a WireOut,
     by_samples: &'a [BySamples],
     wires: &'a [WireResults],
+    /// Every model run on the same data (with gravity on, both), `--model` first.
+    by_model: &'a [ModelResults],
 }
 
 /// `timings.json`.
@@ -205,6 +240,7 @@ struct Timings<'a> {
 /// One identification's timing in `timings.json`.
 #[derive(Debug, Serialize)]
 struct Timing<'a> {
+    model: ModelArg,
     wire: &'a str,
     trial: usize,
     samples: usize,
@@ -223,11 +259,33 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     let counts = sample_counts(args.samples.as_deref())?;
     let config = args.settings.config()?;
     check_pipeline(&args)?;
+    let gravity = args.common.gravity;
+    let model = args.common.model();
+    // Both models identify from the same data, `--model` first. Without gravity the loaded
+    // model of these straight-at-rest wires is the paper's, so it runs alone.
+    let settings = |kind| match kind {
+        ModelArg::Loaded => loaded_config(&config, gravity),
+        ModelArg::Kirchhoff => config.clone(),
+    };
+    let models: Vec<(ModelArg, IdentifyConfig)> = match gravity {
+        Gravity::Off => vec![(model, settings(model))],
+        Gravity::On => vec![
+            (model, settings(model)),
+            (model.other(), settings(model.other())),
+        ],
+    };
     let out = args.common.out_dir("identify")?;
     let folder = ResultsFolder::create(&out)?;
     let seed = args.common.seed.seed;
-    let gravity = args.common.gravity;
     let recorded = counts.last().copied().unwrap_or(2);
+    // The start pose and `recorded − 1` moves.
+    let plan = MotionPlan {
+        moves: recorded - 1,
+        twist: args.twist.to_radians(),
+        ..MotionPlan::default()
+    };
+    plan.validate()
+        .map_err(|e| CliError::bad_input(format!("--twist {}: {e}", args.twist)))?;
     let (learnt, calibration, calibration_s) = match args.pipeline {
         IdentifyPipeline::Mounting => (None, None, 0.0),
         IdentifyPipeline::Calibrated => {
@@ -235,7 +293,8 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
                 eprintln!("identify: no --calibration: calibrating on the known wire first");
             }
             let start = Instant::now();
-            let (learnt, _) = load_or_run(args.calibration.as_deref(), gravity, seed, |_| {})?;
+            let (learnt, _) =
+                load_or_run(args.calibration.as_deref(), (gravity, model), seed, |_| {})?;
             match &args.calibration {
                 Some(path) => (Some(learnt), Some(path.display().to_string()), 0.0),
                 None => {
@@ -255,10 +314,23 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
-            let samples = record_trial(wire, gravity, args.sensor, map, seed, stream, recorded)
+            let samples = record_trial(wire, gravity, args.sensor, map, seed, stream, &plan)
                 .map_err(|e| e.context(format!("wire {} trial {trial}", wire.name)))?;
-            let line = identify_trial(&samples, &counts, &config, seed, w, trial, &mut rows);
-            eprintln!("identify: {} trial {trial}: {line}", wire.name);
+            for (model, config) in &models {
+                let line = identify_trial(
+                    &samples,
+                    &counts,
+                    (*model, config),
+                    seed,
+                    (w, trial),
+                    &mut rows,
+                );
+                eprintln!(
+                    "identify: {} trial {trial} ({} model): {line}",
+                    wire.name,
+                    model.name()
+                );
+            }
             if args.save_log {
                 folder.write(
                     &format!("logs/{}", log_name(&wire.name, trial)),
@@ -268,31 +340,44 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         }
     }
 
-    let results: Vec<WireResults> = wires
+    let by_model: Vec<ModelResults> = models
         .iter()
-        .enumerate()
-        .map(|(w, wire)| WireResults {
-            wire: WireOut {
-                name: wire.name.clone(),
-                c: wire.c,
-                length: wire.length,
-            },
-            by_samples: counts
+        .map(|(model, _)| ModelResults {
+            model: *model,
+            wires: wires
                 .iter()
-                .map(|&n| {
-                    aggregate(
-                        wire,
-                        rows.iter().filter(|r| r.wire == w && r.samples == n),
-                        n,
-                    )
+                .enumerate()
+                .map(|(w, wire)| WireResults {
+                    wire: WireOut {
+                        name: wire.name.clone(),
+                        c: wire.c,
+                        length: wire.length,
+                        linear_density: linear_density(wire),
+                    },
+                    by_samples: counts
+                        .iter()
+                        .map(|&n| {
+                            aggregate(
+                                wire,
+                                rows.iter()
+                                    .filter(|r| r.model == *model && r.wire == w && r.samples == n),
+                                n,
+                            )
+                        })
+                        .collect(),
                 })
                 .collect(),
         })
         .collect();
+    let results = by_model
+        .first()
+        .map(|m| m.wires.as_slice())
+        .unwrap_or_default();
     let first = results
         .first()
         .ok_or_else(|| CliError::bad_input("no wire to identify"))?;
     let summary = Summary {
+        model,
         form: args.settings.form,
         gravity,
         sensor: args.sensor,
@@ -302,13 +387,15 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         sample_counts: &counts,
         wire: &first.wire,
         by_samples: &first.by_samples,
-        wires: &results,
+        wires: results,
+        by_model: &by_model,
     };
     let timings = Timings {
         calibration_s,
         identifications: rows
             .iter()
             .map(|r| Timing {
+                model: r.model,
                 wire: &wires[r.wire].name,
                 trial: r.trial,
                 samples: r.samples,
@@ -318,7 +405,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     };
     folder.write("identify.csv", csv(&wires, &rows))?;
     folder.write_json("timings.json", &timings)?;
-    write_figures(&folder, &results)?;
+    write_figures(&folder, results)?;
     let header = RunHeader::new("experiment identify", Some(seed), &args)?;
     let target = folder.finish(&header, &summary)?;
     print!("{}", table(&summary, &target));
@@ -382,8 +469,8 @@ fn sample_counts(given: Option<&[usize]>) -> Result<Vec<usize>, CliError> {
     Ok(counts)
 }
 
-/// Places the wire, tares, follows the motion plan, and records `count` samples (the start
-/// pose and `count − 1` moves). A start the simulator cannot hold or a move it cannot follow
+/// Places the wire, tares, follows the motion plan, and records a sample at the start pose and
+/// after each of the plan's moves. A start the simulator cannot hold or a move it cannot follow
 /// (no answer) starts the trial again from another `a0`.
 fn record_trial(
     wire: &WireSpec,
@@ -392,7 +479,7 @@ fn record_trial(
     map: Map<'_>,
     seed: u64,
     stream: u64,
-    count: usize,
+    plan: &MotionPlan,
 ) -> Result<Vec<Recorded>, CliError> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(stream);
@@ -418,11 +505,7 @@ fn record_trial(
             seed: rng.random(),
             ..RigConfig::default()
         };
-        let plan = MotionPlan {
-            moves: count - 1,
-            ..MotionPlan::default()
-        };
-        match follow_plan(wire, gravity, &a0, config, map, &plan, &mut rng) {
+        match follow_plan(wire, gravity, &a0, config, map, plan, &mut rng) {
             Ok(samples) => return Ok(samples),
             Err(e) if e.exit_code() == ftwire::error::EXIT_NO_ANSWER => last = e,
             Err(e) => return Err(e),
@@ -499,15 +582,15 @@ fn record<C: FtCalibration>(
     })
 }
 
-/// Identifies from the first `n` samples for each count; pushes the rows and returns a
+/// Identifies from the first `n` samples for each count with one model and its settings;
+/// pushes the rows (tagged with the model, the wire's index and the trial) and returns a
 /// progress line.
 fn identify_trial(
     samples: &[Recorded],
     counts: &[usize],
-    config: &IdentifyConfig,
+    (model, config): (ModelArg, &IdentifyConfig),
     seed: u64,
-    wire: usize,
-    trial: usize,
+    (wire, trial): (usize, usize),
     rows: &mut Vec<Row>,
 ) -> String {
     let pairs: Vec<(Vector6<f64>, Pose)> = samples.iter().map(|s| (s.a, s.b)).collect();
@@ -521,10 +604,12 @@ fn identify_trial(
         let compute_ms = start.elapsed().as_secs_f64() * 1e3;
         let row = match result {
             Ok(estimate) => Row {
+                model,
                 wire,
                 trial,
                 samples: n,
                 eta: Some([estimate.c[0], estimate.c[1], estimate.c[2], estimate.length]),
+                linear_density: estimate.linear_density,
                 chi2_per_dof: estimate.chi2_per_dof,
                 flag: flag_name(estimate.unidentified.as_ref()),
                 evaluations: estimate.evaluations,
@@ -533,10 +618,12 @@ fn identify_trial(
             Err(e) => {
                 eprintln!("identify: trial {trial}, {n} samples: {e}");
                 Row {
+                    model,
                     wire,
                     trial,
                     samples: n,
                     eta: None,
+                    linear_density: None,
                     chi2_per_dof: f64::NAN,
                     flag: Some("error"),
                     evaluations: 0,
@@ -553,6 +640,22 @@ fn identify_trial(
         rows.push(row);
     }
     line
+}
+
+/// The settings of the loaded model: `config` with the wire's linear density identified under
+/// the experiment's gravity. The rig's base clamp sits at the world origin with the world's
+/// axes ([`place_wire`]), so gravity in the base clamp frame is the world's.
+fn loaded_config(config: &IdentifyConfig, gravity: Gravity) -> IdentifyConfig {
+    let mut loaded = config.clone();
+    if gravity == Gravity::On {
+        loaded.constraints.weight = Some(gravity.vector());
+    }
+    loaded
+}
+
+/// The wire's true linear density `ρ π r²` \[kg/m\].
+fn linear_density(wire: &WireSpec) -> f64 {
+    wire.density * std::f64::consts::PI * wire.radius * wire.radius
 }
 
 /// The true `(c1, c2, c3, L)`.
@@ -611,7 +714,25 @@ fn aggregate<'a>(wire: &WireSpec, rows: impl Iterator<Item = &'a Row>, n: usize)
             mean_abs_relative_error[j] = mean_abs_relative(&estimates, j, truth[j]);
         }
     }
+    let densities: Vec<f64> = rows.iter().filter_map(|r| r.linear_density).collect();
+    let linear_density = (!densities.is_empty()).then(|| {
+        let count = densities.len() as f64;
+        let mean = densities.iter().sum::<f64>() / count;
+        let truth = self::linear_density(wire);
+        let var =
+            densities.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (count - 1.0).max(1.0);
+        DensityStats {
+            mean,
+            std: var.sqrt(),
+            mean_abs_relative_error: densities
+                .iter()
+                .map(|d| (d - truth).abs() / truth)
+                .sum::<f64>()
+                / count,
+        }
+    });
     BySamples {
+        linear_density,
         samples: n,
         estimated: estimates.len(),
         identified: rows.iter().filter(|r| r.flag.is_none()).count(),
@@ -629,7 +750,7 @@ fn aggregate<'a>(wire: &WireSpec, rows: impl Iterator<Item = &'a Row>, n: usize)
 fn csv(wires: &[WireSpec], rows: &[Row]) -> String {
     let mut text = String::from(
         "wire,trial,samples,c1,c2,c3,L,rel_err_c1,rel_err_c2,rel_err_c3,rel_err_L,\
-         chi2_per_dof,evaluations,identified,flag\n",
+         chi2_per_dof,evaluations,identified,flag,model,linear_density\n",
     );
     for row in rows {
         let Some(wire) = wires.get(row.wire) else {
@@ -646,11 +767,14 @@ fn csv(wires: &[WireSpec], rows: &[Row]) -> String {
         }
         let _ = writeln!(
             text,
-            ",{},{},{},{}",
+            ",{},{},{},{},{},{}",
             row.chi2_per_dof,
             row.evaluations,
             row.flag.is_none(),
-            row.flag.unwrap_or("")
+            row.flag.unwrap_or(""),
+            row.model.name(),
+            row.linear_density
+                .map_or_else(String::new, |d| d.to_string())
         );
     }
     text
@@ -747,9 +871,10 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
-        "identify: gravity {:?}, {:?} sensor, {:?} pipeline{}, {:?} residual, {} trials; \
-         results in {}",
+        "identify: gravity {:?}, {} model, {:?} sensor, {:?} pipeline{}, {:?} residual, {} \
+         trials; results in {}",
         summary.gravity,
+        summary.model.name(),
         summary.sensor,
         summary.pipeline,
         summary
@@ -833,6 +958,48 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
                 r.compute_ms_median
             );
         }
+        if let Some(density) = row.linear_density.as_ref() {
+            let _ = writeln!(
+                text,
+                "  linear density ({} samples): true {:.5} kg/m, estimated {:.5} ± {:.5}, \
+                 mean |err| {:.2} %",
+                row.samples,
+                result.wire.linear_density,
+                density.mean,
+                density.std,
+                100.0 * density.mean_abs_relative_error
+            );
+        }
+    }
+    for other in summary.by_model.iter().skip(1) {
+        let _ = writeln!(
+            text,
+            "\nthe same data through the {} model (mean |relative error| c1 c2 c3 L [%], \
+             identified):",
+            other.model.name()
+        );
+        for result in &other.wires {
+            if let Some(r) = result
+                .by_samples
+                .iter()
+                .find(|r| r.samples == 3)
+                .or_else(|| result.by_samples.first())
+            {
+                let e = r.mean_abs_relative_error.map(|v| 100.0 * v);
+                let _ = writeln!(
+                    text,
+                    "  {} ({} samples): {:>7.3} {:>7.3} {:>7.3} {:>7.3}   {:>2}/{}",
+                    result.wire.name,
+                    r.samples,
+                    e[0],
+                    e[1],
+                    e[2],
+                    e[3],
+                    r.identified,
+                    summary.trials
+                );
+            }
+        }
     }
     text
 }
@@ -855,6 +1022,8 @@ mod tests {
         let wire = WireSpec::preset("nitinol-2mm-630").expect("a preset");
         let t = truth(&wire);
         let row = |trial, scale: f64| Row {
+            model: ModelArg::Kirchhoff,
+            linear_density: None,
             wire: 0,
             trial,
             samples: 3,

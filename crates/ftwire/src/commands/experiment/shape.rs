@@ -6,11 +6,14 @@
 //! there anew and the robot tares before it grips it (as in
 //! [`ftwire::experiment::calibration`]); `ã` is measured through the learnt calibration
 //! (`--calibration FILE`, or a calibration run first on the known wire and cached as
-//! `calibration.json`), and `ShapeEstimator` gives the shape with the true wire's parameters
-//! (the wire is known, as in the paper's Table II). Metrics: `mean_mm` (100 matched arc
-//! lengths), `marker_mean_mm` (each observed marker to the closest point of the estimate),
-//! the same mean for the tared mounting-only pipeline (`mounting_mean_mm`), and the time of one
-//! shape estimate.
+//! `calibration.json`, labelled with the same `--model`), and `ShapeEstimator` gives the shape
+//! with the true wire's parameters (the wire is known, as in the paper's Table II) and the
+//! model of `--model`: `kirchhoff`, the paper's, or `loaded` (default with gravity on: the
+//! wire's weight and rest curvature). Metrics: `mean_mm` (100 matched arc lengths),
+//! `marker_mean_mm` (each observed marker to the closest point of the estimate), the same
+//! mean for the tared mounting-only pipeline (`mounting_mean_mm`), both models' `mean_mm` from
+//! the same `ã` (`kirchhoff_mean_mm`, `loaded_mean_mm`), and the time of one shape
+//! estimate.
 //!
 //! Writes `summary.json`, `configs.csv`, `timings.json`, `calibration.json` (when it ran one),
 //! figures `shape_<wire>` (the first configuration, estimate against truth and markers, 3-D)
@@ -26,6 +29,7 @@ use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::calibration::{load_or_run, rig_seed};
 use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
+use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::wire::{PRESETS, WireSpec};
@@ -75,6 +79,10 @@ struct WireResult {
     estimate_us_median: f64,
     /// The tared mounting-only pipeline's `mean_mm`, for comparison.
     mounting_mean_mm: f64,
+    /// `mean_mm` of each model from the same `ã` (`--model`'s is `mean_mm`).
+    kirchhoff_mean_mm: f64,
+    /// As `kirchhoff_mean_mm`, the loaded model (the wire's weight and rest curvature).
+    loaded_mean_mm: f64,
     /// Configurations the estimator did not flag as confident.
     not_confident: usize,
     /// Configurations skipped (and replaced by another draw) because the simulator could not
@@ -84,6 +92,8 @@ struct WireResult {
 
 #[derive(Serialize)]
 struct ShapeSummary {
+    /// The estimator's model (`--model`).
+    model: ModelKind,
     wires: Vec<WireResult>,
 }
 
@@ -91,6 +101,8 @@ struct ShapeSummary {
 struct ConfigResult {
     a_tilde: Vector6<f64>,
     mean: f64,
+    /// The other model's `mean` from the same `ã`.
+    other_mean: f64,
     mounting_mean: f64,
     marker_mean: f64,
     estimate_us: f64,
@@ -131,6 +143,7 @@ fn run_config(
     args: &ShapeExperimentArgs,
     calibration: &Calibration,
     estimator: &mut ShapeEstimator<KirchhoffModel>,
+    other: &KirchhoffModel,
     placed: &Vector6<f64>,
     rig_seed: u64,
 ) -> Result<Option<ConfigResult>, CliError> {
@@ -176,6 +189,10 @@ fn run_config(
             .map_err(|e| from_estimate(e, "the shape error"))
     };
     let centreline_mean = distance(&positions)?;
+    let other_mean = match other.shape(&a_tilde, positions.len()) {
+        Ok(shape) => distance(&shape.positions)?,
+        Err(_) => f64::NAN,
+    };
     let mounting_a = mounting(&config)?.to_configuration(&raw);
     let mounting_mean = match estimator.model().shape(&mounting_a, positions.len()) {
         Ok(shape) => distance(&shape.positions)?,
@@ -200,6 +217,7 @@ fn run_config(
     Ok(Some(ConfigResult {
         a_tilde,
         mean: centreline_mean,
+        other_mean,
         mounting_mean,
         marker_mean,
         estimate_us,
@@ -233,8 +251,12 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         eprintln!("no --calibration: calibrating on the known wire first");
     }
     let start = Instant::now();
-    let (calibration, calibration_run) =
-        load_or_run(args.calibration.as_deref(), common.gravity, seed, |_| {})?;
+    let (calibration, calibration_run) = load_or_run(
+        args.calibration.as_deref(),
+        (common.gravity, common.model()),
+        seed,
+        |_| {},
+    )?;
     let calibration_s = start.elapsed().as_secs_f64();
     if calibration_run.is_some() {
         let json = calibration
@@ -250,11 +272,12 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     let mut first_shapes = Vec::new();
     let start = Instant::now();
     for (w, wire) in wires.iter().enumerate() {
-        let params = wire
-            .wire_params()
-            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
-        let model = KirchhoffModel::new(params);
-        let rod = Rod::new(params);
+        let kind = common.model();
+        let model = known_model(wire, common.gravity, kind)?;
+        let other = known_model(wire, common.gravity, kind.other())?;
+        // Configurations are drawn from A_free of the weight-free model, whatever the
+        // estimator's model, so that both models see the same placements.
+        let rod = Rod::new(*model.wire());
         let mut estimator = ShapeEstimator::new(model);
         let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(1 + w as u64));
         let mut rows: Vec<ConfigResult> = Vec::new();
@@ -271,7 +294,15 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
                 .map_err(|e| from_rod(e, "sampling A_free"))?;
             let rig = rig_seed(seed.wrapping_add(1_000 * (w as u64 + 1)), k);
             k += 1;
-            match run_config(wire, &args, &calibration, &mut estimator, &placed, rig)? {
+            match run_config(
+                wire,
+                &args,
+                &calibration,
+                &mut estimator,
+                &other,
+                &placed,
+                rig,
+            )? {
                 Some(mut row) => {
                     clock += row.record.time;
                     row.record.time = clock;
@@ -302,6 +333,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         logs.push((wire.name.clone(), log));
         let means: Vec<f64> = rows.iter().map(|r| 1e3 * r.mean).collect();
         let m = mean(&means);
+        let other_m = mean(&rows.iter().map(|r| 1e3 * r.other_mean).collect::<Vec<_>>());
         let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>()
             / (means.len().saturating_sub(1).max(1)) as f64;
         let mut times: Vec<f64> = rows.iter().map(|r| r.estimate_us).collect();
@@ -320,6 +352,16 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             ),
             not_confident: rows.iter().filter(|r| !r.confident).count(),
             skipped,
+            kirchhoff_mean_mm: if kind == ModelKind::Kirchhoff {
+                m
+            } else {
+                other_m
+            },
+            loaded_mean_mm: if kind == ModelKind::Loaded {
+                m
+            } else {
+                other_m
+            },
         });
         if let Some(first) = rows.into_iter().next() {
             first_shapes.push((wire.name.clone(), first));
@@ -379,7 +421,10 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     write_figure(&folder, "error_per_wire", |dir| {
         chart.write(dir, "error_per_wire")
     })?;
-    let summary = ShapeSummary { wires: results };
+    let summary = ShapeSummary {
+        model: common.model(),
+        wires: results,
+    };
     if args.save_log {
         for (name, log) in &logs {
             folder.write(&format!("logs/{name}.jsonl"), log)?;
@@ -387,20 +432,38 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     }
     let target = folder.finish(&header, &summary)?;
     println!(
-        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>8} {:>9}",
-        "wire", "configs", "mean_mm", "std_mm", "marker_mm", "mounting", "est_us", "Table II"
+        "shape: {} model (mean_mm), the {} model from the same ã beside it",
+        summary.model.name(),
+        summary.model.other().name()
+    );
+    println!(
+        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>10} {:>8} {:>9}",
+        "wire",
+        "configs",
+        "mean_mm",
+        "std_mm",
+        summary.model.other().name(),
+        "marker_mm",
+        "mounting",
+        "est_us",
+        "Table II"
     );
     for r in &summary.wires {
         let paper = TABLE_II
             .iter()
             .find(|(n, _)| *n == r.name)
             .map_or_else(|| "-".to_owned(), |(_, v)| format!("{v:.2}"));
+        let other = match summary.model {
+            ModelKind::Kirchhoff => r.loaded_mean_mm,
+            ModelKind::Loaded => r.kirchhoff_mean_mm,
+        };
         println!(
-            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>10.2} {:>8.1} {:>9}",
+            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>10.2} {:>10.2} {:>8.1} {:>9}",
             r.name,
             r.configs,
             r.mean_mm,
             r.std_mm,
+            other,
             r.marker_mean_mm,
             r.mounting_mean_mm,
             r.estimate_us_median,
