@@ -12,8 +12,9 @@
 //! wire's weight and rest curvature). Metrics: `mean_mm` (100 matched arc lengths),
 //! `marker_mean_mm` (each observed marker to the closest point of the estimate), the same
 //! mean for the tared mounting-only pipeline (`mounting_mean_mm`), both models' `mean_mm` from
-//! the same `ã` (`kirchhoff_mean_mm`, `loaded_mean_mm`), and the time of one shape
-//! estimate.
+//! the same `ã` (`kirchhoff_mean_mm`, `loaded_mean_mm`), the relative error of `ã`'s torque
+//! and force against the true base wrench (`torque_rel`, `force_rel`: how well the
+//! calibration, trained on another wire, carries over), and the time of one shape estimate.
 //!
 //! Writes `summary.json`, `configs.csv`, `timings.json`, `calibration.json` (when it ran one),
 //! figures `shape_<wire>` (the first configuration, estimate against truth and markers, 3-D)
@@ -83,6 +84,11 @@ struct WireResult {
     kirchhoff_mean_mm: f64,
     /// As `kirchhoff_mean_mm`, the loaded model (the wire's weight and rest curvature).
     loaded_mean_mm: f64,
+    /// Mean of `‖τ̃ − τ‖ / ‖τ‖` of the measured `ã` against the simulator's true base wrench:
+    /// the calibration's error on this wire (it was trained on another one).
+    torque_rel: f64,
+    /// As `torque_rel`, the force.
+    force_rel: f64,
     /// Configurations the estimator did not flag as confident.
     not_confident: usize,
     /// Configurations skipped (and replaced by another draw) because the simulator could not
@@ -103,6 +109,8 @@ struct ConfigResult {
     mean: f64,
     /// The other model's `mean` from the same `ã`.
     other_mean: f64,
+    /// Relative errors of `ã`'s torque and force against the true base wrench.
+    wrench_rel: (f64, f64),
     mounting_mean: f64,
     marker_mean: f64,
     estimate_us: f64,
@@ -163,6 +171,12 @@ fn run_config(
     let frame = rig
         .observe_markers()
         .map_err(|e| ftwire::error::from_sim(e, "observing the markers"))?;
+    let true_wrench = rig.equilibrium().base_wrench.to_vector();
+    let relative = |start: usize| {
+        let t = true_wrench.fixed_rows::<3>(start);
+        (a_tilde.fixed_rows::<3>(start) - t).norm() / t.norm().max(f64::MIN_POSITIVE)
+    };
+    let wrench_rel = (relative(0), relative(3));
     let truth: Vec<Vector3<f64>> = rig
         .equilibrium()
         .wire_centreline()
@@ -218,6 +232,7 @@ fn run_config(
         a_tilde,
         mean: centreline_mean,
         other_mean,
+        wrench_rel,
         mounting_mean,
         marker_mean,
         estimate_us,
@@ -352,6 +367,8 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             ),
             not_confident: rows.iter().filter(|r| !r.confident).count(),
             skipped,
+            torque_rel: mean(&rows.iter().map(|r| r.wrench_rel.0).collect::<Vec<_>>()),
+            force_rel: mean(&rows.iter().map(|r| r.wrench_rel.1).collect::<Vec<_>>()),
             kirchhoff_mean_mm: if kind == ModelKind::Kirchhoff {
                 m
             } else {
@@ -437,7 +454,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         summary.model.other().name()
     );
     println!(
-        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>10} {:>8} {:>9}",
+        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>9}",
         "wire",
         "configs",
         "mean_mm",
@@ -446,7 +463,9 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         "marker_mm",
         "mounting",
         "est_us",
-        "Table II"
+        "Table II",
+        "torque_%",
+        "force_%"
     );
     for r in &summary.wires {
         let paper = TABLE_II
@@ -458,7 +477,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             ModelKind::Loaded => r.kirchhoff_mean_mm,
         };
         println!(
-            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>10.2} {:>10.2} {:>8.1} {:>9}",
+            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>10.2} {:>10.2} {:>8.1} {:>9} {:>9.3} {:>9.3}",
             r.name,
             r.configs,
             r.mean_mm,
@@ -467,7 +486,9 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             r.marker_mean_mm,
             r.mounting_mean_mm,
             r.estimate_us_median,
-            paper
+            paper,
+            100.0 * r.torque_rel,
+            100.0 * r.force_rel
         );
     }
     println!(
