@@ -3,35 +3,44 @@
 
 mod identify_common;
 
+use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::identify::{
     LevenbergMarquardt, ParameterConstraints, ResidualForm, Residuals, Sample, Weights,
 };
 use ftwire_estimate::{EstimateError, WireModel};
 use identify_common::{samples, thick, thin};
 
+/// Three exact samples of `model` (seeded) as identification samples.
+fn exact_samples(model: &KirchhoffModel, seed: u64) -> Result<Vec<Sample>, EstimateError> {
+    samples(model, seed, 3, 0.5, None)?
+        .iter()
+        .enumerate()
+        .map(|(i, (a, b))| Sample::new(i, *a, *b))
+        .collect()
+}
+
+/// The absolute residual of `samples`, default constraints, `ℓ = 0.5 m`, unwhitened.
+fn absolute<'a>(model: &'a KirchhoffModel, samples: &'a [Sample]) -> Residuals<'a, KirchhoffModel> {
+    Residuals {
+        model,
+        samples,
+        form: ResidualForm::Absolute,
+        weights: Weights {
+            length_scale: 0.5,
+            tangent_rotation: 1.0,
+        },
+        constraints: ParameterConstraints::default(),
+        whitening: None,
+    }
+}
+
 #[test]
 fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
     for model in [thick()?, thin()?] {
         for seed in 0..4 {
-            let data = samples(&model, 500 + seed, 3, 0.5, None)?;
-            let samples: Vec<Sample> = data
-                .iter()
-                .enumerate()
-                .map(|(i, (a, b))| Sample::new(i, *a, *b))
-                .collect::<Result<_, _>>()?;
-            let constraints = ParameterConstraints::default();
-            let weights = Weights {
-                length_scale: 0.5,
-                tangent_rotation: 1.0,
-            };
-            let residuals = Residuals {
-                model: &model,
-                samples: &samples,
-                form: ResidualForm::Absolute,
-                weights,
-                constraints,
-                whitening: None,
-            };
+            let samples = exact_samples(&model, 500 + seed)?;
+            let residuals = absolute(&model, &samples);
+            let (constraints, weights) = (residuals.constraints, residuals.weights);
             let wire = model.wire();
             let theta = constraints.theta(wire.c(), wire.length(), 0.0);
             let f = |x: &[f64]| residuals.evaluate(x);
@@ -72,25 +81,9 @@ fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
 fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<(), EstimateError> {
     let noise = ftwire_estimate::identify::NoiseModel::default();
     for model in [thick()?, thin()?] {
-        let data = samples(&model, 700, 3, 0.5, None)?;
-        let samples: Vec<Sample> = data
-            .iter()
-            .enumerate()
-            .map(|(i, (a, b))| Sample::new(i, *a, *b))
-            .collect::<Result<_, _>>()?;
-        let constraints = ParameterConstraints::default();
-        let weights = Weights {
-            length_scale: 0.5,
-            tangent_rotation: 1.0,
-        };
-        let residuals = Residuals {
-            model: &model,
-            samples: &samples,
-            form: ResidualForm::Absolute,
-            weights,
-            constraints,
-            whitening: None,
-        };
+        let samples = exact_samples(&model, 700)?;
+        let residuals = absolute(&model, &samples);
+        let (constraints, weights) = (residuals.constraints, residuals.weights);
         let wire = model.wire();
         let theta = constraints.theta(wire.c(), wire.length(), 0.0);
         let whitening = residuals.whitening(&theta, &noise)?;

@@ -12,6 +12,7 @@
 
 mod cli_support;
 
+use std::collections::HashMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -36,26 +37,47 @@ impl Drop for TempDir {
     }
 }
 
-/// The live run's row for `trial` and `samples` in `identify.csv`: `(c1, c2, c3, L)` and
-/// whether it was identified.
-fn live_row(dir: &Path, trial: &str, samples: &str) -> ([f64; 4], bool) {
+/// The rows of `identify.csv` in the results folder `dir`, each a map from column to value.
+fn csv_rows(dir: &Path) -> Vec<HashMap<String, String>> {
     let text = fs::read_to_string(dir.join("identify.csv")).expect("the CSV is written");
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
-    let column = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
-    };
-    let row: Vec<&str> = lines
-        .map(|l| l.split(',').collect::<Vec<_>>())
-        .find(|r| r[column("trial")] == trial && r[column("samples")] == samples)
+    lines
+        .map(|line| {
+            header
+                .iter()
+                .zip(line.split(','))
+                .map(|(h, v)| ((*h).to_owned(), v.to_owned()))
+                .collect()
+        })
+        .collect()
+}
+
+/// The numbers of `columns` in `row`.
+fn row_numbers(row: &HashMap<String, String>, columns: &[&str]) -> Vec<f64> {
+    columns
+        .iter()
+        .map(|c| {
+            row.get(*c)
+                .unwrap_or_else(|| panic!("no column {c} in {row:?}"))
+                .parse()
+                .expect("a number")
+        })
+        .collect()
+}
+
+/// The live run's row for `trial` and `samples` in `identify.csv` (the first model's):
+/// `(c1, c2, c3, L)` and whether it was identified.
+fn live_row(dir: &Path, trial: &str, samples: &str) -> ([f64; 4], bool) {
+    let rows = csv_rows(dir);
+    let row = rows
+        .iter()
+        .find(|r| r["trial"] == trial && r["samples"] == samples)
         .expect("the row of the trial and sample count");
-    let value = |name: &str| row[column(name)].parse::<f64>().expect("a number");
+    let eta = row_numbers(row, &["c1", "c2", "c3", "L"]);
     (
-        [value("c1"), value("c2"), value("c3"), value("L")],
-        row[column("identified")] == "true",
+        [eta[0], eta[1], eta[2], eta[3]],
+        row["identified"] == "true",
     )
 }
 
@@ -429,18 +451,12 @@ fn the_loaded_model_identifies_the_weight_and_its_log_replays() {
     assert!(body["by_model"][1]["wires"][0]["by_samples"][0]["linear_density"].is_null());
 
     // The replay: c, L and λ as live.
-    let text_csv = fs::read_to_string(out.join("identify.csv")).expect("the CSV");
-    let mut lines = text_csv.lines();
-    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
-    let row: Vec<&str> = lines
-        .map(|l| l.split(',').collect::<Vec<_>>())
-        .find(|r| r[col("model")] == "loaded")
-        .expect("the loaded row");
-    let live: Vec<f64> = ["c1", "c2", "c3", "L", "linear_density"]
+    let rows = csv_rows(&out);
+    let row = rows
         .iter()
-        .map(|k| row[col(k)].parse().expect("a number"))
-        .collect();
+        .find(|r| r["model"] == "loaded")
+        .expect("the loaded row");
+    let live = row_numbers(row, &["c1", "c2", "c3", "L", "linear_density"]);
     let log = out.join("logs").join("nitinol-3mm-820-trial0.jsonl");
     let replay = ftwire(&[
         "identify",
