@@ -8,6 +8,10 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 fn trained(residual: bool) -> Calibration {
+    trained_with(residual, true)
+}
+
+fn trained_with(residual: bool, anchored: bool) -> Calibration {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let labels: Vec<Vector6<f64>> = (0..80)
         .map(|_| Vector6::from_fn(|_, _| rng.random_range(-1.0..=1.0)))
@@ -21,6 +25,7 @@ fn trained(residual: bool) -> Calibration {
         hidden: vec![5, 3],
         activation: Activation::Gelu,
         residual,
+        anchored,
         max_epochs: 20,
         ..TrainConfig::default()
     };
@@ -56,6 +61,42 @@ fn save_and_load_through_a_file() {
             ..
         })
     ));
+}
+
+#[test]
+fn an_anchored_map_reads_zero_at_zero_and_older_files_stay_unanchored() {
+    let calibration = trained(true);
+    assert!(
+        !TrainConfig::default().anchored,
+        "readings may carry a bias by default"
+    );
+    let zero = Vector6::zeros();
+    let free = trained_with(true, false);
+    assert_eq!(free.anchor(), &zero);
+    assert_eq!(
+        calibration.apply(&zero),
+        zero,
+        "a tared zero reading is a = 0"
+    );
+    assert!(
+        calibration.anchor().norm() > 0.0,
+        "the trained map's intercept is not zero by itself, so the test can fail"
+    );
+    let raw = Vector6::new(0.3, -0.2, 0.1, 0.5, -0.7, 0.05);
+    // A file written before the setting existed has no `anchored` key: it reads unanchored,
+    // the map it was saved as.
+    let mut value: serde_json::Value =
+        serde_json::from_str(&calibration.to_json().expect("serialises")).expect("valid JSON");
+    value["training"]["config"]
+        .as_object_mut()
+        .expect("the training configuration is an object")
+        .remove("anchored")
+        .expect("the key is written");
+    let legacy = Calibration::from_json(&value.to_string()).expect("loads");
+    assert!(!legacy.record().config.anchored);
+    assert_eq!(legacy.anchor(), &zero);
+    let unanchored = calibration.apply(&raw) + calibration.anchor();
+    assert!((legacy.apply(&raw) - unanchored).norm() < 1e-12);
 }
 
 /// Edits the saved JSON and loads it.

@@ -232,8 +232,9 @@ fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
 fn bad_options_are_bad_input() {
     let tmp = TempDir::new("bad-options");
     let out = tmp.0.join("run").to_string_lossy().into_owned();
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 8] = [
         (&["--wire", "copper"], "unknown wire"),
+        (&["--rest-samples", "99"], "--rest-samples 99: at least 100"),
         (&["--samples", "1"], "at least two samples"),
         (&["--trials", "0"], "--trials"),
         (&["--torsion-ratio", "-1"], "--torsion-ratio"),

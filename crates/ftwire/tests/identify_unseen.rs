@@ -7,6 +7,7 @@
 //! A survey (ignored: about 15 s a wire in release, after one calibration):
 //! `cargo test -p ftwire --release --test identify_unseen -- --ignored --nocapture`.
 //! `FTWIRE_UNSEEN_SEED` and `FTWIRE_UNSEEN_WIRES` pick the draw (defaults 7 and 8);
+//! `FTWIRE_UNSEEN_REST` sets `--rest-samples` (default the experiment's);
 //! `FTWIRE_UNSEEN_GRAVITY=on` runs it with gravity on (the loaded model, its calibration
 //! labelled with the loaded model, the issue-16 target of 0.5 % on `c` and `L`).
 
@@ -40,6 +41,7 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
         Ok("on") => "on",
         _ => "off",
     };
+    let rest = std::env::var("FTWIRE_UNSEEN_REST").ok();
     let dir = std::env::temp_dir().join(format!("ftwire-unseen-{}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).expect("creates a temporary folder");
@@ -78,7 +80,8 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
         )
         .expect("writes the wire file");
         let out = dir.join(&name);
-        let output = ftwire(&[
+        let seed_text = seed.to_string();
+        let mut args = vec![
             "experiment",
             "identify",
             "--gravity",
@@ -86,14 +89,18 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
             "--samples",
             "3",
             "--seed",
-            &seed.to_string(),
+            &seed_text,
             "--wire",
             file.to_str().expect("UTF-8"),
             "--calibration",
             weights.to_str().expect("UTF-8"),
             "--out",
             out.to_str().expect("UTF-8"),
-        ]);
+        ];
+        if let Some(rest) = &rest {
+            args.extend(["--rest-samples", rest.as_str()]);
+        }
+        let output = ftwire(&args);
         assert_success(&output, &name);
         let summary: serde_json::Value =
             serde_json::from_str(&fs::read_to_string(out.join("summary.json")).expect("summary"))

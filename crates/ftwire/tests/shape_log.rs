@@ -132,3 +132,23 @@ fn bad_and_empty_logs_are_bad_input() -> Result<(), Box<dyn std::error::Error>> 
     assert!(String::from_utf8(output.stdout)?.contains("record 0"));
     Ok(())
 }
+
+#[test]
+fn too_short_a_rest_is_bad_input() {
+    let out = std::env::temp_dir().join(format!("ftwire-shape-rest-{}", std::process::id()));
+    let output = ftwire(&[
+        "experiment",
+        "shape",
+        "--rest-samples",
+        "10",
+        "--out",
+        out.to_str().expect("UTF-8"),
+    ]);
+    assert_exit(
+        &output,
+        2,
+        "--rest-samples 10: at least 100",
+        "a 10-sample rest",
+    );
+    assert!(!out.exists(), "nothing written on bad input");
+}

@@ -22,7 +22,8 @@
 //! }                                          // epochs, losses, test RMSE, history
 //! ```
 //!
-//! The map is `a = μ_out + σ_out ⊙ (A z + c + f(z))`, `z = (raw − μ_in) ⊘ σ_in` (see
+//! The map is `a = F(raw) − F(0)` when `training.config.anchored` (absent: `false`), else
+//! `a = F(raw)`, with `F(raw) = μ_out + σ_out ⊙ (A z + c + f(z))`, `z = (raw − μ_in) ⊘ σ_in` (see
 //! [`Calibration`]). Numbers are written shortest-round-trip and read back exactly, so a saved
 //! calibration loads bit-identical (guarded by `tests/calibration_file.rs`). Loading checks the
 //! format and version, every array's length against the architecture, and that every number is

@@ -7,9 +7,11 @@ use super::{Affine, Mlp, Normaliser, TrainingRecord};
 /// A trained F/T calibration (paper §IV-A): raw reading (force first, sensor frame, tared) in,
 /// configuration `a` (torque first, base clamp frame) out.
 ///
-/// The map is `a = μ_a + σ_a ⊙ (A z + c + f(z))` with `z = (raw − μ_raw) ⊘ σ_raw`: per-channel
-/// standardisation fitted on the training split, an optional least-squares affine part `A z + c`
-/// ([`Affine`]) and the network `f` ([`Mlp`]) that learns what the affine part leaves.
+/// The map is `a = F(raw) − F(0)` (anchored, [`TrainConfig::anchored`](super::TrainConfig::anchored),
+/// for tared readings) or `a = F(raw)`, with `F(raw) = μ_a + σ_a ⊙ (A z + c + f(z))` and
+/// `z = (raw − μ_raw) ⊘ σ_raw`: per-channel standardisation fitted on the training split, an
+/// optional least-squares affine part `A z + c` ([`Affine`]) and the network `f` ([`Mlp`]) that
+/// learns what the affine part leaves.
 ///
 /// Build one with [`Calibration::train`]; save and load it with [`Calibration::save`] and
 /// [`Calibration::load`] (format in [`super::file`]).
@@ -19,6 +21,8 @@ pub struct Calibration {
     output: Normaliser,
     affine: Option<Affine>,
     mlp: Mlp,
+    /// `F(0)` when anchored (zero otherwise): subtracted from every output.
+    anchor: Vector6<f64>,
     pub(crate) record: TrainingRecord,
 }
 
@@ -31,13 +35,34 @@ impl Calibration {
         mlp: Mlp,
         record: TrainingRecord,
     ) -> Self {
-        Self {
+        let mut calibration = Self {
             input,
             output,
             affine,
             mlp,
+            anchor: Vector6::zeros(),
             record,
+        };
+        if calibration.record.config.anchored {
+            calibration.anchor = calibration.unanchored(&Vector6::zeros());
         }
+        calibration
+    }
+
+    /// `F(raw)`, the trained map before anchoring.
+    fn unanchored(&self, raw: &Vector6<f64>) -> Vector6<f64> {
+        let z = self.input.normalise(raw);
+        let mut y = self.mlp.forward(&z);
+        if let Some(affine) = &self.affine {
+            y += affine.apply(&z);
+        }
+        self.output.denormalise(&y)
+    }
+
+    /// What anchoring subtracts from every output, `F(0)` (zero when not anchored), torque first
+    /// \[N·m, N\].
+    pub fn anchor(&self) -> &Vector6<f64> {
+        &self.anchor
     }
 
     /// The configuration `a` (torque first, base clamp frame \[N·m, N\]) for a raw reading
@@ -46,12 +71,7 @@ impl Calibration {
     /// A non-finite reading gives a non-finite `a`; readings far outside the training data
     /// (for example saturated ones) are extrapolated and not to be trusted.
     pub fn apply(&self, raw: &Vector6<f64>) -> Vector6<f64> {
-        let z = self.input.normalise(raw);
-        let mut y = self.mlp.forward(&z);
-        if let Some(affine) = &self.affine {
-            y += affine.apply(&z);
-        }
-        self.output.denormalise(&y)
+        self.unanchored(raw) - self.anchor
     }
 
     /// Per-component RMS error `√(mean (apply(raw) − a)²)` over `(raw, a)` pairs, torque first

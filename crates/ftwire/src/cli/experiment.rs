@@ -105,6 +105,13 @@ pub struct IdentifyExperimentArgs {
     /// `ftwire_estimate::identify::MotionPlan`).
     #[arg(long, value_name = "DEG", default_value_t = 20.0, allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub twist: f64,
+    /// F/T samples averaged at each rest of the motion (at the simulated sensor's 1 kHz, 400
+    /// is a 0.4 s rest): the white noise of `ã` falls as `1/√N`, while the sensor's bias
+    /// drifts on for the time the rests take; the two balance near `σ √f / q ≈ 800` for the
+    /// default sensor (noise σ, rate f, drift intensity q), and of 100, 400 and 1000 the
+    /// unseen-wire survey measured 400 best. At least 100.
+    #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES)]
+    pub rest_samples: usize,
     /// The simulated F/T sensor: `distorted` has the default gain, cross-talk and
     /// nonlinearity, which the tared, mounting-only pipeline leaves in `ã`; `undistorted`
     /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives,
@@ -122,6 +129,9 @@ pub struct IdentifyExperimentArgs {
 }
 
 pub use ftwire::experiment::ModelKind as ModelArg;
+
+/// The default of `experiment identify --rest-samples`.
+pub const IDENTIFY_REST_SAMPLES: usize = 400;
 
 /// The F/T pipeline of `ftwire experiment identify`: how `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
@@ -160,4 +170,9 @@ pub struct ShapeExperimentArgs {
     /// `ftwire shape --log` reads.
     #[arg(long)]
     pub save_log: bool,
+    /// F/T samples averaged at each configuration (at the simulated sensor's 1 kHz, 100 is
+    /// the 0.1 s of the paper's protocol): the white noise of `ã` falls as `1/√N`; the wire is
+    /// placed just after taring, so the bias drift adds little here. At least 100.
+    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::rig::SAMPLES_PER_REST)]
+    pub rest_samples: usize,
 }

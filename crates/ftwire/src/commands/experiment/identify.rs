@@ -8,7 +8,7 @@
 //!    before the pick-up ([`tare`]);
 //! 2. the second gripper follows the library's identification [`MotionPlan`] (seeded; its
 //!    twist about the wire's tangent is `--twist`, default 20°), and at
-//!    each rest the robot records `(ã, b̃)`: `ã` from the tared reading ([`measure`]) through
+//!    each rest the robot records `(ã, b̃)`: `ã` from the tared reading averaged over `--rest-samples` samples ([`measure_over`]) through
 //!    the learnt calibration by default (`--pipeline calibrated`: `--calibration FILE`, or a
 //!    calibration run first on the known wire with this run's gravity and seed and cached as
 //!    `calibration.json`, [`load_or_run`]), or through the sensor's mounting only
@@ -59,7 +59,9 @@ use std::time::Instant;
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::Gravity;
 use ftwire::experiment::calibration::load_or_run;
-use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
+use ftwire::experiment::rig::{
+    believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
+};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::wire::WireSpec;
@@ -286,6 +288,11 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     };
     plan.validate()
         .map_err(|e| CliError::bad_input(format!("--twist {}: {e}", args.twist)))?;
+    check_rest_samples(args.rest_samples)?;
+    let protocol = Protocol {
+        plan,
+        rest_samples: args.rest_samples,
+    };
     let (learnt, calibration, calibration_s) = match args.pipeline {
         IdentifyPipeline::Mounting => (None, None, 0.0),
         IdentifyPipeline::Calibrated => {
@@ -314,7 +321,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
-            let samples = record_trial(wire, gravity, args.sensor, map, seed, stream, &plan)
+            let samples = record_trial(wire, gravity, args.sensor, map, seed, stream, &protocol)
                 .map_err(|e| e.context(format!("wire {} trial {trial}", wire.name)))?;
             for (model, config) in &models {
                 let line = identify_trial(
@@ -479,7 +486,7 @@ fn record_trial(
     map: Map<'_>,
     seed: u64,
     stream: u64,
-    plan: &MotionPlan,
+    protocol: &Protocol,
 ) -> Result<Vec<Recorded>, CliError> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(stream);
@@ -505,7 +512,7 @@ fn record_trial(
             seed: rng.random(),
             ..RigConfig::default()
         };
-        match follow_plan(wire, gravity, &a0, config, map, plan, &mut rng) {
+        match follow_plan(wire, gravity, &a0, config, map, protocol, &mut rng) {
             Ok(samples) => return Ok(samples),
             Err(e) if e.exit_code() == ftwire::error::EXIT_NO_ANSWER => last = e,
             Err(e) => return Err(e),
@@ -535,28 +542,41 @@ fn follow_plan(
     a0: &Vector6<f64>,
     config: RigConfig,
     map: Map<'_>,
-    plan: &MotionPlan,
+    protocol: &Protocol,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<Recorded>, CliError> {
     let mut rig = place_wire(wire, gravity, a0, config.clone())?;
     let tared = tare(&mut rig)?;
     match map {
-        Map::Mounting => follow(&mut rig, &pipeline(tared, mounting(&config)?)?, plan, rng),
-        Map::Learnt(learnt) => follow(&mut rig, &pipeline(tared, learnt.clone())?, plan, rng),
+        Map::Mounting => {
+            let pipeline = pipeline(tared, mounting(&config)?)?;
+            follow(&mut rig, &pipeline, protocol, rng)
+        }
+        Map::Learnt(learnt) => {
+            let pipeline = pipeline(tared, learnt.clone())?;
+            follow(&mut rig, &pipeline, protocol, rng)
+        }
     }
+}
+
+/// How a trial moves and measures: the library's motion plan, and the F/T samples averaged at
+/// each rest.
+struct Protocol {
+    plan: MotionPlan,
+    rest_samples: usize,
 }
 
 /// Records the sample at the current rest, then one after each move of the plan.
 fn follow<C: FtCalibration>(
     rig: &mut SimRig,
     pipeline: &FtPipeline<C>,
-    plan: &MotionPlan,
+    protocol: &Protocol,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<Recorded>, CliError> {
     let b0 = believed_tip(rig)?;
-    let poses = plan.poses(&b0, rng);
+    let poses = protocol.plan.poses(&b0, rng);
     let mut samples = Vec::with_capacity(poses.len() + 1);
-    samples.push(record(rig, pipeline)?);
+    samples.push(record(rig, pipeline, protocol.rest_samples)?);
     for b in poses {
         let base = rig
             .gripper_poses()
@@ -564,7 +584,7 @@ fn follow<C: FtCalibration>(
             .base;
         rig.move_tip(base * b)
             .map_err(|e| from_sim(e, "moving the second gripper"))?;
-        samples.push(record(rig, pipeline)?);
+        samples.push(record(rig, pipeline, protocol.rest_samples)?);
     }
     Ok(samples)
 }
@@ -573,8 +593,9 @@ fn follow<C: FtCalibration>(
 fn record<C: FtCalibration>(
     rig: &mut SimRig,
     pipeline: &FtPipeline<C>,
+    rest_samples: usize,
 ) -> Result<Recorded, CliError> {
-    let a = measure(rig, pipeline)?.a;
+    let a = measure_over(rig, pipeline, rest_samples)?.a;
     Ok(Recorded {
         time: rig.time(),
         a,

@@ -29,7 +29,9 @@ use std::time::Instant;
 use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::calibration::{load_or_run, rig_seed};
-use ftwire::experiment::rig::{believed_tip, measure, mounting, pipeline, place_wire, tare};
+use ftwire::experiment::rig::{
+    believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
+};
 use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
@@ -163,7 +165,7 @@ fn run_config(
         return Ok(None);
     };
     let tared = pipeline(tare(&mut rig)?, calibration.clone())?;
-    let Ok(measured) = measure(&mut rig, &tared) else {
+    let Ok(measured) = measure_over(&mut rig, &tared, args.rest_samples) else {
         return Ok(None);
     };
     let raw = tared.tare().apply(&measured.raw.mean);
@@ -248,6 +250,7 @@ fn run_config(
 pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     let common = &args.common;
     let seed = common.seed.seed;
+    check_rest_samples(args.rest_samples)?;
     let wires: Vec<WireSpec> = match &common.wire {
         Some(given) => vec![WireSpec::load(given).map_err(|e| CliError::bad_input(e.to_string()))?],
         None => PRESETS
