@@ -9,7 +9,7 @@
 //!
 //! Shape nodes between grid points are interpolated as in the unloaded solver: septic Hermite
 //! dense output of the frame from its jets `q, q', q'', q'''` at the grid points (the same
-//! `FrameJet`s and interpolation code; the loaded jets come from `u' = C⁻¹ m'` and
+//! `FrameJet`s, jet rows and interpolation code; the loaded jets come from `u' = C⁻¹ m'` and
 //! `u'' = C⁻¹ m''` with the loaded `m'`, `n'`). `μ` at the nodes is the loaded closed form
 //! `n = Rᵀ N`, `N = a_f − w t`, `m = Rᵀ (a_m − P × w − p × N)` of [`crate::load`], with
 //! `P = ∫₀ᵗ p` integrated alongside (3 numbers) and interpolated from `P, p, p', p''`.
@@ -43,7 +43,7 @@ use std::marker::PhantomData;
 use crate::arith::{MulAdd, Separate, V2, V4};
 use crate::hermite::septic_hermite;
 use crate::integrator::{Integrator, Rhs, Workspace};
-use crate::kirchhoff::{FrameArray, FrameJet, determinant6};
+use crate::kirchhoff::{FrameArray, FrameJet, determinant6, jet_of_strains};
 use crate::rod::{DEFAULT_NODES, JacobianSolution, Rod, Shape, Solution, rotation_from_columns};
 use crate::se3::hat;
 use crate::stability::SignTracker;
@@ -74,6 +74,8 @@ pub(crate) struct Loaded {
     u0: Vector3<f64>,
     w: Vector3<f64>,
     a: Vector6<f64>,
+    /// `(0, 0, 0, 1)`, for the jets (a run-time value, see `kirchhoff`'s `cross_operands`).
+    e3: V4,
 }
 
 /// The frame, costate and strain of a flat state.
@@ -121,6 +123,7 @@ impl Loaded {
             u0: load.natural_curvature,
             w: load.weight_per_length,
             a: *a,
+            e3: V4([0.0, 0.0, 0.0, 1.0]),
         }
     }
 
@@ -389,7 +392,8 @@ impl Loaded {
     /// `q, q', q'', q'''` at a state (its first 18 numbers), as flat frame states by rows
     /// (`FrameJet`, the unloaded solver's layout): `R' = R û`, `R'' = R (û² + û')`,
     /// `R''' = R (û³ + 2 û û' + û' û + û'')`, `p⁽ᵏ⁺¹⁾ = R⁽ᵏ⁾ e1`, with `u' = C⁻¹ m'` and
-    /// `u'' = C⁻¹ (m' × u + m × u' + n' × e1)` from the loaded `m'`, `n'`.
+    /// `u'' = C⁻¹ (m' × u + m × u' + n' × e1)` from the loaded `m'`, `n'`; the rows by the
+    /// unloaded solver's `kirchhoff::jet_of_strains`.
     pub fn jet(&self, y: &[f64]) -> FrameJet {
         let l = self.local(y);
         let times_e1 = |v: &Vector3<f64>| Vector3::new(0.0, v.z, -v.y);
@@ -398,25 +402,14 @@ impl Loaded {
         let du = self.inv_c.component_mul(&dm);
         let ddm = dm.cross(&l.u) + l.m.cross(&du) + times_e1(&dn);
         let ddu = self.inv_c.component_mul(&ddm);
-        let (uh, duh, dduh) = (hat(&l.u), hat(&du), hat(&ddu));
-        let r1 = l.r * uh;
-        let r2 = l.r * (uh * uh + duh);
-        let r3 = l.r * (uh * uh * uh + 2.0 * uh * duh + duh * uh + dduh);
-        let rows = |r: &Matrix3<f64>, p: Vector3<f64>| -> FrameArray {
-            std::array::from_fn(|k| {
-                let (i, j) = (k / 4, k % 4);
-                if j < 3 { r[(i, j)] } else { p[i] }
-            })
-        };
-        let p = Vector3::new(y[9], y[10], y[11]);
-        FrameJet {
-            d: [
-                rows(&l.r, p),
-                rows(&r1, l.r.column(0).into()),
-                rows(&r2, r1.column(0).into()),
-                rows(&r3, r2.column(0).into()),
-            ],
-        }
+        let lanes = |v: Vector3<f64>| V4([v.x, v.y, v.z, 0.0]);
+        let frame: FrameArray = std::array::from_fn(|k| {
+            let (i, j) = (k / 4, k % 4);
+            y[3 * j + i]
+        });
+        let rows = [0, 1, 2].map(|i| V4::load(&frame, 4 * i));
+        let strains = [lanes(l.u), lanes(du), lanes(ddu)];
+        jet_of_strains(&frame, &rows, strains, self.e3)
     }
 
     /// `μ(t)` at a node from its frame `(r, p)` and `P(t) = ∫₀ᵗ p`: `n = Rᵀ N`,
