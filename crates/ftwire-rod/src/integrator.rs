@@ -17,11 +17,12 @@
 //! # Speed
 //!
 //! The explicit steps ([`Method::Rk8`], [`Method::Dop853`]) use only the nonzero Butcher
-//! coefficients, each stage sum one fused pass over the flat state, the stage derivatives kept
-//! in a workspace reused across steps (nothing zeroed or copied per step). The stages run in a
-//! loop over a table of the nonzero coefficients, not written out, so that the right-hand side
-//! is compiled once per step and the 48-state step's code fits the instruction caches. States of
-//! at most 16 numbers (the shape state) take a DOP853 step with the stages written out (each
+//! coefficients, each stage sum taken 16 numbers at a time with all its terms in registers
+//! (one store per number), the stage derivatives kept in a workspace reused across steps
+//! (nothing zeroed or copied per step). The stages run in a loop over a table of the nonzero
+//! coefficients, not written out, so that the right-hand side is compiled once per step and the
+//! 48-state step's code fits the instruction caches. States of at most 18 numbers (the shape
+//! states, 16 unloaded and 18 loaded) take a DOP853 step with the stages written out (each
 //! stage sum stays in registers). The stage sums and the right-hand sides are generic over the
 //! multiply–add and run compiled for AVX2 with hardware FMA when the CPU has them (the crate's
 //! `arith` module); on such CPUs the shape and Jacobian solves run explicit-intrinsics copies
@@ -330,16 +331,42 @@ fn stages<A: MulAdd, const D: usize, const S: usize>(
     w: &mut Workspace<D>,
 ) {
     for (i, terms) in terms.iter().enumerate() {
-        let mut sum = *y;
-        for &j in terms.iter() {
-            let c = h * a[i][j];
-            for (s, k) in sum.iter_mut().zip(&w.k[j]) {
-                *s = A::mul_add(c, *k, *s);
-            }
+        let mut start = 0;
+        while start + CHUNK <= D {
+            chunk_sum::<A, D>(y, start, CHUNK, terms, &a[i], h, w);
+            start += CHUNK;
         }
-        w.yi = sum;
+        chunk_sum::<A, D>(y, start, D - start, terms, &a[i], h, w);
         f.rate(&w.yi, &mut w.k[i]);
     }
+}
+
+/// Numbers of the state summed at once by [`stages`].
+const CHUNK: usize = 16;
+
+/// `yi[start..start + len] = y + Σ_j h a_j k_j` there (`len ≤ CHUNK`), all terms summed into
+/// registers before one store: over the whole state at once, the sum of a large state does
+/// not fit the registers, and each term would load and store it again. (Each number's sum
+/// is the same, in the same order, as term by term over the whole state.)
+#[inline(always)]
+fn chunk_sum<A: MulAdd, const D: usize>(
+    y: &[f64; D],
+    start: usize,
+    len: usize,
+    terms: &[usize],
+    a: &[f64],
+    h: f64,
+    w: &mut Workspace<D>,
+) {
+    let mut acc = [0.0; CHUNK];
+    acc[..len].copy_from_slice(&y[start..start + len]);
+    for &j in terms {
+        let c = h * a[j];
+        for (s, k) in acc[..len].iter_mut().zip(&w.k[j][start..start + len]) {
+            *s = A::mul_add(c, *k, *s);
+        }
+    }
+    w.yi[start..start + len].copy_from_slice(&acc[..len]);
 }
 
 /// One step of [`Method::Rk8`] (Cooper & Verner), nonzero coefficients only, in place.
@@ -355,7 +382,7 @@ fn rk8_step<A: MulAdd, const D: usize>(
 }
 
 /// States of at most this many numbers take the written-out DOP853 step.
-const SMALL_STATE: usize = 16;
+const SMALL_STATE: usize = 18;
 
 /// `sum += c · k`, lane by lane.
 #[inline(always)]
@@ -367,7 +394,7 @@ fn axpy<A: MulAdd, const D: usize>(sum: &mut [f64; D], c: f64, k: &[f64; D]) {
 
 /// The stages of [`dop853_step`] written out, one block per stage over its nonzero
 /// coefficients (the lists of [`with_dop853_terms`]; a test checks the results agree with the
-/// loop bit for bit). For small states (the shape solve's 16 numbers): each stage sum stays in
+/// loop bit for bit). For small states (the shape solves' 16 and 18 numbers): each stage sum stays in
 /// registers, with no loop or table bookkeeping, about half the instructions of the loop. (The
 /// 48-state step, written out, no longer fits the instruction cache; see the module's
 /// "Speed".)

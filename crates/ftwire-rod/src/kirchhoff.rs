@@ -502,27 +502,42 @@ impl Kirchhoff {
         ];
         let du = V4([v[0], v[1], v[2], 0.0]).mul(self.inv_c4);
         let ddu = V4([ddm[0], ddm[1], ddm[2], 0.0]).mul(self.inv_c4);
-        let (u_a, u_b) = cross_operands(u, self.e3);
-        let (du_a, du_b) = cross_operands(du, self.e3);
-        let (ddu_a, ddu_b) = cross_operands(ddu, self.e3);
-        // `cross_lane0` puts lane 0 of its first argument into lane 3, which is p⁽ᵏ⁺¹⁾ for
-        // the W × u terms; the added terms must not add to lane 3, so theirs is cleared.
-        let no_lane3 = |v: V4| V4([v.0[0], v.0[1], v.0[2], 0.0]);
-        let mut jet = FrameJet { d: [*y; 4] };
-        for (i, r) in rows.iter().enumerate() {
-            let w1 = cross_lane0::<Separate>(*r, u_a, u_b);
-            let w2 = cross_lane0::<Separate>(w1, u_a, u_b)
-                .add(no_lane3(cross_lane0::<Separate>(*r, du_a, du_b)));
-            let w1du = no_lane3(cross_lane0::<Separate>(w1, du_a, du_b));
-            let w3 = cross_lane0::<Separate>(w2, u_a, u_b)
-                .add(w1du.add(w1du))
-                .add(no_lane3(cross_lane0::<Separate>(*r, ddu_a, ddu_b)));
-            w1.store(&mut jet.d[1], 4 * i);
-            w2.store(&mut jet.d[2], 4 * i);
-            w3.store(&mut jet.d[3], 4 * i);
-        }
-        jet
+        jet_of_strains(y, rows, [u, du, ddu], self.e3)
     }
+}
+
+/// The frame jet at frame `y` (rows `rows`) from the strain `u` and its derivatives `u'`,
+/// `u''` (lane 3 zero), as in [`Kirchhoff::frame_jet`]: the rows `W1 = r × u`,
+/// `W2 = W1 × u + r × u'` and `W2 × u + 2 W1 × u' + r × u''`; `e3 = (0, 0, 0, 1)` as a
+/// run-time value (see [`cross_operands`]). Shared with the loaded solver, whose `u`, `u'`,
+/// `u''` come from the loaded equations.
+#[inline(always)]
+pub(crate) fn jet_of_strains(
+    y: &FrameArray,
+    rows: &[V4; 3],
+    [u, du, ddu]: [V4; 3],
+    e3: V4,
+) -> FrameJet {
+    let (u_a, u_b) = cross_operands(u, e3);
+    let (du_a, du_b) = cross_operands(du, e3);
+    let (ddu_a, ddu_b) = cross_operands(ddu, e3);
+    // `cross_lane0` puts lane 0 of its first argument into lane 3, which is p⁽ᵏ⁺¹⁾ for
+    // the W × u terms; the added terms must not add to lane 3, so theirs is cleared.
+    let no_lane3 = |v: V4| V4([v.0[0], v.0[1], v.0[2], 0.0]);
+    let mut jet = FrameJet { d: [*y; 4] };
+    for (i, r) in rows.iter().enumerate() {
+        let w1 = cross_lane0::<Separate>(*r, u_a, u_b);
+        let w2 = cross_lane0::<Separate>(w1, u_a, u_b)
+            .add(no_lane3(cross_lane0::<Separate>(*r, du_a, du_b)));
+        let w1du = no_lane3(cross_lane0::<Separate>(w1, du_a, du_b));
+        let w3 = cross_lane0::<Separate>(w2, u_a, u_b)
+            .add(w1du.add(w1du))
+            .add(no_lane3(cross_lane0::<Separate>(*r, ddu_a, ddu_b)));
+        w1.store(&mut jet.d[1], 4 * i);
+        w2.store(&mut jet.d[2], 4 * i);
+        w3.store(&mut jet.d[3], 4 * i);
+    }
+    jet
 }
 
 #[cfg(test)]
