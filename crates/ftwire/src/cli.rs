@@ -1,5 +1,6 @@
 //! Command-line types (clap). One submodule per subcommand.
 
+pub mod demo;
 pub mod experiment;
 pub mod identify;
 pub mod robot;
@@ -21,6 +22,9 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// The whole system at work in the simulator: calibrate the sensor, identify a wire it is
+    /// not told about, and see its shape from F/T alone.
+    Demo(demo::DemoArgs),
     /// Solve the Kirchhoff model for a configuration a: shape, tip pose, Jacobian, stability.
     Solve(solve::SolveArgs),
     /// Find an equilibrium of the ground-truth discrete elastic rod between two clamps.

@@ -1,6 +1,7 @@
 //! One module per subcommand; each exposes `run(args) -> Result<(), CliError>` and `main` maps
 //! the error to the exit code.
 
+pub mod demo;
 pub mod experiment;
 pub mod identify;
 pub mod robot;
@@ -15,6 +16,7 @@ use crate::cli::{Cli, Command};
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Demo(args) => demo::run(args),
         Command::Solve(args) => solve::run(args),
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),

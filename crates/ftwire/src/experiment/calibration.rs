@@ -42,7 +42,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::rig::{measure, mounting, pipeline, place_wire, tare};
+use super::rig::{measure, mounting, pipeline, place_wire, tare, true_centreline};
 use super::{Gravity, ModelKind, known_model};
 use crate::error::{CliError, from_estimate, from_rod};
 use crate::wire::WireSpec;
@@ -214,11 +214,7 @@ pub fn collect(
             raw: tared.tare().apply(&measured.raw.mean),
             mounting: measured.a,
             true_wrench: equilibrium.base_wrench.to_vector(),
-            truth: equilibrium
-                .wire_centreline()
-                .iter()
-                .map(|p| p.coords)
-                .collect(),
+            truth: true_centreline(&rig),
             label: fit.a,
             label_rms: fit.rms,
         });

@@ -5,7 +5,7 @@ use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
 use ftwire_rod::Rod;
 use ftwire_sim::{RigConfig, SimRig, Simulator, World};
-use nalgebra::Vector6;
+use nalgebra::{Vector3, Vector6};
 
 use super::{Gravity, SIM_EDGES};
 use crate::bridge::kirchhoff_guess;
@@ -145,4 +145,14 @@ pub fn believed_tip(rig: &SimRig) -> Result<Pose, CliError> {
         .gripper_poses()
         .map_err(|e| from_sim(e, "reading the gripper poses"))?;
     Ok(poses.relative())
+}
+
+/// The true wire's centreline \[m\] (base clamp frame): the simulator's ground truth, which
+/// the experiments score their estimates against.
+pub fn true_centreline(rig: &SimRig) -> Vec<Vector3<f64>> {
+    rig.equilibrium()
+        .wire_centreline()
+        .iter()
+        .map(|p| p.coords)
+        .collect()
 }

@@ -133,13 +133,13 @@ const PARAMETERS: [&str; 4] = ["c1", "c2", "c3", "L"];
 
 /// One recorded sample of a trial.
 #[derive(Debug, Clone, Copy)]
-struct Recorded {
+pub(crate) struct Recorded {
     /// The rig's clock \[s\].
-    time: f64,
+    pub(crate) time: f64,
     /// `ã` (tared, through the pipeline; torque first, base clamp frame).
-    a: Vector6<f64>,
+    pub(crate) a: Vector6<f64>,
     /// `b̃`, the believed second-gripper pose relative to the base clamp.
-    b: Pose,
+    pub(crate) b: Pose,
 }
 
 /// One identification: a wire, a trial, a sample count.
@@ -440,7 +440,7 @@ fn check_pipeline(args: &IdentifyExperimentArgs) -> Result<(), CliError> {
 /// The map from the tared reading to `ã`: the sensor's mounting (built per trial from the
 /// rig's configuration), or the learnt calibration.
 #[derive(Debug, Clone, Copy)]
-enum Map<'a> {
+pub(crate) enum Map<'a> {
     /// `--pipeline mounting`.
     Mounting,
     /// `--pipeline calibrated`.
@@ -479,7 +479,7 @@ fn sample_counts(given: Option<&[usize]>) -> Result<Vec<usize>, CliError> {
 /// Places the wire, tares, follows the motion plan, and records a sample at the start pose and
 /// after each of the plan's moves. A start the simulator cannot hold or a move it cannot follow
 /// (no answer) starts the trial again from another `a0`.
-fn record_trial(
+pub(crate) fn record_trial(
     wire: &WireSpec,
     gravity: Gravity,
     sensor: SensorArg,
@@ -561,9 +561,11 @@ fn follow_plan(
 
 /// How a trial moves and measures: the library's motion plan, and the F/T samples averaged at
 /// each rest.
-struct Protocol {
-    plan: MotionPlan,
-    rest_samples: usize,
+pub(crate) struct Protocol {
+    /// The library's identification motion.
+    pub(crate) plan: MotionPlan,
+    /// F/T samples averaged at each rest.
+    pub(crate) rest_samples: usize,
 }
 
 /// Records the sample at the current rest, then one after each move of the plan.
@@ -666,7 +668,7 @@ fn identify_trial(
 /// The settings of the loaded model: `config` with the wire's linear density identified under
 /// the experiment's gravity. The rig's base clamp sits at the world origin with the world's
 /// axes ([`place_wire`]), so gravity in the base clamp frame is the world's.
-fn loaded_config(config: &IdentifyConfig, gravity: Gravity) -> IdentifyConfig {
+pub(crate) fn loaded_config(config: &IdentifyConfig, gravity: Gravity) -> IdentifyConfig {
     let mut loaded = config.clone();
     if gravity == Gravity::On {
         loaded.constraints.weight = Some(gravity.vector());
@@ -675,12 +677,12 @@ fn loaded_config(config: &IdentifyConfig, gravity: Gravity) -> IdentifyConfig {
 }
 
 /// The wire's true linear density `ρ π r²` \[kg/m\].
-fn linear_density(wire: &WireSpec) -> f64 {
+pub(crate) fn linear_density(wire: &WireSpec) -> f64 {
     wire.density * std::f64::consts::PI * wire.radius * wire.radius
 }
 
 /// The true `(c1, c2, c3, L)`.
-fn truth(wire: &WireSpec) -> [f64; 4] {
+pub(crate) fn truth(wire: &WireSpec) -> [f64; 4] {
     [wire.c[0], wire.c[1], wire.c[2], wire.length]
 }
 

@@ -31,6 +31,7 @@ use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::calibration::{load_or_run, rig_seed};
 use ftwire::experiment::rig::{
     believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
+    true_centreline,
 };
 use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
@@ -179,12 +180,7 @@ fn run_config(
         (a_tilde.fixed_rows::<3>(start) - t).norm() / t.norm().max(f64::MIN_POSITIVE)
     };
     let wrench_rel = (relative(0), relative(3));
-    let truth: Vec<Vector3<f64>> = rig
-        .equilibrium()
-        .wire_centreline()
-        .iter()
-        .map(|p| p.coords)
-        .collect();
+    let truth = true_centreline(&rig);
     // The time of one estimate: the median of TIMED_REPEATS calls (each a fresh sample).
     let mut times = [0.0; TIMED_REPEATS];
     for time in &mut times {

@@ -1,0 +1,37 @@
+//! `ftwire demo`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use serde::Serialize;
+
+use ftwire::args::SeedArgs;
+
+/// `ftwire demo`: the whole system at work in the simulator.
+#[derive(Debug, Clone, Args, Serialize)]
+#[command(
+    after_help = "Phases: 1 calibrate the F/T sensor on a known wire; 2 pick up a wire \
+    whose stiffness and length are not given and identify them; 3 estimate its shape from F/T \
+    against the simulator's truth; 4 plan through the scene's passage; 5 track the plan closed \
+    loop with collision detection armed, then once open loop.\n\n\
+    Exit codes: 0 done (the summary says how each phase went), 1 a phase found no answer, 2 bad \
+    input."
+)]
+pub struct DemoArgs {
+    /// The seed of every random choice.
+    #[command(flatten)]
+    pub seed: SeedArgs,
+    /// The wire to pick up, identify and steer: a preset or a wire file (TOML). The demo is
+    /// not told its stiffness, length or weight; only the simulator knows them.
+    #[arg(long, value_name = "PRESET|FILE.toml", default_value = DEFAULT_DEMO_WIRE)]
+    pub wire: String,
+    /// The scene to plan through (TOML) [default: the shipped 50 mm passage].
+    #[arg(long, value_name = "FILE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Results folder [default: results/demo].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// The demo's wire by default.
+pub const DEFAULT_DEMO_WIRE: &str = "nitinol-3mm-910";

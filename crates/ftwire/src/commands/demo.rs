@@ -1,0 +1,430 @@
+//! `ftwire demo`: the whole system at work in the simulator, the README's first command.
+//!
+//! 1. **Calibrate** the F/T sensor on the known wire ([`KNOWN_WIRE`]): F/T and motion capture
+//!    over [`CALIBRATION_CONFIGS`] configurations, labels by shape fitting with the loaded
+//!    model, the network trained on them (as `ftwire experiment calibrate`).
+//! 2. **Identify** the wire of `--wire`, whose stiffness, length and weight the demo is not
+//!    told: the library's identification motion from a random start, three samples through
+//!    the learnt calibration, the loaded model under the known gravity (as
+//!    `ftwire experiment identify`, one trial).
+//! 3. **Shape from F/T**: the identified model's shape from `ã` alone at
+//!    [`SHAPE_CONFIGS`] configurations of `A_free`, against the simulator's true wire.
+//!
+//! Results folder (`--out`, default `results/demo`, written whole or not at all):
+//! `summary.json` (run header, then `wire`, `calibration`, `identification`, `shape`; the same
+//! for the same seed), `timings.json` (each phase's wall time), `calibration.json` (the
+//! weights), `shape.{png,svg}` (the estimated and the true wire of the first configuration).
+
+use std::io::IsTerminal as _;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use ftwire::error::{CliError, from_estimate, from_rod};
+use ftwire::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
+use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
+use ftwire::experiment::{Gravity, ModelKind};
+use ftwire::output::RunHeader;
+use ftwire::results::ResultsFolder;
+use ftwire::wire::WireSpec;
+use ftwire_core::WireParams;
+use ftwire_estimate::calibration::Calibration;
+use ftwire_estimate::identify::MotionPlan;
+use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance};
+use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_report::{Chart3d, SeriesKind};
+use ftwire_rod::Rod;
+use ftwire_rod::sampling::Sampler;
+use ftwire_sim::RigConfig;
+use indicatif::{ProgressBar, ProgressStyle};
+use nalgebra::Vector3;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
+
+use crate::cli::demo::DemoArgs;
+use crate::cli::experiment::IDENTIFY_REST_SAMPLES;
+use crate::cli::identify::{FormArg, IdentifySettingsArgs, SensorArg};
+use crate::commands::experiment::identify::{
+    Map, Protocol, linear_density, loaded_config, record_trial, truth,
+};
+use crate::commands::identify::{flag_name, run_identification};
+
+/// Configurations of the calibration phase: fewer than `experiment calibrate`'s 600, which
+/// keeps the demo within its time while the calibrated map stays at the sensor's floor on the
+/// nitinol wires (the summary reports its test error).
+pub const CALIBRATION_CONFIGS: usize = 300;
+
+/// Samples the identification phase identifies from (the paper's smallest useful count).
+pub const IDENTIFY_SAMPLES: usize = 3;
+
+/// Configurations of the shape phase.
+pub const SHAPE_CONFIGS: usize = 5;
+
+/// The demo's phases, in order (progress lines and bars are numbered by them).
+const PHASES: usize = 3;
+
+/// `summary.json`'s body.
+#[derive(Debug, Serialize)]
+struct Summary {
+    /// The wire identified (the truth, which only the simulator was given).
+    wire: WireTruth,
+    calibration: CalibrationOut,
+    identification: IdentificationOut,
+    shape: ShapeOut,
+}
+
+#[derive(Debug, Serialize)]
+struct WireTruth {
+    name: String,
+    c: [f64; 3],
+    length: f64,
+    linear_density: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct CalibrationOut {
+    wire: String,
+    configurations: usize,
+    /// Relative error of `ã` on the test split, torque and force: raw (mounting only) and
+    /// calibrated.
+    raw_torque_rel: f64,
+    raw_force_rel: f64,
+    calibrated_torque_rel: f64,
+    calibrated_force_rel: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct IdentificationOut {
+    samples: usize,
+    /// `(c1, c2, c3, L)` estimated.
+    estimate: [f64; 4],
+    /// One standard deviation of each.
+    std: [f64; 4],
+    /// `(estimate − truth) / truth` of each.
+    relative_error: [f64; 4],
+    linear_density: Option<f64>,
+    linear_density_relative_error: Option<f64>,
+    chi2_per_dof: f64,
+    /// Why the estimate is not trusted (`null`: identified).
+    flag: Option<&'static str>,
+}
+
+#[derive(Debug, Serialize)]
+struct ShapeOut {
+    /// Configurations estimated (of [`SHAPE_CONFIGS`]; a placement the simulator cannot hold
+    /// is skipped).
+    configurations: usize,
+    /// Mean distance between the estimated and the true centreline \[mm\], per configuration.
+    mean_mm: Vec<f64>,
+    /// Their mean \[mm\].
+    mean_mm_overall: f64,
+}
+
+/// `timings.json`: wall time of each phase \[s\].
+#[derive(Debug, Serialize)]
+struct Timings {
+    calibrate_s: f64,
+    identify_s: f64,
+    shape_s: f64,
+    total_s: f64,
+}
+
+/// Progress of one phase: a bar on a terminal, plain lines otherwise.
+struct Phase {
+    bar: Option<ProgressBar>,
+    label: String,
+    start: Instant,
+}
+
+impl Phase {
+    fn start(index: usize, name: &str, steps: u64) -> Self {
+        let label = format!("[{index}/{PHASES}] {name}");
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let bar = ProgressBar::new(steps);
+            let style = ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {elapsed}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> ");
+            bar.set_style(style);
+            bar.set_prefix(label.clone());
+            bar.enable_steady_tick(Duration::from_millis(200));
+            bar
+        });
+        if bar.is_none() {
+            eprintln!("{label} ...");
+        }
+        Self {
+            bar,
+            label,
+            start: Instant::now(),
+        }
+    }
+
+    fn set(&self, position: usize) {
+        if let Some(bar) = &self.bar {
+            bar.set_position(position as u64);
+        }
+    }
+
+    /// Ends the phase with a one-line result; returns its wall time \[s\].
+    fn finish(self, result: &str) -> f64 {
+        let seconds = self.start.elapsed().as_secs_f64();
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+        eprintln!("{}: {result} ({seconds:.1} s)", self.label);
+        seconds
+    }
+}
+
+/// Runs the demo.
+pub fn run(args: DemoArgs) -> Result<(), CliError> {
+    let total = Instant::now();
+    let seed = args.seed.seed;
+    let wire = WireSpec::load(&args.wire).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let known = WireSpec::preset(KNOWN_WIRE)
+        .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results/demo"));
+    if args.out.is_none() {
+        std::fs::create_dir_all("results")
+            .map_err(|e| CliError::io("creating the folder results", e))?;
+    }
+    let folder = ResultsFolder::create(&out)?;
+    let gravity = Gravity::On;
+
+    // 1. Calibration on the known wire.
+    let phase = Phase::start(1, "calibrate the F/T sensor on the known wire", 300);
+    let run = calibration::run(
+        &known,
+        (gravity, ModelKind::Loaded),
+        CALIBRATION_CONFIGS,
+        seed,
+        |k| phase.set(k + 1),
+    )?;
+    let test = &run.summary;
+    let calibration_out = CalibrationOut {
+        wire: known.name.clone(),
+        configurations: run.samples.len(),
+        raw_torque_rel: test.raw.torque_rel,
+        raw_force_rel: test.raw.force_rel,
+        calibrated_torque_rel: test.calibrated.torque_rel,
+        calibrated_force_rel: test.calibrated.force_rel,
+    };
+    folder.write(
+        "calibration.json",
+        run.calibration
+            .to_json()
+            .map_err(|e| from_estimate(e, "the calibration weights"))?,
+    )?;
+    let calibrate_s = phase.finish(&format!(
+        "{} on {} configurations: test error torque {:.2} %, force {:.2} % (raw {:.2} %, {:.2} %)",
+        known.name,
+        calibration_out.configurations,
+        100.0 * calibration_out.calibrated_torque_rel,
+        100.0 * calibration_out.calibrated_force_rel,
+        100.0 * calibration_out.raw_torque_rel,
+        100.0 * calibration_out.raw_force_rel,
+    ));
+    let learnt = run.calibration;
+
+    // 2. Identification of the unknown wire.
+    let phase = Phase::start(2, "identify the wire from F/T", IDENTIFY_SAMPLES as u64);
+    let (identification, model) = identify(&wire, &learnt, seed)?;
+    phase.set(IDENTIFY_SAMPLES);
+    let err = &identification.relative_error;
+    let identify_s = phase.finish(&format!(
+        "c = ({:.4}, {:.4}, {:.4}) N·m², L = {:.4} m against the truth ({:.4}, {:.4}, {:.4}), \
+         {:.4}: errors {:.2} / {:.2} / {:.2} / {:.2} %{}",
+        identification.estimate[0],
+        identification.estimate[1],
+        identification.estimate[2],
+        identification.estimate[3],
+        wire.c[0],
+        wire.c[1],
+        wire.c[2],
+        wire.length,
+        100.0 * err[0],
+        100.0 * err[1],
+        100.0 * err[2],
+        100.0 * err[3],
+        identification
+            .flag
+            .map_or_else(String::new, |f| format!(" (flagged: {f})")),
+    ));
+
+    // 3. Shape from F/T with the identified model.
+    let phase = Phase::start(3, "estimate the shape from F/T", SHAPE_CONFIGS as u64);
+    let (shape, first) = shapes(&wire, &learnt, model, seed, |k| phase.set(k))?;
+    if let Some((estimate, truth)) = &first {
+        let chart = Chart3d::new(format!("{}: shape from F/T against the truth", wire.name))
+            .with_curve("truth (simulator)", truth.clone(), SeriesKind::Line)
+            .with_curve("estimate from F/T", estimate.clone(), SeriesKind::Line);
+        chart
+            .write(folder.dir(), "shape")
+            .map_err(|e| CliError::no_answer(format!("figure shape: {e}")))?;
+    }
+    let shape_s = phase.finish(&format!(
+        "{} configurations, mean distance to the true wire {:.2} mm",
+        shape.configurations, shape.mean_mm_overall
+    ));
+
+    let summary = Summary {
+        wire: WireTruth {
+            name: wire.name.clone(),
+            c: wire.c,
+            length: wire.length,
+            linear_density: linear_density(&wire),
+        },
+        calibration: calibration_out,
+        identification,
+        shape,
+    };
+    let timings = Timings {
+        calibrate_s,
+        identify_s,
+        shape_s,
+        total_s: total.elapsed().as_secs_f64(),
+    };
+    folder.write_json("timings.json", &timings)?;
+    let header = RunHeader::new("demo", Some(seed), &args)?;
+    let target = folder.finish(&header, &summary)?;
+    println!(
+        "demo done in {:.0} s; results in {}",
+        timings.total_s,
+        target.display()
+    );
+    Ok(())
+}
+
+/// Phase 2: one identification trial of `wire` through the learnt calibration; returns the
+/// result and the identified (loaded) model.
+fn identify(
+    wire: &WireSpec,
+    learnt: &Calibration,
+    seed: u64,
+) -> Result<(IdentificationOut, KirchhoffModel), CliError> {
+    let protocol = Protocol {
+        plan: MotionPlan {
+            moves: IDENTIFY_SAMPLES - 1,
+            ..MotionPlan::default()
+        },
+        rest_samples: IDENTIFY_REST_SAMPLES,
+    };
+    let samples = record_trial(
+        wire,
+        Gravity::On,
+        SensorArg::Distorted,
+        Map::Learnt(learnt),
+        seed,
+        0,
+        &protocol,
+    )?;
+    let pairs: Vec<_> = samples.iter().map(|s| (s.a, s.b)).collect();
+    let settings = IdentifySettingsArgs {
+        form: FormArg::Absolute,
+        isotropic: false,
+        torsion_ratio: None,
+    };
+    let config = loaded_config(&settings.config()?, Gravity::On);
+    let estimate = run_identification(&pairs, &config, seed)?;
+    let truth = truth(wire);
+    let eta = [estimate.c[0], estimate.c[1], estimate.c[2], estimate.length];
+    let std = [
+        estimate.c_std[0],
+        estimate.c_std[1],
+        estimate.c_std[2],
+        estimate.length_std,
+    ];
+    let relative_error = std::array::from_fn(|j| (eta[j] - truth[j]) / truth[j]);
+    let lambda = linear_density(wire);
+    // The identified model: the wire's radius is measured (calipers), not identified; it only
+    // enters the self-contact test.
+    let params = WireParams::new(estimate.c, estimate.length, wire.radius)
+        .map_err(|e| CliError::no_answer(format!("the identified wire: {e}")))?;
+    let weight = estimate.linear_density.unwrap_or(0.0) * Gravity::On.vector();
+    let model = KirchhoffModel::new(params)
+        .with_weight_per_length(weight)
+        .map_err(|e| from_estimate(e, "the identified wire's weight"))?;
+    let out = IdentificationOut {
+        samples: pairs.len(),
+        estimate: eta,
+        std,
+        relative_error,
+        linear_density: estimate.linear_density,
+        linear_density_relative_error: estimate.linear_density.map(|l| (l - lambda) / lambda),
+        chi2_per_dof: estimate.chi2_per_dof,
+        flag: flag_name(estimate.unidentified.as_ref()),
+    };
+    Ok((out, model))
+}
+
+/// A centreline as plotted points.
+type Points = Vec<[f64; 3]>;
+
+/// Phase 3: the identified model's shape from `ã` at configurations of `A_free` of the true
+/// wire; returns the errors and the first configuration's estimated and true centrelines.
+fn shapes(
+    wire: &WireSpec,
+    learnt: &Calibration,
+    model: KirchhoffModel,
+    seed: u64,
+    mut progress: impl FnMut(usize),
+) -> Result<(ShapeOut, Option<(Points, Points)>), CliError> {
+    let params = wire
+        .wire_params()
+        .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
+    let rod = Rod::new(params);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5ba9e);
+    let sampler = Sampler::default();
+    let mut estimator = ShapeEstimator::new(model);
+    let mut mean_mm = Vec::with_capacity(SHAPE_CONFIGS);
+    let mut first = None;
+    for k in 0..SHAPE_CONFIGS {
+        progress(k);
+        let placed = sampler
+            .sample_free(&rod, &mut rng)
+            .map_err(|e| from_rod(e, "sampling A_free of the wire"))?;
+        let config = RigConfig {
+            seed: rig_seed(seed, k),
+            ..RigConfig::default()
+        };
+        let Ok(mut rig) = place_wire(wire, Gravity::On, &placed, config) else {
+            continue;
+        };
+        let tared = pipeline(tare(&mut rig)?, learnt.clone())?;
+        let Ok(measured) = measure(&mut rig, &tared) else {
+            continue;
+        };
+        estimator.reset();
+        let Ok(estimate) = estimator.estimate(&measured.a) else {
+            continue;
+        };
+        let truth = true_centreline(&rig);
+        let positions = &estimate.shape.positions;
+        let distance = centreline_distance(positions, &truth, DEFAULT_METRIC_SAMPLES)
+            .map_err(|e| from_estimate(e, "the shape error"))?;
+        mean_mm.push(1e3 * distance);
+        if first.is_none() {
+            let points = |v: &[Vector3<f64>]| v.iter().map(|p| [p.x, p.y, p.z]).collect();
+            first = Some((points(positions), points(&truth)));
+        }
+    }
+    progress(SHAPE_CONFIGS);
+    if mean_mm.is_empty() {
+        return Err(CliError::no_answer(format!(
+            "no configuration of {} could be placed and estimated",
+            wire.name
+        )));
+    }
+    let overall = mean_mm.iter().sum::<f64>() / mean_mm.len() as f64;
+    Ok((
+        ShapeOut {
+            configurations: mean_mm.len(),
+            mean_mm,
+            mean_mm_overall: overall,
+        },
+        first,
+    ))
+}

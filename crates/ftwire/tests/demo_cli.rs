@@ -1,0 +1,67 @@
+//! `ftwire demo`: it runs end to end in the simulator, the same seed gives a byte-identical
+//! `summary.json` (timings live in `timings.json`), its answers are the system's (the wire
+//! identified and its shape seen from F/T), and bad input is exit 2 with nothing written.
+
+mod cli_support;
+
+use std::fs;
+
+use cli_support::{assert_exit, assert_success, ftwire, numbers};
+
+#[test]
+fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() {
+    let dir = std::env::temp_dir().join(format!("ftwire-demo-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("creates a temporary folder");
+    let out = dir.join("demo");
+    let out = out.to_str().expect("UTF-8");
+    let run = || {
+        let output = ftwire(&["demo", "--seed", "3", "--out", out]);
+        assert_success(&output, "the demo");
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        (
+            fs::read(dir.join("demo/summary.json")).expect("summary.json"),
+            stderr,
+        )
+    };
+    let (first, stderr) = run();
+    // Not a terminal here: plain progress lines, one per phase and its result.
+    for phase in ["[1/3]", "[2/3]", "[3/3]"] {
+        assert!(stderr.contains(phase), "{phase} in {stderr}");
+    }
+    let summary: serde_json::Value = serde_json::from_slice(&first).expect("JSON");
+    let summary = &summary["summary"];
+    let errors = numbers(&summary["identification"]["relative_error"]);
+    assert_eq!(errors.len(), 4);
+    assert!(
+        errors.iter().all(|e| e.abs() < 0.01),
+        "c and L within 1 %: {errors:?}"
+    );
+    assert!(summary["identification"]["flag"].is_null());
+    let shape = summary["shape"]["mean_mm_overall"]
+        .as_f64()
+        .expect("a number");
+    assert!(shape < 3.0, "shape from F/T within 3 mm: {shape}");
+    for file in ["timings.json", "calibration.json", "shape.png", "shape.svg"] {
+        assert!(dir.join("demo").join(file).is_file(), "{file}");
+    }
+    let (second, _) = run();
+    assert_eq!(first, second, "the same seed gives the same summary.json");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_demo_input_is_exit_2_and_writes_nothing() {
+    let dir = std::env::temp_dir().join(format!("ftwire-demo-bad-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("creates a temporary folder");
+    let out = dir.join("demo");
+    let out = out.to_str().expect("UTF-8");
+    let output = ftwire(&["demo", "--wire", "copper", "--out", out]);
+    assert_exit(&output, 2, "copper", "an unknown wire preset");
+    let missing = dir.join("no").join("such").join("demo");
+    let output = ftwire(&["demo", "--out", missing.to_str().expect("UTF-8")]);
+    assert_exit(&output, 2, "does not exist", "a missing --out parent");
+    assert!(!dir.join("demo").exists(), "nothing written");
+    let _ = fs::remove_dir_all(&dir);
+}
