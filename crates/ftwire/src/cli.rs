@@ -3,6 +3,7 @@
 pub mod demo;
 pub mod experiment;
 pub mod identify;
+pub mod reproduce;
 pub mod robot;
 pub mod shape;
 pub mod sim_equilibrium;
@@ -25,6 +26,8 @@ pub enum Command {
     /// The whole system at work in the simulator: calibrate the sensor, identify a wire it is
     /// not told about, and see its shape from F/T alone.
     Demo(demo::DemoArgs),
+    /// Run every experiment of the paper's §IV and write one report beside the paper's tables.
+    Reproduce(reproduce::ReproduceArgs),
     /// Solve the Kirchhoff model for a configuration a: shape, tip pose, Jacobian, stability.
     Solve(solve::SolveArgs),
     /// Find an equilibrium of the ground-truth discrete elastic rod between two clamps.

@@ -40,6 +40,22 @@ fn unique_suffix() -> String {
 }
 
 impl ResultsFolder {
+    /// Starts writing `--out` when given, else `results/<id>` in the working folder
+    /// (creating `results/` when it is missing); see [`ResultsFolder::create`].
+    ///
+    /// # Errors
+    /// As [`ResultsFolder::create`]; [`CliError::Io`] when `results/` cannot be created.
+    pub fn create_or_default(out: Option<&Path>, id: &str) -> Result<Self, CliError> {
+        match out {
+            Some(out) => Self::create(out),
+            None => {
+                fs::create_dir_all("results")
+                    .map_err(|e| CliError::io("creating the folder results", e))?;
+                Self::create(&PathBuf::from("results").join(id))
+            }
+        }
+    }
+
     /// Starts writing the results folder `target` (`--out DIR`). Its parent must exist and be
     /// writable; `target` itself may exist (it is replaced by [`ResultsFolder::finish`]).
     ///

@@ -16,7 +16,6 @@
 //! weights), `shape.{png,svg}` (the estimated and the true wire of the first configuration).
 
 use std::io::IsTerminal as _;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use ftwire::error::{CliError, from_estimate, from_rod};
@@ -183,15 +182,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let wire = WireSpec::load(&args.wire).map_err(|e| CliError::bad_input(e.to_string()))?;
     let known = WireSpec::preset(KNOWN_WIRE)
         .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results/demo"));
-    if args.out.is_none() {
-        std::fs::create_dir_all("results")
-            .map_err(|e| CliError::io("creating the folder results", e))?;
-    }
-    let folder = ResultsFolder::create(&out)?;
+    let folder = ResultsFolder::create_or_default(args.out.as_deref(), "demo")?;
     let gravity = Gravity::On;
 
     // 1. Calibration on the known wire.

@@ -4,6 +4,7 @@
 pub mod demo;
 pub mod experiment;
 pub mod identify;
+pub mod reproduce;
 pub mod robot;
 pub mod shape;
 pub mod sim_equilibrium;
@@ -17,6 +18,7 @@ use crate::cli::{Cli, Command};
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Demo(args) => demo::run(args),
+        Command::Reproduce(args) => reproduce::run(args),
         Command::Solve(args) => solve::run(args),
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),

@@ -104,10 +104,10 @@ const START_BOX: f64 = 5.0;
 const START_ATTEMPTS: usize = 20;
 
 /// One parameter's row of Table I: true value, estimated mean, ±, relative error \[%\].
-type PaperRow = (f64, f64, f64, f64);
+pub(crate) type PaperRow = (f64, f64, f64, f64);
 
 /// Table I of the paper: `(wire, rows of c1, c2, c3, L)`.
-const TABLE_I: [(&str, [PaperRow; 4]); 2] = [
+pub(crate) const TABLE_I: [(&str, [PaperRow; 4]); 2] = [
     (
         "nitinol-2mm-630",
         [

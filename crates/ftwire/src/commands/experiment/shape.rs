@@ -65,7 +65,7 @@ const MAX_DRAWS_PER_CONFIG: usize = 3;
 const TIMED_REPEATS: usize = 9;
 
 /// Paper Table II: mean shape error \[mm\] of the real wires, for the printed comparison.
-const TABLE_II: [(&str, f64); 4] = [
+pub(crate) const TABLE_II: [(&str, f64); 4] = [
     ("nitinol-2mm-630", 5.72),
     ("nitinol-3mm-910", 7.42),
     ("nitinol-3mm-820", 6.55),

@@ -1,0 +1,31 @@
+//! `ftwire reproduce`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use ftwire::args::SeedArgs;
+use serde::Serialize;
+
+/// `ftwire reproduce`: every experiment of the paper's §IV, one report beside the paper.
+#[derive(Debug, Clone, Args, Serialize)]
+#[command(
+    after_help = "Runs the calibration first, then the experiments that use it in \
+    parallel, each as its own `ftwire experiment` process with its own results folder and \
+    log; writes report.md with the paper's tables beside ours.\n\n\
+    Exit codes: 0 every experiment ran, 1 one failed (the report says which), 2 bad input."
+)]
+pub struct ReproduceArgs {
+    /// The seed of every random choice (each experiment gets it).
+    #[command(flatten)]
+    pub seed: SeedArgs,
+    /// Reduced trial counts: a few minutes instead of the full run.
+    #[arg(long)]
+    pub quick: bool,
+    /// Experiments run at once [default: the machine's cores]. The results do not depend on
+    /// it: every experiment is seeded on its own.
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Results folder [default: results/reproduce].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}

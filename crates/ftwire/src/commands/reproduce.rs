@@ -1,0 +1,386 @@
+//! `ftwire reproduce`: every experiment of the paper's §IV that ftwire has, in the simulator,
+//! and one report that sets the paper's tables beside ours.
+//!
+//! The calibration runs first (gravity on, labels from the loaded model); the experiments that
+//! use it then run in parallel, `--jobs` at a time on a rayon pool, each as its own
+//! `ftwire experiment` process (this binary) with its own results folder and log, so their
+//! printed tables do not interleave and one failure does not take the others down. Every
+//! experiment is seeded by `--seed` alone, so the results do not depend on `--jobs`.
+//!
+//! Results folder (`--out`, default `results/reproduce`, written whole or not at all): one
+//! subfolder per experiment (its own `summary.json`, figures and `log.txt`), `report.md` (the
+//! tables), `summary.json` (the run header, then `quick`, `experiments`: each
+//! `{id, status}`), `timings.json` (each experiment's wall time).
+
+use std::fmt::Write as _;
+use std::fs::File;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+use ftwire::error::CliError;
+use ftwire::output::RunHeader;
+use ftwire::results::ResultsFolder;
+use rayon::prelude::*;
+use serde::Serialize;
+use serde_json::Value;
+
+use crate::cli::reproduce::ReproduceArgs;
+use crate::commands::experiment::identify::TABLE_I;
+use crate::commands::experiment::shape::TABLE_II;
+
+/// One experiment run as a child process.
+struct Job {
+    /// Its subfolder and name in the report.
+    id: &'static str,
+    /// `ftwire` arguments before `--out` and `--seed`.
+    args: Vec<String>,
+    /// Measured wall time on a 2-core machine \[s\], quick and full (for the announced
+    /// expected time).
+    expected_s: (f64, f64),
+}
+
+/// One experiment's result in `summary.json`.
+#[derive(Debug, Serialize)]
+struct Status {
+    id: &'static str,
+    /// `ok`, or the failure (exit code and the log's last line).
+    status: String,
+}
+
+/// `summary.json`'s body.
+#[derive(Debug, Serialize)]
+struct Summary {
+    quick: bool,
+    experiments: Vec<Status>,
+}
+
+/// `timings.json`.
+#[derive(Debug, Serialize)]
+struct Timings {
+    experiments: Vec<(&'static str, f64)>,
+    total_s: f64,
+}
+
+fn strings(args: &[&str]) -> Vec<String> {
+    args.iter().map(|s| (*s).to_owned()).collect()
+}
+
+/// The calibration job (it runs alone, before the others).
+fn calibration_job(quick: bool) -> Job {
+    let trials = if quick { "300" } else { "600" };
+    Job {
+        id: "calibrate",
+        args: strings(&["experiment", "calibrate", "--trials", trials]),
+        expected_s: (25.0, 50.0),
+    }
+}
+
+/// The jobs that use the calibration, in report order. Quick: the paper's trial counts at
+/// three samples only; full: every sample count of Figs. 3–4.
+fn experiment_jobs(quick: bool, calibration: &Path) -> Vec<Job> {
+    let calibration = calibration.to_string_lossy().into_owned();
+    let mut identify = strings(&["experiment", "identify"]);
+    if quick {
+        identify.extend(strings(&["--samples", "3"]));
+    }
+    let mut shape = strings(&["experiment", "shape"]);
+    for args in [&mut identify, &mut shape] {
+        args.extend(["--calibration".to_owned(), calibration.clone()]);
+    }
+    vec![
+        Job {
+            id: "identify",
+            args: identify,
+            expected_s: (5.0, 120.0),
+        },
+        Job {
+            id: "shape",
+            args: shape,
+            expected_s: (10.0, 10.0),
+        },
+    ]
+}
+
+/// Runs one job into `dir/<id>`; returns its status and wall time.
+fn run_job(job: &Job, dir: &Path, seed: u64) -> (Status, f64) {
+    let start = Instant::now();
+    let out = dir.join(job.id);
+    let log = dir.join(format!("{}.log", job.id));
+    let status = (|| -> Result<(), String> {
+        let exe = std::env::current_exe().map_err(|e| format!("cannot find ftwire itself: {e}"))?;
+        let file =
+            File::create(&log).map_err(|e| format!("cannot write {}: {e}", log.display()))?;
+        let err = file
+            .try_clone()
+            .map_err(|e| format!("cannot write {}: {e}", log.display()))?;
+        let exit = Command::new(exe)
+            .args(&job.args)
+            .arg("--seed")
+            .arg(seed.to_string())
+            .arg("--out")
+            .arg(&out)
+            .stdin(Stdio::null())
+            .stdout(file)
+            .stderr(err)
+            .status()
+            .map_err(|e| format!("cannot start: {e}"))?;
+        if exit.success() {
+            Ok(())
+        } else {
+            let text = std::fs::read_to_string(&log).unwrap_or_default();
+            let last = text.lines().last().unwrap_or("").to_owned();
+            Err(format!("exit {}: {last}", exit.code().unwrap_or(-1)))
+        }
+    })();
+    // The log goes into the experiment's folder when it has one.
+    if out.is_dir() {
+        let _ = std::fs::rename(&log, out.join("log.txt"));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    eprintln!(
+        "reproduce: {} {} ({seconds:.0} s)",
+        job.id,
+        status
+            .as_ref()
+            .map_or_else(|e| format!("failed: {e}"), |()| "done".to_owned())
+    );
+    (
+        Status {
+            id: job.id,
+            status: status.map_or_else(|e| e, |()| "ok".to_owned()),
+        },
+        seconds,
+    )
+}
+
+/// Runs every experiment and writes the report.
+pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
+    let total = Instant::now();
+    let seed = args.seed.seed;
+    let jobs = args.jobs.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    if jobs == 0 {
+        return Err(CliError::bad_input("--jobs 0: at least one is needed"));
+    }
+    let folder = ResultsFolder::create_or_default(args.out.as_deref(), "reproduce")?;
+    let dir = folder.dir().to_path_buf();
+    let calibration = calibration_job(args.quick);
+    let calibration_file = dir.join(calibration.id).join("calibration.json");
+    let rest = experiment_jobs(args.quick, &calibration_file);
+    let pick = |(quick, full): (f64, f64)| if args.quick { quick } else { full };
+    let parallel: f64 = rest.iter().map(|j| pick(j.expected_s)).sum::<f64>() / jobs as f64;
+    let longest = rest.iter().map(|j| pick(j.expected_s)).fold(0.0, f64::max);
+    eprintln!(
+        "reproduce: {} experiments{}, {jobs} at a time; expected time about {:.0} min on a \
+         2-core machine",
+        rest.len() + 1,
+        if args.quick { " (quick)" } else { "" },
+        ((pick(calibration.expected_s) + parallel.max(longest)) / 60.0).ceil()
+    );
+    let (first, first_s) = run_job(&calibration, &dir, seed);
+    let mut statuses = vec![first];
+    let mut timings = vec![(calibration.id, first_s)];
+    if statuses[0].status == "ok" {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs)
+            .build()
+            .map_err(|e| CliError::bad_input(format!("--jobs {jobs}: {e}")))?;
+        let results: Vec<(Status, f64)> = pool.install(|| {
+            rest.par_iter()
+                .map(|job| run_job(job, &dir, seed))
+                .collect()
+        });
+        for (job, (status, seconds)) in rest.iter().zip(results) {
+            statuses.push(status);
+            timings.push((job.id, seconds));
+        }
+    } else {
+        for job in &rest {
+            statuses.push(Status {
+                id: job.id,
+                status: "not run: the calibration failed".to_owned(),
+            });
+        }
+    }
+    folder.write("report.md", report(&dir, &statuses, args.quick))?;
+    let failed: Vec<&str> = statuses
+        .iter()
+        .filter(|s| s.status != "ok")
+        .map(|s| s.id)
+        .collect();
+    folder.write_json(
+        "timings.json",
+        &Timings {
+            experiments: timings,
+            total_s: total.elapsed().as_secs_f64(),
+        },
+    )?;
+    let header = RunHeader::new("reproduce", Some(seed), &args)?;
+    let summary = Summary {
+        quick: args.quick,
+        experiments: statuses,
+    };
+    let target = folder.finish(&header, &summary)?;
+    println!(
+        "reproduce: report in {}",
+        target.join("report.md").display()
+    );
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(CliError::no_answer(format!(
+            "experiments that failed: {} (their logs are in {})",
+            failed.join(", "),
+            target.display()
+        )))
+    }
+}
+
+/// An experiment's `summary` object, if it ran.
+fn summary_of(dir: &Path, id: &str) -> Option<Value> {
+    let text = std::fs::read_to_string(dir.join(id).join("summary.json")).ok()?;
+    let value: Value = serde_json::from_str(&text).ok()?;
+    value.get("summary").cloned()
+}
+
+fn percent(v: &Value) -> String {
+    v.as_f64()
+        .map_or_else(|| "–".to_owned(), |x| format!("{:.2}", 100.0 * x))
+}
+
+fn number(v: &Value, digits: usize) -> String {
+    v.as_f64()
+        .map_or_else(|| "–".to_owned(), |x| format!("{x:.digits$}"))
+}
+
+/// `report.md`: the paper's tables beside ours.
+fn report(dir: &Path, statuses: &[Status], quick: bool) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# ftwire against Mishani & Sintov (RA-L 2022), §IV\n\nIn the simulator, gravity on, \
+         the default F/T sensor through the learnt calibration{}. Each experiment's own folder \
+         has its full summary, figures and log.\n",
+        if quick {
+            "; **quick run** (reduced trial counts)"
+        } else {
+            ""
+        }
+    );
+    let _ = writeln!(md, "| experiment | status |\n| --- | --- |");
+    for s in statuses {
+        let _ = writeln!(md, "| `{}` | {} |", s.id, s.status);
+    }
+    md.push('\n');
+    if let Some(s) = summary_of(dir, "identify") {
+        identification_table(&mut md, &s);
+    }
+    if let Some(s) = summary_of(dir, "calibrate") {
+        let _ = writeln!(
+            md,
+            "## §IV-A: the learnt F/T calibration\n\nOn the test split of the known wire \
+             ({}): relative error of `ã` against the true wrench, and the shape error of \
+             Φ(ã).\n\n| map | torque % | force % | shape mm |\n| --- | --- | --- | --- |\n\
+             | raw (mounting only) | {} | {} | {} |\n| calibrated | {} | {} | {} |\n",
+            s["wire"]["name"].as_str().unwrap_or("?"),
+            percent(&s["raw"]["torque_rel"]),
+            percent(&s["raw"]["force_rel"]),
+            number(&s["raw"]["shape_mm"], 2),
+            percent(&s["calibrated"]["torque_rel"]),
+            percent(&s["calibrated"]["force_rel"]),
+            number(&s["calibrated"]["shape_mm"], 2),
+        );
+    }
+    if let Some(s) = summary_of(dir, "shape") {
+        let _ = writeln!(
+            md,
+            "## Table II: shape from F/T, mean distance to the true wire [mm]\n\n\
+             | wire | ours, loaded model | ours, the paper's model (same ã) | paper |\n\
+             | --- | --- | --- | --- |"
+        );
+        for wire in s["wires"].as_array().into_iter().flatten() {
+            let name = wire["name"].as_str().unwrap_or("?");
+            let paper = TABLE_II
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map_or_else(|| "–".to_owned(), |(_, mm)| format!("{mm:.2}"));
+            let _ = writeln!(
+                md,
+                "| {name} | {} | {} | {paper} |",
+                number(&wire["loaded_mean_mm"], 2),
+                number(&wire["kirchhoff_mean_mm"], 2),
+            );
+        }
+        md.push('\n');
+    }
+    let _ = writeln!(
+        md,
+        "## Not in this report\n\nTable III (goal reaching), Table IV (path tracking) and the \
+         passage success rates join this report when their experiments exist."
+    );
+    md
+}
+
+/// Table I: identification from 3 samples, ours (both models) beside the paper's.
+fn identification_table(md: &mut String, s: &Value) {
+    let _ = writeln!(
+        md,
+        "## Table I: identification from 3 samples\n\nOurs: mean ± std over the trials and the \
+         error of the mean (as the paper's), then the mean of each trial's absolute error; the \
+         loaded model (which also identifies the weight), and the paper's weightless model on \
+         the same data.\n\n| wire | parameter | true | ours, loaded | error of mean % | mean \
+         abs. error % | paper's model: mean abs. error % | paper | paper error % |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    let models = s["by_model"].as_array().cloned().unwrap_or_default();
+    let model = |name: &str| {
+        models
+            .iter()
+            .find(|m| m["model"] == name)
+            .map(|m| m["wires"].clone())
+    };
+    let (Some(loaded), other) = (model("loaded"), model("kirchhoff")) else {
+        return;
+    };
+    let names = ["c1", "c2", "c3", "L"];
+    for (w, wire) in loaded.as_array().into_iter().flatten().enumerate() {
+        let name = wire["wire"]["name"].as_str().unwrap_or("?");
+        let row = &wire["by_samples"][0];
+        let other_row = other.as_ref().map(|o| o[w]["by_samples"][0].clone());
+        let paper = TABLE_I
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, rows)| rows);
+        for (j, parameter) in names.iter().enumerate() {
+            let truth = if j < 3 {
+                &wire["wire"]["c"][j]
+            } else {
+                &wire["wire"]["length"]
+            };
+            let (paper_value, paper_error) = paper.map_or_else(
+                || ("–".to_owned(), "–".to_owned()),
+                |rows| {
+                    let (_, mean, std, error) = rows[j];
+                    (format!("{mean:.3} ± {std:.3}"), format!("{error:.1}"))
+                },
+            );
+            let _ = writeln!(
+                md,
+                "| {name} | {parameter} | {} | {} ± {} | {} | {} | {} | {paper_value} | \
+                 {paper_error} |",
+                number(truth, 3),
+                number(&row["mean"][j], 4),
+                number(&row["std"][j], 4),
+                percent(&row["relative_error"][j].as_f64().map(f64::abs).into()),
+                percent(&row["mean_abs_relative_error"][j]),
+                other_row.as_ref().map_or_else(
+                    || "–".to_owned(),
+                    |r| percent(&r["mean_abs_relative_error"][j])
+                ),
+            );
+        }
+    }
+    md.push('\n');
+}

@@ -1,0 +1,51 @@
+//! `ftwire reproduce --quick`: every experiment runs, the report sets the paper's tables beside
+//! ours, and the results do not depend on how many experiments run at once.
+
+mod cli_support;
+
+use std::fs;
+
+use cli_support::{assert_exit, assert_success, ftwire};
+
+#[test]
+fn the_quick_report_is_the_same_for_one_or_two_jobs() {
+    let dir = std::env::temp_dir().join(format!("ftwire-reproduce-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("creates a temporary folder");
+    let report = |jobs: &str| {
+        let out = dir.join(format!("jobs{jobs}"));
+        let output = ftwire(&[
+            "reproduce",
+            "--quick",
+            "--seed",
+            "2",
+            "--jobs",
+            jobs,
+            "--out",
+            out.to_str().expect("UTF-8"),
+        ]);
+        assert_success(&output, "reproduce --quick");
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert!(stderr.contains("expected time"), "{stderr}");
+        for id in ["calibrate", "identify", "shape"] {
+            assert!(out.join(id).join("summary.json").is_file(), "{id}");
+            assert!(out.join(id).join("log.txt").is_file(), "{id}'s log");
+        }
+        fs::read_to_string(out.join("report.md")).expect("report.md")
+    };
+    let one = report("1");
+    for table in [
+        "## Table I",
+        "## Table II",
+        "§IV-A",
+        "| nitinol-2mm-630 | c1 |",
+    ] {
+        assert!(one.contains(table), "{table} in the report:\n{one}");
+    }
+    assert!(!one.contains("| –"), "every cell filled:\n{one}");
+    let two = report("2");
+    assert_eq!(one, two, "the report does not depend on --jobs");
+    let output = ftwire(&["reproduce", "--quick", "--jobs", "0", "--out", "x"]);
+    assert_exit(&output, 2, "--jobs 0", "no jobs");
+    let _ = fs::remove_dir_all(&dir);
+}
