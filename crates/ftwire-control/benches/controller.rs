@@ -1,0 +1,36 @@
+//! Compute per controller step (target ≤ 100 µs): the control law of eq. 13–14 with the
+//! Jacobian at `ã`, the step limits and the stability guard on the predicted configuration,
+//! for the weightless model and for the loaded one (the 3 mm / 820 mm nitinol under gravity).
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use ftwire_control::{ControlSettings, Controller};
+use ftwire_core::{Pose, WireParams};
+use ftwire_estimate::KirchhoffModel;
+use ftwire_rod::{Load, from_normalised};
+use nalgebra::{Vector3, Vector6};
+
+fn bench(c: &mut Criterion) {
+    let wire = WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
+    let a = from_normalised(&wire, &Vector6::new(0.5, 2.0, 1.0, -2.0, 3.0, 0.5));
+    let goal = from_normalised(&wire, &Vector6::new(0.2, 3.0, 0.5, -1.0, 2.0, 1.0));
+    let weightless = KirchhoffModel::new(wire);
+    let load =
+        Load::from_gravity(6450.0, 0.0015, Vector3::new(0.0, 0.0, -9.81)).expect("valid load");
+    let loaded = weightless.with_load(load);
+    for (name, model) in [("weightless", weightless), ("loaded", loaded)] {
+        let controller =
+            Controller::new(model, ControlSettings::default()).expect("valid settings");
+        c.bench_function(&format!("controller step ({name})"), |b| {
+            b.iter(|| {
+                controller
+                    .plan_step(black_box(&a), black_box(&goal), &Pose::identity())
+                    .expect("solves")
+            });
+        });
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

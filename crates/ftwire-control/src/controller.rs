@@ -1,0 +1,472 @@
+//! The Jacobian controller (paper §III-C, eq. 13–14).
+//!
+//! From the measured configuration `ã_i` and the goal `a_g`, each step commands
+//!
+//! ```text
+//! δb_i = K J(L; ã_i) (a_g − ã_i)          (eq. 13)
+//! b_{i+1} = b_i M(δb_i)                    (eq. 14, M of eq. 8)
+//! ```
+//!
+//! with three guards the paper leaves out: `δb` is scaled down to the step limits; the
+//! configuration the model predicts after the step, `ã_i + s K (a_g − ã_i)` for the step's
+//! scale `s` (exactly `J⁻¹ δb`), must be in `A_stable`, or the step is halved until it is (at
+//! most [`ControlSettings::max_shrinks`] times); and the robot must be able to reach `b_{i+1}`
+//! ([`ReachCheck`]). The loop stops when the *measured* `ã` is within `ε` of the goal in
+//! normalised units, and every other end is an [`Outcome`]. A [`CollisionDetector`] can watch
+//! the residual of every move (see [`crate::collision`]).
+
+use std::time::Instant;
+
+use ftwire_core::{Pose, Rig};
+use ftwire_estimate::WireModel;
+use ftwire_estimate::ft::FtCalibration;
+use ftwire_rod::to_normalised;
+use nalgebra::Vector6;
+use serde::Serialize;
+
+use crate::collision::{jump_ratio, miss};
+use crate::{CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck};
+
+/// Settings of the controller (public fields + `Default`; checked by [`Controller::new`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ControlSettings {
+    /// The gain `K` of eq. 13 (default `0.2`, the paper's), in `(0, 1]`.
+    pub gain: f64,
+    /// Stop threshold `ε` on `‖a_g − ã‖` in normalised units (torque in `c2/L`, force in
+    /// `c2/L²`) of the measured `ã` (default `0.05`).
+    pub epsilon: f64,
+    /// Largest translation of one step, `|δx|` \[m\] (default `0.05`).
+    pub max_translation: f64,
+    /// Largest rotation of one step, `|δθ|` \[rad\] (default `0.3`).
+    pub max_rotation: f64,
+    /// Most steps of one run (default `100`).
+    pub max_iterations: usize,
+    /// Most halvings of a step whose predicted configuration leaves `A_stable` (default `6`).
+    pub max_shrinks: usize,
+}
+
+impl Default for ControlSettings {
+    fn default() -> Self {
+        Self {
+            gain: 0.2,
+            epsilon: 0.05,
+            max_translation: 0.05,
+            max_rotation: 0.3,
+            max_iterations: 100,
+            max_shrinks: 6,
+        }
+    }
+}
+
+impl ControlSettings {
+    fn validate(&self) -> Result<(), ControlError> {
+        let bad = |name, value, allowed| ControlError::BadSetting {
+            name,
+            value,
+            allowed,
+        };
+        if !(self.gain.is_finite() && self.gain > 0.0 && self.gain <= 1.0) {
+            return Err(bad("gain", self.gain, "a gain K in (0, 1]"));
+        }
+        for (name, value) in [
+            ("epsilon", self.epsilon),
+            ("max_translation", self.max_translation),
+            ("max_rotation", self.max_rotation),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(bad(name, value, "a finite number > 0"));
+            }
+        }
+        if self.max_iterations == 0 {
+            return Err(bad("max_iterations", 0.0, "at least 1 step"));
+        }
+        Ok(())
+    }
+}
+
+/// One planned step: what the controller will command, and what the model expects.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepPlan {
+    /// `δb` after the step limits and shrinking (rotation first, base clamp frame of `b_i`).
+    pub delta_b: Vector6<f64>,
+    /// `b_{i+1} = b_i M(δb)`: the second gripper's next pose relative to the base clamp.
+    pub next_tip: Pose,
+    /// `δa` the model predicts for `δb` (`J⁻¹ δb = s K (a_g − ã)`).
+    pub predicted_da: Vector6<f64>,
+    /// The scale `s ∈ (0, 1]` applied to eq. 13's `δb`.
+    pub scale: f64,
+}
+
+/// How a controlled motion ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+pub enum Outcome {
+    /// The measured `ã` is within `ε` of the goal.
+    Reached {
+        /// `‖a_g − ã‖` at the stop \[normalised\].
+        error: f64,
+    },
+    /// [`ControlSettings::max_iterations`] steps were taken without reaching the goal.
+    IterationLimit {
+        /// `‖a_g − ã‖` at the end \[normalised\].
+        error: f64,
+    },
+    /// The robot cannot reach the next pose of the second gripper.
+    Unreachable {
+        /// The step that would have moved there (0-based).
+        step: usize,
+        /// Why.
+        reason: String,
+    },
+    /// Even the smallest allowed step leaves `A_stable` by the model's prediction.
+    PredictedInstability {
+        /// The step (0-based).
+        step: usize,
+    },
+    /// The residual of a move jumped: a contact (the robot stopped there).
+    CollisionDetected {
+        /// The step whose move was detected (0-based).
+        step: usize,
+        /// Its residual.
+        residual: f64,
+    },
+    /// The F/T pipeline gave no usable `ã` (too many dropouts, saturation, non-finite).
+    SensorFault {
+        /// The step after which the measurement failed (0 = the start measurement).
+        step: usize,
+        /// The pipeline's message.
+        message: String,
+    },
+    /// The rig refused or failed a commanded move (nothing moved).
+    CommandFailed {
+        /// The step (0-based).
+        step: usize,
+        /// The rig's message.
+        message: String,
+    },
+    /// The model could not be solved at the measured `ã` (outside `A`, or diverged).
+    ModelFailed {
+        /// The step (0-based).
+        step: usize,
+        /// The model's message.
+        message: String,
+    },
+}
+
+impl Outcome {
+    /// The outcome's name (`reached`, `iteration_limit`, …).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Reached { .. } => "reached",
+            Self::IterationLimit { .. } => "iteration_limit",
+            Self::Unreachable { .. } => "unreachable",
+            Self::PredictedInstability { .. } => "predicted_instability",
+            Self::CollisionDetected { .. } => "collision_detected",
+            Self::SensorFault { .. } => "sensor_fault",
+            Self::CommandFailed { .. } => "command_failed",
+            Self::ModelFailed { .. } => "model_failed",
+        }
+    }
+}
+
+/// One executed step of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepRecord {
+    /// `ã_i` the step was computed from.
+    pub a: Vector6<f64>,
+    /// The planned step.
+    pub plan: StepPlan,
+    /// `ã_{i+1}` measured after the move.
+    pub measured: Vector6<f64>,
+    /// The move's miss against the model's prediction \[normalised\] (see [`crate::collision`]).
+    pub miss: f64,
+    /// The move's jump ratio (see [`crate::collision`]).
+    pub residual: f64,
+    /// Compute time of the control law and its stability guard \[s\].
+    pub plan_s: f64,
+    /// Compute time of the reach check \[s\].
+    pub reach_s: f64,
+}
+
+/// A finished run: the outcome and every executed step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    /// How it ended.
+    pub outcome: Outcome,
+    /// `ã_0`, measured at the start.
+    pub start: Vector6<f64>,
+    /// `b_0`, the second gripper's pose relative to the base clamp at the start (believed).
+    pub start_tip: Pose,
+    /// The executed steps, in order.
+    pub steps: Vec<StepRecord>,
+}
+
+impl Run {
+    /// The last measured `ã`.
+    pub fn last_a(&self) -> Vector6<f64> {
+        self.steps.last().map_or(self.start, |s| s.measured)
+    }
+}
+
+/// The controller of eq. 13–14 for a wire model (see the module docs).
+///
+/// # Example
+/// ```
+/// use ftwire_control::{ControlSettings, Controller};
+/// use ftwire_estimate::KirchhoffModel;
+/// use ftwire_core::{Pose, WireParams};
+/// use nalgebra::Vector6;
+///
+/// let model = KirchhoffModel::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
+/// let controller = Controller::new(model, ControlSettings::default())?;
+/// let a = Vector6::new(0.0, 0.2, 0.1, -0.5, 0.3, 0.0);
+/// let goal = Vector6::new(0.0, 0.25, 0.1, -0.4, 0.3, 0.0);
+/// let plan = controller.plan_step(&a, &goal, &Pose::identity())?.expect("a stable step");
+/// // The model expects the step to close K = 0.2 of the gap.
+/// assert!((plan.predicted_da - 0.2 * (goal - a)).norm() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Controller<M> {
+    model: M,
+    settings: ControlSettings,
+    detector: Option<CollisionDetector>,
+}
+
+impl<M: WireModel> Controller<M> {
+    /// A controller for `model` with `settings`, without collision detection.
+    ///
+    /// # Errors
+    /// [`ControlError::BadSetting`] for a setting outside its range.
+    pub fn new(model: M, settings: ControlSettings) -> Result<Self, ControlError> {
+        settings.validate()?;
+        Ok(Self {
+            model,
+            settings,
+            detector: None,
+        })
+    }
+
+    /// The same controller, stopping on a contact that `detector` sees.
+    #[must_use]
+    pub fn with_detector(mut self, detector: CollisionDetector) -> Self {
+        self.detector = Some(detector);
+        self
+    }
+
+    /// The model.
+    pub fn model(&self) -> &M {
+        &self.model
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &ControlSettings {
+        &self.settings
+    }
+
+    /// The collision detector, if any.
+    pub fn detector(&self) -> Option<&CollisionDetector> {
+        self.detector.as_ref()
+    }
+
+    /// `‖a_g − a‖` in normalised units.
+    pub fn distance(&self, a: &Vector6<f64>, goal: &Vector6<f64>) -> f64 {
+        to_normalised(self.model.wire(), &(goal - a)).norm()
+    }
+
+    /// Plans one step from `a` toward `goal` with the second gripper at `tip` (eq. 13–14, the
+    /// step limits and the stability guard). `None` when even the smallest allowed step leaves
+    /// `A_stable` by the model's prediction.
+    ///
+    /// # Errors
+    /// [`ControlError::Model`] when the model cannot be solved at `a`.
+    pub fn plan_step(
+        &self,
+        a: &Vector6<f64>,
+        goal: &Vector6<f64>,
+        tip: &Pose,
+    ) -> Result<Option<StepPlan>, ControlError> {
+        let s = &self.settings;
+        let jacobian = self.model.jacobian(a)?.jacobian;
+        let da = s.gain * (goal - a);
+        let db = jacobian * da;
+        let rotation = db.fixed_rows::<3>(0).norm();
+        let translation = db.fixed_rows::<3>(3).norm();
+        let mut scale = 1.0_f64
+            .min(s.max_rotation / rotation.max(f64::MIN_POSITIVE))
+            .min(s.max_translation / translation.max(f64::MIN_POSITIVE));
+        for _ in 0..=s.max_shrinks {
+            let predicted_da = scale * da;
+            // A prediction outside A (or one the model cannot solve) is not a stable step.
+            if self.model.is_stable(&(a + predicted_da)).unwrap_or(false) {
+                let delta_b = scale * db;
+                return Ok(Some(StepPlan {
+                    delta_b,
+                    next_tip: tip * ftwire_rod::se3::exp(&delta_b),
+                    predicted_da,
+                    scale,
+                }));
+            }
+            scale *= 0.5;
+        }
+        Ok(None)
+    }
+
+    /// Checks the goal: finite and in `A_stable` of the model.
+    ///
+    /// # Errors
+    /// [`ControlError::NonFiniteGoal`], [`ControlError::GoalUnstable`], or
+    /// [`ControlError::Model`] for a goal outside `A`.
+    pub fn check_goal(&self, goal: &Vector6<f64>) -> Result<(), ControlError> {
+        if let Some(index) = goal.iter().position(|v| !v.is_finite()) {
+            return Err(ControlError::NonFiniteGoal {
+                index,
+                value: goal[index],
+            });
+        }
+        if !self.model.is_stable(goal)? {
+            return Err(ControlError::GoalUnstable {
+                goal: (*goal).into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Steers the wire on `rig` to `goal`, measuring `ã` through `feedback` and checking every
+    /// pose with `reach`. See [`Controller::run_observed`].
+    ///
+    /// # Errors
+    /// As [`Controller::run_observed`].
+    pub fn run<R: Rig, C: FtCalibration, Q: ReachCheck>(
+        &self,
+        rig: &mut R,
+        feedback: &FtFeedback<C>,
+        reach: &mut Q,
+        goal: &Vector6<f64>,
+    ) -> Result<Run, ControlError> {
+        self.run_observed(rig, feedback, reach, goal, |_, _| {})
+    }
+
+    /// As [`Controller::run`], calling `observe(rig, step)` after every executed step (the
+    /// experiments read their ground truth there).
+    ///
+    /// Bad input is refused before anything moves: a goal that is not finite or not in
+    /// `A_stable` ([`Controller::check_goal`]), or a start pose the robot cannot reach.
+    ///
+    /// # Errors
+    /// Bad input as above; [`ControlError::Rig`] when the rig cannot report its poses.
+    /// Everything after the start is an [`Outcome`].
+    pub fn run_observed<R: Rig, C: FtCalibration, Q: ReachCheck>(
+        &self,
+        rig: &mut R,
+        feedback: &FtFeedback<C>,
+        reach: &mut Q,
+        goal: &Vector6<f64>,
+        mut observe: impl FnMut(&R, &StepRecord),
+    ) -> Result<Run, ControlError> {
+        self.check_goal(goal)?;
+        let poses = rig.gripper_poses().map_err(|e| ControlError::Rig {
+            message: e.to_string(),
+        })?;
+        let base = poses.base;
+        let start_tip = poses.relative();
+        if let Reach::Unreachable(reason) = reach.check(&start_tip) {
+            return Err(ControlError::UnreachableStart { reason });
+        }
+        let mut run = Run {
+            outcome: Outcome::IterationLimit { error: f64::NAN },
+            start: Vector6::zeros(),
+            start_tip,
+            steps: Vec::new(),
+        };
+        let mut a = match feedback.measure(rig) {
+            Ok(m) => m.a,
+            Err(e) => {
+                run.outcome = Outcome::SensorFault {
+                    step: 0,
+                    message: e.to_string(),
+                };
+                return Ok(run);
+            }
+        };
+        run.start = a;
+        let mut tip = start_tip;
+        let mut misses = Vec::new();
+        for step in 0..self.settings.max_iterations {
+            let error = self.distance(&a, goal);
+            if error < self.settings.epsilon {
+                run.outcome = Outcome::Reached { error };
+                return Ok(run);
+            }
+            let clock = Instant::now();
+            let plan = match self.plan_step(&a, goal, &tip) {
+                Ok(Some(plan)) => plan,
+                Ok(None) => {
+                    run.outcome = Outcome::PredictedInstability { step };
+                    return Ok(run);
+                }
+                Err(e) => {
+                    run.outcome = Outcome::ModelFailed {
+                        step,
+                        message: e.to_string(),
+                    };
+                    return Ok(run);
+                }
+            };
+            let plan_s = clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            let reachable = reach.check(&plan.next_tip);
+            let reach_s = clock.elapsed().as_secs_f64();
+            if let Reach::Unreachable(reason) = reachable {
+                run.outcome = Outcome::Unreachable { step, reason };
+                return Ok(run);
+            }
+            if let Err(e) = rig.move_tip(base * plan.next_tip) {
+                run.outcome = Outcome::CommandFailed {
+                    step,
+                    message: e.to_string(),
+                };
+                return Ok(run);
+            }
+            let measured = match feedback.measure(rig) {
+                Ok(m) => m.a,
+                Err(e) => {
+                    run.outcome = Outcome::SensorFault {
+                        step: step + 1,
+                        message: e.to_string(),
+                    };
+                    return Ok(run);
+                }
+            };
+            let floor = self
+                .detector
+                .map_or(CollisionDetector::DEFAULT_FLOOR, |d| d.floor());
+            let miss = miss(self.model.wire(), &a, &measured, &plan.predicted_da);
+            misses.push(miss);
+            let residual = jump_ratio(&misses, floor);
+            let record = StepRecord {
+                a,
+                plan,
+                measured,
+                miss,
+                residual,
+                plan_s,
+                reach_s,
+            };
+            observe(rig, &record);
+            run.steps.push(record);
+            if let Some(detector) = &self.detector
+                && detector.is_contact(residual)
+            {
+                run.outcome = Outcome::CollisionDetected { step, residual };
+                return Ok(run);
+            }
+            a = measured;
+            tip = plan.next_tip;
+        }
+        run.outcome = Outcome::IterationLimit {
+            error: self.distance(&a, goal),
+        };
+        Ok(run)
+    }
+}

@@ -1,0 +1,411 @@
+//! The controller on a rig where the model is exact: convergence, every outcome, bad input,
+//! determinism, and the first-order prediction the controller and the detector rely on.
+
+mod common;
+
+use common::{ModelRig, feedback, pair, settings, wire};
+use ftwire_control::open_loop::{a_connected, roll_out, straight_line_in_a, straight_line_in_b};
+use ftwire_control::{
+    AnyPose, CollisionDetector, ControlError, ControlSettings, Controller, NoiseModel,
+    NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck, retreat,
+};
+use ftwire_core::{Pose, WireParams};
+use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
+use ftwire_rod::perturbation::{apply, delta_b};
+use ftwire_rod::{JacobianSolution, Rod, Shape, from_normalised, to_normalised};
+use nalgebra::{Vector3, Vector6};
+
+fn controller() -> Controller<KirchhoffModel> {
+    Controller::new(KirchhoffModel::new(wire()), settings()).expect("valid settings")
+}
+
+#[test]
+fn the_pair_is_a_connected() {
+    let (a_s, a_g) = pair();
+    assert!(a_connected(&Rod::new(wire()), &a_s, &a_g, 20).expect("solves"));
+}
+
+#[test]
+fn converges_on_an_exact_model_rig() {
+    let (a_s, a_g) = pair();
+    let mut rig = ModelRig::new(a_s);
+    let run = controller()
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    let Outcome::Reached { error } = run.outcome else {
+        panic!("not reached: {:?}", run.outcome);
+    };
+    assert!(error < 1e-3);
+    // The true configuration is the goal, and the step count is what K = 0.2 gives.
+    assert!(to_normalised(&wire(), &(rig.a - a_g)).norm() < 1e-3);
+    assert!(
+        (20..=60).contains(&run.steps.len()),
+        "{} steps",
+        run.steps.len()
+    );
+    // On the exact model the miss of every move is linearisation error only, and it shrinks
+    // with the steps: no jump.
+    for s in &run.steps {
+        assert!(s.residual < 1.2, "jump ratio {}", s.residual);
+    }
+}
+
+#[test]
+fn the_first_order_prediction_matches_finite_moves() {
+    // δb = J(L) δa (eq. 11) through eq. 8's M: the error of b M(J δa) against Γ(a + δa) is
+    // second order in δa, which the controller's prediction and the detector rely on.
+    let rod = Rod::new(wire());
+    let (a, _) = pair();
+    let j = rod.jacobian(&a).expect("solves");
+    let direction = from_normalised(&wire(), &Vector6::new(0.3, -0.5, 0.2, 0.4, 0.1, -0.6));
+    let mut previous = f64::INFINITY;
+    for h in [1e-2, 5e-3, 2.5e-3] {
+        let exact = rod.tip(&(a + direction * h)).expect("solves");
+        let predicted = apply(&j.tip, &(j.jacobian * direction * h));
+        let miss = delta_b(&predicted, &exact).norm();
+        assert!(miss < previous / 3.0, "h = {h}: {miss} after {previous}");
+        previous = miss;
+    }
+}
+
+#[test]
+fn the_iteration_limit_ends_a_run() {
+    let (a_s, a_g) = pair();
+    let controller = Controller::new(
+        KirchhoffModel::new(wire()),
+        ControlSettings {
+            max_iterations: 3,
+            ..settings()
+        },
+    )
+    .expect("valid");
+    let run = controller
+        .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(matches!(run.outcome, Outcome::IterationLimit { error } if error > 0.1));
+    assert_eq!(run.steps.len(), 3);
+}
+
+/// Reachable for the first `n` queries, then not.
+struct ReachFor(usize);
+
+impl ReachCheck for ReachFor {
+    fn check(&mut self, _relative: &Pose) -> Reach {
+        if self.0 == 0 {
+            return Reach::Unreachable("out of reach".into());
+        }
+        self.0 -= 1;
+        Reach::Reachable
+    }
+}
+
+#[test]
+fn an_unreachable_pose_stops_the_run_before_moving_there() {
+    let (a_s, a_g) = pair();
+    let mut rig = ModelRig::new(a_s);
+    let run = controller()
+        .run(&mut rig, &feedback(), &mut ReachFor(3), &a_g)
+        .expect("runs");
+    assert!(matches!(run.outcome, Outcome::Unreachable { step: 2, .. }));
+    assert_eq!(rig.moves, 2);
+}
+
+/// The exact model, except that nothing but the goal is stable.
+#[derive(Clone)]
+struct OnlyGoalStable(KirchhoffModel, Vector6<f64>);
+
+impl WireModel for OnlyGoalStable {
+    fn wire(&self) -> &WireParams {
+        self.0.wire()
+    }
+    fn with_wire(&self, wire: WireParams) -> Self {
+        Self(self.0.with_wire(wire), self.1)
+    }
+    fn weight_per_length(&self) -> Vector3<f64> {
+        self.0.weight_per_length()
+    }
+    fn with_weight_per_length(&self, w: Vector3<f64>) -> Result<Self, EstimateError> {
+        Ok(Self(self.0.with_weight_per_length(w)?, self.1))
+    }
+    fn tip(&self, a: &Vector6<f64>) -> Result<Pose, EstimateError> {
+        self.0.tip(a)
+    }
+    fn jacobian(&self, a: &Vector6<f64>) -> Result<JacobianSolution, EstimateError> {
+        self.0.jacobian(a)
+    }
+    fn shape(&self, a: &Vector6<f64>, nodes: usize) -> Result<Shape, EstimateError> {
+        self.0.shape(a, nodes)
+    }
+    fn is_stable(&self, a: &Vector6<f64>) -> Result<bool, EstimateError> {
+        Ok(*a == self.1)
+    }
+}
+
+#[test]
+fn a_predicted_instability_stops_the_run_without_moving() {
+    let (a_s, a_g) = pair();
+    let model = OnlyGoalStable(KirchhoffModel::new(wire()), a_g);
+    let controller = Controller::new(model, settings()).expect("valid");
+    let mut rig = ModelRig::new(a_s);
+    let run = controller
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert_eq!(run.outcome, Outcome::PredictedInstability { step: 0 });
+    assert_eq!(rig.moves, 0);
+}
+
+#[test]
+fn the_step_limits_and_the_stability_guard_bound_each_step() {
+    let (a_s, a_g) = pair();
+    let s = ControlSettings {
+        max_translation: 0.01,
+        max_rotation: 0.02,
+        ..settings()
+    };
+    let controller = Controller::new(KirchhoffModel::new(wire()), s).expect("valid");
+    let plan = controller
+        .plan_step(&a_s, &a_g, &Pose::identity())
+        .expect("solves")
+        .expect("stable");
+    assert!(plan.delta_b.fixed_rows::<3>(0).norm() <= 0.02 + 1e-12);
+    assert!(plan.delta_b.fixed_rows::<3>(3).norm() <= 0.01 + 1e-12);
+    assert!(plan.scale < 1.0);
+    assert!((plan.predicted_da - plan.scale * 0.2 * (a_g - a_s)).norm() < 1e-12);
+}
+
+fn calibrated_detector() -> CollisionDetector {
+    let (a_s, a_g) = pair();
+    let free = controller()
+        .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    let residuals: Vec<f64> = free.steps.iter().map(|s| s.residual).collect();
+    CollisionDetector::calibrate(&residuals, 2.0, 0.01).expect("enough residuals")
+}
+
+#[test]
+fn a_contact_is_detected_at_once_and_the_retreat_finds_agreement() {
+    let (a_s, a_g) = pair();
+    let detector = calibrated_detector();
+    let mut rig = ModelRig::new(a_s);
+    // From move 5 on, a contact pushes 0.5 normalised units of force on the wire, growing.
+    let push = from_normalised(&wire(), &Vector6::new(0.0, 0.0, 0.0, 0.5, -0.5, 0.0));
+    rig.contact = Some((5, push));
+    let controller = controller().with_detector(detector);
+    let run = controller
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    let Outcome::CollisionDetected { step, residual } = run.outcome else {
+        panic!("not detected: {:?}", run.outcome);
+    };
+    assert_eq!(step, 4, "the move that made contact is detected");
+    assert!(residual > detector.threshold());
+    // Retreat: the contact stays while the rig has made ≥ 5 moves, so no pose agrees and the
+    // retreat goes back to the start; a rig whose contact clears on the way back agrees.
+    rig.contact = None;
+    let back = retreat(&mut rig, &feedback(), &run, &wire(), 1e-3).expect("retreats");
+    assert!(back.agreed);
+    assert_eq!(back.to_pose, 4);
+    assert_eq!(back.moves, 1);
+}
+
+#[test]
+fn a_free_motion_gives_no_false_alarm() {
+    let (a_s, a_g) = pair();
+    let controller = controller().with_detector(calibrated_detector());
+    let run = controller
+        .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(matches!(run.outcome, Outcome::Reached { .. }));
+}
+
+#[test]
+fn sensor_and_rig_faults_are_outcomes() {
+    let (a_s, a_g) = pair();
+    let mut rig = ModelRig::new(a_s);
+    rig.dropout_after = Some(2);
+    let run = controller()
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(matches!(run.outcome, Outcome::SensorFault { step: 2, .. }));
+
+    let mut rig = ModelRig::new(a_s);
+    rig.refuse_after = Some(1);
+    let run = controller()
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(matches!(
+        run.outcome,
+        Outcome::CommandFailed { step: 1, .. }
+    ));
+    assert_eq!(rig.moves, 1);
+
+    let mut rig = ModelRig::new(a_s);
+    rig.zeros_after = Some(1);
+    let run = controller()
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(
+        matches!(run.outcome, Outcome::ModelFailed { step: 1, .. }),
+        "{:?}",
+        run.outcome
+    );
+}
+
+#[test]
+fn bad_input_is_refused_before_any_motion() {
+    let (a_s, a_g) = pair();
+    let mut rig = ModelRig::new(a_s);
+    let mut goal = a_g;
+    goal[4] = f64::NAN;
+    let e = controller()
+        .run(&mut rig, &feedback(), &mut AnyPose, &goal)
+        .expect_err("non-finite goal");
+    assert!(
+        matches!(e, ControlError::NonFiniteGoal { index: 4, .. }),
+        "{e}"
+    );
+    // Compressed far beyond the buckling load: not in A_stable.
+    let buckled = from_normalised(&wire(), &Vector6::new(0.0, 0.0, 0.1, -80.0, 0.0, 0.0));
+    let e = controller()
+        .run(&mut rig, &feedback(), &mut AnyPose, &buckled)
+        .expect_err("unstable goal");
+    assert!(matches!(e, ControlError::GoalUnstable { .. }), "{e}");
+    assert!(e.to_string().contains("A_stable"));
+    let e = controller()
+        .run(&mut rig, &feedback(), &mut ReachFor(0), &a_g)
+        .expect_err("unreachable start");
+    assert!(matches!(e, ControlError::UnreachableStart { .. }), "{e}");
+    assert_eq!(rig.moves, 0);
+    let e = Controller::new(
+        KirchhoffModel::new(wire()),
+        ControlSettings {
+            gain: 0.0,
+            ..settings()
+        },
+    )
+    .expect_err("zero gain");
+    assert!(e.to_string().contains("gain"), "{e}");
+}
+
+#[test]
+fn noisy_runs_are_deterministic_and_the_closed_loop_beats_the_offset() {
+    let (a_s, a_g) = pair();
+    let run_once = || {
+        let rig = NoisyRig::new(
+            ModelRig::new(a_s),
+            NoiseModel::Offset,
+            NoiseSettings::default(),
+            11,
+        )
+        .expect("valid");
+        let mut rig = rig;
+        let controller = Controller::new(KirchhoffModel::new(wire()), ControlSettings::default())
+            .expect("valid");
+        let run = controller
+            .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+            .expect("runs");
+        (run, rig.inner().a)
+    };
+    let (first, a_first) = run_once();
+    let (second, a_second) = run_once();
+    let trace = |run: &ftwire_control::Run| -> Vec<(Vector6<f64>, Vector6<f64>, f64)> {
+        run.steps
+            .iter()
+            .map(|s| (s.a, s.measured, s.residual))
+            .collect()
+    };
+    assert_eq!(first.outcome, second.outcome);
+    assert_eq!(trace(&first), trace(&second));
+    assert_eq!(a_first, a_second);
+    // The closed loop removes the offset: the true configuration is at the goal.
+    assert!(matches!(first.outcome, Outcome::Reached { .. }));
+    assert!(to_normalised(&wire(), &(a_first - a_g)).norm() < 0.06);
+
+    // The open loop cannot: it ends off the goal by the offset.
+    let model = KirchhoffModel::new(wire());
+    let poses = straight_line_in_a(&model, &a_s, &a_g, first.steps.len()).expect("solves");
+    let mut rig = NoisyRig::new(
+        ModelRig::new(a_s),
+        NoiseModel::Offset,
+        NoiseSettings::default(),
+        11,
+    )
+    .expect("valid");
+    let out = roll_out(&mut rig, &poses, Some(&feedback()), |_, _| {}).expect("rolls out");
+    assert_eq!(out.moves, poses.len() - 1);
+    assert!(to_normalised(&wire(), &(rig.inner().a - a_g)).norm() > 0.2);
+}
+
+#[test]
+fn open_loop_without_noise_reaches_the_goal_on_both_lines() {
+    let (a_s, a_g) = pair();
+    let model = KirchhoffModel::new(wire());
+    let poses = straight_line_in_a(&model, &a_s, &a_g, 10).expect("solves");
+    let mut rig = ModelRig::new(a_s);
+    roll_out(&mut rig, &poses, Some(&feedback()), |_, _| {}).expect("rolls out");
+    assert!(to_normalised(&wire(), &(rig.a - a_g)).norm() < 1e-6);
+
+    let line = straight_line_in_b(&poses[0], &poses[10], 10).expect("steps");
+    assert!(delta_b(&line[0], &poses[0]).norm() < 1e-12);
+    assert!(delta_b(&line[10], &poses[10]).norm() < 1e-12);
+    assert!(straight_line_in_b(&poses[0], &poses[10], 0).is_err());
+}
+
+/// A rig that stays where it is told (for the noise statistics).
+#[derive(Debug)]
+struct Still(ftwire_core::GripperPoses);
+
+impl ftwire_core::Rig for Still {
+    type Error = std::convert::Infallible;
+    fn read_ft(&mut self) -> Result<ftwire_core::FtSample, Self::Error> {
+        Ok(ftwire_core::FtSample::default())
+    }
+    fn gripper_poses(&self) -> Result<ftwire_core::GripperPoses, Self::Error> {
+        Ok(self.0)
+    }
+    fn command(&mut self, c: &ftwire_core::Command) -> Result<(), Self::Error> {
+        self.0 = ftwire_core::GripperPoses {
+            base: c.base,
+            tip: c.tip,
+        };
+        Ok(())
+    }
+    fn time(&self) -> f64 {
+        0.0
+    }
+}
+
+/// The RMS position error [m] of the actual tip after `moves` commands to the same pose,
+/// over `runs` seeds.
+fn rms_after(model: NoiseModel, moves: usize, runs: u64) -> f64 {
+    let start = ftwire_core::GripperPoses {
+        base: Pose::identity(),
+        tip: Pose::translation(0.5, 0.0, 0.0),
+    };
+    let mut sum = 0.0;
+    for seed in 0..runs {
+        let mut rig =
+            NoisyRig::new(Still(start), model, NoiseSettings::default(), seed).expect("valid");
+        for _ in 0..moves {
+            let Ok(()) = ftwire_core::Rig::move_tip(&mut rig, start.tip);
+        }
+        let miss = rig.inner().0.tip.translation.vector - start.tip.translation.vector;
+        sum += miss.norm_squared();
+    }
+    (sum / runs as f64).sqrt()
+}
+
+#[test]
+fn the_noise_models_differ_as_documented() {
+    // 3-D RMS of N(0, 10 mm) per axis is 17 mm; the increment model's grows as √moves.
+    let one = rms_after(NoiseModel::Increment, 1, 400);
+    let sixteen = rms_after(NoiseModel::Increment, 16, 400);
+    assert!((one - 0.0173).abs() < 0.003, "{one}");
+    assert!((sixteen / one - 4.0).abs() < 0.8, "{sixteen} / {one}");
+    let absolute = rms_after(NoiseModel::Absolute, 16, 400);
+    assert!((absolute - 0.0173).abs() < 0.003, "{absolute}");
+    let offset = rms_after(NoiseModel::Offset, 16, 400);
+    // The rotation of the offset also moves the point, a little: still about one draw.
+    assert!((offset - 0.0173).abs() < 0.004, "{offset}");
+    assert_eq!(rms_after(NoiseModel::None, 5, 3), 0.0);
+}
