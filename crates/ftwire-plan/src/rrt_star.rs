@@ -43,11 +43,12 @@ pub struct PlannerParams {
     pub max_iterations: usize,
     /// Stop at the first path found (default `false`).
     pub stop_at_first: bool,
-    /// Probability of sampling the goal (default `0.1`).
+    /// Probability of sampling the goal (default `0.2`).
     pub goal_bias: f64,
     /// Longest extension toward a sample, in the space's metric (default `1.5`).
     pub step: f64,
-    /// A new node within this distance of the goal tries to connect to it (default `3.0`).
+    /// A new node within this distance of the goal tries to connect to it (default `5.0`; a
+    /// long connection costs one edge check, a missed one many iterations).
     pub goal_radius: f64,
     /// Candidate parents whose edges are checked, cheapest first (default `4`).
     pub parent_attempts: usize,
@@ -66,9 +67,9 @@ impl Default for PlannerParams {
             time_budget: None,
             max_iterations: 2000,
             stop_at_first: false,
-            goal_bias: 0.1,
+            goal_bias: 0.2,
             step: 1.5,
-            goal_radius: 3.0,
+            goal_radius: 5.0,
             parent_attempts: 4,
             clearance_weight: 0.0,
             clearance_reference: 0.02,
