@@ -13,6 +13,9 @@ pub struct Path {
     /// The waypoints, start first: each `a`, both gripper poses (`config.base`, `tip`) and
     /// the joints.
     pub waypoints: Vec<Sample>,
+    /// The smallest clearance \[m\] over the checked samples of each edge (one fewer than the
+    /// waypoints; capped as [`Sample::clearance`]).
+    pub edge_clearance: Vec<f64>,
     /// The planner's cost of the path (its length in the planning space's metric, plus the
     /// clearance penalty if one was set).
     pub cost: f64,
@@ -31,6 +34,15 @@ impl Path {
                 .norm()
             })
             .sum()
+    }
+
+    /// The smallest clearance \[m\] along the whole path (edges and waypoints).
+    pub fn min_clearance(&self) -> f64 {
+        self.edge_clearance
+            .iter()
+            .copied()
+            .chain(self.waypoints.iter().map(|w| w.clearance))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// How far the base gripper travels along the path \[m\].

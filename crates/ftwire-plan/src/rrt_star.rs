@@ -103,15 +103,28 @@ struct Node<const D: usize> {
     x: SVector<f64, D>,
     parent: Option<usize>,
     cost: f64,
-    /// Cost of the edge from the parent.
-    edge_cost: f64,
+    /// The edge from the parent.
+    edge: Link,
     sample: Sample,
     children: Vec<usize>,
 }
 
-fn edge_cost(params: &PlannerParams, length: f64, clearance: f64) -> f64 {
-    let penalty = (params.clearance_reference / clearance.max(1e-6) - 1.0).max(0.0);
-    length * (1.0 + params.clearance_weight * penalty)
+/// An edge's cost and its smallest clearance \[m\].
+#[derive(Debug, Clone, Copy)]
+struct Link {
+    cost: f64,
+    clearance: f64,
+}
+
+impl Link {
+    /// The cost of an edge of `length` whose smallest clearance is `clearance` (module docs).
+    fn new(params: &PlannerParams, length: f64, clearance: f64) -> Self {
+        let penalty = (params.clearance_reference / clearance.max(1e-6) - 1.0).max(0.0);
+        Self {
+            cost: length * (1.0 + params.clearance_weight * penalty),
+            clearance,
+        }
+    }
 }
 
 fn check_params(params: &PlannerParams) -> Result<(), PlanError> {
@@ -213,21 +226,21 @@ fn joints_close(checker: &Checker, a: &Sample, b: &Sample) -> bool {
     joint_distance(&a.joints, &b.joints) <= checker.params().max_joint_step
 }
 
-/// Appends a node under `parent`, reached by an edge of cost `edge_cost`; returns its index.
+/// Appends a node under `parent`, reached by `edge`; returns its index.
 fn add_node<const D: usize>(
     nodes: &mut Vec<Node<D>>,
     x: SVector<f64, D>,
     parent: usize,
-    edge_cost: f64,
+    edge: Link,
     sample: Sample,
 ) -> usize {
     let id = nodes.len();
-    let cost = nodes[parent].cost + edge_cost;
+    let cost = nodes[parent].cost + edge.cost;
     nodes.push(Node {
         x,
         parent: Some(parent),
         cost,
-        edge_cost,
+        edge,
         sample,
         children: Vec::new(),
     });
@@ -259,7 +272,10 @@ pub fn plan<const D: usize, S: Space<D>>(
         x: x_start,
         parent: None,
         cost: 0.0,
-        edge_cost: 0.0,
+        edge: Link {
+            cost: 0.0,
+            clearance: start.clearance,
+        },
         sample: start.clone(),
         children: Vec::new(),
     }];
@@ -322,14 +338,14 @@ pub fn plan<const D: usize, S: Space<D>>(
                 break;
             }
             if let Ok(edge) = checker.edge(&nodes[i].sample, &config) {
-                chosen = Some((i, edge_cost(params, d, edge.min_clearance), edge.end));
+                chosen = Some((i, Link::new(params, d, edge.min_clearance), edge.end));
                 break;
             }
         }
-        let Some((parent, cost, sample)) = chosen else {
+        let Some((parent, link, sample)) = chosen else {
             continue;
         };
-        let id = add_node(&mut nodes, x_new, parent, cost, sample);
+        let id = add_node(&mut nodes, x_new, parent, link, sample);
         tree.add(&key(&x_new), id as u64);
 
         // Rewire the neighbours through the new node where that is cheaper.
@@ -341,8 +357,8 @@ pub fn plan<const D: usize, S: Space<D>>(
             let Ok(edge) = checker.edge(&nodes[id].sample, &target) else {
                 continue;
             };
-            let c = edge_cost(params, d, edge.min_clearance);
-            if nodes[id].cost + c < nodes[i].cost
+            let c = Link::new(params, d, edge.min_clearance);
+            if nodes[id].cost + c.cost < nodes[i].cost
                 && joints_close(checker, &edge.end, &nodes[i].sample)
             {
                 reparent(&mut nodes, i, id, c);
@@ -354,7 +370,7 @@ pub fn plan<const D: usize, S: Space<D>>(
             && let Ok(edge) = checker.edge(&nodes[id].sample, goal)
         {
             let d = (x_goal - x_new).norm();
-            let c = edge_cost(params, d, edge.min_clearance);
+            let c = Link::new(params, d, edge.min_clearance);
             let g = add_node(&mut nodes, x_goal, id, c, edge.end);
             goals.push(g);
             if first.is_none() {
@@ -380,7 +396,7 @@ pub fn plan<const D: usize, S: Space<D>>(
     let mut chain = Vec::new();
     let mut at = Some(best_goal);
     while let Some(i) = at {
-        chain.push((nodes[i].x, nodes[i].sample.clone(), nodes[i].edge_cost));
+        chain.push((nodes[i].x, nodes[i].sample.clone(), nodes[i].edge));
         at = nodes[i].parent;
     }
     chain.reverse();
@@ -389,7 +405,8 @@ pub fn plan<const D: usize, S: Space<D>>(
         first.unwrap_or((iterations, 0.0, best_cost));
     Ok(Plan {
         path: Path {
-            cost: chain.iter().map(|c| c.2).sum(),
+            cost: chain.iter().map(|c| c.2.cost).sum(),
+            edge_clearance: chain.iter().skip(1).map(|c| c.2.clearance).collect(),
             waypoints: chain.into_iter().map(|c| c.1).collect(),
         },
         iterations,
@@ -402,15 +419,15 @@ pub fn plan<const D: usize, S: Space<D>>(
     })
 }
 
-/// Moves node `i` under `parent` with edge cost `c`, and updates the costs of its subtree.
-fn reparent<const D: usize>(nodes: &mut [Node<D>], i: usize, parent: usize, c: f64) {
+/// Moves node `i` under `parent` by edge `c`, and updates the costs of its subtree.
+fn reparent<const D: usize>(nodes: &mut [Node<D>], i: usize, parent: usize, c: Link) {
     if let Some(old) = nodes[i].parent {
         nodes[old].children.retain(|&ch| ch != i);
     }
     nodes[i].parent = Some(parent);
     nodes[parent].children.push(i);
-    let delta = nodes[parent].cost + c - nodes[i].cost;
-    nodes[i].edge_cost = c;
+    let delta = nodes[parent].cost + c.cost - nodes[i].cost;
+    nodes[i].edge = c;
     let mut stack = vec![i];
     while let Some(j) = stack.pop() {
         nodes[j].cost += delta;
@@ -425,7 +442,7 @@ fn shortcut<const D: usize, S: Space<D>, R: Rng + ?Sized>(
     checker: &Checker,
     params: &PlannerParams,
     rng: &mut R,
-    chain: &mut Vec<(SVector<f64, D>, Sample, f64)>,
+    chain: &mut Vec<(SVector<f64, D>, Sample, Link)>,
 ) {
     for _ in 0..params.shortcut_attempts {
         if chain.len() < 3 {
@@ -433,7 +450,7 @@ fn shortcut<const D: usize, S: Space<D>, R: Rng + ?Sized>(
         }
         let i = rng.random_range(0..chain.len() - 2);
         let j = rng.random_range(i + 2..chain.len());
-        let old: f64 = chain[i + 1..=j].iter().map(|c| c.2).sum();
+        let old: f64 = chain[i + 1..=j].iter().map(|c| c.2.cost).sum();
         let d = (chain[j].0 - chain[i].0).norm();
         if d >= old {
             continue;
@@ -441,8 +458,8 @@ fn shortcut<const D: usize, S: Space<D>, R: Rng + ?Sized>(
         let Ok(edge) = checker.edge(&chain[i].1, &space.config(&chain[j].0)) else {
             continue;
         };
-        let c = edge_cost(params, d, edge.min_clearance);
-        if c < old && joints_close(checker, &edge.end, &chain[j].1) {
+        let c = Link::new(params, d, edge.min_clearance);
+        if c.cost < old && joints_close(checker, &edge.end, &chain[j].1) {
             chain[j].2 = c;
             chain.drain(i + 1..j);
         }

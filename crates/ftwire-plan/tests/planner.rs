@@ -85,6 +85,8 @@ fn found_paths_are_valid_at_a_finer_resolution() {
         let (_, start, goal) = endpoints(&checker);
         assert_eq!(w[0].config, start.config);
         assert_eq!(w[w.len() - 1].config, goal.config);
+        assert_eq!(found.path.edge_clearance.len(), w.len() - 1);
+        assert!(found.path.min_clearance() >= checker.params().margin);
         for pair in w.windows(2) {
             let edge = fine.edge(&pair[0], &pair[1].config);
             let edge = edge.unwrap_or_else(|e| panic!("seed {seed}: an edge fails finer: {e}"));

@@ -95,7 +95,7 @@ struct PlanReport {
     length: f64,
     /// How far the base gripper travels \[m\].
     base_travel: f64,
-    /// The smallest clearance over the waypoints \[m\].
+    /// The smallest clearance along the path, edges included \[m\].
     min_clearance: f64,
     waypoints: Vec<WaypointJson>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -358,11 +358,7 @@ pub fn run(args: &PlanArgs) -> Result<(), CliError> {
         cost: path.cost,
         length: path.length(&checker),
         base_travel: path.base_travel(),
-        min_clearance: path
-            .waypoints
-            .iter()
-            .map(|w| w.clearance)
-            .fold(f64::INFINITY, f64::min),
+        min_clearance: path.min_clearance(),
         waypoints: path
             .waypoints
             .iter()
