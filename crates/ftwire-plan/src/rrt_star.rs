@@ -327,6 +327,11 @@ pub fn plan<const D: usize, S: Space<D>>(
             .into_iter()
             .map(|nb| (nb.item as usize, nb.distance.sqrt()))
             .collect();
+        // A state already in the tree is not added twice (kiddo's buckets cannot split more
+        // than their size of identical points).
+        if near.iter().any(|&(_, d)| d < 1e-12) {
+            continue;
+        }
         near.sort_by(|a, b| {
             (nodes[a.0].cost + a.1)
                 .total_cmp(&(nodes[b.0].cost + b.1))
