@@ -4,6 +4,7 @@ pub mod demo;
 pub mod experiment;
 pub mod identify;
 pub mod reproduce;
+pub mod plan;
 pub mod robot;
 pub mod shape;
 pub mod sim_equilibrium;
@@ -40,4 +41,8 @@ pub enum Command {
     Identify(identify::IdentifyArgs),
     /// Estimate the wire's shape for every record of a rig log (JSON Lines), from F/T alone.
     Shape(shape::ShapeArgs),
+    /// Plan a path of the wire among a scene's obstacles (RRT* in A_free or in Z = A × Q).
+    Plan(plan::PlanArgs),
+    /// Scene files: validate one and check its start and goal.
+    Scene(plan::SceneArgs),
 }

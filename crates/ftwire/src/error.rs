@@ -158,6 +158,18 @@ pub fn from_robot(error: ftwire_robot::RobotError, context: &str) -> CliError {
     }
 }
 
+/// Sorts a planning error: no path within the budget is "no answer"; a bad scene, a start or
+/// goal outside `Z_free` (or a tip pose no configuration reaches), bad settings and unreadable
+/// files are bad input. `context` names what the user asked for.
+pub fn from_plan(error: ftwire_plan::PlanError, context: &str) -> CliError {
+    use ftwire_plan::PlanError;
+    match error {
+        PlanError::NoPath { .. } => CliError::no_answer(format!("{context}: {error}")),
+        PlanError::Rod(error) => from_rod(error, context),
+        _ => CliError::bad_input(format!("{context}: {error}")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,6 +11,8 @@
 //! - [`output`]: JSON / text / JSON Lines output and the run header;
 //! - [`results`]: the results folder of an experiment, replaced whole or not at all;
 //! - [`wire`]: wires by preset name or TOML file;
+//! - [`scene`]: a planning scene's obstacles for the simulator (the same file the planner
+//!   reads);
 //! - [`experiment`]: what the experiments of paper §IV share (the simulated rig, taring,
 //!   measuring).
 
@@ -20,4 +22,5 @@ pub mod error;
 pub mod experiment;
 pub mod output;
 pub mod results;
+pub mod scene;
 pub mod wire;

@@ -5,6 +5,7 @@ pub mod demo;
 pub mod experiment;
 pub mod identify;
 pub mod reproduce;
+pub mod plan;
 pub mod robot;
 pub mod shape;
 pub mod sim_equilibrium;
@@ -25,5 +26,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Experiment(args) => experiment::run(args),
         Command::Identify(args) => identify::run(args),
         Command::Shape(args) => shape::run(args),
+        Command::Plan(args) => plan::run(&args),
+        Command::Scene(args) => plan::run_scene(&args),
     }
 }

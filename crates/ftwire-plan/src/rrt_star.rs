@@ -1,0 +1,472 @@
+//! RRT* (Karaman & Frazzoli 2011) in a [`Space`]: the paper's planner in `A_free` (§III-D) and
+//! the same algorithm in `Z = A × Q` (Sintov et al. 2020).
+//!
+//! - **Sampling:** uniform in the space's box, with probability [`PlannerParams::goal_bias`]
+//!   the goal; once a path exists, informed (Gammell et al. 2014): uniform in the prolate
+//!   hyperspheroid of states that could shorten it.
+//! - **Neighbours:** a kd-tree ([`kiddo`]); the `k = ⌈k_rrt · ln n⌉` nearest
+//!   (`k_rrt = 2e`, the k-nearest RRT* constant) are candidate parents and are rewired.
+//! - **Edges** are checked by [`Checker::edge`] at the resolution its module documents; a
+//!   rewired node keeps its joints only if the new edge arrives within
+//!   [`ValidityParams::max_joint_step`](crate::ValidityParams::max_joint_step) of them.
+//! - **Cost:** an edge of length `ℓ` whose smallest clearance is `c` costs
+//!   `ℓ · (1 + w · max(0, c_ref / c − 1))` ([`PlannerParams::clearance_weight`] `w`,
+//!   [`PlannerParams::clearance_reference`] `c_ref`): the length alone when `w = 0`, and a
+//!   penalty on edges that pass closer than `c_ref` to an obstacle otherwise.
+//! - **Anytime:** the loop runs until [`PlannerParams::time_budget`] or
+//!   [`PlannerParams::max_iterations`] (or the first path, [`PlannerParams::stop_at_first`]),
+//!   and returns the best path so far, shortcut by [`PlannerParams::shortcut_attempts`] random
+//!   straight connections.
+//! - **Seeded:** every random choice comes from one ChaCha8 stream seeded by
+//!   [`PlannerParams::seed`]; with an iteration budget (no time budget) the same seed gives the
+//!   same path (test `same_seed_same_path`). With a time budget the iteration count depends on
+//!   the machine; [`Plan::iterations`] says how many ran, to replay with `max_iterations`.
+
+use std::time::{Duration, Instant};
+
+use kiddo::{KdTree, SquaredEuclidean};
+use nalgebra::{SMatrix, SVector};
+use rand::{Rng, RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::validity::{Checker, Sample, joint_distance};
+use crate::{Config, Path, PlanError, Space};
+
+/// Settings of [`plan`] (public fields + `Default`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannerParams {
+    /// Seed of the planner's random stream (default `0`).
+    pub seed: u64,
+    /// Wall-clock budget (default: none; then `max_iterations` bounds the run).
+    pub time_budget: Option<Duration>,
+    /// Most iterations (default `2000`).
+    pub max_iterations: usize,
+    /// Stop at the first path found (default `false`).
+    pub stop_at_first: bool,
+    /// Probability of sampling the goal (default `0.2`).
+    pub goal_bias: f64,
+    /// Longest extension toward a sample, in the space's metric (default `1.5`).
+    pub step: f64,
+    /// A new node within this distance of the goal tries to connect to it (default `5.0`; a
+    /// long connection costs one edge check, a missed one many iterations).
+    pub goal_radius: f64,
+    /// Candidate parents whose edges are checked, cheapest first (default `4`).
+    pub parent_attempts: usize,
+    /// Weight `w` of the clearance penalty (default `0`: cost = length).
+    pub clearance_weight: f64,
+    /// Clearance \[m\] below which an edge is penalised (default `0.02`).
+    pub clearance_reference: f64,
+    /// Random shortcut attempts on the best path at the end (default `50`).
+    pub shortcut_attempts: usize,
+}
+
+impl Default for PlannerParams {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            time_budget: None,
+            max_iterations: 2000,
+            stop_at_first: false,
+            goal_bias: 0.2,
+            step: 1.5,
+            goal_radius: 5.0,
+            parent_attempts: 4,
+            clearance_weight: 0.0,
+            clearance_reference: 0.02,
+            shortcut_attempts: 50,
+        }
+    }
+}
+
+/// The outcome of [`plan`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The best path found, shortcut.
+    pub path: Path,
+    /// Iterations run.
+    pub iterations: usize,
+    /// Nodes in the tree at the end.
+    pub nodes: usize,
+    /// The iteration that found the first path.
+    pub first_path_iteration: usize,
+    /// Wall time to the first path \[s\].
+    pub first_path_seconds: f64,
+    /// Cost of the first path found (before shortcutting).
+    pub first_path_cost: f64,
+    /// Cost of the best path before shortcutting.
+    pub best_cost_before_shortcut: f64,
+    /// Wall time of the whole run \[s\].
+    pub seconds: f64,
+}
+
+struct Node<const D: usize> {
+    x: SVector<f64, D>,
+    parent: Option<usize>,
+    cost: f64,
+    /// The edge from the parent.
+    edge: Link,
+    sample: Sample,
+    children: Vec<usize>,
+}
+
+/// An edge's cost and its smallest clearance \[m\].
+#[derive(Debug, Clone, Copy)]
+struct Link {
+    cost: f64,
+    clearance: f64,
+}
+
+impl Link {
+    /// The cost of an edge of `length` whose smallest clearance is `clearance` (module docs).
+    fn new(params: &PlannerParams, length: f64, clearance: f64) -> Self {
+        let penalty = (params.clearance_reference / clearance.max(1e-6) - 1.0).max(0.0);
+        Self {
+            cost: length * (1.0 + params.clearance_weight * penalty),
+            clearance,
+        }
+    }
+}
+
+fn check_params(params: &PlannerParams) -> Result<(), PlanError> {
+    let positive = [
+        ("step", params.step),
+        ("goal_radius", params.goal_radius),
+        ("clearance_reference", params.clearance_reference),
+    ];
+    for (name, value) in positive {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(PlanError::InvalidParameter {
+                name,
+                value,
+                allowed: "a finite value > 0",
+            });
+        }
+    }
+    if !(0.0..=1.0).contains(&params.goal_bias) {
+        return Err(PlanError::InvalidParameter {
+            name: "goal_bias",
+            value: params.goal_bias,
+            allowed: "a probability in [0, 1]",
+        });
+    }
+    if !(params.clearance_weight.is_finite() && params.clearance_weight >= 0.0) {
+        return Err(PlanError::InvalidParameter {
+            name: "clearance_weight",
+            value: params.clearance_weight,
+            allowed: "a finite value >= 0",
+        });
+    }
+    Ok(())
+}
+
+/// A standard normal draw (Box–Muller), so that no distribution crate is needed.
+fn normal<R: Rng + ?Sized>(rng: &mut R) -> f64 {
+    let u: f64 = 1.0 - rng.random::<f64>();
+    let v: f64 = rng.random::<f64>();
+    (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+}
+
+/// Informed sampling: a uniform point of the prolate hyperspheroid with foci `start`, `goal`
+/// and transverse diameter `c_best`, clipped to the box (rejection, else uniform in the box).
+struct Informed<const D: usize> {
+    centre: SVector<f64, D>,
+    rotation: SMatrix<f64, D, D>,
+    c_min: f64,
+}
+
+impl<const D: usize> Informed<D> {
+    fn new(start: &SVector<f64, D>, goal: &SVector<f64, D>) -> Self {
+        let d = goal - start;
+        let c_min = d.norm();
+        // A Householder reflection taking e1 to the start→goal direction.
+        let mut rotation = SMatrix::<f64, D, D>::identity();
+        if c_min > 0.0 {
+            let u = d / c_min;
+            let mut v = -u;
+            v[0] += 1.0;
+            let vv = v.dot(&v);
+            if vv > 1e-24 {
+                rotation -= (v * v.transpose()) * (2.0 / vv);
+            }
+        }
+        Self {
+            centre: 0.5 * (start + goal),
+            rotation,
+            c_min,
+        }
+    }
+
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R, c_best: f64) -> SVector<f64, D> {
+        let mut ball = SVector::<f64, D>::from_fn(|_, _| normal(rng));
+        let norm = ball.norm().max(1e-300);
+        let r = rng.random::<f64>().powf(1.0 / D as f64);
+        ball *= r / norm;
+        let long = 0.5 * c_best;
+        let short = 0.5 * (c_best * c_best - self.c_min * self.c_min).max(0.0).sqrt();
+        for i in 0..D {
+            ball[i] *= if i == 0 { long } else { short };
+        }
+        self.centre + self.rotation * ball
+    }
+}
+
+fn uniform<R: Rng + ?Sized, const D: usize>(
+    rng: &mut R,
+    lo: &SVector<f64, D>,
+    hi: &SVector<f64, D>,
+) -> SVector<f64, D> {
+    SVector::from_fn(|i, _| lo[i] + (hi[i] - lo[i]) * rng.random::<f64>())
+}
+
+fn key<const D: usize>(x: &SVector<f64, D>) -> [f64; D] {
+    std::array::from_fn(|i| x[i])
+}
+
+fn joints_close(checker: &Checker, a: &Sample, b: &Sample) -> bool {
+    joint_distance(&a.joints, &b.joints) <= checker.params().max_joint_step
+}
+
+/// Appends a node under `parent`, reached by `edge`; returns its index.
+fn add_node<const D: usize>(
+    nodes: &mut Vec<Node<D>>,
+    x: SVector<f64, D>,
+    parent: usize,
+    edge: Link,
+    sample: Sample,
+) -> usize {
+    let id = nodes.len();
+    let cost = nodes[parent].cost + edge.cost;
+    nodes.push(Node {
+        x,
+        parent: Some(parent),
+        cost,
+        edge,
+        sample,
+        children: Vec::new(),
+    });
+    nodes[parent].children.push(id);
+    id
+}
+
+/// Plans from a valid `start` sample to the `goal` configuration with RRT* in `space`.
+///
+/// # Errors
+/// [`PlanError::InvalidParameter`] for a bad setting; [`PlanError::NoPath`] when the budget
+/// ends without a path.
+pub fn plan<const D: usize, S: Space<D>>(
+    space: &S,
+    checker: &Checker,
+    start: &Sample,
+    goal: &Config,
+    params: &PlannerParams,
+) -> Result<Plan, PlanError> {
+    check_params(params)?;
+    let clock = Instant::now();
+    let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
+    let (lo, hi) = (space.lower(), space.upper());
+    let x_start = space.state(&start.config);
+    let x_goal = space.state(goal);
+    let informed = Informed::new(&x_start, &x_goal);
+
+    let mut nodes: Vec<Node<D>> = vec![Node {
+        x: x_start,
+        parent: None,
+        cost: 0.0,
+        edge: Link {
+            cost: 0.0,
+            clearance: start.clearance,
+        },
+        sample: start.clone(),
+        children: Vec::new(),
+    }];
+    let mut tree: KdTree<f64, D> = KdTree::new();
+    tree.add(&key(&x_start), 0);
+    let mut goals: Vec<usize> = Vec::new();
+    let mut first: Option<(usize, f64, f64)> = None;
+    let mut iterations = 0;
+
+    let out_of_time = |clock: &Instant| params.time_budget.is_some_and(|b| clock.elapsed() >= b);
+    while iterations < params.max_iterations && !out_of_time(&clock) {
+        iterations += 1;
+        let best = goals
+            .iter()
+            .map(|&g| nodes[g].cost)
+            .fold(f64::INFINITY, f64::min);
+        let x_rand = if rng.random::<f64>() < params.goal_bias {
+            x_goal
+        } else if best.is_finite() {
+            let mut x = uniform(&mut rng, &lo, &hi);
+            for _ in 0..100 {
+                let y = informed.sample(&mut rng, best);
+                if (0..D).all(|i| y[i] >= lo[i] && y[i] <= hi[i]) {
+                    x = y;
+                    break;
+                }
+            }
+            x
+        } else {
+            uniform(&mut rng, &lo, &hi)
+        };
+        let nearest = tree.nearest_one::<SquaredEuclidean>(&key(&x_rand)).item as usize;
+        let d = x_rand - nodes[nearest].x;
+        let dist = d.norm();
+        let x_new = if dist > params.step {
+            nodes[nearest].x + d * (params.step / dist)
+        } else {
+            x_rand
+        };
+        if dist == 0.0 {
+            continue;
+        }
+        let config = space.config(&x_new);
+        // Candidate parents: the k nearest, by cost-to-come plus distance.
+        let n = nodes.len();
+        let k = ((2.0 * std::f64::consts::E * (n as f64 + 1.0).ln()).ceil() as usize).clamp(1, n);
+        let mut near: Vec<(usize, f64)> = tree
+            .nearest_n::<SquaredEuclidean>(&key(&x_new), k)
+            .into_iter()
+            .map(|nb| (nb.item as usize, nb.distance.sqrt()))
+            .collect();
+        // A state already in the tree is not added twice (kiddo's buckets cannot split more
+        // than their size of identical points).
+        if near.iter().any(|&(_, d)| d < 1e-12) {
+            continue;
+        }
+        near.sort_by(|a, b| {
+            (nodes[a.0].cost + a.1)
+                .total_cmp(&(nodes[b.0].cost + b.1))
+                .then(a.0.cmp(&b.0))
+        });
+        let mut chosen = None;
+        for &(i, d) in near.iter().take(params.parent_attempts) {
+            if nodes[i].cost + d >= best {
+                break;
+            }
+            if let Ok(edge) = checker.edge(&nodes[i].sample, &config) {
+                chosen = Some((i, Link::new(params, d, edge.min_clearance), edge.end));
+                break;
+            }
+        }
+        let Some((parent, link, sample)) = chosen else {
+            continue;
+        };
+        let id = add_node(&mut nodes, x_new, parent, link, sample);
+        tree.add(&key(&x_new), id as u64);
+
+        // Rewire the neighbours through the new node where that is cheaper.
+        for &(i, d) in &near {
+            if i == parent || nodes[id].cost + d >= nodes[i].cost {
+                continue;
+            }
+            let target = space.config(&nodes[i].x);
+            let Ok(edge) = checker.edge(&nodes[id].sample, &target) else {
+                continue;
+            };
+            let c = Link::new(params, d, edge.min_clearance);
+            if nodes[id].cost + c.cost < nodes[i].cost
+                && joints_close(checker, &edge.end, &nodes[i].sample)
+            {
+                reparent(&mut nodes, i, id, c);
+            }
+        }
+
+        // Try the goal.
+        if (x_goal - x_new).norm() <= params.goal_radius
+            && let Ok(edge) = checker.edge(&nodes[id].sample, goal)
+        {
+            let d = (x_goal - x_new).norm();
+            let c = Link::new(params, d, edge.min_clearance);
+            let g = add_node(&mut nodes, x_goal, id, c, edge.end);
+            goals.push(g);
+            if first.is_none() {
+                first = Some((iterations, clock.elapsed().as_secs_f64(), nodes[g].cost));
+                if params.stop_at_first {
+                    break;
+                }
+            }
+        }
+    }
+
+    let Some(&best_goal) = goals
+        .iter()
+        .min_by(|&&a, &&b| nodes[a].cost.total_cmp(&nodes[b].cost))
+    else {
+        return Err(PlanError::NoPath {
+            iterations,
+            nodes: nodes.len(),
+            seconds: clock.elapsed().as_secs_f64(),
+        });
+    };
+    let best_cost = nodes[best_goal].cost;
+    let mut chain = Vec::new();
+    let mut at = Some(best_goal);
+    while let Some(i) = at {
+        chain.push((nodes[i].x, nodes[i].sample.clone(), nodes[i].edge));
+        at = nodes[i].parent;
+    }
+    chain.reverse();
+    shortcut(space, checker, params, &mut rng, &mut chain);
+    let (first_iteration, first_seconds, first_cost) =
+        first.unwrap_or((iterations, 0.0, best_cost));
+    Ok(Plan {
+        path: Path {
+            cost: chain.iter().map(|c| c.2.cost).sum(),
+            edge_clearance: chain.iter().skip(1).map(|c| c.2.clearance).collect(),
+            waypoints: chain.into_iter().map(|c| c.1).collect(),
+        },
+        iterations,
+        nodes: nodes.len(),
+        first_path_iteration: first_iteration,
+        first_path_seconds: first_seconds,
+        first_path_cost: first_cost,
+        best_cost_before_shortcut: best_cost,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// Moves node `i` under `parent` by edge `c`, and updates the costs of its subtree.
+fn reparent<const D: usize>(nodes: &mut [Node<D>], i: usize, parent: usize, c: Link) {
+    if let Some(old) = nodes[i].parent {
+        nodes[old].children.retain(|&ch| ch != i);
+    }
+    nodes[i].parent = Some(parent);
+    nodes[parent].children.push(i);
+    let delta = nodes[parent].cost + c.cost - nodes[i].cost;
+    nodes[i].edge = c;
+    let mut stack = vec![i];
+    while let Some(j) = stack.pop() {
+        nodes[j].cost += delta;
+        stack.extend(nodes[j].children.iter().copied());
+    }
+}
+
+/// Random shortcuts: replace the waypoints between `i` and `j` by the straight edge when it is
+/// valid, cheaper, and arrives at `j` with its joints.
+fn shortcut<const D: usize, S: Space<D>, R: Rng + ?Sized>(
+    space: &S,
+    checker: &Checker,
+    params: &PlannerParams,
+    rng: &mut R,
+    chain: &mut Vec<(SVector<f64, D>, Sample, Link)>,
+) {
+    for _ in 0..params.shortcut_attempts {
+        if chain.len() < 3 {
+            return;
+        }
+        let i = rng.random_range(0..chain.len() - 2);
+        let j = rng.random_range(i + 2..chain.len());
+        let old: f64 = chain[i + 1..=j].iter().map(|c| c.2.cost).sum();
+        let d = (chain[j].0 - chain[i].0).norm();
+        if d >= old {
+            continue;
+        }
+        let Ok(edge) = checker.edge(&chain[i].1, &space.config(&chain[j].0)) else {
+            continue;
+        };
+        let c = Link::new(params, d, edge.min_clearance);
+        if c.cost < old && joints_close(checker, &edge.end, &chain[j].1) {
+            chain[j].2 = c;
+            chain.drain(i + 1..j);
+        }
+    }
+}

@@ -1,0 +1,132 @@
+//! Validity on hand-made cases: a wire through a box is invalid, a clear one valid; unstable
+//! and unreachable configurations; an edge through a box.
+
+mod common;
+
+use ftwire_plan::{Config, Invalid, PlanError, Scene, scene_configuration, scene_endpoint};
+use ftwire_rod::from_normalised;
+use nalgebra::Vector6;
+
+#[test]
+fn the_passage_start_and_goal_are_valid() {
+    let scene = common::passage();
+    let checker = common::checker(&scene);
+    for name in ["start", "goal"] {
+        let s = scene_endpoint(&scene, &checker, name, name).expect("in Z_free");
+        assert!(
+            s.clearance >= checker.params().margin,
+            "{name}: {}",
+            s.clearance
+        );
+        assert_eq!(s.centreline.len(), checker.params().nodes);
+        // The centreline starts at the base clamp and ends at the second gripper.
+        assert!((s.centreline[0].coords - scene.base.translation.vector).norm() < 1e-12);
+        let last = s.centreline[s.centreline.len() - 1].coords;
+        assert!((last - s.tip.translation.vector).norm() < 1e-9);
+    }
+}
+
+#[test]
+fn a_box_around_the_wire_makes_it_invalid() {
+    let scene = common::passage();
+    let checker = common::checker(&scene);
+    let start = scene_endpoint(&scene, &checker, "start", "start").expect("valid");
+    // A small box at the wire's middle node.
+    let mid = start.centreline[start.centreline.len() / 2];
+    let text = format!(
+        "[base]\nposition = [0.60, 0.35, 0.35]\nrotation = [0.0, 0.0, -1.5707963267948966]\n\
+         [[obstacle]]\nname = \"through\"\ncentre = [{}, {}, {}]\nhalf_extents = [0.01, 0.01, 0.01]\n\
+         [configuration.start]\na_normalised = [-0.35, -1.97, -0.3, -4.02, 0.47, 3.49]\n",
+        mid.x, mid.y, mid.z
+    );
+    let blocked = Scene::from_toml(&text, "blocked.toml").expect("valid scene");
+    let blocked_checker = common::checker(&blocked);
+    match blocked_checker.endpoint(&start.config) {
+        Err(Invalid::WireCollision {
+            obstacle,
+            clearance,
+        }) => {
+            assert!(obstacle.contains("through"));
+            assert!(clearance < 0.0, "{clearance}");
+        }
+        other => panic!("expected a wire collision, got {other:?}"),
+    }
+    // The scene's own start is then an invalid endpoint, with the reason named.
+    let e = scene_endpoint(&blocked, &blocked_checker, "start", "start").expect_err("blocked");
+    assert!(matches!(
+        e,
+        PlanError::InvalidEndpoint { role: "start", .. }
+    ));
+    assert!(e.to_string().contains("through"), "{e}");
+    // Moved 30 mm off the wire (more than radius + margin + half extent), it is clear.
+    let off = text.replace(
+        &format!("centre = [{}, {}, {}]", mid.x, mid.y, mid.z),
+        &format!("centre = [{}, {}, {}]", mid.x, mid.y, mid.z + 0.03),
+    );
+    let clear = Scene::from_toml(&off, "clear.toml").expect("valid scene");
+    let s = common::checker(&clear)
+        .endpoint(&start.config)
+        .expect("clear");
+    assert!(s.clearance > 0.005 && s.clearance < 0.02, "{}", s.clearance);
+}
+
+#[test]
+fn an_unstable_configuration_is_invalid() {
+    let scene = common::passage();
+    let checker = common::checker(&scene);
+    let rod = common::rod();
+    // Compressed far beyond the clamped–clamped Euler load 4π² (normalised).
+    let a = from_normalised(rod.wire(), &Vector6::new(0.0, 0.0, 1e-3, -80.0, 0.0, 0.0));
+    let config = Config {
+        a,
+        base: scene.base,
+    };
+    assert_eq!(checker.endpoint(&config), Err(Invalid::Unstable));
+    // Outside A (a2 = a3 = a5 = a6 = 0): the model refuses it.
+    let config = Config {
+        a: Vector6::new(0.1, 0.0, 0.0, -0.1, 0.0, 0.0),
+        base: scene.base,
+    };
+    assert!(matches!(checker.endpoint(&config), Err(Invalid::Model(_))));
+}
+
+#[test]
+fn a_base_out_of_reach_is_invalid() {
+    let mut scene = common::passage();
+    scene.base = ftwire_core::Pose::translation(2.5, 0.0, 0.3) * scene.base.rotation;
+    let checker = common::checker(&scene);
+    let config = scene_configuration(&scene, checker.rod(), "start").expect("exists");
+    assert!(matches!(
+        checker.endpoint(&config),
+        Err(Invalid::Unreachable { .. })
+    ));
+}
+
+#[test]
+fn the_edge_through_a_block_is_invalid_and_its_reason_named() {
+    let scene = common::passage();
+    let checker = common::checker(&scene);
+    let start = scene_endpoint(&scene, &checker, "start", "start").expect("valid");
+    // Bending the start about its y axis lowers the crossing onto the back block.
+    let rod = common::rod();
+    let x = ftwire_rod::to_normalised(rod.wire(), &start.config.a);
+    let mut blocked = None;
+    for k in 1..=40 {
+        let mut y = x;
+        y[1] += 0.1 * f64::from(k);
+        let to = Config {
+            a: from_normalised(rod.wire(), &y),
+            base: scene.base,
+        };
+        if let Err(Invalid::WireCollision { obstacle, .. }) = checker.sample(&to, &start.joints) {
+            blocked = Some((to, obstacle));
+            break;
+        }
+    }
+    let (to, obstacle) = blocked.expect("some bend hits a block");
+    assert!(obstacle.contains("block"), "{obstacle}");
+    let e = checker
+        .edge(&start, &to)
+        .expect_err("the edge ends in a block");
+    assert!(matches!(e, Invalid::WireCollision { .. }), "{e:?}");
+}
