@@ -9,18 +9,31 @@
 //!    `ftwire experiment identify`, one trial).
 //! 3. **Shape from F/T**: the identified model's shape from `ã` alone at
 //!    [`SHAPE_CONFIGS`] configurations of `A_free`, against the simulator's true wire.
+//! 4. **Plan** through the scene (`--scene`, default the shipped 50 mm passage,
+//!    `scenes/passage.toml`) with RRT* in `A_free` for the identified wire, a fixed iteration
+//!    budget (the same path on any machine), resampled into waypoints.
+//! 5. **Track** the plan in the simulator with the scene's obstacles, under the paper's
+//!    execution noise (`increment`): closed loop with the identified loaded model and the
+//!    collision detector armed (calibrated on a rehearsal away from the obstacles), then once
+//!    open loop for contrast; each scored on the true wire (touched an obstacle, final error,
+//!    shape against the plan at each waypoint).
 //!
 //! Results folder (`--out`, default `results/demo`, written whole or not at all):
-//! `summary.json` (run header, then `wire`, `calibration`, `identification`, `shape`; the same
-//! for the same seed), `timings.json` (each phase's wall time), `calibration.json` (the
-//! weights), `shape.{png,svg}` (the estimated and the true wire of the first configuration).
+//! `summary.json` (run header, then `wire`, `calibration`, `identification`, `shape`, `plan`,
+//! `tracking`; the same for the same seed), `timings.json` (each phase's wall time),
+//! `calibration.json` (the weights), `shape.{png,svg}` (the estimated and the true wire of the
+//! first configuration), `tracking.{png,svg}` (the scene's boxes and the true wire at each
+//! rest of the closed-loop run).
 
 use std::io::IsTerminal as _;
 use std::time::{Duration, Instant};
 
-use ftwire::error::{CliError, from_estimate, from_rod};
+use ftwire::error::{CliError, from_estimate, from_plan, from_rod};
 use ftwire::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
 use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
+use ftwire::experiment::track::{Attempt, Tracking, plan_in_scene};
+use ftwire_control::NoiseModel;
+use ftwire_plan::Scene;
 use ftwire::experiment::{Gravity, ModelKind};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
@@ -31,7 +44,7 @@ use ftwire_estimate::identify::MotionPlan;
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{Chart3d, SeriesKind};
-use ftwire_rod::Rod;
+use ftwire_rod::{Load, Rod};
 use ftwire_rod::sampling::Sampler;
 use ftwire_sim::RigConfig;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -60,7 +73,10 @@ pub const IDENTIFY_SAMPLES: usize = 3;
 pub const SHAPE_CONFIGS: usize = 5;
 
 /// The demo's phases, in order (progress lines and bars are numbered by them).
-const PHASES: usize = 3;
+const PHASES: usize = 5;
+
+/// The default scene, shipped in the repository and built into the binary.
+const PASSAGE: &str = include_str!("../../../../scenes/passage.toml");
 
 /// `summary.json`'s body.
 #[derive(Debug, Serialize)]
@@ -70,6 +86,29 @@ struct Summary {
     calibration: CalibrationOut,
     identification: IdentificationOut,
     shape: ShapeOut,
+    plan: PlanOut,
+    tracking: TrackingOut,
+}
+
+#[derive(Debug, Serialize)]
+struct PlanOut {
+    scene: String,
+    iterations: usize,
+    nodes: usize,
+    /// Cost and length of the path in normalised `A`.
+    cost: f64,
+    /// Smallest clearance of the wire from an obstacle along the path \[m\].
+    min_clearance: f64,
+    waypoints: usize,
+}
+
+#[derive(Debug, Serialize)]
+struct TrackingOut {
+    noise_model: &'static str,
+    /// The collision detector's threshold on the jump ratio.
+    detector_threshold: f64,
+    closed_loop: Attempt,
+    open_loop: Attempt,
 }
 
 #[derive(Debug, Serialize)]
@@ -125,6 +164,8 @@ struct Timings {
     calibrate_s: f64,
     identify_s: f64,
     shape_s: f64,
+    plan_s: f64,
+    track_s: f64,
     total_s: f64,
 }
 
@@ -247,7 +288,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 
     // 3. Shape from F/T with the identified model.
     let phase = Phase::start(3, "estimate the shape from F/T", SHAPE_CONFIGS as u64);
-    let (shape, first) = shapes(&wire, &learnt, model, seed, |k| phase.set(k))?;
+    let (shape, first) = shapes(&wire, &learnt, model.clone(), seed, |k| phase.set(k))?;
     if let Some((estimate, truth)) = &first {
         let chart = Chart3d::new(format!("{}: shape from F/T against the truth", wire.name))
             .with_curve("truth (simulator)", truth.clone(), SeriesKind::Line)
@@ -261,6 +302,93 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         shape.configurations, shape.mean_mm_overall
     ));
 
+    // 4. Plan through the scene for the identified wire.
+    let (scene, scene_name) = match &args.scene {
+        Some(path) => (
+            Scene::load(path).map_err(|e| from_plan(e, "--scene"))?,
+            path.display().to_string(),
+        ),
+        None => (
+            Scene::from_toml(PASSAGE, "scenes/passage.toml")
+                .map_err(|e| from_plan(e, "the built-in passage scene"))?,
+            "scenes/passage.toml".to_owned(),
+        ),
+    };
+    let phase = Phase::start(4, "plan through the passage", 1);
+    // The identified wire's loaded model, gravity in the base clamp frame: the planner's
+    // shapes are the sagging wire's.
+    let g_clamp = scene.base.rotation.inverse() * gravity.vector();
+    let weight = summary_density(&identification) * g_clamp;
+    let identified = Rod::new(*model.wire()).with_load(Load {
+        weight_per_length: weight,
+        natural_curvature: Vector3::zeros(),
+    });
+    let (planned, _) = plan_in_scene(&scene, &identified, seed)?;
+    let plan_out = PlanOut {
+        scene: scene_name,
+        iterations: planned.plan.iterations,
+        nodes: planned.plan.nodes,
+        cost: planned.plan.path.cost,
+        min_clearance: planned.plan.path.min_clearance(),
+        waypoints: planned.waypoints.len(),
+    };
+    let plan_s = phase.finish(&format!(
+        "path of length {:.2} (normalised A), {} waypoints, closest approach {:.1} mm",
+        plan_out.cost,
+        plan_out.waypoints,
+        1e3 * plan_out.min_clearance
+    ));
+
+    // 5. Track the plan closed loop, then open loop.
+    let phase = Phase::start(5, "track the plan, closed then open loop", 3);
+    // The controller's model: the identified one, with gravity in the base clamp frame.
+    let controller_model = model
+        .with_weight_per_length(weight)
+        .map_err(|e| from_estimate(e, "the identified wire's weight"))?;
+    let tracking = Tracking {
+        wire: &wire,
+        gravity,
+        scene: &scene,
+        calibration: &learnt,
+        noise: match std::env::var("FTWIRE_NOISE").as_deref() { Ok("none") => NoiseModel::None, Ok("offset") => NoiseModel::Offset, _ => NoiseModel::Increment },
+        seed,
+    };
+    let detector = tracking.detector(&controller_model, &planned.waypoints)?;
+    phase.set(1);
+    let closed = tracking.closed_loop(&controller_model, &planned.waypoints, detector, 2)?;
+    phase.set(2);
+    let open = tracking.open_loop(&controller_model, &planned.waypoints, 2)?;
+    let chart = scene_chart(&scene, &closed);
+    chart
+        .write(folder.dir(), "tracking")
+        .map_err(|e| CliError::no_answer(format!("figure tracking: {e}")))?;
+    let verdict = |a: &Attempt| {
+        format!(
+            "{} ({} moves{}, final error {:.3}, shape {:.1} mm at the goal)",
+            if a.success { "success" } else { "failure" },
+            a.steps,
+            match (a.touched, a.detected) {
+                (true, true) => ", touched an obstacle, detected",
+                (true, false) => ", touched an obstacle",
+                (false, true) => ", stopped by a false alarm",
+                (false, false) => "",
+            },
+            a.final_error,
+            a.shape_mm.last().copied().unwrap_or(f64::NAN),
+        )
+    };
+    let track_s = phase.finish(&format!(
+        "closed loop: {}; open loop: {}",
+        verdict(&closed),
+        verdict(&open)
+    ));
+    let tracking_out = TrackingOut {
+        noise_model: NoiseModel::Increment.name(),
+        detector_threshold: detector.threshold(),
+        closed_loop: closed,
+        open_loop: open,
+    };
+
     let summary = Summary {
         wire: WireTruth {
             name: wire.name.clone(),
@@ -271,11 +399,15 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         calibration: calibration_out,
         identification,
         shape,
+        plan: plan_out,
+        tracking: tracking_out,
     };
     let timings = Timings {
         calibrate_s,
         identify_s,
         shape_s,
+        plan_s,
+        track_s,
         total_s: total.elapsed().as_secs_f64(),
     };
     folder.write_json("timings.json", &timings)?;
@@ -418,4 +550,34 @@ fn shapes(
         },
         first,
     ))
+}
+
+/// The identified linear density (0 when the model did not identify one).
+fn summary_density(identification: &IdentificationOut) -> f64 {
+    identification.linear_density.unwrap_or(0.0)
+}
+
+/// The scene's boxes (their twelve edges) and the true wire at each rest of `attempt`.
+fn scene_chart(scene: &Scene, attempt: &Attempt) -> Chart3d {
+    let mut chart = Chart3d::new("the passage: the true wire at each rest, closed loop");
+    for b in &scene.boxes {
+        let pose = b.geometry.pose();
+        let h = b.geometry.half_extents();
+        let corner = |i: usize| {
+            let sign = |bit: usize| if i & bit == 0 { -1.0 } else { 1.0 };
+            let p = pose * nalgebra::Point3::new(sign(1) * h.x, sign(2) * h.y, sign(4) * h.z);
+            [p.x, p.y, p.z]
+        };
+        // The two faces' loops, then the four connecting edges, as one polyline.
+        let order = [0, 1, 3, 2, 0, 4, 5, 7, 6, 4, 5, 1, 3, 7, 6, 2];
+        chart = chart.with_curve(
+            b.name.clone(),
+            order.iter().map(|&i| corner(i)).collect(),
+            SeriesKind::Line,
+        );
+    }
+    for (k, centreline) in attempt.centrelines.iter().enumerate() {
+        chart = chart.with_curve(format!("rest {k}"), centreline.clone(), SeriesKind::Line);
+    }
+    chart
 }

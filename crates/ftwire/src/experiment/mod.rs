@@ -6,6 +6,7 @@
 
 pub mod calibration;
 pub mod rig;
+pub mod track;
 
 use clap::ValueEnum;
 use ftwire_estimate::KirchhoffModel;

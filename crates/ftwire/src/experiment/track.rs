@@ -1,0 +1,504 @@
+//! Planning in a scene and tracking the plan in the simulator (paper §III-D, §IV-E): the
+//! demo's phases 4 and 5, and the tracking experiments' building blocks.
+//!
+//! - [`plan_in_scene`]: RRT* in `A_free` of the scene (fixed base) with a fixed iteration
+//!   budget, so the same seed gives the same path on any machine, resampled into waypoints
+//!   `γ_A(i/N)`.
+//! - [`place_in_scene`]: the simulated rig with the base clamp at the scene's base pose, the
+//!   scene's obstacles (the same file the planner read) and the true wire at a configuration.
+//! - [`track_closed_loop`]: the controller (eq. 13–14) toward each waypoint in turn, with the
+//!   collision detector armed; [`roll_out_open_loop`]: the planned gripper poses with no
+//!   feedback. Both under the execution noise of [`NoiseModel`], both scored on the simulator's
+//!   truth: whether the true wire touched an obstacle at any rest, and its shape against
+//!   `Φ(γ_A)` at each waypoint.
+
+use std::time::Instant;
+
+use ftwire_control::{
+    CollisionDetector, ControlSettings, MIN_CALIBRATION_RESIDUALS, Controller, FtFeedback, NoiseModel, NoiseSettings,
+    NoisyRig, Outcome, RobotReach,
+};
+use ftwire_core::Pose;
+use ftwire_estimate::KirchhoffModel;
+use ftwire_estimate::WireModel;
+use ftwire_estimate::calibration::Calibration;
+use ftwire_estimate::ft::FtPipeline;
+use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, centreline_distance};
+use ftwire_plan::{
+    Checker, FixedBase, Plan, PlannerParams, Sample, Scene, ValidityParams, plan, scene_endpoint,
+};
+use ftwire_robot::Robot;
+use ftwire_rod::{Load, Rod, to_normalised};
+use ftwire_sim::{RigConfig, SimRig, Simulator, World};
+use nalgebra::{Point3, Vector3, Vector6};
+use serde::Serialize;
+
+use super::Gravity;
+use super::rig::{SAMPLES_PER_REST, pipeline, tare};
+use crate::bridge::kirchhoff_guess;
+use crate::error::{CliError, from_plan, from_rod, from_sim};
+use crate::scene::with_scene;
+use crate::wire::WireSpec;
+
+/// RRT* iterations of [`plan_in_scene`] (an iteration budget, not a time budget, so that the
+/// path does not depend on the machine's speed).
+pub const PLAN_ITERATIONS: usize = 600;
+
+/// Waypoints the plan is resampled into (`N` of `γ_A(i/N)`).
+pub const WAYPOINTS: usize = 12;
+
+/// Success tolerance on the true configuration at the end, `‖a_true − a_g‖` \[normalised\]:
+/// twice the controller's stop `ε` (0.05), which is on the measured `ã`, whose calibration
+/// error is a few tenths of a per cent of `|a|`.
+pub const SUCCESS_EPSILON: f64 = 0.1;
+
+/// Most rehearsals [`Tracking::detector`] runs.
+pub const REHEARSALS: u64 = 5;
+
+/// Contact force \[N\] on a node of the simulated wire above which it touches an obstacle.
+pub const CONTACT_FORCE: f64 = 1e-6;
+
+/// A plan and its waypoints.
+#[derive(Debug, Clone)]
+pub struct ScenePlan {
+    /// The planner's result.
+    pub plan: Plan,
+    /// `γ_A(i/N)`, `i = 0..=N` ([`waypoints_along`]).
+    pub waypoints: Vec<Waypoint>,
+    /// Wall time of the planning \[s\].
+    pub seconds: f64,
+}
+
+/// A waypoint of a planned path: the configuration and what the planning model makes of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Waypoint {
+    /// `a` \[N·m, N\], base clamp frame.
+    pub a: Vector6<f64>,
+    /// `Γ(a)`: the second gripper relative to the base clamp.
+    pub tip: Pose,
+    /// `Φ(a)`, world frame.
+    pub centreline: Vec<Point3<f64>>,
+}
+
+/// `N + 1` waypoints `γ_A(i/N)` at equal steps of normalised arc length along the planned
+/// path (piecewise straight in `A`, every edge checked by the planner), with `Γ` and `Φ` of
+/// `rod`. The robot's reach is the controller's to check as it moves (its IK seeded by the
+/// last pose), not re-solved here.
+///
+/// # Errors
+/// No answer when the model cannot solve a waypoint.
+pub fn waypoints_along(
+    rod: &Rod,
+    base: &Pose,
+    path: &[Sample],
+    n: usize,
+) -> Result<Vec<Waypoint>, CliError> {
+    let wire = rod.wire();
+    let a: Vec<Vector6<f64>> = path.iter().map(|s| s.config.a).collect();
+    let mut cumulative = vec![0.0];
+    for w in a.windows(2) {
+        let d = (to_normalised(wire, &w[1]) - to_normalised(wire, &w[0])).norm();
+        cumulative.push(cumulative.last().copied().unwrap_or(0.0) + d);
+    }
+    let total = cumulative.last().copied().unwrap_or(0.0);
+    let n = n.max(1);
+    (0..=n)
+        .map(|i| {
+            let target = total * i as f64 / n as f64;
+            let k = cumulative
+                .windows(2)
+                .position(|w| target <= w[1])
+                .unwrap_or(cumulative.len().saturating_sub(2));
+            let (Some(from), Some(to)) = (a.get(k), a.get(k + 1).or_else(|| a.get(k))) else {
+                return Err(CliError::no_answer("an empty path"));
+            };
+            let span = cumulative.get(k + 1).copied().unwrap_or(total) - cumulative[k];
+            let t = if span > 0.0 {
+                ((target - cumulative[k]) / span).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let a = from + (to - from) * t;
+            let tip = rod.tip(&a).map_err(|e| from_rod(e, "a waypoint of the path"))?;
+            let shape = rod
+                .shape(&a, ValidityParams::default().nodes)
+                .map_err(|e| from_rod(e, "a waypoint of the path"))?;
+            let centreline = shape
+                .positions
+                .iter()
+                .map(|p| base * Point3::from(*p))
+                .collect();
+            Ok(Waypoint { a, tip, centreline })
+        })
+        .collect()
+}
+
+/// Plans from the scene's `start` to its `goal` for the wire model `rod` (fixed base; with a
+/// [`Load`], the loaded model's shapes and stability).
+///
+/// # Errors
+/// Bad input for an invalid start or goal; no answer when no path is found.
+pub fn plan_in_scene(scene: &Scene, rod: &Rod, seed: u64) -> Result<(ScenePlan, Checker), CliError> {
+    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+    let checker = Checker::new(rod.clone(), robot, scene, ValidityParams::default())
+        .map_err(|e| from_plan(e, "the scene"))?;
+    let endpoint = |name: &str, role| {
+        scene_endpoint(scene, &checker, name, role).map_err(|e| from_plan(e, "the scene"))
+    };
+    let start = endpoint("start", "start")?;
+    let goal = endpoint("goal", "goal")?;
+    let params = PlannerParams {
+        seed,
+        time_budget: None,
+        max_iterations: PLAN_ITERATIONS,
+        ..PlannerParams::default()
+    };
+    let began = Instant::now();
+    let space = FixedBase::around(*rod.wire(), scene.base, &[start.config, goal.config], 2.0);
+    let found = plan(&space, &checker, &start, &goal.config, &params)
+        .map_err(|e| from_plan(e, "planning in the scene"))?;
+    let waypoints = waypoints_along(rod, &scene.base, &found.path.waypoints, WAYPOINTS)?;
+    let seconds = began.elapsed().as_secs_f64();
+    Ok((
+        ScenePlan {
+            plan: found,
+            waypoints,
+            seconds,
+        },
+        checker,
+    ))
+}
+
+/// A simulated rig holding the true `wire` at `a0` (of its loaded model: weight and rest
+/// curvature under `gravity`) with its base clamp at the scene's base pose, with the scene's
+/// obstacles when `obstacles` (gravity along the world's −z).
+///
+/// # Errors
+/// No answer when the simulator cannot place the wire there.
+pub fn place_in_scene(
+    wire: &WireSpec,
+    gravity: Gravity,
+    scene: &Scene,
+    obstacles: bool,
+    a0: &Vector6<f64>,
+    config: RigConfig,
+) -> Result<SimRig, CliError> {
+    let params = wire.rod_params(gravity.vector(), super::SIM_EDGES);
+    let mut world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
+    if obstacles {
+        world = with_scene(world, scene).map_err(|e| from_sim(e, "the scene's obstacles"))?;
+    }
+    // The true wire's loaded model places it: its weight in the base clamp frame.
+    let load = Load::from_gravity(
+        wire.density,
+        wire.radius,
+        scene.base.rotation.inverse() * gravity.vector(),
+    )
+    .and_then(|load| load.with_natural_curvature(Vector3::from(wire.natural_curvature)))
+    .map_err(|e| from_rod(e, "the loaded model of the wire"))?;
+    let model = Rod::new(
+        wire.wire_params()
+            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
+    )
+    .with_load(load);
+    let tip = scene.base
+        * model
+            .tip(a0)
+            .map_err(|e| from_rod(e, "placing the wire at its start configuration"))?;
+    let guess = kirchhoff_guess(&model, a0, world.rod())
+        .map_err(|e| from_rod(e, "the start shape of the wire"))?;
+    let sim = Simulator::with_guess(world, &guess, &scene.base, &tip)
+        .map_err(|e| from_sim(e, "placing the wire in the simulator"))?;
+    SimRig::from_simulator(sim, config).map_err(|e| from_sim(e, "building the simulated rig"))
+}
+
+/// What one tracking attempt did, scored on the simulator's truth.
+#[derive(Debug, Clone, Serialize)]
+pub struct Attempt {
+    /// `closed_loop` or `open_loop`.
+    pub mode: &'static str,
+    /// How it ended: a controller outcome's name, or `done` for a finished roll-out.
+    pub outcome: String,
+    /// Moves commanded.
+    pub steps: usize,
+    /// The true wire touched an obstacle at a rest.
+    pub touched: bool,
+    /// The collision detector stopped the motion.
+    pub detected: bool,
+    /// `‖a_true − a_g‖` at the end \[normalised\] (the simulator's wrench).
+    pub final_error: f64,
+    /// Success: never touched, and ended within [`SUCCESS_EPSILON`] of the goal (true wrench).
+    pub success: bool,
+    /// The true shape against `Φ(γ_A(i/N))` at each waypoint reached \[mm\].
+    pub shape_mm: Vec<f64>,
+    /// The true centreline (world frame) at each rest, for figures.
+    #[serde(skip)]
+    pub centrelines: Vec<Vec<[f64; 3]>>,
+}
+
+/// One scenario of tracking: the true wire, the scene, the sensor's calibration, the noise.
+#[derive(Debug, Clone, Copy)]
+pub struct Tracking<'a> {
+    /// The true wire (the simulator's).
+    pub wire: &'a WireSpec,
+    /// Gravity in the simulated world.
+    pub gravity: Gravity,
+    /// The scene (obstacles in the simulator, base pose).
+    pub scene: &'a Scene,
+    /// The learnt F/T calibration.
+    pub calibration: &'a Calibration,
+    /// Execution noise of the second gripper.
+    pub noise: NoiseModel,
+    /// The seed of the rig and of the noise.
+    pub seed: u64,
+}
+
+/// Truth of the rig at a rest: contact, centreline, base wrench in normalised units.
+struct Truth {
+    touched: bool,
+    centreline: Vec<Point3<f64>>,
+    a: Vector6<f64>,
+}
+
+fn truth_of(rig: &SimRig) -> Truth {
+    let equilibrium = rig.equilibrium();
+    Truth {
+        touched: equilibrium
+            .contact_forces
+            .iter()
+            .any(|f| f.norm() > CONTACT_FORCE),
+        centreline: equilibrium.wire_centreline(),
+        a: equilibrium.base_wrench.to_vector(),
+    }
+}
+
+impl Tracking<'_> {
+    /// The rig at the path's start, tared before the pick-up, wrapped in the execution noise,
+    /// and its F/T feedback.
+    fn rig(
+        &self,
+        start: &Vector6<f64>,
+        obstacles: bool,
+        stream: u64,
+    ) -> Result<(NoisyRig<SimRig>, FtFeedback<Calibration>), CliError> {
+        let config = RigConfig {
+            seed: self.seed ^ stream.wrapping_mul(0x9e37_79b9),
+            ..RigConfig::default()
+        };
+        let mut rig = place_in_scene(self.wire, self.gravity, self.scene, obstacles, start, config)?;
+        let tared: FtPipeline<Calibration> = pipeline(tare(&mut rig)?, self.calibration.clone())?;
+        let noisy = NoisyRig::new(
+            rig,
+            self.noise,
+            NoiseSettings::default(),
+            self.seed.wrapping_add(stream),
+        )
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        Ok((noisy, FtFeedback::new(tared, SAMPLES_PER_REST)))
+    }
+
+    /// Calibrates the collision detector on rehearsals of the path with the obstacles away
+    /// (free motion in the same conditions, up to [`REHEARSALS`] of them until there are
+    /// three times [`MIN_CALIBRATION_RESIDUALS`] moves), as a robot would before entering the
+    /// passage.
+    ///
+    /// # Errors
+    /// No answer when the rehearsal gives too few residuals.
+    pub fn detector(
+        &self,
+        model: &KirchhoffModel,
+        waypoints: &[Waypoint],
+    ) -> Result<CollisionDetector, CliError> {
+        let mut residuals = Vec::new();
+        for stream in 1..=REHEARSALS {
+            if residuals.len() >= 3 * MIN_CALIBRATION_RESIDUALS {
+                break;
+            }
+            let (_, more) = self.closed_loop_with(model, waypoints, None, false, stream)?;
+            residuals.extend(more);
+        }
+        CollisionDetector::calibrate(
+            &residuals,
+            CollisionDetector::DEFAULT_MARGIN,
+            CollisionDetector::DEFAULT_FLOOR,
+        )
+        .map_err(|e| CliError::no_answer(format!("calibrating the collision detector: {e}")))
+    }
+
+    /// Tracks the waypoints closed loop with `detector` armed.
+    ///
+    /// # Errors
+    /// No answer when the rig cannot be placed at the start; bad input for a goal outside
+    /// `A_stable`.
+    pub fn closed_loop(
+        &self,
+        model: &KirchhoffModel,
+        waypoints: &[Waypoint],
+        detector: CollisionDetector,
+        stream: u64,
+    ) -> Result<Attempt, CliError> {
+        self.closed_loop_with(model, waypoints, Some(detector), true, stream)
+            .map(|(attempt, _)| attempt)
+    }
+
+    /// Closed-loop tracking; returns the attempt and every move's detector residual.
+    fn closed_loop_with(
+        &self,
+        model: &KirchhoffModel,
+        waypoints: &[Waypoint],
+        detector: Option<CollisionDetector>,
+        obstacles: bool,
+        stream: u64,
+    ) -> Result<(Attempt, Vec<f64>), CliError> {
+        let (Some(first), Some(last)) = (waypoints.first(), waypoints.last()) else {
+            return Err(CliError::no_answer("an empty path"));
+        };
+        let (mut rig, feedback) = self.rig(&first.a, obstacles, stream)?;
+        let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+        let _ = robot; let mut reach = ftwire_control::AnyPose;
+        // Between waypoints a few steps and a loose stop; the goal to the controller's ε.
+        let through = ControlSettings {
+            epsilon: 0.3,
+            max_iterations: 8,
+            ..ControlSettings::default()
+        };
+        let end = ControlSettings::default();
+        let build = |settings| {
+            let controller = Controller::new(model.clone(), settings)
+                .map_err(|e| CliError::bad_input(e.to_string()))?;
+            Ok::<_, CliError>(match detector {
+                Some(d) => controller.with_detector(d),
+                None => controller,
+            })
+        };
+        let (through, end) = (build(through)?, build(end)?);
+        let mut attempt = Attempt {
+            mode: "closed_loop",
+            outcome: String::new(),
+            steps: 0,
+            touched: false,
+            detected: false,
+            final_error: f64::NAN,
+            success: false,
+            shape_mm: Vec::new(),
+            centrelines: Vec::new(),
+        };
+        let mut residuals = Vec::new();
+        let mut touched = truth_of(rig.inner()).touched;
+        for (i, waypoint) in waypoints.iter().enumerate().skip(1) {
+            let final_leg = i + 1 == waypoints.len();
+            let controller = if final_leg { &end } else { &through };
+            let mut centrelines = Vec::new();
+            let run = controller
+                .run_observed(&mut rig, &feedback, &mut reach, &waypoint.a, |r, _| {
+                    let truth = truth_of(r.inner());
+                    touched |= truth.touched;
+                    centrelines.push(truth.centreline);
+                })
+                .map_err(|e| CliError::bad_input(format!("waypoint {i}: {e}")))?;
+            attempt.steps += run.steps.len();
+            if std::env::var("FTWIRE_DEBUG").is_ok() {
+                let w = model.wire();
+                eprintln!("DEBUG wp {i} obstacles {obstacles}: outcome {:?} start ã {:.2?} target {:.2?} truth {:.2?}", run.outcome, to_normalised(w, &run.start).as_slice(), to_normalised(w, &waypoint.a).as_slice(), to_normalised(w, &truth_of(rig.inner()).a).as_slice());
+                for st in &run.steps { eprintln!("   step measured {:.2?} miss {:.3} res {:.2}", to_normalised(w, &st.measured).as_slice(), st.miss, st.residual); }
+            }
+            residuals.extend(run.steps.iter().map(|s| s.residual));
+            attempt
+                .centrelines
+                .extend(centrelines.iter().map(|c| to_points(c)));
+            let truth = truth_of(rig.inner());
+            attempt
+                .shape_mm
+                .push(shape_mm(&truth.centreline, &waypoint.centreline)?);
+            attempt.outcome = run.outcome.name().to_owned();
+            match run.outcome {
+                Outcome::Reached { .. } => {}
+                Outcome::IterationLimit { .. } if !final_leg => {}
+                Outcome::CollisionDetected { .. } => {
+                    attempt.detected = true;
+                    break;
+                }
+                _ => break,
+            }
+        }
+        attempt.touched = touched;
+        self.finish(&mut attempt, rig.inner(), &last.a, model);
+        Ok((attempt, residuals))
+    }
+
+    /// Rolls the planned gripper poses out with no feedback.
+    ///
+    /// # Errors
+    /// No answer when the rig cannot be placed at the start.
+    pub fn open_loop(
+        &self,
+        model: &KirchhoffModel,
+        waypoints: &[Waypoint],
+        stream: u64,
+    ) -> Result<Attempt, CliError> {
+        let (Some(first), Some(last)) = (waypoints.first(), waypoints.last()) else {
+            return Err(CliError::no_answer("an empty path"));
+        };
+        let (mut rig, _) = self.rig(&first.a, true, stream)?;
+        let poses: Vec<Pose> = waypoints
+            .iter()
+            .map(|w| w.tip)
+            .collect();
+        let mut attempt = Attempt {
+            mode: "open_loop",
+            outcome: "done".to_owned(),
+            steps: 0,
+            touched: truth_of(rig.inner()).touched,
+            detected: false,
+            final_error: f64::NAN,
+            success: false,
+            shape_mm: Vec::new(),
+            centrelines: Vec::new(),
+        };
+        let mut truths = Vec::new();
+        let rolled = ftwire_control::open_loop::roll_out::<_, Calibration>(
+            &mut rig,
+            &poses,
+            None,
+            |r, k| truths.push((k, truth_of(r.inner()))),
+        )
+        .map_err(|e| CliError::no_answer(e.to_string()))?;
+        attempt.steps = rolled.moves;
+        if let Some((k, message)) = rolled.failed {
+            attempt.outcome = format!("move {k} failed: {message}");
+        }
+        for (k, truth) in &truths {
+            attempt.touched |= truth.touched;
+            attempt.centrelines.push(to_points(&truth.centreline));
+            if let Some(waypoint) = waypoints.get(*k) {
+                attempt
+                    .shape_mm
+                    .push(shape_mm(&truth.centreline, &waypoint.centreline)?);
+            }
+        }
+        self.finish(&mut attempt, rig.inner(), &last.a, model);
+        Ok(attempt)
+    }
+
+    /// The final error on the true wrench, and success.
+    fn finish(&self, attempt: &mut Attempt, rig: &SimRig, goal: &Vector6<f64>, model: &KirchhoffModel) {
+        let truth = truth_of(rig);
+        let wire = model.wire();
+        let error = (to_normalised(wire, &truth.a) - to_normalised(wire, goal)).norm();
+        attempt.final_error = error;
+        attempt.success = !attempt.touched && error <= SUCCESS_EPSILON;
+    }
+}
+
+fn to_points(centreline: &[Point3<f64>]) -> Vec<[f64; 3]> {
+    centreline.iter().map(|p| [p.x, p.y, p.z]).collect()
+}
+
+/// Mean distance \[mm\] between two centrelines (world frame).
+fn shape_mm(truth: &[Point3<f64>], planned: &[Point3<f64>]) -> Result<f64, CliError> {
+    let a: Vec<Vector3<f64>> = truth.iter().map(|p| p.coords).collect();
+    let b: Vec<Vector3<f64>> = planned.iter().map(|p| p.coords).collect();
+    centreline_distance(&a, &b, DEFAULT_METRIC_SAMPLES)
+        .map(|d| 1e3 * d)
+        .map_err(|e| CliError::no_answer(format!("the shape error: {e}")))
+}
