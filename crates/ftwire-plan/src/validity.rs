@@ -42,7 +42,7 @@ use std::fmt;
 use ftwire_core::Pose;
 use ftwire_robot::{
     Arm, DualArmJoints, DualArmParams, DualArmTarget, EndFrame, IkTarget, LinkRadii, OrientedBox,
-    ReachParams, Reachability, Robot, point_box_distance, segment_box_distance,
+    ReachParams, Reachability, Robot, RobotError, point_box_distance, segment_box_distance,
 };
 use ftwire_rod::{Rod, to_normalised};
 use nalgebra::{Point3, Vector6};
@@ -315,7 +315,18 @@ impl Checker {
         let joints = self
             .robot
             .dual_arm_ik(&target, None, &params)
-            .map_err(|_| Invalid::Unreachable { arm: Arm::Right })?;
+            .map_err(|e| match e {
+                // Every torso angle failed for the base gripper's arm: it is the one out of reach.
+                RobotError::DualArmUnreachable {
+                    torsos_tried,
+                    left_failures,
+                    ..
+                } if left_failures == torsos_tried => Invalid::Unreachable { arm: Arm::Left },
+                RobotError::DualArmUnreachable { collisions, .. } if collisions > 0 => {
+                    Invalid::ArmsCollide
+                }
+                _ => Invalid::Unreachable { arm: Arm::Right },
+            })?;
         self.finish(config, wire, &joints)
     }
 

@@ -74,6 +74,17 @@ fn a_bad_scene_exits_2_naming_the_item() {
     assert_exit(&out, 2, "color", "scene check, unknown key");
     let out = ftwire(&["plan", "--scene", &passage(), "--start", "nowhere"]);
     assert_exit(&out, 2, "nowhere", "plan, unknown start");
+    for (option, value, needle) in [
+        ("--time-budget", "0", "--time-budget"),
+        ("--time-budget", "-1", "--time-budget"),
+        ("--time-budget", "1e300", "--time-budget"),
+        ("--resample", "0", "--resample"),
+        ("--margin", "-0.001", "margin"),
+        ("--clearance-weight", "-1", "clearance_weight"),
+    ] {
+        let out = ftwire(&["plan", "--scene", &passage(), option, value]);
+        assert_exit(&out, 2, needle, &format!("plan {option} {value}"));
+    }
 }
 
 #[test]

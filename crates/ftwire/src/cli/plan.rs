@@ -14,7 +14,13 @@ pub struct PlanWireArgs {
     pub wire: String,
 
     /// Clearance [m] the wire's surface keeps from every obstacle and the floor.
-    #[arg(long, value_name = "M", default_value_t = 0.005, value_parser = parse_finite)]
+    #[arg(
+        long,
+        value_name = "M",
+        default_value_t = 0.005,
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
     pub margin: f64,
 }
 
@@ -97,7 +103,13 @@ pub struct PlanArgs {
     pub endpoints: EndpointArgs,
 
     /// Wall-clock budget [s]: the best path found by then is returned (anytime).
-    #[arg(long, value_name = "S", default_value_t = 2.0, value_parser = parse_finite)]
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 2.0,
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
     pub time_budget: f64,
 
     /// Most iterations (with --time-budget, whichever ends first); the same seed and
@@ -115,7 +127,13 @@ pub struct PlanArgs {
 
     /// Weight w of the clearance penalty: an edge closer than --clearance-reference to an
     /// obstacle costs its length times 1 + w (reference / clearance − 1).
-    #[arg(long, value_name = "W", default_value_t = 0.0, value_parser = parse_finite)]
+    #[arg(
+        long,
+        value_name = "W",
+        default_value_t = 0.0,
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
     pub clearance_weight: f64,
 
     /// Clearance [m] below which an edge is penalised (with --clearance-weight).

@@ -286,11 +286,19 @@ fn check(args: &SceneCheckArgs) -> Result<(), CliError> {
 
 /// Runs `ftwire plan`.
 pub fn run(args: &PlanArgs) -> Result<(), CliError> {
-    if args.time_budget <= 0.0 {
-        return Err(CliError::bad_input(format!(
-            "--time-budget {} s: give a positive number of seconds",
-            args.time_budget
-        )));
+    let budget = Duration::try_from_secs_f64(args.time_budget)
+        .ok()
+        .filter(|b| !b.is_zero())
+        .ok_or_else(|| {
+            CliError::bad_input(format!(
+                "--time-budget {} s: give a positive number of seconds (at most about 1.8e19)",
+                args.time_budget
+            ))
+        })?;
+    if args.resample == Some(0) {
+        return Err(CliError::bad_input(
+            "--resample 0: give at least 1 interval (N + 1 waypoints)",
+        ));
     }
     let (scene, spec, checker) = setup(&args.scene, &args.wire)?;
     let file = args.scene.display().to_string();
@@ -301,7 +309,7 @@ pub fn run(args: &PlanArgs) -> Result<(), CliError> {
     let goal = endpoint(&args.endpoints.goal, "goal")?;
     let params = PlannerParams {
         seed: args.seed.seed,
-        time_budget: Some(Duration::from_secs_f64(args.time_budget)),
+        time_budget: Some(budget),
         max_iterations: args.iterations,
         stop_at_first: args.first,
         clearance_weight: args.clearance_weight,
