@@ -102,6 +102,38 @@ impl CollisionDetector {
         Self::new((margin * largest).max(f64::MIN_POSITIVE), floor)
     }
 
+    /// As [`CollisionDetector::calibrate`], from the `quantile` (in `(0, 1]`) of the finite
+    /// residuals instead of the largest: free motions of a real wire can hold rare events the
+    /// model does not have either (a snap to another equilibrium branch), which would otherwise
+    /// set the threshold.
+    ///
+    /// # Errors
+    /// As [`CollisionDetector::calibrate`], and [`ControlError::BadSetting`] for a quantile
+    /// outside `(0, 1]`.
+    pub fn calibrate_quantile(
+        residuals: &[f64],
+        quantile: f64,
+        margin: f64,
+        floor: f64,
+    ) -> Result<Self, ControlError> {
+        if !(quantile > 0.0 && quantile <= 1.0) {
+            return Err(ControlError::BadSetting {
+                name: "quantile",
+                value: quantile,
+                allowed: "a quantile in (0, 1]",
+            });
+        }
+        let mut finite: Vec<f64> = residuals
+            .iter()
+            .copied()
+            .filter(|r| r.is_finite())
+            .collect();
+        finite.sort_by(f64::total_cmp);
+        let keep = ((quantile * finite.len() as f64).ceil() as usize).min(finite.len());
+        finite.truncate(keep.max(MIN_CALIBRATION_RESIDUALS.min(finite.len())));
+        Self::calibrate(&finite, margin, floor)
+    }
+
     /// The threshold on the relative residual.
     pub fn threshold(&self) -> f64 {
         self.threshold

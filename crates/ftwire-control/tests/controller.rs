@@ -209,6 +209,19 @@ fn a_contact_is_detected_at_once_and_the_retreat_finds_agreement() {
 }
 
 #[test]
+fn a_quantile_calibration_ignores_rare_outliers() {
+    let mut residuals = vec![0.1; 99];
+    residuals.push(50.0);
+    let all = CollisionDetector::calibrate(&residuals, 2.0, 0.01).expect("enough");
+    assert!((all.threshold() - 100.0).abs() < 1e-12);
+    let robust =
+        CollisionDetector::calibrate_quantile(&residuals, 0.95, 2.0, 0.01).expect("enough");
+    assert!((robust.threshold() - 0.2).abs() < 1e-12);
+    assert!(CollisionDetector::calibrate_quantile(&residuals, 0.0, 2.0, 0.01).is_err());
+    assert!(CollisionDetector::calibrate(&residuals[..5], 2.0, 0.01).is_err());
+}
+
+#[test]
 fn a_free_motion_gives_no_false_alarm() {
     let (a_s, a_g) = pair();
     let controller = controller().with_detector(calibrated_detector());

@@ -139,6 +139,21 @@ impl ResultsFolder {
         &self.staging
     }
 
+    /// Writes a figure with `draw`, which writes into the folder it is given (the
+    /// `ftwire_report` charts' `write`); `stem` names the figure in the error.
+    ///
+    /// # Errors
+    /// No answer when the figure cannot be drawn.
+    pub fn write_figure(
+        &self,
+        stem: &str,
+        draw: impl FnOnce(&Path) -> Result<Vec<PathBuf>, ftwire_report::ReportError>,
+    ) -> Result<(), CliError> {
+        draw(self.dir())
+            .map(|_| ())
+            .map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")))
+    }
+
     /// Writes `value` as pretty JSON into the file `name`.
     ///
     /// # Errors

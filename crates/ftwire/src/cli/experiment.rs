@@ -27,6 +27,9 @@ pub enum ExperimentId {
     Calibrate(CalibrateExperimentArgs),
     /// Table II, Fig. 5: shape error from F/T over configurations of A_free, for the four wires.
     Shape(ShapeExperimentArgs),
+    /// Table III, Figs. 6–7: steer the wire between A-connected pairs of A_free, closed loop
+    /// (eq. 13–14) against open loop, with and without gripper noise; collision detection.
+    Goal(GoalExperimentArgs),
 }
 
 /// Options every experiment takes.
@@ -175,4 +178,46 @@ pub struct ShapeExperimentArgs {
     /// placed just after taring, so the bias drift adds little here. At least 100.
     #[arg(long, value_name = "N", default_value_t = ftwire::experiment::rig::SAMPLES_PER_REST)]
     pub rest_samples: usize,
+}
+
+/// The execution noise of `ftwire experiment goal` (`--noise-model`; see
+/// `ftwire_control::NoisyRig`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NoiseModelArg {
+    /// The paper's: N(0, 10 mm) and N(0, 3°) on each control output δb; accumulates.
+    Increment,
+    /// Each commanded pose perturbed independently by 10 mm / 3°.
+    Absolute,
+    /// One 10 mm / 3° offset per run plus 0.1 mm / 0.05° repeatability per move.
+    Offset,
+}
+
+impl NoiseModelArg {
+    /// The library's model.
+    pub fn model(self) -> ftwire_control::NoiseModel {
+        match self {
+            Self::Increment => ftwire_control::NoiseModel::Increment,
+            Self::Absolute => ftwire_control::NoiseModel::Absolute,
+            Self::Offset => ftwire_control::NoiseModel::Offset,
+        }
+    }
+}
+
+/// `ftwire experiment goal`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct GoalExperimentArgs {
+    /// The options every experiment takes (`--wire` defaults to nitinol-3mm-820).
+    #[command(flatten)]
+    pub common: CommonExperimentArgs,
+    /// Start–goal pairs (the paper: 30).
+    #[arg(long, default_value_t = 30)]
+    pub pairs: usize,
+    /// The gripper noise of the `noise` runs.
+    #[arg(long, value_enum, default_value_t = NoiseModelArg::Increment)]
+    pub noise_model: NoiseModelArg,
+    /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
+    /// calibration is first run on the default known wire and cached in the results folder.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
 }

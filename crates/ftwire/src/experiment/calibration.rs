@@ -361,3 +361,30 @@ pub fn load_or_run(
     let run = run(&wire, (gravity, kind), DEFAULT_SAMPLES, seed, progress)?;
     Ok((run.calibration.clone(), Some(run)))
 }
+
+/// [`load_or_run`] for an experiment writing `folder`: says when it calibrates first, and
+/// caches a fresh run's weights there as `calibration.json`. Returns the calibration and the
+/// time it took \[s\].
+///
+/// # Errors
+/// As [`load_or_run`], and the folder's write errors.
+pub fn load_or_run_into(
+    folder: &crate::results::ResultsFolder,
+    file: Option<&Path>,
+    (gravity, kind): (Gravity, ModelKind),
+    seed: u64,
+) -> Result<(Calibration, f64), CliError> {
+    if file.is_none() {
+        eprintln!("no --calibration: calibrating on the known wire first");
+    }
+    let start = Instant::now();
+    let (calibration, calibration_run) = load_or_run(file, (gravity, kind), seed, |_| {})?;
+    let seconds = start.elapsed().as_secs_f64();
+    if calibration_run.is_some() {
+        let json = calibration
+            .to_json()
+            .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
+        folder.write("calibration.json", json)?;
+    }
+    Ok((calibration, seconds))
+}

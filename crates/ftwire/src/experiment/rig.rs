@@ -4,7 +4,7 @@
 use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
 use ftwire_rod::Rod;
-use ftwire_sim::{RigConfig, SimRig, Simulator, World};
+use ftwire_sim::{BoxObstacle, RigConfig, SimRig, Simulator, World};
 use nalgebra::{Vector3, Vector6};
 
 use super::{Gravity, SIM_EDGES};
@@ -33,8 +33,25 @@ pub fn place_wire(
     a0: &Vector6<f64>,
     config: RigConfig,
 ) -> Result<SimRig, CliError> {
+    place_wire_among(wire, gravity, a0, config, &[])
+}
+
+/// As [`place_wire`], in a world with box `obstacles` (world frame = base clamp frame).
+///
+/// # Errors
+/// As [`place_wire`].
+pub fn place_wire_among(
+    wire: &WireSpec,
+    gravity: Gravity,
+    a0: &Vector6<f64>,
+    config: RigConfig,
+    obstacles: &[BoxObstacle],
+) -> Result<SimRig, CliError> {
     let params = wire.rod_params(gravity.vector(), SIM_EDGES);
-    let world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
+    let world = obstacles.iter().fold(
+        World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?,
+        |world, obstacle| world.with_box(*obstacle),
+    );
     let model = Rod::new(
         wire.wire_params()
             .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,

@@ -1,6 +1,7 @@
 //! `ftwire experiment <id>`: one module per experiment.
 
 pub mod calibrate;
+pub mod goal;
 pub mod identify;
 pub mod shape;
 
@@ -14,5 +15,6 @@ pub fn run(args: ExperimentArgs) -> Result<(), CliError> {
         ExperimentId::Identify(args) => identify::run(args),
         ExperimentId::Calibrate(args) => calibrate::run(args),
         ExperimentId::Shape(args) => shape::run(args),
+        ExperimentId::Goal(args) => goal::run(args),
     }
 }

@@ -23,12 +23,11 @@
 //! calibration's input), `b` the believed tip pose, `markers` the frame in the base clamp frame.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
-use ftwire::experiment::calibration::{load_or_run, rig_seed};
+use ftwire::experiment::calibration::{load_or_run_into, rig_seed};
 use ftwire::experiment::rig::{
     believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
     true_centreline,
@@ -135,17 +134,6 @@ fn median(values: &mut [f64]) -> f64 {
         n if n % 2 == 1 => values[n / 2],
         n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
     }
-}
-
-/// Writes a figure into the results folder.
-fn write_figure(
-    folder: &ResultsFolder,
-    stem: &str,
-    draw: impl FnOnce(&Path) -> Result<Vec<PathBuf>, ftwire_report::ReportError>,
-) -> Result<(), CliError> {
-    draw(folder.dir())
-        .map(|_| ())
-        .map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")))
 }
 
 /// Runs one configuration `k` of `wire` at `placed`.
@@ -261,23 +249,12 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     let out = common.out_dir("shape")?;
     let folder = ResultsFolder::create(&out)?;
     let header = RunHeader::new("experiment shape", Some(seed), &args)?;
-    if args.calibration.is_none() {
-        eprintln!("no --calibration: calibrating on the known wire first");
-    }
-    let start = Instant::now();
-    let (calibration, calibration_run) = load_or_run(
+    let (calibration, calibration_s) = load_or_run_into(
+        &folder,
         args.calibration.as_deref(),
         (common.gravity, common.model()),
         seed,
-        |_| {},
     )?;
-    let calibration_s = start.elapsed().as_secs_f64();
-    if calibration_run.is_some() {
-        let json = calibration
-            .to_json()
-            .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
-        folder.write("calibration.json", json)?;
-    }
     let mut csv = String::from(
         "wire,config,mean_mm,mounting_mean_mm,marker_mean_mm,confident,estimate_us,a1,a2,a3,a4,a5,a6\n",
     );
@@ -409,7 +386,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
                 SeriesKind::Line,
             )
             .with_curve("markers", markers, SeriesKind::Points);
-        write_figure(&folder, &format!("shape_{name}"), |dir| {
+        folder.write_figure(&format!("shape_{name}"), |dir| {
             chart.write(dir, &format!("shape_{name}"))
         })?;
     }
@@ -434,9 +411,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         Series::points("learnt calibration", points)
             .with_error_bars(results.iter().map(|r| r.std_mm).collect()),
     );
-    write_figure(&folder, "error_per_wire", |dir| {
-        chart.write(dir, "error_per_wire")
-    })?;
+    folder.write_figure("error_per_wire", |dir| chart.write(dir, "error_per_wire"))?;
     let summary = ShapeSummary {
         model: common.model(),
         wires: results,
