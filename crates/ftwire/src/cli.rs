@@ -3,8 +3,8 @@
 pub mod demo;
 pub mod experiment;
 pub mod identify;
-pub mod reproduce;
 pub mod plan;
+pub mod reproduce;
 pub mod robot;
 pub mod shape;
 pub mod sim_equilibrium;

@@ -26,7 +26,7 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
     };
     let (first, stderr) = run();
     // Not a terminal here: plain progress lines, one per phase and its result.
-    for phase in ["[1/3]", "[2/3]", "[3/3]"] {
+    for phase in ["[1/5]", "[2/5]", "[3/5]", "[4/5]", "[5/5]"] {
         assert!(stderr.contains(phase), "{phase} in {stderr}");
     }
     let summary: serde_json::Value = serde_json::from_slice(&first).expect("JSON");

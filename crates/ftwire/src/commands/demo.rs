@@ -12,8 +12,8 @@
 //! 4. **Plan** through the scene (`--scene`, default the shipped 50 mm passage,
 //!    `scenes/passage.toml`) with RRT* in `A_free` for the identified wire, a fixed iteration
 //!    budget (the same path on any machine), resampled into waypoints.
-//! 5. **Track** the plan in the simulator with the scene's obstacles, under the paper's
-//!    execution noise (`increment`): closed loop with the identified loaded model and the
+//! 5. **Track** the plan in the simulator with the scene's obstacles (execution noise of
+//!    `--noise-model`, none by default): closed loop with the identified loaded model and the
 //!    collision detector armed (calibrated on a rehearsal away from the obstacles), then once
 //!    open loop for contrast; each scored on the true wire (touched an obstacle, final error,
 //!    shape against the plan at each waypoint).
@@ -32,20 +32,20 @@ use ftwire::error::{CliError, from_estimate, from_plan, from_rod};
 use ftwire::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
 use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
 use ftwire::experiment::track::{Attempt, Tracking, plan_in_scene};
-use ftwire_control::NoiseModel;
-use ftwire_plan::Scene;
 use ftwire::experiment::{Gravity, ModelKind};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::wire::WireSpec;
+use ftwire_control::NoiseModel;
 use ftwire_core::WireParams;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::identify::MotionPlan;
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_plan::Scene;
 use ftwire_report::{Chart3d, SeriesKind};
-use ftwire_rod::{Load, Rod};
 use ftwire_rod::sampling::Sampler;
+use ftwire_rod::{Load, Rod};
 use ftwire_sim::RigConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
@@ -54,7 +54,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::cli::demo::DemoArgs;
-use crate::cli::experiment::IDENTIFY_REST_SAMPLES;
+use crate::cli::experiment::{IDENTIFY_REST_SAMPLES, NoiseModelArg};
 use crate::cli::identify::{FormArg, IdentifySettingsArgs, SensorArg};
 use crate::commands::experiment::identify::{
     Map, Protocol, linear_density, loaded_config, record_trial, truth,
@@ -288,7 +288,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 
     // 3. Shape from F/T with the identified model.
     let phase = Phase::start(3, "estimate the shape from F/T", SHAPE_CONFIGS as u64);
-    let (shape, first) = shapes(&wire, &learnt, model.clone(), seed, |k| phase.set(k))?;
+    let (shape, first) = shapes(&wire, &learnt, model, seed, |k| phase.set(k))?;
     if let Some((estimate, truth)) = &first {
         let chart = Chart3d::new(format!("{}: shape from F/T against the truth", wire.name))
             .with_curve("truth (simulator)", truth.clone(), SeriesKind::Line)
@@ -341,6 +341,9 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 
     // 5. Track the plan closed loop, then open loop.
     let phase = Phase::start(5, "track the plan, closed then open loop", 3);
+    let noise = args
+        .noise_model
+        .map_or(NoiseModel::None, NoiseModelArg::model);
     // The controller's model: the identified one, with gravity in the base clamp frame.
     let controller_model = model
         .with_weight_per_length(weight)
@@ -350,7 +353,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         gravity,
         scene: &scene,
         calibration: &learnt,
-        noise: match std::env::var("FTWIRE_NOISE").as_deref() { Ok("none") => NoiseModel::None, Ok("offset") => NoiseModel::Offset, _ => NoiseModel::Increment },
+        noise,
         seed,
     };
     let detector = tracking.detector(&controller_model, &planned.waypoints)?;
@@ -383,7 +386,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         verdict(&open)
     ));
     let tracking_out = TrackingOut {
-        noise_model: NoiseModel::Increment.name(),
+        noise_model: noise.name(),
         detector_threshold: detector.threshold(),
         closed_loop: closed,
         open_loop: open,

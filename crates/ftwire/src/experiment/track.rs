@@ -15,8 +15,8 @@
 use std::time::Instant;
 
 use ftwire_control::{
-    CollisionDetector, ControlSettings, MIN_CALIBRATION_RESIDUALS, Controller, FtFeedback, NoiseModel, NoiseSettings,
-    NoisyRig, Outcome, RobotReach,
+    CollisionDetector, ControlSettings, Controller, FtFeedback, MIN_CALIBRATION_RESIDUALS,
+    NoiseModel, NoiseSettings, NoisyRig, Outcome, RobotReach,
 };
 use ftwire_core::Pose;
 use ftwire_estimate::KirchhoffModel;
@@ -119,7 +119,9 @@ pub fn waypoints_along(
                 0.0
             };
             let a = from + (to - from) * t;
-            let tip = rod.tip(&a).map_err(|e| from_rod(e, "a waypoint of the path"))?;
+            let tip = rod
+                .tip(&a)
+                .map_err(|e| from_rod(e, "a waypoint of the path"))?;
             let shape = rod
                 .shape(&a, ValidityParams::default().nodes)
                 .map_err(|e| from_rod(e, "a waypoint of the path"))?;
@@ -138,9 +140,13 @@ pub fn waypoints_along(
 ///
 /// # Errors
 /// Bad input for an invalid start or goal; no answer when no path is found.
-pub fn plan_in_scene(scene: &Scene, rod: &Rod, seed: u64) -> Result<(ScenePlan, Checker), CliError> {
+pub fn plan_in_scene(
+    scene: &Scene,
+    rod: &Rod,
+    seed: u64,
+) -> Result<(ScenePlan, Checker), CliError> {
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
-    let checker = Checker::new(rod.clone(), robot, scene, ValidityParams::default())
+    let checker = Checker::new(*rod, robot, scene, ValidityParams::default())
         .map_err(|e| from_plan(e, "the scene"))?;
     let endpoint = |name: &str, role| {
         scene_endpoint(scene, &checker, name, role).map_err(|e| from_plan(e, "the scene"))
@@ -285,7 +291,14 @@ impl Tracking<'_> {
             seed: self.seed ^ stream.wrapping_mul(0x9e37_79b9),
             ..RigConfig::default()
         };
-        let mut rig = place_in_scene(self.wire, self.gravity, self.scene, obstacles, start, config)?;
+        let mut rig = place_in_scene(
+            self.wire,
+            self.gravity,
+            self.scene,
+            obstacles,
+            start,
+            config,
+        )?;
         let tared: FtPipeline<Calibration> = pipeline(tare(&mut rig)?, self.calibration.clone())?;
         let noisy = NoisyRig::new(
             rig,
@@ -355,7 +368,7 @@ impl Tracking<'_> {
         };
         let (mut rig, feedback) = self.rig(&first.a, obstacles, stream)?;
         let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
-        let _ = robot; let mut reach = ftwire_control::AnyPose;
+        let mut reach = RobotReach::new(robot, Pose::identity(), self.scene.base);
         // Between waypoints a few steps and a loose stop; the goal to the controller's ε.
         let through = ControlSettings {
             epsilon: 0.3,
@@ -364,7 +377,7 @@ impl Tracking<'_> {
         };
         let end = ControlSettings::default();
         let build = |settings| {
-            let controller = Controller::new(model.clone(), settings)
+            let controller = Controller::new(*model, settings)
                 .map_err(|e| CliError::bad_input(e.to_string()))?;
             Ok::<_, CliError>(match detector {
                 Some(d) => controller.with_detector(d),
@@ -397,11 +410,6 @@ impl Tracking<'_> {
                 })
                 .map_err(|e| CliError::bad_input(format!("waypoint {i}: {e}")))?;
             attempt.steps += run.steps.len();
-            if std::env::var("FTWIRE_DEBUG").is_ok() {
-                let w = model.wire();
-                eprintln!("DEBUG wp {i} obstacles {obstacles}: outcome {:?} start ã {:.2?} target {:.2?} truth {:.2?}", run.outcome, to_normalised(w, &run.start).as_slice(), to_normalised(w, &waypoint.a).as_slice(), to_normalised(w, &truth_of(rig.inner()).a).as_slice());
-                for st in &run.steps { eprintln!("   step measured {:.2?} miss {:.3} res {:.2}", to_normalised(w, &st.measured).as_slice(), st.miss, st.residual); }
-            }
             residuals.extend(run.steps.iter().map(|s| s.residual));
             attempt
                 .centrelines
@@ -440,10 +448,7 @@ impl Tracking<'_> {
             return Err(CliError::no_answer("an empty path"));
         };
         let (mut rig, _) = self.rig(&first.a, true, stream)?;
-        let poses: Vec<Pose> = waypoints
-            .iter()
-            .map(|w| w.tip)
-            .collect();
+        let poses: Vec<Pose> = waypoints.iter().map(|w| w.tip).collect();
         let mut attempt = Attempt {
             mode: "open_loop",
             outcome: "done".to_owned(),
@@ -470,7 +475,8 @@ impl Tracking<'_> {
         for (k, truth) in &truths {
             attempt.touched |= truth.touched;
             attempt.centrelines.push(to_points(&truth.centreline));
-            if let Some(waypoint) = waypoints.get(*k) {
+            // `roll_out` numbers its moves from 0: move k ends at waypoint k + 1.
+            if let Some(waypoint) = waypoints.get(k + 1) {
                 attempt
                     .shape_mm
                     .push(shape_mm(&truth.centreline, &waypoint.centreline)?);
@@ -481,7 +487,13 @@ impl Tracking<'_> {
     }
 
     /// The final error on the true wrench, and success.
-    fn finish(&self, attempt: &mut Attempt, rig: &SimRig, goal: &Vector6<f64>, model: &KirchhoffModel) {
+    fn finish(
+        &self,
+        attempt: &mut Attempt,
+        rig: &SimRig,
+        goal: &Vector6<f64>,
+        model: &KirchhoffModel,
+    ) {
         let truth = truth_of(rig);
         let wire = model.wire();
         let error = (to_normalised(wire, &truth.a) - to_normalised(wire, goal)).norm();
