@@ -16,7 +16,7 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
     let out = dir.join("demo");
     let out = out.to_str().expect("UTF-8");
     let run = || {
-        let output = ftwire(&["demo", "--seed", "3", "--out", out]);
+        let output = ftwire(&["demo", "--seed", "0", "--out", out]);
         assert_success(&output, "the demo");
         let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
         (
@@ -42,7 +42,21 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
         .as_f64()
         .expect("a number");
     assert!(shape < 3.0, "shape from F/T within 3 mm: {shape}");
-    for file in ["timings.json", "calibration.json", "shape.png", "shape.svg"] {
+    let tracking = &summary["tracking"];
+    for mode in ["closed_loop", "open_loop"] {
+        assert!(tracking[mode]["success"].is_boolean(), "{mode}: {tracking}");
+    }
+    assert!(
+        tracking["closed_loop"]["touched"] == false,
+        "closed loop without noise keeps clear of the boxes: {tracking}"
+    );
+    for file in [
+        "timings.json",
+        "calibration.json",
+        "shape.png",
+        "shape.svg",
+        "tracking.png",
+    ] {
         assert!(dir.join("demo").join(file).is_file(), "{file}");
     }
     let (second, _) = run();

@@ -85,7 +85,11 @@ fn experiment_jobs(quick: bool, calibration: &Path) -> Vec<Job> {
         identify.extend(strings(&["--samples", "3"]));
     }
     let mut shape = strings(&["experiment", "shape"]);
-    for args in [&mut identify, &mut shape] {
+    let mut goal = strings(&["experiment", "goal"]);
+    if quick {
+        goal.extend(strings(&["--pairs", "10"]));
+    }
+    for args in [&mut identify, &mut shape, &mut goal] {
         args.extend(["--calibration".to_owned(), calibration.clone()]);
     }
     vec![
@@ -98,6 +102,11 @@ fn experiment_jobs(quick: bool, calibration: &Path) -> Vec<Job> {
             id: "shape",
             args: shape,
             expected_s: (10.0, 10.0),
+        },
+        Job {
+            id: "goal",
+            args: goal,
+            expected_s: (25.0, 70.0),
         },
     ]
 }
@@ -315,10 +324,13 @@ fn report(dir: &Path, statuses: &[Status], quick: bool) -> String {
         }
         md.push('\n');
     }
+    if let Some(s) = summary_of(dir, "goal") {
+        goal_table(&mut md, &s);
+    }
     let _ = writeln!(
         md,
-        "## Not in this report\n\nTable III (goal reaching), Table IV (path tracking) and the \
-         passage success rates join this report when their experiments exist."
+        "## Not in this report\n\nTable IV (path tracking) and the passage success rates join \
+         this report when their experiments exist."
     );
     md
 }
@@ -383,4 +395,58 @@ fn identification_table(md: &mut String, s: &Value) {
         }
     }
     md.push('\n');
+}
+
+/// Paper Table III: mean shape error \[mm\] at the end of a motion to a goal, `(open loop,
+/// closed loop)`, without and with the paper's noise (`None` where the paper gives none).
+const TABLE_III: [(&str, Option<f64>, Option<f64>); 2] = [
+    ("no noise", None, Some(9.67)),
+    ("noise", Some(17.35), Some(9.11)),
+];
+
+/// Table III: goal reaching, ours beside the paper's.
+fn goal_table(md: &mut String, s: &Value) {
+    let _ = writeln!(
+        md,
+        "## Table III: reaching a goal in A ({} pairs, noise model `{}`)\n\nMean distance \
+         [mm] between the true final shape and Φ(a_g) (± std), the trials counted (failed runs \
+         and simulator failures are left out and listed in the experiment's summary), and the \
+         mean over the trials in which the simulated wire did not snap to another shape.\n\n\
+         | | ours, open loop | ours, closed loop | paper, open loop | paper, closed loop |\n\
+         | --- | --- | --- | --- | --- |",
+        number(&s["pairs"], 0),
+        s["noise_model"].as_str().unwrap_or("?"),
+    );
+    let cell = |v: &Value| {
+        format!(
+            "{} ± {} ({} trials; {} without snaps)",
+            number(&v["mean_mm"], 2),
+            number(&v["std_mm"], 2),
+            number(&v["trials"], 0),
+            number(&v["mean_mm_without_snaps"], 2),
+        )
+    };
+    let paper = |v: Option<f64>| v.map_or_else(|| "–".to_owned(), |x| format!("{x:.2}"));
+    for (key, (label, open, closed)) in ["no_noise", "noise"].iter().zip(TABLE_III) {
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} |",
+            cell(&s["results"]["open_loop"][key]),
+            cell(&s["results"]["closed_loop"][key]),
+            paper(open),
+            paper(closed),
+        );
+    }
+    let c = &s["collision"];
+    let _ = writeln!(
+        md,
+        "\nSteps (median, with noise): {}. Collision detection: {} false alarms in {} free \
+         motions; {} of {} contacts detected, median delay {} steps.\n",
+        number(&s["steps_median"], 1),
+        number(&c["false_alarms"], 0),
+        number(&c["free_motions"], 0),
+        number(&c["detected"], 0),
+        number(&c["trials"], 0),
+        number(&c["detection_delay_steps_median"], 1),
+    );
 }

@@ -269,8 +269,7 @@ pub fn map_errors(
 }
 
 /// Collects `count` configurations on `wire`, trains the network with the default
-/// [`TrainConfig`] anchored at zero (the readings are tared) and `seed`, and evaluates it (see
-/// the module docs).
+/// [`TrainConfig`] and `seed`, and evaluates it (see the module docs).
 ///
 /// # Errors
 /// Bad input for a bad wire or too few usable samples for the split; no answer when the
@@ -290,13 +289,10 @@ pub fn run(
         samples.iter().map(|s| s.label).collect(),
     )
     .map_err(|e| from_estimate(e, "the calibration data"))?;
-    // The readings are tared with the gripper empty: a zero reading is a zero wrench, so the
-    // map is anchored there (without it, its intercept of a few mN cost the softest unseen
-    // wires up to 0.4 % in identification).
-    let config = TrainConfig {
-        anchored: true,
-        ..TrainConfig::default()
-    };
+    // Not anchored at zero (`TrainConfig::anchored`): with gravity on, the calibration wire's
+    // readings never come near zero, and the trained map's value there is an extrapolation
+    // (measured: up to 0.09 N, making the test error worse than the raw reading's on seed 2).
+    let config = TrainConfig::default();
     let start = Instant::now();
     let calibration = Calibration::train(&data, &config, seed).map_err(|e| {
         from_estimate(

@@ -2,7 +2,7 @@
 //! demo's phases 4 and 5, and the tracking experiments' building blocks.
 //!
 //! - [`plan_in_scene`]: RRT* in `A_free` of the scene (fixed base) with a fixed iteration
-//!   budget, so the same seed gives the same path on any machine, resampled into waypoints
+//!   budget and seeded restarts, so the same seed gives the same path on any machine, resampled into waypoints
 //!   `γ_A(i/N)`.
 //! - [`place_in_scene`]: the simulated rig with the base clamp at the scene's base pose, the
 //!   scene's obstacles (the same file the planner read) and the true wire at a configuration.
@@ -42,7 +42,11 @@ use crate::wire::WireSpec;
 
 /// RRT* iterations of [`plan_in_scene`] (an iteration budget, not a time budget, so that the
 /// path does not depend on the machine's speed).
-pub const PLAN_ITERATIONS: usize = 600;
+pub const PLAN_ITERATIONS: usize = 1000;
+
+/// Planner restarts of [`plan_in_scene`], each with its own seed drawn from the caller's (a
+/// tree grown from an unlucky first samples can stall).
+pub const PLAN_RESTARTS: u64 = 4;
 
 /// Waypoints the plan is resampled into (`N` of `γ_A(i/N)`).
 pub const WAYPOINTS: usize = 12;
@@ -153,16 +157,30 @@ pub fn plan_in_scene(
     };
     let start = endpoint("start", "start")?;
     let goal = endpoint("goal", "goal")?;
-    let params = PlannerParams {
-        seed,
-        time_budget: None,
-        max_iterations: PLAN_ITERATIONS,
-        ..PlannerParams::default()
-    };
     let began = Instant::now();
     let space = FixedBase::around(*rod.wire(), scene.base, &[start.config, goal.config], 2.0);
-    let found = plan(&space, &checker, &start, &goal.config, &params)
-        .map_err(|e| from_plan(e, "planning in the scene"))?;
+    let mut last = None;
+    let mut found = None;
+    for restart in 0..PLAN_RESTARTS {
+        let params = PlannerParams {
+            seed: seed.wrapping_add(restart.wrapping_mul(0x9e37_79b9_7f4a_7c15)),
+            time_budget: None,
+            max_iterations: PLAN_ITERATIONS,
+            ..PlannerParams::default()
+        };
+        match plan(&space, &checker, &start, &goal.config, &params) {
+            Ok(plan) => {
+                found = Some(plan);
+                break;
+            }
+            Err(e) => last = Some(e),
+        }
+    }
+    let found = match (found, last) {
+        (Some(found), _) => found,
+        (None, Some(e)) => return Err(from_plan(e, "planning in the scene")),
+        (None, None) => return Err(CliError::no_answer("planning in the scene: no attempt")),
+    };
     let waypoints = waypoints_along(rod, &scene.base, &found.path.waypoints, WAYPOINTS)?;
     let seconds = began.elapsed().as_secs_f64();
     Ok((
