@@ -44,8 +44,8 @@ use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_plan::Scene;
 use ftwire_report::{Chart3d, SeriesKind};
-use ftwire_rod::sampling::Sampler;
 use ftwire_rod::Rod;
+use ftwire_rod::sampling::Sampler;
 use ftwire_sim::RigConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
