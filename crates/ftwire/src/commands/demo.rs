@@ -560,9 +560,13 @@ fn summary_density(identification: &IdentificationOut) -> f64 {
     identification.linear_density.unwrap_or(0.0)
 }
 
-/// The scene's boxes (their twelve edges) and the true wire at each rest of `attempt`.
+/// Rests of the closed-loop run drawn in `tracking.png`.
+const FIGURE_RESTS: usize = 7;
+
+/// The scene's boxes (their twelve edges) and the true wire at [`FIGURE_RESTS`] rests of
+/// `attempt`, evenly spaced from the first to the last.
 fn scene_chart(scene: &Scene, attempt: &Attempt) -> Chart3d {
-    let mut chart = Chart3d::new("the passage: the true wire at each rest, closed loop");
+    let mut chart = Chart3d::new("the passage: the true wire, closed loop");
     for b in &scene.boxes {
         let pose = b.geometry.pose();
         let h = b.geometry.half_extents();
@@ -579,8 +583,22 @@ fn scene_chart(scene: &Scene, attempt: &Attempt) -> Chart3d {
             SeriesKind::Line,
         );
     }
-    for (k, centreline) in attempt.centrelines.iter().enumerate() {
-        chart = chart.with_curve(format!("rest {k}"), centreline.clone(), SeriesKind::Line);
+    // A few rests, evenly spaced, and the last: a readable legend.
+    let n = attempt.centrelines.len();
+    let shown = FIGURE_RESTS.min(n);
+    for j in 0..shown {
+        let k = if shown > 1 {
+            j * (n - 1) / (shown - 1)
+        } else {
+            0
+        };
+        if let Some(centreline) = attempt.centrelines.get(k) {
+            chart = chart.with_curve(
+                format!("after move {}", k + 1),
+                centreline.clone(),
+                SeriesKind::Line,
+            );
+        }
     }
     chart
 }
