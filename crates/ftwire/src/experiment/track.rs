@@ -356,11 +356,12 @@ impl Tracking<'_> {
         .map_err(|e| CliError::no_answer(format!("calibrating the collision detector: {e}")))
     }
 
-    /// Tracks the waypoints closed loop with `detector` armed.
+    /// Tracks the waypoints closed loop with `detector` armed. A waypoint the controller
+    /// refuses (outside its model's `A_stable`, an unreachable pose) ends the attempt, with
+    /// the reason as its outcome.
     ///
     /// # Errors
-    /// No answer when the rig cannot be placed at the start; bad input for a goal outside
-    /// `A_stable`.
+    /// No answer when the rig cannot be placed at the start.
     pub fn closed_loop(
         &self,
         model: &KirchhoffModel,
@@ -420,13 +421,21 @@ impl Tracking<'_> {
             let final_leg = i + 1 == waypoints.len();
             let controller = if final_leg { &end } else { &through };
             let mut centrelines = Vec::new();
-            let run = controller
-                .run_observed(&mut rig, &feedback, &mut reach, &waypoint.a, |r, _| {
+            let run =
+                controller.run_observed(&mut rig, &feedback, &mut reach, &waypoint.a, |r, _| {
                     let truth = truth_of(r.inner());
                     touched |= truth.touched;
                     centrelines.push(truth.centreline);
-                })
-                .map_err(|e| CliError::bad_input(format!("waypoint {i}: {e}")))?;
+                });
+            // The controller refuses a waypoint it cannot steer to (outside its model's
+            // A_stable, or from a pose the robot cannot hold): the attempt ends there.
+            let run = match run {
+                Ok(run) => run,
+                Err(e) => {
+                    attempt.outcome = format!("refused at waypoint {i}: {e}");
+                    break;
+                }
+            };
             attempt.steps += run.steps.len();
             residuals.extend(run.steps.iter().map(|s| s.residual));
             attempt
