@@ -56,13 +56,29 @@ pub fn place_wire_among(
         wire.wire_params()
             .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
     );
-    let tip = model
-        .tip(a0)
-        .map_err(|e| from_rod(e, "placing the wire at its start configuration"))?;
-    let guess = kirchhoff_guess(&model, a0, world.rod())
+    place_in_world(world, &model, &Pose::identity(), a0, config)
+}
+
+/// A simulated rig in `world` with the base clamp at `base` (world frame) and the second
+/// gripper at `base · Γ(a0)` of `model`, the simulator starting from `model`'s shape of `a0`:
+/// what [`place_wire`], [`place_wire_among`] and the scenes' placement share.
+///
+/// # Errors
+/// No answer when the model or the simulator cannot place the wire there.
+pub fn place_in_world(
+    world: World,
+    model: &Rod,
+    base: &Pose,
+    a0: &Vector6<f64>,
+    config: RigConfig,
+) -> Result<SimRig, CliError> {
+    let tip = base
+        * model
+            .tip(a0)
+            .map_err(|e| from_rod(e, "placing the wire at its start configuration"))?;
+    let guess = kirchhoff_guess(model, a0, world.rod())
         .map_err(|e| from_rod(e, "the start shape of the wire"))?;
-    let base = Pose::identity();
-    let sim = Simulator::with_guess(world, &guess, &base, &tip)
+    let sim = Simulator::with_guess(world, &guess, base, &tip)
         .map_err(|e| from_sim(e, "placing the wire in the simulator"))?;
     SimRig::from_simulator(sim, config).map_err(|e| from_sim(e, "building the simulated rig"))
 }

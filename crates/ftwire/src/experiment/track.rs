@@ -29,13 +29,12 @@ use ftwire_plan::{
 };
 use ftwire_robot::Robot;
 use ftwire_rod::{Load, Rod, to_normalised};
-use ftwire_sim::{RigConfig, SimRig, Simulator, World};
+use ftwire_sim::{RigConfig, SimRig, World};
 use nalgebra::{Point3, Vector3, Vector6};
 use serde::Serialize;
 
 use super::Gravity;
-use super::rig::{SAMPLES_PER_REST, pipeline, tare};
-use crate::bridge::kirchhoff_guess;
+use super::rig::{SAMPLES_PER_REST, pipeline, place_in_world, tare};
 use crate::error::{CliError, from_plan, from_rod, from_sim};
 use crate::scene::with_scene;
 use crate::wire::WireSpec;
@@ -225,15 +224,7 @@ pub fn place_in_scene(
             .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
     )
     .with_load(load);
-    let tip = scene.base
-        * model
-            .tip(a0)
-            .map_err(|e| from_rod(e, "placing the wire at its start configuration"))?;
-    let guess = kirchhoff_guess(&model, a0, world.rod())
-        .map_err(|e| from_rod(e, "the start shape of the wire"))?;
-    let sim = Simulator::with_guess(world, &guess, &scene.base, &tip)
-        .map_err(|e| from_sim(e, "placing the wire in the simulator"))?;
-    SimRig::from_simulator(sim, config).map_err(|e| from_sim(e, "building the simulated rig"))
+    place_in_world(world, &model, &scene.base, a0, config)
 }
 
 /// What one tracking attempt did, scored on the simulator's truth.
