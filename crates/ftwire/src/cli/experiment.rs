@@ -30,6 +30,12 @@ pub enum ExperimentId {
     /// Table III, Figs. 6–7: steer the wire between A-connected pairs of A_free, closed loop
     /// (eq. 13–14) against open loop, with and without gripper noise; collision detection.
     Goal(GoalExperimentArgs),
+    /// Table IV, Figs. 8–9: random start/goal pairs of Z_free, planned with RRT* and tracked
+    /// open and closed loop under gripper noise; the shape error along the path.
+    Track(TrackExperimentArgs),
+    /// §IV-E, Figs. 11–13: one plan through a 50 mm passage between two boxes, then repeated
+    /// open- and closed-loop roll-outs under gripper noise with collision detection armed.
+    Passage(PassageExperimentArgs),
 }
 
 /// Options every experiment takes.
@@ -220,4 +226,87 @@ pub struct GoalExperimentArgs {
     /// calibration is first run on the default known wire and cached in the results folder.
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
+}
+
+/// The options of the experiments that roll a plan out (`track`, `passage`).
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct RolloutArgs {
+    /// The gripper noise of the roll-outs (the paper's is `increment`).
+    #[arg(long, value_enum, default_value_t = NoiseModelArg::Increment)]
+    pub noise_model: NoiseModelArg,
+    /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
+    /// calibration is first run on the default known wire and cached in the results folder.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+    /// The controller's gain K of eq. 13, in (0, 1] (the paper's: 0.2). Under `increment`
+    /// noise a larger gain undoes each move's error sooner: the wire's stationary spread about
+    /// the path falls from 1.67 times one move's error at K = 0.2 to 1 at K = 1.
+    #[arg(long, value_name = "K", default_value_t = 0.2, value_parser = ftwire::args::parse_finite)]
+    pub gain: f64,
+}
+
+impl RolloutArgs {
+    /// `--gain`, checked.
+    ///
+    /// # Errors
+    /// Bad input for a gain outside `(0, 1]`.
+    pub fn gain(&self) -> Result<f64, CliError> {
+        if self.gain > 0.0 && self.gain <= 1.0 {
+            Ok(self.gain)
+        } else {
+            Err(CliError::bad_input(format!(
+                "--gain {}: give a gain K in (0, 1]",
+                self.gain
+            )))
+        }
+    }
+}
+
+/// `ftwire experiment track`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct TrackExperimentArgs {
+    /// The options every experiment takes (`--wire` defaults to nitinol-3mm-820).
+    #[command(flatten)]
+    pub common: CommonExperimentArgs,
+    /// Start–goal pairs (the paper: 10).
+    #[arg(long, default_value_t = 10)]
+    pub pairs: usize,
+    /// What limits the closed loop's commanded poses: `any` ignores the arms' kinematics,
+    /// as the paper's noise experiments and `experiment goal` do (under `increment` noise the
+    /// believed pose wanders from the true one by a random walk of 10 mm a move, and soon
+    /// leaves the arms' workspace); `robot` stops a run at a pose the SDA10F cannot reach.
+    /// The pairs and the plans are in `Z_free` (reachable) either way.
+    #[arg(long, value_enum, default_value_t = ReachArg::Any)]
+    pub reach: ReachArg,
+    /// Noise, calibration and gain.
+    #[command(flatten)]
+    pub rollout: RolloutArgs,
+}
+
+/// `ftwire experiment passage`.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct PassageExperimentArgs {
+    /// The options every experiment takes (`--wire` defaults to nitinol-3mm-820, the wire
+    /// the shipped passage is made for).
+    #[command(flatten)]
+    pub common: CommonExperimentArgs,
+    /// The scene [default: the shipped 50 mm passage, `scenes/passage.toml`].
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// Roll-outs of each of open and closed loop (the paper: 10).
+    #[arg(long, default_value_t = 50)]
+    pub attempts: usize,
+    /// Noise, calibration and gain.
+    #[command(flatten)]
+    pub rollout: RolloutArgs,
+}
+
+/// `experiment track --reach`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReachArg {
+    /// No limit from the arms.
+    Any,
+    /// The SDA10F's dual-arm IK and arm collisions.
+    Robot,
 }

@@ -76,7 +76,7 @@ pub const SHAPE_CONFIGS: usize = 5;
 const PHASES: usize = 5;
 
 /// The default scene, shipped in the repository and built into the binary.
-const PASSAGE: &str = include_str!("../../../../scenes/passage.toml");
+const PASSAGE: &str = ftwire::scene::PASSAGE;
 
 /// `summary.json`'s body.
 #[derive(Debug, Serialize)]
@@ -355,6 +355,8 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         calibration: &learnt,
         noise,
         seed,
+        gain: ftwire_control::ControlSettings::default().gain,
+        arms: true,
     };
     let detector = tracking.detector(&controller_model, &planned.waypoints)?;
     phase.set(1);
@@ -568,18 +570,9 @@ const FIGURE_RESTS: usize = 7;
 fn scene_chart(scene: &Scene, attempt: &Attempt) -> Chart3d {
     let mut chart = Chart3d::new("the passage: the true wire, closed loop");
     for b in &scene.boxes {
-        let pose = b.geometry.pose();
-        let h = b.geometry.half_extents();
-        let corner = |i: usize| {
-            let sign = |bit: usize| if i & bit == 0 { -1.0 } else { 1.0 };
-            let p = pose * nalgebra::Point3::new(sign(1) * h.x, sign(2) * h.y, sign(4) * h.z);
-            [p.x, p.y, p.z]
-        };
-        // The two faces' loops, then the four connecting edges, as one polyline.
-        let order = [0, 1, 3, 2, 0, 4, 5, 7, 6, 4, 5, 1, 3, 7, 6, 2];
         chart = chart.with_curve(
             b.name.clone(),
-            order.iter().map(|&i| corner(i)).collect(),
+            ftwire::scene::box_outline(b),
             SeriesKind::Line,
         );
     }

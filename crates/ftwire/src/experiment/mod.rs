@@ -93,6 +93,19 @@ pub fn known_model(
     gravity: Gravity,
     kind: ModelKind,
 ) -> Result<KirchhoffModel, CliError> {
+    known_model_under(wire, gravity.vector(), kind)
+}
+
+/// [`known_model`] with gravity `g_clamp` \[m/s²\] given in the base clamp frame (a base
+/// clamp turned from the world's axes, as in a scene).
+///
+/// # Errors
+/// Bad input for a wire whose parameters are not valid.
+pub fn known_model_under(
+    wire: &WireSpec,
+    g_clamp: Vector3<f64>,
+    kind: ModelKind,
+) -> Result<KirchhoffModel, CliError> {
     let params = wire
         .wire_params()
         .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
@@ -100,7 +113,7 @@ pub fn known_model(
     match kind {
         ModelKind::Kirchhoff => Ok(model),
         ModelKind::Loaded => {
-            let load = Load::from_gravity(wire.density, wire.radius, gravity.vector())
+            let load = Load::from_gravity(wire.density, wire.radius, g_clamp)
                 .and_then(|load| load.with_natural_curvature(Vector3::from(wire.natural_curvature)))
                 .map_err(|e| from_rod(e, "the loaded model of the wire"))?;
             Ok(model.with_load(load))

@@ -15,8 +15,8 @@
 use std::time::Instant;
 
 use ftwire_control::{
-    CollisionDetector, ControlSettings, Controller, FtFeedback, MIN_CALIBRATION_RESIDUALS,
-    NoiseModel, NoiseSettings, NoisyRig, Outcome, RobotReach,
+    AnyPose, CollisionDetector, ControlSettings, Controller, FtFeedback, NoiseModel, NoiseSettings,
+    NoisyRig, Outcome, Reach, ReachCheck, RobotReach,
 };
 use ftwire_core::Pose;
 use ftwire_estimate::KirchhoffModel;
@@ -50,10 +50,39 @@ pub const PLAN_RESTARTS: u64 = 4;
 /// Waypoints the plan is resampled into (`N` of `γ_A(i/N)`).
 pub const WAYPOINTS: usize = 12;
 
-/// Success tolerance on the true configuration at the end, `‖a_true − a_g‖` \[normalised\]:
-/// twice the controller's stop `ε` (0.05), which is on the measured `ã`, whose calibration
-/// error is a few tenths of a per cent of `|a|`.
+/// Success tolerance on the true configuration at the end, `‖a_true − a_g‖` \[normalised\],
+/// without noise or with `offset` noise: twice the controller's stop `ε` (0.05), which is on
+/// the measured `ã`, whose calibration error is a few tenths of a per cent of `|a|`.
 pub const SUCCESS_EPSILON: f64 = 0.1;
+
+/// The controller's stop `ε` on the last leg under `increment` or `absolute` noise
+/// \[normalised\]: each noisy move lands the wire about 0.2–0.5 away from where it was sent,
+/// so the stop rule waits for a move that lands within ε (as `ftwire experiment goal`'s
+/// headline ε with that noise).
+pub const EPSILON_NOISY: f64 = 0.5;
+
+/// The controller's iteration limit on the last leg under `increment` or `absolute` noise.
+pub const MAX_ITERATIONS_NOISY: usize = 400;
+
+/// The controller's settings on the last leg (to the goal) under `noise`: the library's
+/// defaults, with [`EPSILON_NOISY`] and [`MAX_ITERATIONS_NOISY`] for the noise models whose
+/// every move is off by the full noise.
+pub fn goal_settings(noise: NoiseModel) -> ControlSettings {
+    match noise {
+        NoiseModel::Increment | NoiseModel::Absolute => ControlSettings {
+            epsilon: EPSILON_NOISY,
+            max_iterations: MAX_ITERATIONS_NOISY,
+            ..ControlSettings::default()
+        },
+        NoiseModel::None | NoiseModel::Offset => ControlSettings::default(),
+    }
+}
+
+/// The success tolerance on the true final configuration under `noise`: twice the stop `ε`
+/// of [`goal_settings`] ([`SUCCESS_EPSILON`] without noise and with `offset`).
+pub fn success_epsilon(noise: NoiseModel) -> f64 {
+    2.0 * goal_settings(noise).epsilon
+}
 
 /// Most rehearsals [`Tracking::detector`] runs.
 pub const REHEARSALS: u64 = 5;
@@ -227,6 +256,20 @@ pub fn place_in_scene(
     place_in_world(world, &model, &scene.base, a0, config)
 }
 
+/// The model of a known wire held in `scene`: as [`super::known_model`], with the wire's
+/// weight under `gravity` expressed in the scene's base clamp frame.
+///
+/// # Errors
+/// Bad input for a wire whose parameters are not valid.
+pub fn scene_model(
+    wire: &WireSpec,
+    gravity: Gravity,
+    kind: super::ModelKind,
+    scene: &Scene,
+) -> Result<KirchhoffModel, CliError> {
+    super::known_model_under(wire, scene.base.rotation.inverse() * gravity.vector(), kind)
+}
+
 /// What one tracking attempt did, scored on the simulator's truth.
 #[derive(Debug, Clone, Serialize)]
 pub struct Attempt {
@@ -242,13 +285,17 @@ pub struct Attempt {
     pub detected: bool,
     /// `‖a_true − a_g‖` at the end \[normalised\] (the simulator's wrench).
     pub final_error: f64,
-    /// Success: never touched, and ended within [`SUCCESS_EPSILON`] of the goal (true wrench).
+    /// Success: never touched, and ended within [`success_epsilon`] of the goal (true wrench).
     pub success: bool,
     /// The true shape against `Φ(γ_A(i/N))` at each waypoint reached \[mm\].
     pub shape_mm: Vec<f64>,
     /// The true centreline (world frame) at each rest, for figures.
     #[serde(skip)]
     pub centrelines: Vec<Vec<[f64; 3]>>,
+    /// The true configuration (the simulator's base wrench) at the start and at each rest
+    /// \[N·m, N\], for figures.
+    #[serde(skip)]
+    pub a_true: Vec<[f64; 6]>,
 }
 
 /// One scenario of tracking: the true wire, the scene, the sensor's calibration, the noise.
@@ -266,6 +313,29 @@ pub struct Tracking<'a> {
     pub noise: NoiseModel,
     /// The seed of the rig and of the noise.
     pub seed: u64,
+    /// The controller's gain `K` (eq. 13; the paper's is 0.2,
+    /// `ControlSettings::default().gain`).
+    pub gain: f64,
+    /// Whether the closed loop checks each commanded pose against the SDA10F's arms (IK
+    /// within joint limits, no arm collision) and stops at one they cannot reach; `false`
+    /// ignores the arms' kinematics, as the paper's noise experiments do (eq. 13–14 do not
+    /// see them).
+    pub arms: bool,
+}
+
+/// The reach check of a closed-loop run: the robot's arms, or none.
+enum TrackReach {
+    Robot(Box<RobotReach>),
+    Any(AnyPose),
+}
+
+impl ReachCheck for TrackReach {
+    fn check(&mut self, relative: &Pose) -> Reach {
+        match self {
+            Self::Robot(robot) => robot.check(relative),
+            Self::Any(any) => any.check(relative),
+        }
+    }
 }
 
 /// Truth of the rig at a rest: contact, centreline, base wrench in normalised units.
@@ -319,10 +389,10 @@ impl Tracking<'_> {
         Ok((noisy, FtFeedback::new(tared, SAMPLES_PER_REST)))
     }
 
-    /// Calibrates the collision detector on rehearsals of the path with the obstacles away
-    /// (free motion in the same conditions, up to [`REHEARSALS`] of them until there are
-    /// three times [`MIN_CALIBRATION_RESIDUALS`] moves), as a robot would before entering the
-    /// passage.
+    /// Calibrates the collision detector on [`REHEARSALS`] rehearsals of the path with the
+    /// obstacles away (free motion in the same conditions, each under its own noise draw), as a
+    /// robot would before entering the passage: the threshold is the detector's default margin
+    /// over the largest jump ratio of those free moves.
     ///
     /// # Errors
     /// No answer when the rehearsal gives too few residuals.
@@ -333,9 +403,6 @@ impl Tracking<'_> {
     ) -> Result<CollisionDetector, CliError> {
         let mut residuals = Vec::new();
         for stream in 1..=REHEARSALS {
-            if residuals.len() >= 3 * MIN_CALIBRATION_RESIDUALS {
-                break;
-            }
             let (_, more) = self.closed_loop_with(model, waypoints, None, false, stream)?;
             residuals.extend(more);
         }
@@ -364,6 +431,21 @@ impl Tracking<'_> {
             .map(|(attempt, _)| attempt)
     }
 
+    /// Tracks the waypoints closed loop with no collision detector (a scene with nothing to
+    /// collide with, where it could only raise false alarms).
+    ///
+    /// # Errors
+    /// As [`Tracking::closed_loop`].
+    pub fn closed_loop_unarmed(
+        &self,
+        model: &KirchhoffModel,
+        waypoints: &[Waypoint],
+        stream: u64,
+    ) -> Result<Attempt, CliError> {
+        self.closed_loop_with(model, waypoints, None, true, stream)
+            .map(|(attempt, _)| attempt)
+    }
+
     /// Closed-loop tracking; returns the attempt and every move's detector residual.
     fn closed_loop_with(
         &self,
@@ -377,15 +459,27 @@ impl Tracking<'_> {
             return Err(CliError::no_answer("an empty path"));
         };
         let (mut rig, feedback) = self.rig(&first.a, obstacles, stream)?;
-        let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
-        let mut reach = RobotReach::new(robot, Pose::identity(), self.scene.base);
+        let mut reach = if self.arms {
+            let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+            TrackReach::Robot(Box::new(RobotReach::new(
+                robot,
+                Pose::identity(),
+                self.scene.base,
+            )))
+        } else {
+            TrackReach::Any(AnyPose)
+        };
         // Between waypoints a few steps and a loose stop; the goal to the controller's ε.
         let through = ControlSettings {
+            gain: self.gain,
             epsilon: 0.3,
             max_iterations: 8,
             ..ControlSettings::default()
         };
-        let end = ControlSettings::default();
+        let end = ControlSettings {
+            gain: self.gain,
+            ..goal_settings(self.noise)
+        };
         let build = |settings| {
             let controller = Controller::new(*model, settings)
                 .map_err(|e| CliError::bad_input(e.to_string()))?;
@@ -405,9 +499,12 @@ impl Tracking<'_> {
             success: false,
             shape_mm: Vec::new(),
             centrelines: Vec::new(),
+            a_true: Vec::new(),
         };
         let mut residuals = Vec::new();
-        let mut touched = truth_of(rig.inner()).touched;
+        let start = truth_of(rig.inner());
+        let mut touched = start.touched;
+        attempt.a_true.push(start.a.into());
         for (i, waypoint) in waypoints.iter().enumerate().skip(1) {
             let final_leg = i + 1 == waypoints.len();
             let controller = if final_leg { &end } else { &through };
@@ -416,7 +513,7 @@ impl Tracking<'_> {
                 controller.run_observed(&mut rig, &feedback, &mut reach, &waypoint.a, |r, _| {
                     let truth = truth_of(r.inner());
                     touched |= truth.touched;
-                    centrelines.push(truth.centreline);
+                    centrelines.push((truth.centreline, truth.a));
                 });
             // The controller refuses a waypoint it cannot steer to (outside its model's
             // A_stable, or from a pose the robot cannot hold): the attempt ends there.
@@ -429,9 +526,10 @@ impl Tracking<'_> {
             };
             attempt.steps += run.steps.len();
             residuals.extend(run.steps.iter().map(|s| s.residual));
-            attempt
-                .centrelines
-                .extend(centrelines.iter().map(|c| to_points(c)));
+            for (centreline, a) in &centrelines {
+                attempt.centrelines.push(to_points(centreline));
+                attempt.a_true.push((*a).into());
+            }
             let truth = truth_of(rig.inner());
             attempt
                 .shape_mm
@@ -467,16 +565,18 @@ impl Tracking<'_> {
         };
         let (mut rig, _) = self.rig(&first.a, true, stream)?;
         let poses: Vec<Pose> = waypoints.iter().map(|w| w.tip).collect();
+        let start = truth_of(rig.inner());
         let mut attempt = Attempt {
             mode: "open_loop",
             outcome: "done".to_owned(),
             steps: 0,
-            touched: truth_of(rig.inner()).touched,
+            touched: start.touched,
             detected: false,
             final_error: f64::NAN,
             success: false,
             shape_mm: Vec::new(),
             centrelines: Vec::new(),
+            a_true: vec![start.a.into()],
         };
         let mut truths = Vec::new();
         let rolled = ftwire_control::open_loop::roll_out::<_, Calibration>(
@@ -493,6 +593,7 @@ impl Tracking<'_> {
         for (k, truth) in &truths {
             attempt.touched |= truth.touched;
             attempt.centrelines.push(to_points(&truth.centreline));
+            attempt.a_true.push(truth.a.into());
             // `roll_out` numbers its moves from 0: move k ends at waypoint k + 1.
             if let Some(waypoint) = waypoints.get(k + 1) {
                 attempt
@@ -516,7 +617,7 @@ impl Tracking<'_> {
         let wire = model.wire();
         let error = (to_normalised(wire, &truth.a) - to_normalised(wire, goal)).norm();
         attempt.final_error = error;
-        attempt.success = !attempt.touched && error <= SUCCESS_EPSILON;
+        attempt.success = !attempt.touched && error <= success_epsilon(self.noise);
     }
 }
 

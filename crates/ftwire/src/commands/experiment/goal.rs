@@ -48,11 +48,9 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
-use ftwire::experiment::calibration::{load_or_run_into, rig_seed};
+use ftwire::experiment::calibration::rig_seed;
 use ftwire::experiment::rig::{SAMPLES_PER_REST, pipeline, place_wire_among, tare};
 use ftwire::experiment::{Gravity, ModelKind, known_model};
-use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
 use ftwire::wire::WireSpec;
 use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
@@ -74,6 +72,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
+use super::stats::{mean_std, median};
 use crate::cli::experiment::GoalExperimentArgs;
 
 /// The wire by default.
@@ -301,27 +300,6 @@ struct GoalSummary {
     collision: Collision,
     pair_draws: PairDraws,
     failures: Vec<Failure>,
-}
-
-fn median(values: &[f64]) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
-}
-
-fn mean_std(values: &[f64]) -> (f64, f64) {
-    let n = values.len();
-    if n == 0 {
-        return (f64::NAN, f64::NAN);
-    }
-    let m = values.iter().sum::<f64>() / n as f64;
-    let var =
-        values.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n.saturating_sub(1).max(1)) as f64;
-    (m, var.sqrt())
 }
 
 /// Means over the trials that did not fail; each trial is its final truth, whether it failed,
@@ -677,15 +655,12 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
     let model = known_model(&wire, common.gravity, kind)?;
     let params = *model.wire();
     let rod = Rod::new(params);
-    let out = common.out_dir("goal")?;
-    let folder = ResultsFolder::create(&out)?;
-    let header = RunHeader::new("experiment goal", Some(seed), &args)?;
-    let (calibration, calibration_s) = load_or_run_into(
-        &folder,
-        args.calibration.as_deref(),
-        (common.gravity, kind),
-        seed,
-    )?;
+    let super::CalibratedRun {
+        folder,
+        header,
+        calibration,
+        calibration_s,
+    } = super::CalibratedRun::start("goal", common, &args, args.calibration.as_deref())?;
     let noise = args.noise_model.model();
     let ctx = Context {
         wire: &wire,

@@ -3,11 +3,20 @@
 pub mod calibrate;
 pub mod goal;
 pub mod identify;
+pub mod passage;
 pub mod shape;
+mod stats;
+pub mod track;
 
 use ftwire::error::CliError;
+use ftwire::experiment::calibration::load_or_run_into;
+use ftwire::output::RunHeader;
+use ftwire::results::ResultsFolder;
+use ftwire::wire::WireSpec;
+use ftwire_estimate::calibration::Calibration;
+use serde::Serialize;
 
-use crate::cli::experiment::{ExperimentArgs, ExperimentId};
+use crate::cli::experiment::{CommonExperimentArgs, ExperimentArgs, ExperimentId};
 
 /// Runs the chosen experiment.
 pub fn run(args: ExperimentArgs) -> Result<(), CliError> {
@@ -16,5 +25,56 @@ pub fn run(args: ExperimentArgs) -> Result<(), CliError> {
         ExperimentId::Calibrate(args) => calibrate::run(args),
         ExperimentId::Shape(args) => shape::run(args),
         ExperimentId::Goal(args) => goal::run(args),
+        ExperimentId::Track(args) => track::run(args),
+        ExperimentId::Passage(args) => passage::run(args),
+    }
+}
+
+/// `--wire`, or the experiment's `default` wire.
+///
+/// # Errors
+/// Bad input for an unknown preset or a bad wire file.
+pub fn wire_or(common: &CommonExperimentArgs, default: &str) -> Result<WireSpec, CliError> {
+    let name = common.wire.as_deref().unwrap_or(default);
+    WireSpec::load(name).map_err(|e| CliError::bad_input(e.to_string()))
+}
+
+/// A started run that reads F/T through a learnt calibration: its results folder, its
+/// header, the calibration (`--calibration FILE`, or one run first and cached in the folder),
+/// and the time the calibration took.
+pub struct CalibratedRun {
+    /// The results folder (written whole on `finish`).
+    pub folder: ResultsFolder,
+    /// The run header of `summary.json`.
+    pub header: RunHeader,
+    /// The learnt calibration.
+    pub calibration: Calibration,
+    /// Wall time of loading or running the calibration \[s\].
+    pub calibration_s: f64,
+}
+
+impl CalibratedRun {
+    /// Opens the results folder of experiment `id` (`--out`, default `results/<id>`) and loads
+    /// or runs the calibration.
+    ///
+    /// # Errors
+    /// As [`ResultsFolder::create`] and `load_or_run_into`.
+    pub fn start(
+        id: &str,
+        common: &CommonExperimentArgs,
+        args: &impl Serialize,
+        calibration: Option<&std::path::Path>,
+    ) -> Result<Self, CliError> {
+        let folder = ResultsFolder::create(&common.out_dir(id)?)?;
+        let seed = common.seed.seed;
+        let header = RunHeader::new(&format!("experiment {id}"), Some(seed), args)?;
+        let (calibration, calibration_s) =
+            load_or_run_into(&folder, calibration, (common.gravity, common.model()), seed)?;
+        Ok(Self {
+            folder,
+            header,
+            calibration,
+            calibration_s,
+        })
     }
 }

@@ -1,0 +1,505 @@
+//! `ftwire experiment passage` (paper §IV-E, Figs. 11–13): steer the wire through a narrow
+//! passage between two boxes, by a plan tracked open and closed loop under gripper noise,
+//! with the collision detector armed.
+//!
+//! **Scene.** `--scene FILE`, or the shipped 50 mm passage (`scenes/passage.toml`, made for the
+//! default wire `nitinol-3mm-820`). The simulator builds its boxes from the same file.
+//!
+//! **Plan.** One RRT* plan in `A_free` of the scene from its `start` to its `goal`
+//! ([`plan_in_scene`]: a fixed iteration budget and seeded restarts, so the same seed gives the
+//! same path on any machine), with the wire's weightless model (the scene's configurations are
+//! the paper model's), resampled into waypoints `γ_A(i/N)`. `plan_ms` is its wall time.
+//!
+//! **Roll-outs.** `--attempts N` (default 50) of each of closed and open loop, attempt `k` of both
+//! under the same noise seed. Each places the true wire at the start anew, tares the sensor and
+//! reads `ã` through the learnt calibration (`--calibration FILE`, or one run first and cached as
+//! `calibration.json`). The closed loop is the controller (eq. 13–14) with the model of
+//! `--model`, from waypoint to waypoint, with the collision detector armed: its threshold comes
+//! from rehearsals of the same path with the obstacles away (`Tracking::detector`), and a
+//! detection ends the attempt. The open loop rolls the planned gripper poses out with no
+//! feedback. Noise: `--noise-model` (default `increment`, the paper's), as in `experiment goal`.
+//!
+//! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
+//! any rest (a contact force above `CONTACT_FORCE`); it *succeeded* when it never touched and
+//! ended within [`success_epsilon`] of the goal (twice the controller's stop ε for the noise
+//! model); `detected` counts collided attempts the detector stopped, `false_alarms` attempts it
+//! stopped without a contact.
+//!
+//! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{attempts, successes,
+//! collisions, detected, ...}` and `plan_ms`, the one wall-clock figure in it), `attempts.csv`,
+//! `timings.json`, `calibration.json` (when it ran one), and the figures `passage_path_in_a`
+//! (Fig. 11: the plan and the roll-outs in two components of normalised `A`),
+//! `passage_shape_error` (Fig. 12: the shape error against `Φ(γ_A)` at each waypoint) and
+//! `passage_scene` (the boxes, the planned wire at intermediate configurations, and the true
+//! wire of the first closed-loop attempt).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use ftwire::error::{CliError, from_plan};
+use ftwire::experiment::track::{
+    Attempt, Tracking, Waypoint, plan_in_scene, scene_model, success_epsilon,
+};
+use ftwire::results::ResultsFolder;
+use ftwire::scene::{PASSAGE, box_outline};
+use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_plan::Scene;
+use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
+use ftwire_rod::{Rod, to_normalised};
+use nalgebra::Vector6;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::stats::{mean_std, median};
+use super::{CalibratedRun, wire_or};
+use crate::cli::experiment::PassageExperimentArgs;
+
+/// The wire by default: the one the shipped passage is made for.
+pub const DEFAULT_WIRE: &str = "nitinol-3mm-820";
+
+/// Noise stream of attempt 0 (streams below it are the detector's rehearsals).
+const FIRST_STREAM: u64 = 100;
+
+/// Roll-outs of each mode drawn in the figures.
+const FIGURE_ATTEMPTS: usize = 5;
+
+/// Every how many waypoints the planned wire is drawn in `passage_scene`.
+const FIGURE_WAYPOINT_STRIDE: usize = 3;
+
+/// The outcome counts of one mode.
+#[derive(Debug, Clone, Serialize)]
+pub struct Rates {
+    /// Roll-outs.
+    pub attempts: usize,
+    /// Never touched a box, and ended within `success_epsilon` of the goal.
+    pub successes: usize,
+    /// The true wire touched a box.
+    pub collisions: usize,
+    /// Collisions the detector stopped.
+    pub detected: usize,
+    /// Attempts the detector stopped with no contact.
+    pub false_alarms: usize,
+    /// Attempts that ended early for another reason (a waypoint the controller refused, a
+    /// failed move, the iteration limit on the last leg), whatever their final error.
+    pub ended_early: usize,
+    /// Median of the final `‖N(a_true − a_g)‖`.
+    pub final_error_median: f64,
+    /// Mean and largest shape error against `Φ(γ_A)` over every waypoint reached \[mm\].
+    pub shape_mean_mm: f64,
+    /// See `shape_mean_mm`.
+    pub shape_max_mm: f64,
+    /// Median moves.
+    pub steps_median: f64,
+    /// How the attempts ended, by outcome name.
+    pub outcomes: BTreeMap<String, usize>,
+}
+
+impl Rates {
+    /// The counts of `attempts`.
+    pub fn of(attempts: &[Attempt]) -> Self {
+        let count = |f: &dyn Fn(&Attempt) -> bool| attempts.iter().filter(|a| f(a)).count();
+        let shapes: Vec<f64> = attempts.iter().flat_map(|a| a.shape_mm.clone()).collect();
+        let mut outcomes = BTreeMap::new();
+        for a in attempts {
+            // A refusal's reason carries its waypoint; count by kind.
+            let kind = a.outcome.split(':').next().unwrap_or_default().to_owned();
+            *outcomes.entry(kind).or_insert(0) += 1;
+        }
+        Self {
+            attempts: attempts.len(),
+            successes: count(&|a| a.success),
+            collisions: count(&|a| a.touched),
+            detected: count(&|a| a.touched && a.detected),
+            false_alarms: count(&|a| !a.touched && a.detected),
+            ended_early: count(&|a| !a.detected && a.outcome != "reached" && a.outcome != "done"),
+            final_error_median: median(&attempts.iter().map(|a| a.final_error).collect::<Vec<_>>()),
+            shape_mean_mm: mean_std(&shapes).0,
+            shape_max_mm: shapes.iter().copied().fold(f64::NAN, f64::max),
+            steps_median: median(&attempts.iter().map(|a| a.steps as f64).collect::<Vec<_>>()),
+            outcomes,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+struct Results {
+    open_loop: Rates,
+    closed_loop: Rates,
+}
+
+/// The plan, in the summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct PlanOut {
+    /// The scene file (or `scenes/passage.toml` for the built-in one).
+    pub scene: String,
+    /// RRT* iterations and tree nodes of the plan found.
+    pub iterations: usize,
+    /// See `iterations`.
+    pub nodes: usize,
+    /// Length of the path in normalised `A`.
+    pub cost: f64,
+    /// Closest approach of the planned wire to a box \[mm\].
+    pub min_clearance_mm: f64,
+    /// Waypoints tracked (`N + 1`).
+    pub waypoints: usize,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    wire: String,
+    model: ftwire::experiment::ModelKind,
+    noise_model: ftwire_control::NoiseModel,
+    /// The controller's gain K.
+    gain: f64,
+    /// The success tolerance on the true final configuration \[normalised\].
+    success_epsilon: f64,
+    /// The collision detector's jump-ratio threshold.
+    detector_threshold: f64,
+    results: Results,
+    /// Wall time of the plan \[ms\] (also in `timings.json`).
+    plan_ms: f64,
+    plan: PlanOut,
+}
+
+#[derive(Serialize)]
+struct Timings {
+    calibration_s: f64,
+    plan_ms: f64,
+    detector_s: f64,
+    attempts_s: f64,
+    total_s: f64,
+}
+
+/// The scene of `--scene`, or the shipped passage, and its name.
+///
+/// # Errors
+/// Bad input (exit 2) for a scene file that cannot be read or parsed.
+pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), CliError> {
+    match path {
+        Some(path) => Ok((
+            Scene::load(path).map_err(|e| from_plan(e, "--scene"))?,
+            path.display().to_string(),
+        )),
+        None => Ok((
+            Scene::from_toml(PASSAGE, "scenes/passage.toml")
+                .map_err(|e| from_plan(e, "the built-in passage scene"))?,
+            "scenes/passage.toml".to_owned(),
+        )),
+    }
+}
+
+/// Runs the experiment.
+///
+/// # Errors
+/// Bad input for bad options, a bad scene or wire; no answer when no plan is found.
+pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
+    let total = Instant::now();
+    let common = &args.common;
+    let seed = common.seed.seed;
+    if args.attempts == 0 {
+        return Err(CliError::bad_input("--attempts 0: give at least 1"));
+    }
+    let gain = args.rollout.gain()?;
+    let wire = wire_or(common, DEFAULT_WIRE)?;
+    let (scene, scene_name) = load_scene(args.scene.as_deref())?;
+    let kind = common.model();
+    let model = scene_model(&wire, common.gravity, kind, &scene)?;
+    let CalibratedRun {
+        folder,
+        header,
+        calibration,
+        calibration_s,
+    } = CalibratedRun::start(
+        "passage",
+        common,
+        &args,
+        args.rollout.calibration.as_deref(),
+    )?;
+
+    // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo).
+    let planner_rod = Rod::new(*model.wire());
+    let (planned, _) = plan_in_scene(&scene, &planner_rod, seed)?;
+    let plan_ms = 1e3 * planned.seconds;
+    let plan = PlanOut {
+        scene: scene_name,
+        iterations: planned.plan.iterations,
+        nodes: planned.plan.nodes,
+        cost: planned.plan.path.cost,
+        min_clearance_mm: 1e3 * planned.plan.path.min_clearance(),
+        waypoints: planned.waypoints.len(),
+    };
+    eprintln!(
+        "plan: {} waypoints, length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms",
+        plan.waypoints, plan.cost, plan.min_clearance_mm, plan_ms
+    );
+
+    let noise = args.rollout.noise_model.model();
+    let tracking = Tracking {
+        wire: &wire,
+        gravity: common.gravity,
+        scene: &scene,
+        calibration: &calibration,
+        noise,
+        seed,
+        gain,
+        arms: true,
+    };
+    let started = Instant::now();
+    let detector = tracking.detector(&model, &planned.waypoints)?;
+    let detector_s = started.elapsed().as_secs_f64();
+
+    let started = Instant::now();
+    let streams: Vec<u64> = (0..args.attempts as u64)
+        .map(|k| FIRST_STREAM + k)
+        .collect();
+    let rollouts: Vec<(Attempt, Attempt)> = streams
+        .par_iter()
+        .map(|&stream| {
+            let closed = tracking.closed_loop(&model, &planned.waypoints, detector, stream)?;
+            let open = tracking.open_loop(&model, &planned.waypoints, stream)?;
+            Ok((closed, open))
+        })
+        .collect::<Result<_, CliError>>()?;
+    let attempts_s = started.elapsed().as_secs_f64();
+    let (closed, open): (Vec<Attempt>, Vec<Attempt>) = rollouts.into_iter().unzip();
+
+    let results = Results {
+        open_loop: Rates::of(&open),
+        closed_loop: Rates::of(&closed),
+    };
+    for (name, rates) in [
+        ("closed loop", &results.closed_loop),
+        ("open loop", &results.open_loop),
+    ] {
+        eprintln!(
+            "{name}: {}/{} successes, {} collisions ({} detected), {} false alarms",
+            rates.successes, rates.attempts, rates.collisions, rates.detected, rates.false_alarms
+        );
+    }
+
+    folder.write("attempts.csv", attempts_csv(&closed, &open))?;
+    figures(&folder, &scene, &model, &planned.waypoints, &closed, &open)?;
+    folder.write_json(
+        "timings.json",
+        &Timings {
+            calibration_s,
+            plan_ms,
+            detector_s,
+            attempts_s,
+            total_s: total.elapsed().as_secs_f64(),
+        },
+    )?;
+    let summary = Summary {
+        wire: wire.name.clone(),
+        model: kind,
+        noise_model: noise,
+        gain,
+        success_epsilon: success_epsilon(noise),
+        detector_threshold: detector.threshold(),
+        results,
+        plan_ms,
+        plan,
+    };
+    let target = folder.finish(&header, &summary)?;
+    println!("results in {}", target.display());
+    Ok(())
+}
+
+/// One row per attempt and mode.
+pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> String {
+    let mut csv = String::from(
+        "mode,attempt,outcome,steps,touched,detected,success,final_error,shape_mean_mm,shape_max_mm\n",
+    );
+    for (k, a) in closed.iter().enumerate().chain(open.iter().enumerate()) {
+        let (mean, _) = mean_std(&a.shape_mm);
+        let max = a.shape_mm.iter().copied().fold(f64::NAN, f64::max);
+        let _ = writeln!(
+            csv,
+            "{},{k},\"{}\",{},{},{},{},{:.6},{:.3},{:.3}",
+            a.mode,
+            a.outcome.replace('"', "'"),
+            a.steps,
+            a.touched,
+            a.detected,
+            a.success,
+            a.final_error,
+            mean,
+            max
+        );
+    }
+    csv
+}
+
+/// The two components of normalised `A` along which the plan moves most.
+pub(super) fn main_axes(normalised: &[Vector6<f64>]) -> (usize, usize) {
+    let mut range: Vec<(usize, f64)> = (0..6)
+        .map(|i| {
+            let (lo, hi) = normalised.iter().fold((f64::MAX, f64::MIN), |(lo, hi), a| {
+                (lo.min(a[i]), hi.max(a[i]))
+            });
+            (i, hi - lo)
+        })
+        .collect();
+    range.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));
+    (range[0].0, range[1].0)
+}
+
+/// The name of component `i` of `a`.
+pub(super) fn component(i: usize) -> &'static str {
+    ["τ1", "τ2", "τ3", "f1", "f2", "f3"][i.min(5)]
+}
+
+/// Figs. 11–12 and the scene.
+fn figures(
+    folder: &ResultsFolder,
+    scene: &Scene,
+    model: &KirchhoffModel,
+    waypoints: &[Waypoint],
+    closed: &[Attempt],
+    open: &[Attempt],
+) -> Result<(), CliError> {
+    let wire = model.wire();
+    let planned: Vec<Vector6<f64>> = waypoints
+        .iter()
+        .map(|w| to_normalised(wire, &w.a))
+        .collect();
+    let (i, j) = main_axes(&planned);
+    let project = |a: &Vector6<f64>| (a[i], a[j]);
+    let mut path = LineChart::new(
+        "the plan in A and the roll-outs (true configuration)",
+        format!("{} (normalised)", component(i)),
+        format!("{} (normalised)", component(j)),
+    )
+    .with_series(Series::line_points(
+        "plan γ_A",
+        planned.iter().map(project).collect(),
+    ));
+    let rollout = |a: &Attempt| -> Vec<(f64, f64)> {
+        a.a_true
+            .iter()
+            .map(|x| project(&to_normalised(wire, &Vector6::from(*x))))
+            .collect()
+    };
+    for (k, a) in closed.iter().take(FIGURE_ATTEMPTS).enumerate() {
+        path = path.with_series(Series::line(format!("closed loop {k}"), rollout(a)));
+    }
+    for (k, a) in open.iter().take(FIGURE_ATTEMPTS).enumerate() {
+        path = path.with_series(Series::line(format!("open loop {k}"), rollout(a)));
+    }
+    folder.write_figure("passage_path_in_a", |dir| {
+        path.write(dir, "passage_path_in_a")
+    })?;
+
+    let per_waypoint = |attempts: &[Attempt]| -> (Vec<(f64, f64)>, Vec<f64>) {
+        let most = attempts.iter().map(|a| a.shape_mm.len()).max().unwrap_or(0);
+        (0..most)
+            .map(|w| {
+                let at: Vec<f64> = attempts
+                    .iter()
+                    .filter_map(|a| a.shape_mm.get(w).copied())
+                    .collect();
+                let (mean, std) = mean_std(&at);
+                ((w as f64 + 1.0, mean), std)
+            })
+            .unzip()
+    };
+    let (closed_points, closed_std) = per_waypoint(closed);
+    let (open_points, open_std) = per_waypoint(open);
+    let errors = LineChart::new(
+        "shape error along the path (mean ± std over the attempts that got there)",
+        "waypoint",
+        "mean distance to Φ(γ_A) [mm]",
+    )
+    .with_series(Series::line_points("closed loop", closed_points).with_error_bars(closed_std))
+    .with_series(Series::line_points("open loop", open_points).with_error_bars(open_std));
+    folder.write_figure("passage_shape_error", |dir| {
+        errors.write(dir, "passage_shape_error")
+    })?;
+
+    let mut chart = Chart3d::new("the passage: the plan and the first closed-loop attempt");
+    for b in &scene.boxes {
+        chart = chart.with_curve(b.name.clone(), box_outline(b), SeriesKind::Line);
+    }
+    for (k, w) in waypoints.iter().enumerate() {
+        if k % FIGURE_WAYPOINT_STRIDE == 0 || k + 1 == waypoints.len() {
+            let points = w.centreline.iter().map(|p| [p.x, p.y, p.z]).collect();
+            chart = chart.with_curve(format!("plan, waypoint {k}"), points, SeriesKind::Line);
+        }
+    }
+    if let Some(last) = closed.first().and_then(|a| a.centrelines.last()) {
+        chart = chart.with_curve(
+            "closed loop 0, true wire at the end",
+            last.clone(),
+            SeriesKind::LinePoints,
+        );
+    }
+    folder.write_figure("passage_scene", |dir| chart.write(dir, "passage_scene"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn attempt(outcome: &str, touched: bool, detected: bool, success: bool) -> Attempt {
+        Attempt {
+            mode: "closed_loop",
+            outcome: outcome.to_owned(),
+            steps: 10,
+            touched,
+            detected,
+            final_error: 0.2,
+            success,
+            shape_mm: vec![1.0, 3.0],
+            centrelines: Vec::new(),
+            a_true: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn rates_count_collisions_detections_and_false_alarms_apart() {
+        let attempts = [
+            attempt("reached", false, false, true),
+            attempt("collision_detected", true, true, false),
+            attempt("collision_detected", false, true, false),
+            attempt("reached", true, false, false),
+            attempt(
+                "refused at waypoint 3: outside A_stable",
+                false,
+                false,
+                false,
+            ),
+        ];
+        let rates = Rates::of(&attempts);
+        assert_eq!(rates.attempts, 5);
+        assert_eq!(rates.successes, 1);
+        assert_eq!(rates.collisions, 2);
+        assert_eq!(rates.detected, 1);
+        assert_eq!(rates.false_alarms, 1);
+        assert_eq!(rates.ended_early, 1);
+        assert_eq!(rates.outcomes.get("refused at waypoint 3"), Some(&1));
+        assert_eq!(rates.shape_max_mm, 3.0);
+        assert_eq!(rates.shape_mean_mm, 2.0);
+    }
+
+    #[test]
+    fn the_main_axes_are_those_the_plan_moves_along_most() {
+        let path = [
+            Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            Vector6::new(0.1, 0.0, 3.0, 0.0, -5.0, 0.0),
+        ];
+        assert_eq!(main_axes(&path), (4, 2));
+    }
+
+    #[test]
+    fn the_attempts_table_has_one_row_per_attempt_and_mode() {
+        let a = attempt("reached", false, false, true);
+        let csv = attempts_csv(std::slice::from_ref(&a), &[a.clone(), a.clone()]);
+        assert_eq!(csv.lines().count(), 4);
+        assert!(
+            csv.lines()
+                .nth(1)
+                .is_some_and(|l| l.starts_with("closed_loop,0,"))
+        );
+    }
+}

@@ -1,0 +1,466 @@
+//! `ftwire experiment track` (paper §IV-D, Table IV, Figs. 8–9): plan paths in `A_free` with
+//! RRT* between random start and goal configurations, and track them open and closed loop
+//! under gripper noise; the shape error along the path.
+//!
+//! **Pairs.** `--pairs` (default 10, the paper's) seeded pairs `(a_s, a_g)` drawn uniformly in
+//! the normalised box `[−5, 5]⁶` (as `experiment goal`'s), each in `Z_free` of a scene with no
+//! obstacles and the base gripper where the shipped passage holds it (stable, no
+//! self-contact, both grippers' poses reachable by the SDA10F's arms), at least
+//! [`MIN_PAIR_DISTANCE`] apart in normalised `A`. A pair the planner finds no path for is
+//! replaced by a new draw (counted in `pair_draws`).
+//!
+//! **Plan and tracking.** RRT* in `A_free` (`plan_in_scene`: a fixed iteration budget and
+//! seeded restarts) with the wire's weightless model; the path is resampled into waypoints
+//! `γ_A(i/N)` whose shapes `Φ` and gripper poses `Γ` are those of the model of `--model`. The
+//! closed loop runs the controller (eq. 13–14) from waypoint to waypoint on `ã` from the learnt
+//! calibration (`--calibration FILE`, or one run first and cached); the open loop rolls out the
+//! waypoints' gripper poses. Both under `--noise-model` (default `increment`, the paper's), with
+//! the same noise seed per pair. The collision detector is not armed: there is nothing to
+//! collide with, so it could only stop a run by a false alarm (`experiment passage` arms it).
+//!
+//! **Metric** (Table IV; the simulator's truth): at each waypoint the controller reached (or the
+//! roll-out passed), the mean distance between the true centreline and `Φ(γ_A(i/N))` at 100
+//! matched arc lengths; `mean_mm`, `std_mm` and `max_mm` over every waypoint of every pair.
+//!
+//! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{mean_mm, std_mm, max_mm, ...}`
+//! and `plan_ms_median`, the one wall-clock figure in it), `pairs.csv`, `timings.json`,
+//! `calibration.json` (when it ran one), and the figures `track_path_in_a` (Fig. 8: the plan
+//! and both roll-outs of the first pair in two components of normalised `A`) and
+//! `track_shape_error` (Fig. 9: the shape error along the path of every pair).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use ftwire::error::{CliError, from_rod};
+use ftwire::experiment::track::{
+    Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, waypoints_along,
+};
+use ftwire::results::ResultsFolder;
+use ftwire_estimate::WireModel;
+use ftwire_plan::{Checker, Config, ConfigurationSpec, Scene, ValidityParams};
+use ftwire_report::{LineChart, Series};
+use ftwire_robot::Robot;
+use ftwire_rod::sampling::Sampler;
+use ftwire_rod::{Rod, to_normalised};
+use nalgebra::Vector6;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::passage::{self, Rates};
+use super::stats::{mean_std, median};
+use super::{CalibratedRun, wire_or};
+use crate::cli::experiment::{ReachArg, TrackExperimentArgs};
+
+/// The wire by default.
+const DEFAULT_WIRE: &str = "nitinol-3mm-820";
+/// Half-width of the normalised box the pairs are drawn from (as `experiment goal`'s).
+const PAIR_BOX: f64 = 5.0;
+/// Least distance between a pair's start and goal in normalised `A`.
+pub const MIN_PAIR_DISTANCE: f64 = 4.0;
+/// Draws per requested pair before giving up.
+const MAX_DRAWS_PER_PAIR: usize = 200;
+/// Noise stream of pair 0.
+const FIRST_STREAM: u64 = 100;
+
+/// Table IV's row of one mode.
+#[derive(Debug, Clone, Serialize)]
+struct Metrics {
+    /// Mean, standard deviation and largest shape error along the paths \[mm\].
+    mean_mm: f64,
+    std_mm: f64,
+    max_mm: f64,
+    /// Waypoints the statistics cover.
+    waypoints: usize,
+    /// Outcome counts of the runs (successes: ended within `success_epsilon`).
+    runs: Rates,
+}
+
+#[derive(Debug, Clone, Serialize)]
+struct Results {
+    open_loop: Metrics,
+    closed_loop: Metrics,
+}
+
+#[derive(Debug, Clone, Default, Serialize)]
+struct PairDraws {
+    drawn: usize,
+    /// Draws with a start or goal outside `Z_free` (by reason).
+    invalid: BTreeMap<String, usize>,
+    too_close: usize,
+    no_plan: usize,
+}
+
+#[derive(Debug, Clone, Serialize)]
+struct PairOut {
+    a_s_normalised: [f64; 6],
+    a_g_normalised: [f64; 6],
+    path_length: f64,
+    waypoints: usize,
+    closed_loop_mean_mm: f64,
+    open_loop_mean_mm: f64,
+    closed_loop_outcome: String,
+    open_loop_outcome: String,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    wire: String,
+    model: ftwire::experiment::ModelKind,
+    noise_model: ftwire_control::NoiseModel,
+    /// The controller's gain K.
+    gain: f64,
+    /// Whether the closed loop stopped at poses the arms cannot reach.
+    reach: ReachArg,
+    pairs: usize,
+    results: Results,
+    /// Median wall time of the plans \[ms\] (also in `timings.json`).
+    plan_ms_median: f64,
+    pair_draws: PairDraws,
+    per_pair: Vec<PairOut>,
+}
+
+#[derive(Serialize)]
+struct Timings {
+    calibration_s: f64,
+    plan_ms: Vec<f64>,
+    tracking_s: f64,
+    total_s: f64,
+}
+
+/// A planned pair.
+struct Planned {
+    a_s: Vector6<f64>,
+    a_g: Vector6<f64>,
+    scene: Scene,
+    path_length: f64,
+    plan_ms: f64,
+    waypoints: Vec<ftwire::experiment::track::Waypoint>,
+}
+
+/// Runs the experiment.
+///
+/// # Errors
+/// Bad input for bad options or a bad wire; no answer when too few pairs can be planned.
+pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
+    let total = Instant::now();
+    let common = &args.common;
+    let seed = common.seed.seed;
+    if args.pairs == 0 {
+        return Err(CliError::bad_input("--pairs 0: give at least 1"));
+    }
+    let gain = args.rollout.gain()?;
+    let wire = wire_or(common, DEFAULT_WIRE)?;
+    let (passage_scene, _) = passage::load_scene(None)?;
+    let free = Scene {
+        base: passage_scene.base,
+        boxes: Vec::new(),
+        floor: None,
+        configurations: BTreeMap::new(),
+    };
+    let kind = common.model();
+    let model = scene_model(&wire, common.gravity, kind, &free)?;
+    let CalibratedRun {
+        folder,
+        header,
+        calibration,
+        calibration_s,
+    } = CalibratedRun::start("track", common, &args, args.rollout.calibration.as_deref())?;
+
+    let planner_rod = Rod::new(*model.wire());
+    let mut draws = PairDraws::default();
+    let planned = draw_and_plan(
+        &free,
+        &planner_rod,
+        model.rod(),
+        args.pairs,
+        seed,
+        &mut draws,
+    )?;
+    eprintln!("{} pairs planned ({draws:?})", planned.len());
+
+    let noise = args.rollout.noise_model.model();
+    let started = Instant::now();
+    let runs: Vec<(Attempt, Attempt)> = planned
+        .par_iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let tracking = Tracking {
+                wire: &wire,
+                gravity: common.gravity,
+                scene: &p.scene,
+                calibration: &calibration,
+                noise,
+                seed,
+                gain,
+                arms: args.reach == ReachArg::Robot,
+            };
+            let stream = FIRST_STREAM + k as u64;
+            let closed = tracking.closed_loop_unarmed(&model, &p.waypoints, stream)?;
+            let open = tracking.open_loop(&model, &p.waypoints, stream)?;
+            Ok((closed, open))
+        })
+        .collect::<Result<_, CliError>>()?;
+    let tracking_s = started.elapsed().as_secs_f64();
+    let (closed, open): (Vec<Attempt>, Vec<Attempt>) = runs.into_iter().unzip();
+
+    let results = Results {
+        open_loop: metrics(&open),
+        closed_loop: metrics(&closed),
+    };
+    for (name, m) in [
+        ("closed loop", &results.closed_loop),
+        ("open loop", &results.open_loop),
+    ] {
+        eprintln!(
+            "{name}: shape error along the paths {:.2} ± {:.2} mm (max {:.2} mm)",
+            m.mean_mm, m.std_mm, m.max_mm
+        );
+    }
+    let wire_params = *model.wire();
+    let per_pair: Vec<PairOut> = planned
+        .iter()
+        .zip(closed.iter().zip(&open))
+        .map(|(p, (c, o))| PairOut {
+            a_s_normalised: to_normalised(&wire_params, &p.a_s).into(),
+            a_g_normalised: to_normalised(&wire_params, &p.a_g).into(),
+            path_length: p.path_length,
+            waypoints: p.waypoints.len(),
+            closed_loop_mean_mm: mean_std(&c.shape_mm).0,
+            open_loop_mean_mm: mean_std(&o.shape_mm).0,
+            closed_loop_outcome: c.outcome.clone(),
+            open_loop_outcome: o.outcome.clone(),
+        })
+        .collect();
+    folder.write("pairs.csv", pairs_csv(&per_pair))?;
+    figures(&folder, &wire_params, &planned, &closed, &open)?;
+    let plan_ms: Vec<f64> = planned.iter().map(|p| p.plan_ms).collect();
+    let plan_ms_median = median(&plan_ms);
+    folder.write_json(
+        "timings.json",
+        &Timings {
+            calibration_s,
+            plan_ms,
+            tracking_s,
+            total_s: total.elapsed().as_secs_f64(),
+        },
+    )?;
+    let summary = Summary {
+        wire: wire.name.clone(),
+        model: kind,
+        noise_model: noise,
+        gain,
+        reach: args.reach,
+        pairs: planned.len(),
+        results,
+        plan_ms_median,
+        pair_draws: draws,
+        per_pair,
+    };
+    let target = folder.finish(&header, &summary)?;
+    println!("results in {}", target.display());
+    Ok(())
+}
+
+/// Draws pairs in `Z_free` of `free` and plans each (with `planner`; waypoints of `tracker`)
+/// until `count` have a plan.
+fn draw_and_plan(
+    free: &Scene,
+    planner: &Rod,
+    tracker: &Rod,
+    count: usize,
+    seed: u64,
+    draws: &mut PairDraws,
+) -> Result<Vec<Planned>, CliError> {
+    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+    let checker = Checker::new(*planner, robot, free, ValidityParams::default())
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+    let sampler = Sampler {
+        half_width: PAIR_BOX,
+        ..Sampler::default()
+    };
+    let wire = planner.wire();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(15));
+    let mut out = Vec::with_capacity(count);
+    while out.len() < count {
+        if draws.drawn >= MAX_DRAWS_PER_PAIR * count {
+            return Err(CliError::no_answer(format!(
+                "planned only {} of {count} pairs in {} draws ({draws:?})",
+                out.len(),
+                draws.drawn
+            )));
+        }
+        draws.drawn += 1;
+        let mut draw = || {
+            sampler
+                .sample_free(planner, &mut rng)
+                .map_err(|e| from_rod(e, "sampling A_free"))
+        };
+        let (a_s, a_g) = (draw()?, draw()?);
+        if (to_normalised(wire, &a_g) - to_normalised(wire, &a_s)).norm() < MIN_PAIR_DISTANCE {
+            draws.too_close += 1;
+            continue;
+        }
+        let invalid = [a_s, a_g].iter().find_map(|a| {
+            checker
+                .endpoint(&Config {
+                    a: *a,
+                    base: free.base,
+                })
+                .err()
+        });
+        if let Some(reason) = invalid {
+            let key = format!("{reason}")
+                .split([':', '('])
+                .next()
+                .unwrap_or_default()
+                .trim()
+                .to_owned();
+            *draws.invalid.entry(key).or_insert(0) += 1;
+            continue;
+        }
+        let mut scene = free.clone();
+        scene
+            .configurations
+            .insert("start".to_owned(), ConfigurationSpec::A(a_s));
+        scene
+            .configurations
+            .insert("goal".to_owned(), ConfigurationSpec::A(a_g));
+        let pair_seed = seed
+            .wrapping_add(PLAN_RESTARTS)
+            .wrapping_add(draws.drawn as u64);
+        match plan_in_scene(&scene, planner, pair_seed) {
+            Ok((plan, _)) => {
+                let waypoints =
+                    waypoints_along(tracker, &scene.base, &plan.plan.path.waypoints, WAYPOINTS)?;
+                out.push(Planned {
+                    a_s,
+                    a_g,
+                    scene,
+                    path_length: plan.plan.path.cost,
+                    plan_ms: 1e3 * plan.seconds,
+                    waypoints,
+                });
+            }
+            Err(_) => draws.no_plan += 1,
+        }
+    }
+    Ok(out)
+}
+
+/// Table IV's row over every waypoint of every run.
+fn metrics(attempts: &[Attempt]) -> Metrics {
+    let all: Vec<f64> = attempts.iter().flat_map(|a| a.shape_mm.clone()).collect();
+    let (mean_mm, std_mm) = mean_std(&all);
+    Metrics {
+        mean_mm,
+        std_mm,
+        max_mm: all.iter().copied().fold(f64::NAN, f64::max),
+        waypoints: all.len(),
+        runs: Rates::of(attempts),
+    }
+}
+
+fn pairs_csv(pairs: &[PairOut]) -> String {
+    let mut csv = String::from(
+        "pair,path_length,waypoints,closed_loop_mean_mm,open_loop_mean_mm,closed_loop_outcome,open_loop_outcome\n",
+    );
+    for (k, p) in pairs.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{k},{:.4},{},{:.3},{:.3},\"{}\",\"{}\"",
+            p.path_length,
+            p.waypoints,
+            p.closed_loop_mean_mm,
+            p.open_loop_mean_mm,
+            p.closed_loop_outcome.replace('"', "'"),
+            p.open_loop_outcome.replace('"', "'"),
+        );
+    }
+    csv
+}
+
+/// Figs. 8–9.
+fn figures(
+    folder: &ResultsFolder,
+    wire: &ftwire_core::WireParams,
+    planned: &[Planned],
+    closed: &[Attempt],
+    open: &[Attempt],
+) -> Result<(), CliError> {
+    if let (Some(first), Some(c), Some(o)) = (planned.first(), closed.first(), open.first()) {
+        let plan: Vec<Vector6<f64>> = first
+            .waypoints
+            .iter()
+            .map(|w| to_normalised(wire, &w.a))
+            .collect();
+        let (i, j) = passage::main_axes(&plan);
+        let project = |a: &Vector6<f64>| (a[i], a[j]);
+        let rollout = |a: &Attempt| -> Vec<(f64, f64)> {
+            a.a_true
+                .iter()
+                .map(|x| project(&to_normalised(wire, &Vector6::from(*x))))
+                .collect()
+        };
+        let chart = LineChart::new(
+            "pair 0: the plan in A and the roll-outs (true configuration)",
+            format!("{} (normalised)", passage::component(i)),
+            format!("{} (normalised)", passage::component(j)),
+        )
+        .with_series(Series::line_points(
+            "plan γ_A",
+            plan.iter().map(project).collect(),
+        ))
+        .with_series(Series::line("closed loop", rollout(c)))
+        .with_series(Series::line("open loop", rollout(o)));
+        folder.write_figure("track_path_in_a", |dir| chart.write(dir, "track_path_in_a"))?;
+    }
+    let mut errors = LineChart::new(
+        "shape error along the planned paths",
+        "waypoint",
+        "mean distance to Φ(γ_A) [mm]",
+    );
+    for (k, (c, o)) in closed.iter().zip(open).enumerate() {
+        let along = |a: &Attempt| -> Vec<(f64, f64)> {
+            a.shape_mm
+                .iter()
+                .enumerate()
+                .map(|(w, &e)| (w as f64 + 1.0, e))
+                .collect()
+        };
+        errors = errors
+            .with_series(Series::line(format!("closed {k}"), along(c)))
+            .with_series(Series::line(format!("open {k}"), along(o)));
+    }
+    folder.write_figure("track_shape_error", |dir| {
+        errors.write(dir, "track_shape_error")
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_iv_covers_every_waypoint_of_every_run() {
+        let run = |shape_mm: Vec<f64>| Attempt {
+            mode: "closed_loop",
+            outcome: "reached".to_owned(),
+            steps: 3,
+            touched: false,
+            detected: false,
+            final_error: 0.01,
+            success: true,
+            shape_mm,
+            centrelines: Vec::new(),
+            a_true: Vec::new(),
+        };
+        let m = metrics(&[run(vec![1.0, 2.0]), run(vec![6.0])]);
+        assert_eq!(m.waypoints, 3);
+        assert!((m.mean_mm - 3.0).abs() < 1e-12);
+        assert_eq!(m.max_mm, 6.0);
+        assert_eq!(m.runs.successes, 2);
+    }
+}

@@ -1,0 +1,138 @@
+//! `ftwire experiment track` and `ftwire experiment passage` (issue 15): small runs write the
+//! summary keys the issue names, the same results for the same seed, and bad input is refused
+//! with exit 2 before any work.
+
+mod cli_support;
+
+use std::path::Path;
+
+use cli_support::{assert_exit, assert_success, ftwire, tiny_calibration};
+
+fn run(args: &[&str], out: &Path, calibration: &Path) -> serde_json::Value {
+    let mut all: Vec<&str> = args.to_vec();
+    let (calibration, out) = (
+        calibration.to_str().expect("a UTF-8 path"),
+        out.to_str().expect("a UTF-8 path"),
+    );
+    all.extend(["--calibration", calibration, "--out", out]);
+    let output = ftwire(&all);
+    assert_success(&output, &all.join(" "));
+    let text = std::fs::read_to_string(Path::new(out).join("summary.json")).expect("summary");
+    let summary: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    summary["summary"].clone()
+}
+
+fn temp(name: &str) -> std::path::PathBuf {
+    let tmp = std::env::temp_dir().join(format!("ftwire-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).expect("a temporary folder");
+    tmp
+}
+
+#[test]
+fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
+    let tmp = temp("passage");
+    let calibration = tiny_calibration(&tmp);
+    let args = [
+        "experiment",
+        "passage",
+        "--attempts",
+        "2",
+        "--noise-model",
+        "offset",
+        "--seed",
+        "5",
+    ];
+    let first = run(&args, &tmp.join("a"), &calibration);
+    for mode in ["open_loop", "closed_loop"] {
+        let r = &first["results"][mode];
+        assert_eq!(r["attempts"], 2, "results.{mode}.attempts");
+        for key in ["successes", "collisions", "detected"] {
+            let n = r[key].as_u64().unwrap_or(u64::MAX);
+            assert!(n <= 2, "results.{mode}.{key} = {n}");
+        }
+        assert!(r["detected"].as_u64() <= r["collisions"].as_u64());
+    }
+    assert!(first["plan_ms"].as_f64().is_some_and(|t| t > 0.0));
+    assert!(first["plan"]["waypoints"].as_u64().is_some_and(|n| n >= 2));
+    for file in [
+        "attempts.csv",
+        "timings.json",
+        "passage_path_in_a.png",
+        "passage_shape_error.svg",
+        "passage_scene.png",
+    ] {
+        assert!(tmp.join("a").join(file).is_file(), "{file}");
+    }
+    let mut second = run(&args, &tmp.join("b"), &calibration);
+    let mut first = first;
+    for s in [&mut first, &mut second] {
+        s["plan_ms"] = serde_json::Value::Null;
+    }
+    assert_eq!(first, second, "same seed, same results");
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn a_small_track_experiment_writes_table_iv() {
+    let tmp = temp("track");
+    let calibration = tiny_calibration(&tmp);
+    let args = [
+        "experiment",
+        "track",
+        "--pairs",
+        "1",
+        "--gravity",
+        "off",
+        "--noise-model",
+        "offset",
+        "--seed",
+        "2",
+    ];
+    let summary = run(&args, &tmp.join("a"), &calibration);
+    for mode in ["open_loop", "closed_loop"] {
+        let r = &summary["results"][mode];
+        let (mean, std, max) = (
+            r["mean_mm"].as_f64().expect("mean_mm"),
+            r["std_mm"].as_f64().expect("std_mm"),
+            r["max_mm"].as_f64().expect("max_mm"),
+        );
+        assert!(mean > 0.0 && std >= 0.0 && max >= mean, "{mode}: {r}");
+    }
+    assert!(summary["plan_ms_median"].as_f64().is_some_and(|t| t > 0.0));
+    assert_eq!(summary["pairs"], 1);
+    for file in ["pairs.csv", "track_path_in_a.png", "track_shape_error.png"] {
+        assert!(tmp.join("a").join(file).is_file(), "{file}");
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn bad_options_are_refused_before_any_work() {
+    let output = ftwire(&["experiment", "passage", "--attempts", "0"]);
+    assert_exit(&output, 2, "--attempts 0", "passage --attempts 0");
+    let output = ftwire(&["experiment", "track", "--pairs", "0"]);
+    assert_exit(&output, 2, "--pairs 0", "track --pairs 0");
+    let output = ftwire(&["experiment", "passage", "--gain", "1.5"]);
+    assert_exit(&output, 2, "--gain 1.5", "passage --gain 1.5");
+    let output = ftwire(&["experiment", "passage", "--scene", "/no/such/scene.toml"]);
+    assert_exit(&output, 2, "scene.toml", "passage --scene missing");
+}
+
+#[test]
+fn a_scene_with_an_unknown_key_names_it() {
+    let tmp = temp("passage-bad-scene");
+    let scene = tmp.join("bad.toml");
+    std::fs::write(
+        &scene,
+        "[base]\nposition = [0.6, 0.35, 0.35]\ncolour = \"red\"\n",
+    )
+    .expect("write");
+    let output = ftwire(&[
+        "experiment",
+        "passage",
+        "--scene",
+        scene.to_str().expect("UTF-8"),
+    ]);
+    assert_exit(&output, 2, "colour", "passage with an unknown scene key");
+    let _ = std::fs::remove_dir_all(&tmp);
+}
