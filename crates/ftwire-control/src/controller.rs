@@ -118,7 +118,8 @@ pub enum Outcome {
         /// Why.
         reason: String,
     },
-    /// Even the smallest allowed step leaves `A_stable` by the model's prediction.
+    /// From a measured `ã` in the model's `A_stable`, even the smallest allowed step leaves it
+    /// by the model's prediction.
     PredictedInstability {
         /// The step (0-based).
         step: usize,
@@ -275,8 +276,11 @@ impl<M: WireModel> Controller<M> {
     }
 
     /// Plans one step from `a` toward `goal` with the second gripper at `tip` (eq. 13–14, the
-    /// step limits and the stability guard). `None` when even the smallest allowed step leaves
-    /// `A_stable` by the model's prediction.
+    /// step limits and the stability guard). `None` when `a` is in the model's `A_stable` and
+    /// even the smallest allowed step leaves it by the model's prediction. From an `a` outside
+    /// `A_stable` (a noisy measurement, or a true wire the model calls unstable near the
+    /// boundary) the step toward the stable goal is taken unguarded: it is the way back, and
+    /// refusing it would strand the wire there.
     ///
     /// # Errors
     /// [`ControlError::Model`] when the model cannot be solved at `a`.
@@ -295,10 +299,14 @@ impl<M: WireModel> Controller<M> {
         let mut scale = 1.0_f64
             .min(s.max_rotation / rotation.max(f64::MIN_POSITIVE))
             .min(s.max_translation / translation.max(f64::MIN_POSITIVE));
+        // Measured outside the model's A_stable (noise, or where the model and the true
+        // wire disagree near the boundary), every step toward the (stable) goal is the way
+        // back: the guard only keeps a stable configuration from leaving A_stable.
+        let inside = self.model.is_stable(a).unwrap_or(false);
         for _ in 0..=s.max_shrinks {
             let predicted_da = scale * da;
             // A prediction outside A (or one the model cannot solve) is not a stable step.
-            if self.model.is_stable(&(a + predicted_da)).unwrap_or(false) {
+            if !inside || self.model.is_stable(&(a + predicted_da)).unwrap_or(false) {
                 let delta_b = scale * db;
                 return Ok(Some(StepPlan {
                     delta_b,

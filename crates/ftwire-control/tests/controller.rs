@@ -110,22 +110,22 @@ fn an_unreachable_pose_stops_the_run_before_moving_there() {
     assert_eq!(rig.moves, 2);
 }
 
-/// The exact model, except that nothing but the goal is stable.
+/// The exact model, except that nothing but the listed configurations is stable.
 #[derive(Clone)]
-struct OnlyGoalStable(KirchhoffModel, Vector6<f64>);
+struct OnlyStableAt(KirchhoffModel, Vec<Vector6<f64>>);
 
-impl WireModel for OnlyGoalStable {
+impl WireModel for OnlyStableAt {
     fn wire(&self) -> &WireParams {
         self.0.wire()
     }
     fn with_wire(&self, wire: WireParams) -> Self {
-        Self(self.0.with_wire(wire), self.1)
+        Self(self.0.with_wire(wire), self.1.clone())
     }
     fn weight_per_length(&self) -> Vector3<f64> {
         self.0.weight_per_length()
     }
     fn with_weight_per_length(&self, w: Vector3<f64>) -> Result<Self, EstimateError> {
-        Ok(Self(self.0.with_weight_per_length(w)?, self.1))
+        Ok(Self(self.0.with_weight_per_length(w)?, self.1.clone()))
     }
     fn tip(&self, a: &Vector6<f64>) -> Result<Pose, EstimateError> {
         self.0.tip(a)
@@ -137,14 +137,15 @@ impl WireModel for OnlyGoalStable {
         self.0.shape(a, nodes)
     }
     fn is_stable(&self, a: &Vector6<f64>) -> Result<bool, EstimateError> {
-        Ok(*a == self.1)
+        Ok(self.1.contains(a))
     }
 }
 
 #[test]
 fn a_predicted_instability_stops_the_run_without_moving() {
     let (a_s, a_g) = pair();
-    let model = OnlyGoalStable(KirchhoffModel::new(wire()), a_g);
+    // Stable where it stands, and every step toward the goal predicted out of A_stable.
+    let model = OnlyStableAt(KirchhoffModel::new(wire()), vec![a_s, a_g]);
     let controller = Controller::new(model, settings()).expect("valid");
     let mut rig = ModelRig::new(a_s);
     let run = controller
@@ -152,6 +153,25 @@ fn a_predicted_instability_stops_the_run_without_moving() {
         .expect("runs");
     assert_eq!(run.outcome, Outcome::PredictedInstability { step: 0 });
     assert_eq!(rig.moves, 0);
+}
+
+#[test]
+fn measured_outside_a_stable_the_controller_steps_back_toward_the_goal() {
+    let (a_s, a_g) = pair();
+    // The start is outside the model's A_stable (a noisy measurement, or a wire the model
+    // calls unstable): the guard, which keeps a stable wire stable, does not strand it there.
+    let model = OnlyStableAt(KirchhoffModel::new(wire()), vec![a_g]);
+    let controller = Controller::new(model, settings()).expect("valid");
+    let mut rig = ModelRig::new(a_s);
+    let run = controller
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(rig.moves > 0, "{:?}", run.outcome);
+    let first = run.steps.first().expect("a step");
+    assert!(
+        controller.distance(&first.measured, &a_g) < controller.distance(&a_s, &a_g),
+        "the first step moves toward the goal"
+    );
 }
 
 #[test]
