@@ -34,7 +34,7 @@ mod scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
-pub use scene::{Box3, Gripper3, IDENTITY, Polyline3, Rotation, Scene3d, Step3};
+pub use scene::{Box3, Gripper3, IDENTITY, Polyline3, RESOLUTION, Rotation, Scene3d, Step3};
 
 use crate::ReportError;
 
@@ -234,6 +234,17 @@ mod tests {
         assert_eq!(html.matches("<script").count(), 3);
         assert_eq!(html.matches("</script>").count(), 3);
         assert!(html.ends_with("</body>\n</html>\n"));
+    }
+
+    #[test]
+    fn points_are_kept_to_ten_micrometres() {
+        let view = Scene3d::new("v").with_polyline("p", vec![[0.123_456_78, -1e-7, f64::NAN]]);
+        let p = view.polylines[0].points[0];
+        approx::assert_abs_diff_eq!(p[0], 0.123_46, epsilon = 1e-12);
+        approx::assert_abs_diff_eq!(p[1], 0.0, epsilon = 1e-12);
+        assert!(p[2].is_nan());
+        let html = HtmlReport::new("t").with_scene(view).to_html();
+        assert!(html.contains("\"points\":[[0.12346,0.0,null]]"));
     }
 
     #[test]

@@ -2,10 +2,40 @@
 //! of a motion), each with named polylines (centrelines) and the grippers.
 //!
 //! Positions are in metres in one world frame, `z` up; rotations are 3×3 matrices by rows,
-//! mapping the body's frame to the world. The viewer colours polylines by name, the same name
-//! in the same colour at every step.
+//! mapping the body's frame to the world. Polyline points are kept to [`RESOLUTION`] (the page
+//! stays small with a hundred rests of a wire). The viewer colours polylines by name, the same
+//! name in the same colour at every step.
 
 use serde::Serialize;
+
+/// Polyline points are rounded to this \[m\] (10 µm), far below what a view can show.
+pub const RESOLUTION: f64 = 1e-5;
+
+/// `points` rounded to [`RESOLUTION`] (non-finite ones unchanged).
+fn rounded(mut points: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
+    for p in &mut points {
+        for x in p.iter_mut() {
+            if x.is_finite() {
+                // Divided by the exact integer 1/RESOLUTION, the result is the double nearest
+                // to the decimal, which JSON then writes in its few digits; `+ 0.0` turns
+                // `-0.0` into `0.0`.
+                *x = (*x / RESOLUTION).round() / RESOLUTION.recip().round() + 0.0;
+            }
+        }
+    }
+    points
+}
+
+impl Polyline3 {
+    /// A polyline `name` through `points` \[m\], rounded to [`RESOLUTION`].
+    #[must_use]
+    pub fn new(name: impl Into<String>, points: Vec<[f64; 3]>) -> Self {
+        Self {
+            name: name.into(),
+            points: rounded(points),
+        }
+    }
+}
 
 /// A 3×3 rotation matrix by rows (body frame to world).
 pub type Rotation = [[f64; 3]; 3];
@@ -31,7 +61,8 @@ pub struct Box3 {
 pub struct Polyline3 {
     /// Its name, shown in the legend; the colour follows the name.
     pub name: String,
-    /// Its points \[m\], world frame; non-finite points are skipped by the viewer.
+    /// Its points \[m\], world frame, rounded to [`RESOLUTION`] by [`Polyline3::new`];
+    /// non-finite points are skipped by the viewer.
     pub points: Vec<[f64; 3]>,
 }
 
@@ -71,10 +102,7 @@ impl Step3 {
     /// Adds a polyline `name` through `points` \[m\].
     #[must_use]
     pub fn with_polyline(mut self, name: impl Into<String>, points: Vec<[f64; 3]>) -> Self {
-        self.polylines.push(Polyline3 {
-            name: name.into(),
-            points,
-        });
+        self.polylines.push(Polyline3::new(name, points));
         self
     }
 
@@ -95,7 +123,8 @@ impl Step3 {
     }
 }
 
-/// An interactive 3-D view: boxes that stay, and the steps a slider walks through.
+/// An interactive 3-D view: boxes and polylines that stay, and the steps a slider walks
+/// through.
 ///
 /// ```
 /// use ftwire_report::{Scene3d, Step3, IDENTITY};
@@ -110,6 +139,8 @@ pub struct Scene3d {
     pub title: String,
     /// Obstacles, drawn at every step.
     pub boxes: Vec<Box3>,
+    /// Polylines drawn at every step (a plan's start and goal).
+    pub polylines: Vec<Polyline3>,
     /// The slider's steps, in order.
     pub steps: Vec<Step3>,
 }
@@ -121,6 +152,7 @@ impl Scene3d {
         Self {
             title: title.into(),
             boxes: Vec::new(),
+            polylines: Vec::new(),
             steps: Vec::new(),
         }
     }
@@ -140,6 +172,13 @@ impl Scene3d {
             half_extents,
             rotation,
         });
+        self
+    }
+
+    /// Adds a polyline `name` through `points` \[m\], drawn at every step.
+    #[must_use]
+    pub fn with_polyline(mut self, name: impl Into<String>, points: Vec<[f64; 3]>) -> Self {
+        self.polylines.push(Polyline3::new(name, points));
         self
     }
 

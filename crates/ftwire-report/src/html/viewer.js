@@ -42,6 +42,9 @@ function bounds(scene) {
       box.expandByPoint(v.applyMatrix4(m));
     }
   }
+  for (const line of scene.polylines) {
+    for (const p of line.points.filter(finite)) box.expandByPoint(new THREE.Vector3(...p));
+  }
   for (const step of scene.steps) {
     for (const line of step.polylines) {
       for (const p of line.points.filter(finite)) box.expandByPoint(new THREE.Vector3(...p));
@@ -59,14 +62,15 @@ function bounds(scene) {
 // The names of the polylines in order of first appearance, each with its colour.
 function colours(scene) {
   const map = new Map();
-  for (const step of scene.steps) {
-    for (const line of step.polylines) {
+  for (const lines of [...scene.steps.map((s) => s.polylines), scene.polylines]) {
+    for (const line of lines) {
       if (!map.has(line.name)) map.set(line.name, PALETTE[map.size % PALETTE.length]);
     }
   }
   return map;
 }
 
+// The polylines and grippers of a step (or of the whole view, which has no grippers).
 function stepGroup(step, colour, size) {
   const group = new THREE.Group();
   for (const line of step.polylines) {
@@ -75,7 +79,7 @@ function stepGroup(step, colour, size) {
     const geometry = new THREE.BufferGeometry().setFromPoints(points);
     group.add(new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: colour.get(line.name) })));
   }
-  for (const g of step.grippers.filter((g) => finite(g.position))) {
+  for (const g of (step.grippers || []).filter((g) => finite(g.position))) {
     const sphere = new THREE.Mesh(
       new THREE.SphereGeometry(0.015 * size, 16, 12),
       new THREE.MeshBasicMaterial({ color: GRIPPER }));
@@ -133,6 +137,7 @@ function view(host, scene) {
     world.add(placed(new THREE.LineSegments(new THREE.EdgesGeometry(geometry),
       new THREE.LineBasicMaterial({ color: BOX_EDGE })), m));
   }
+  world.add(stepGroup(scene, colour, radius));
   const steps = scene.steps.map((s) => stepGroup(s, colour, radius));
   for (const group of steps) world.add(group);
 
@@ -140,7 +145,7 @@ function view(host, scene) {
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   const camera = new THREE.PerspectiveCamera(40, 1, radius / 100, radius * 100);
   camera.up.set(0, 0, 1);
-  const home = { azimuth: -Math.PI / 3, elevation: Math.PI / 7, distance: 3.2 * radius };
+  const home = { azimuth: -Math.PI / 3, elevation: Math.PI / 7, distance: 2.4 * radius };
   const orbit = { ...home };
 
   const render = () => {
