@@ -3,9 +3,10 @@
 // the script element `#ftwire-scenes`, one per element `[data-view="k"]`.
 //
 // Drag to turn the view, the wheel to zoom, double-click to reset; the slider walks through the
-// steps. After the first frame each view reads its pixels back and the page records on <html>
-// `data-canvas` ("nonblank" when every view drew something) and `data-views` ("drawn/total"),
-// which the browser test (`.ci/browser-test`) reads.
+// steps. A polyline's colour follows its name, the same in every view of the page. After the
+// first frame each view reads its pixels back and the page records on <html> `data-canvas`
+// ("nonblank" when every view drew something) and `data-views` ("drawn/total"), which the
+// browser test (`.ci/browser-test`) reads.
 
 const PALETTE = [0xd62728, 0x1f77b4, 0x2ca02c, 0xff7f0e, 0x9467bd, 0x8c564b, 0xe377c2, 0x17becf];
 const BOX_FILL = 0x9aa5b1;
@@ -59,13 +60,20 @@ function bounds(scene) {
   return { centre, radius };
 }
 
-// The names of the polylines in order of first appearance, each with its colour.
-function colours(scene) {
-  const map = new Map();
+// The names of a view's polylines in order of first appearance.
+function names(scene) {
+  const seen = new Set();
   for (const lines of [...scene.steps.map((s) => s.polylines), scene.polylines]) {
-    for (const line of lines) {
-      if (!map.has(line.name)) map.set(line.name, PALETTE[map.size % PALETTE.length]);
-    }
+    for (const line of lines) seen.add(line.name);
+  }
+  return [...seen];
+}
+
+// A colour for each polyline name of the page: the same name in the same colour in every view.
+function colours(scenes) {
+  const map = new Map();
+  for (const name of scenes.flatMap(names)) {
+    if (!map.has(name)) map.set(name, PALETTE[map.size % PALETTE.length]);
   }
   return map;
 }
@@ -101,7 +109,7 @@ function legend(colour, scene) {
     li.append(swatch, document.createTextNode(text));
     list.append(li);
   };
-  for (const [name, c] of colour) item(name, c);
+  for (const name of names(scene)) item(name, colour.get(name));
   if (scene.boxes.length > 0) item("obstacles", BOX_FILL);
   if (scene.steps.some((s) => s.grippers.length > 0)) item("grippers (axes: x red, y green, z blue)", GRIPPER);
   return list;
@@ -122,8 +130,7 @@ function nonblank(renderer) {
 }
 
 // Builds one view into `host`; returns whether its first frame drew anything.
-function view(host, scene) {
-  const colour = colours(scene);
+function view(host, scene, colour) {
   const { centre, radius } = bounds(scene);
   const world = new THREE.Scene();
   world.background = new THREE.Color(0xffffff);
@@ -217,10 +224,11 @@ function view(host, scene) {
 const root = document.documentElement;
 const data = document.getElementById("ftwire-scenes");
 const scenes = data ? JSON.parse(data.textContent) : [];
+const colour = colours(scenes);
 let drawn = 0;
 scenes.forEach((scene, k) => {
   const host = document.querySelector(`[data-view="${k}"]`);
-  if (host && view(host, scene)) drawn += 1;
+  if (host && view(host, scene, colour)) drawn += 1;
 });
 root.dataset.views = `${drawn}/${scenes.length}`;
 root.dataset.canvas = scenes.length > 0 && drawn === scenes.length ? "nonblank" : "blank";

@@ -208,7 +208,7 @@ pub(super) fn write(
         ));
     if let Some((estimate, truth)) = drawn.shape {
         let step = Step3::new("the first configuration")
-            .with_polyline("truth (simulator)", truth.clone())
+            .with_polyline("true wire (simulator)", truth.clone())
             .with_polyline("estimate from F/T", estimate.clone());
         let ends = [truth.first(), truth.last()];
         let step = ends
