@@ -16,6 +16,14 @@ pub enum ReportError {
         /// What the drawing library said.
         message: String,
     },
+    /// A file of a report (a figure to embed, the page) could not be read or written.
+    #[error("cannot read or write {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
     /// A figure has nothing to draw, or only non-finite points.
     #[error("figure {name:?} has no finite point to draw")]
     Empty {

@@ -1,4 +1,6 @@
-//! Figures of ftwire's experiments, as PNG and SVG, rendered on a headless machine.
+//! Figures of ftwire's experiments, as PNG and SVG, rendered on a headless machine, and the
+//! self-contained `report.html` of a results folder ([`html`]: tables, the figures embedded,
+//! interactive 3-D views of the wire drawn by a vendored three.js).
 //!
 //! Text is drawn by `ab_glyph` from DejaVu Sans, embedded in the binary (`assets/`, Bitstream
 //! Vera license, beside the font), so no system font and no C library is needed.
@@ -18,6 +20,8 @@
 
 mod error;
 mod figure;
+pub mod html;
 
 pub use error::ReportError;
 pub use figure::{Chart3d, Curve3, LineChart, Series, SeriesKind};
+pub use html::{Box3, Gripper3, HtmlReport, IDENTITY, Polyline3, Rotation, Scene3d, Step3};

@@ -1,5 +1,5 @@
 //! `ftwire demo`: it runs end to end in the simulator, the same seed gives a byte-identical
-//! `summary.json` (timings live in `timings.json`), its answers are the system's (the wire
+//! `summary.json` (timings live in `timings.json`) and `report.html`, its answers are the system's (the wire
 //! identified and its shape seen from F/T), and bad input is exit 2 with nothing written.
 
 mod cli_support;
@@ -21,10 +21,11 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
         let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
         (
             fs::read(dir.join("demo/summary.json")).expect("summary.json"),
+            fs::read(dir.join("demo/report.html")).expect("report.html"),
             stderr,
         )
     };
-    let (first, stderr) = run();
+    let (first, first_page, stderr) = run();
     // Not a terminal here: plain progress lines, one per phase and its result.
     for phase in ["[1/5]", "[2/5]", "[3/5]", "[4/5]", "[5/5]"] {
         assert!(stderr.contains(phase), "{phase} in {stderr}");
@@ -56,11 +57,21 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
         "shape.png",
         "shape.svg",
         "tracking.png",
+        "report.html",
     ] {
         assert!(dir.join("demo").join(file).is_file(), "{file}");
     }
-    let (second, _) = run();
+    // The page: the three views (closed loop, open loop, shape) and both figures, offline.
+    let page = String::from_utf8_lossy(&first_page);
+    assert_eq!(page.matches("<div class=\"view\" data-view=").count(), 3);
+    assert_eq!(page.matches("src=\"data:image/png;base64,").count(), 2);
+    assert!(!page.contains("src=\"http"));
+    let (second, second_page, _) = run();
     assert_eq!(first, second, "the same seed gives the same summary.json");
+    assert!(
+        first_page == second_page,
+        "the same seed gives the same report.html"
+    );
     let _ = fs::remove_dir_all(&dir);
 }
 

@@ -1,11 +1,24 @@
-//! `ftwire reproduce --quick`: every experiment runs, the report sets the paper's tables beside
-//! ours, and the results do not depend on how many experiments run at once.
+//! `ftwire reproduce --quick`: every experiment runs, the report (`report.md` and
+//! `report.html`) sets the paper's tables beside ours, and the results do not depend on how
+//! many experiments run at once.
 
 mod cli_support;
 
 use std::fs;
 
 use cli_support::{assert_exit, assert_success, ftwire};
+
+/// `page` with each embedded PNG's data cut out.
+fn without_images(page: &str) -> String {
+    let marker = "data:image/png;base64,";
+    let mut parts = page.split(marker);
+    let mut out = parts.next().unwrap_or_default().to_owned();
+    for part in parts {
+        out.push_str(marker);
+        out.push_str(part.find('"').map_or("", |end| &part[end..]));
+    }
+    out
+}
 
 #[test]
 fn the_quick_report_is_the_same_for_one_or_two_jobs() {
@@ -31,9 +44,12 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
             assert!(out.join(id).join("summary.json").is_file(), "{id}");
             assert!(out.join(id).join("log.txt").is_file(), "{id}'s log");
         }
-        fs::read_to_string(out.join("report.md")).expect("report.md")
+        (
+            fs::read_to_string(out.join("report.md")).expect("report.md"),
+            fs::read_to_string(out.join("report.html")).expect("report.html"),
+        )
     };
-    let one = report("1");
+    let (one, one_page) = report("1");
     for table in [
         "## Table I",
         "## Table II",
@@ -51,8 +67,23 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
         !row.contains('–'),
         "every cell of ours and the paper's filled: {row}"
     );
-    let two = report("2");
+    // The page: the same tables, the figures embedded, nothing loaded from the network.
+    for part in [
+        "<h3>Table I",
+        "<h3>Table III",
+        "<td>nitinol-2mm-630</td><td>c1</td>",
+    ] {
+        assert!(one_page.contains(part), "{part} in report.html");
+    }
+    assert!(one_page.contains("src=\"data:image/png;base64,"));
+    assert!(!one_page.contains("src=\"http"));
+    let (two, two_page) = report("2");
     assert_eq!(one, two, "the report does not depend on --jobs");
+    // The figures are left out: `identify`'s time_vs_samples.png plots wall times.
+    assert!(
+        without_images(&one_page) == without_images(&two_page),
+        "report.html's text does not depend on --jobs"
+    );
     let output = ftwire(&["reproduce", "--quick", "--jobs", "0", "--out", "x"]);
     assert_exit(&output, 2, "--jobs 0", "no jobs");
     let _ = fs::remove_dir_all(&dir);

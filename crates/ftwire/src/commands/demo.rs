@@ -23,7 +23,8 @@
 //! `tracking`; the same for the same seed), `timings.json` (each phase's wall time),
 //! `calibration.json` (the weights), `shape.{png,svg}` (the estimated and the true wire of the
 //! first configuration), `tracking.{png,svg}` (the scene's boxes and the true wire at each
-//! rest of the closed-loop run).
+//! rest of the closed-loop run), `report.html` (the numbers, those figures and 3-D views of
+//! the runs, one self-contained page; [`page`]).
 
 use std::io::IsTerminal as _;
 use std::time::{Duration, Instant};
@@ -60,6 +61,8 @@ use crate::commands::experiment::identify::{
     Map, Protocol, linear_density, loaded_config, record_trial, truth,
 };
 use crate::commands::identify::{flag_name, run_identification};
+
+mod page;
 
 /// Configurations of the calibration phase: fewer than `experiment calibrate`'s 600, which
 /// keeps the demo within its time while the calibrated map stays at the sensor's floor on the
@@ -416,6 +419,12 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         total_s: total.elapsed().as_secs_f64(),
     };
     folder.write_json("timings.json", &timings)?;
+    let drawn = page::Drawn {
+        scene: &scene,
+        waypoints: &planned.waypoints,
+        shape: first.as_ref(),
+    };
+    page::write(&folder, &summary, &drawn)?;
     let header = RunHeader::new("demo", Some(seed), &args)?;
     let target = folder.finish(&header, &summary)?;
     println!(

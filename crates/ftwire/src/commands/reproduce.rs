@@ -9,7 +9,8 @@
 //!
 //! Results folder (`--out`, default `results/reproduce`, written whole or not at all): one
 //! subfolder per experiment (its own `summary.json`, figures and `log.txt`), `report.md` (the
-//! tables), `summary.json` (the run header, then `quick`, `experiments`: each
+//! tables), `report.html` (the tables and every experiment's figures in one self-contained
+//! page; [`page`]), `summary.json` (the run header, then `quick`, `experiments`: each
 //! `{id, status}`), `timings.json` (each experiment's wall time).
 
 use std::fmt::Write as _;
@@ -28,6 +29,8 @@ use serde_json::Value;
 use crate::cli::reproduce::ReproduceArgs;
 use crate::commands::experiment::identify::TABLE_I;
 use crate::commands::experiment::shape::TABLE_II;
+
+mod page;
 
 /// One experiment run as a child process.
 struct Job {
@@ -213,7 +216,10 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
             });
         }
     }
-    folder.write("report.md", report(&dir, &statuses, args.quick))?;
+    let markdown = report(&dir, &statuses, args.quick);
+    folder.write("report.md", &markdown)?;
+    let ids: Vec<&str> = statuses.iter().map(|s| s.id).collect();
+    page::write(&folder, &dir, &markdown, &ids)?;
     let failed: Vec<&str> = statuses
         .iter()
         .filter(|s| s.status != "ok")
