@@ -131,8 +131,8 @@ fn leaf_keys(table: &toml::Table) -> Vec<String> {
         .collect()
 }
 
-/// The 1-based line of the first `key = …` in `text`, if any.
-fn line_of(text: &str, key: &str) -> Option<usize> {
+/// The 1-based line of the first `key = …` in `text`, if any (also used for wire files).
+pub(crate) fn line_of(text: &str, key: &str) -> Option<usize> {
     if key.is_empty() {
         return None;
     }
