@@ -66,7 +66,24 @@ impl RigConfig {
         }
     }
 
-    fn validate(&self) -> Result<(), SimError> {
+    /// Checks every setting as [`SimRig::new`] does: the speeds and settle time here, and the
+    /// sensor, marker and execution-error models' own checks. A configuration read from a file
+    /// can so be rejected before any rig is built.
+    ///
+    /// # Errors
+    /// [`SimError::RigSetting`] or [`SimError::Sensing`] naming the setting and what is allowed.
+    ///
+    /// # Example
+    /// ```
+    /// let mut config = ftwire_sim::RigConfig::default();
+    /// assert!(config.validate().is_ok());
+    /// config.markers.noise_std = -1.0;
+    /// assert!(config.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<(), SimError> {
+        FtSensor::new(self.sensor.clone(), 0)?;
+        MotionCapture::new(self.markers.clone(), 0)?;
+        ExecutionErrorModel::new(self.execution, 0)?;
         for (field, value) in [
             ("linear_speed", self.linear_speed),
             ("angular_speed", self.angular_speed),

@@ -272,6 +272,36 @@ pub struct OutArgs {
     pub out: PathBuf,
 }
 
+/// The simulated rig: `--sensor PRESET|FILE.toml` and `--rig FILE.toml` (see
+/// [`crate::setup`]; every key in `docs/config.md`). Left out of a run header when not given, so
+/// that a run without them writes the same `summary.json` as before they existed.
+#[derive(Debug, Clone, Default, Args, Serialize)]
+pub struct SimSetupArgs {
+    /// The simulated F/T sensor: `distorted` (the default sensor: gain, cross-talk and
+    /// nonlinearity of about 1 %, noise, bias, drift and dropouts), `undistorted` (the same
+    /// without gain, cross-talk and nonlinearity: what a perfect calibration gives), or a
+    /// sensor file (TOML; `ftwire init` writes an example) [default: distorted].
+    #[arg(long, value_name = "PRESET|FILE.toml")]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<String>,
+    /// The simulated rig (TOML: motion capture, execution error, move timing; `ftwire init`
+    /// writes an example) [default: the library's rig].
+    #[arg(long, value_name = "FILE.toml")]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rig: Option<PathBuf>,
+}
+
+impl SimSetupArgs {
+    /// The sensor and the rig.
+    ///
+    /// # Errors
+    /// Bad input naming the file, the line and the key.
+    pub fn load(&self) -> Result<crate::setup::SimSetup, CliError> {
+        crate::setup::SimSetup::load(self.sensor.as_deref(), self.rig.as_deref())
+            .map_err(|e| CliError::bad_input(e.to_string()))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,6 +3,7 @@
 pub mod demo;
 pub mod experiment;
 pub mod identify;
+pub mod init;
 pub mod plan;
 pub mod reproduce;
 pub mod robot;
@@ -45,4 +46,7 @@ pub enum Command {
     Plan(plan::PlanArgs),
     /// Scene files: validate one and check its start and goal.
     Scene(plan::SceneArgs),
+    /// Write a commented example of each configuration file (wire, sensor, rig, scene) into a
+    /// folder.
+    Init(init::InitArgs),
 }

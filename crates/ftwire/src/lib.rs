@@ -11,8 +11,10 @@
 //! - [`output`]: JSON / text / JSON Lines output and the run header;
 //! - [`results`]: the results folder of an experiment, replaced whole or not at all;
 //! - [`wire`]: wires by preset name or TOML file;
+//! - [`setup`]: the simulated F/T sensor and rig, by preset or TOML file;
 //! - [`scene`]: a planning scene's obstacles for the simulator (the same file the planner
 //!   reads);
+//! - [`init`]: the commented example files of `ftwire init`;
 //! - [`experiment`]: what the experiments of paper §IV share (the simulated rig, taring,
 //!   measuring).
 
@@ -20,7 +22,9 @@ pub mod args;
 pub mod bridge;
 pub mod error;
 pub mod experiment;
+pub mod init;
 pub mod output;
 pub mod results;
 pub mod scene;
+pub mod setup;
 pub mod wire;

@@ -149,7 +149,25 @@ impl WireSpec {
             path: path.to_owned(),
             message: e.to_string().trim_end().to_owned(),
         })?;
-        wire.validate()?;
+        wire.validate().map_err(|e| match &e {
+            // A value out of range: the file, and the line of its key (`c` for `c2`,
+            // `natural_curvature` for `natural_curvature[1]`).
+            WireSpecError::Value { key, .. } => {
+                let name = key.split('[').next().unwrap_or(key);
+                let name = if matches!(name, "c1" | "c2" | "c3") {
+                    "c"
+                } else {
+                    name
+                };
+                let line = crate::setup::line_of(text, name)
+                    .map_or_else(String::new, |line| format!("line {line}, "));
+                WireSpecError::Parse {
+                    path: path.to_owned(),
+                    message: format!("{line}key {name}: {e}"),
+                }
+            }
+            _ => e,
+        })?;
         Ok(wire)
     }
 
@@ -267,7 +285,12 @@ mod tests {
             .map(|_| ())
             .err()
             .map(|e| e.to_string());
-        assert!(message.is_some_and(|m| m.contains("length = -0.5")));
+        assert!(
+            message.as_ref().is_some_and(|m| m.contains("length = -0.5")
+                && m.contains("w.toml")
+                && m.contains("line 3, key length")),
+            "{message:?}"
+        );
         assert!(matches!(
             WireSpec::load("no-such-wire"),
             Err(WireSpecError::Unknown { .. })

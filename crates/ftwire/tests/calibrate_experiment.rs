@@ -26,7 +26,14 @@ fn relative(pairs: &[(Vector6<f64>, Vector6<f64>)]) -> (f64, f64) {
 fn the_learnt_calibration_comes_close_to_the_exact_inverse()
 -> Result<(), Box<dyn std::error::Error>> {
     let wire = WireSpec::preset("nitinol-3mm-820").ok_or("preset")?;
-    let result = run(&wire, (Gravity::Off, ModelKind::Kirchhoff), 120, 5, |_| {})?;
+    let result = run(
+        &wire,
+        (Gravity::Off, ModelKind::Kirchhoff),
+        &ftwire::setup::SimSetup::default(),
+        120,
+        5,
+        |_| {},
+    )?;
     // The exact inverse of the sensor's deterministic response; the tare removed the bias.
     let sensor = FtSensor::new(RigConfig::default().sensor, 0)?;
     let mut learnt = Vec::new();

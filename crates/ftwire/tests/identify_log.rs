@@ -14,28 +14,9 @@ mod cli_support;
 
 use std::collections::HashMap;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use cli_support::{assert_exit, assert_success, ftwire, json, numbers, tiny_calibration};
-
-/// A fresh folder under the system's temporary folder, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let path =
-            std::env::temp_dir().join(format!("ftwire-identify-{tag}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&path);
-        fs::create_dir_all(&path).expect("creates a temporary folder");
-        Self(path)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
+use cli_support::{TempDir, assert_exit, assert_success, ftwire, json, numbers, tiny_calibration};
 
 /// The rows of `identify.csv` in the results folder `dir`, each a map from column to value.
 fn csv_rows(dir: &Path) -> Vec<HashMap<String, String>> {
@@ -83,7 +64,7 @@ fn live_row(dir: &Path, trial: &str, samples: &str) -> ([f64; 4], bool) {
 
 #[test]
 fn a_saved_log_gives_the_live_estimate() {
-    let tmp = TempDir::new("replay");
+    let tmp = TempDir::new("identify-replay");
     let out = tmp.0.join("run");
     let body = identify(&out, &["--pipeline", "mounting"]);
     assert_eq!(body["wire"]["name"], "nitinol-2mm-630");
@@ -111,7 +92,7 @@ fn a_saved_log_gives_the_live_estimate() {
 
 #[test]
 fn a_bad_log_line_or_an_empty_log_is_bad_input() {
-    let tmp = TempDir::new("bad");
+    let tmp = TempDir::new("identify-bad");
     let good = r#"{"time": 0.0, "a": [0.01, 0.02, -0.03, -0.1, 0.2, 0.05], "b": {"position": [0.5, 0.1, 0.0], "rotation": [0.0, 0.0, 0.3]}}"#;
     let bad = r#"{"time": 0.1, "a": [0.01, 0.02, -0.03, -0.1, 0.2, 1e999], "b": {"position": [0.5, 0.1, 0.0], "rotation": [0.0, 0.0, 0.3]}}"#;
     let path = tmp.0.join("bad.jsonl");
@@ -152,7 +133,7 @@ fn a_bad_log_line_or_an_empty_log_is_bad_input() {
 
 #[test]
 fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
-    let tmp = TempDir::new("experiment");
+    let tmp = TempDir::new("identify-experiment");
     let out = tmp.0.join("run");
     let run = ftwire(&[
         "experiment",
@@ -230,7 +211,7 @@ fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
 
 #[test]
 fn bad_options_are_bad_input() {
-    let tmp = TempDir::new("bad-options");
+    let tmp = TempDir::new("identify-bad-options");
     let out = tmp.0.join("run").to_string_lossy().into_owned();
     let cases: [(&[&str], &str); 8] = [
         (&["--wire", "copper"], "unknown wire"),
@@ -356,7 +337,7 @@ fn assert_replay_gives_the_live_estimate(out: &Path) {
 
 #[test]
 fn given_weights_are_used_recorded_and_replayed() {
-    let tmp = TempDir::new("given");
+    let tmp = TempDir::new("identify-given");
     let weights = tiny_calibration(&tmp.0);
 
     let calibrated = tmp.0.join("calibrated");
@@ -411,7 +392,7 @@ fn given_weights_are_used_recorded_and_replayed() {
 /// estimate, linear density included.
 #[test]
 fn the_loaded_model_identifies_the_weight_and_its_log_replays() {
-    let tmp = TempDir::new("loaded");
+    let tmp = TempDir::new("identify-loaded");
     let out = tmp.0.join("run");
     let args = [
         "experiment",

@@ -4,25 +4,9 @@
 
 mod cli_support;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use cli_support::{assert_exit, assert_success, ftwire, tiny_calibration};
-
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let path = std::env::temp_dir().join(format!("ftwire-shape-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&path).expect("creates a temporary folder");
-        Self(path)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use cli_support::{TempDir, assert_exit, assert_success, ftwire, tiny_calibration};
 
 fn text(path: &Path) -> &str {
     path.to_str().expect("a UTF-8 path")
@@ -30,7 +14,7 @@ fn text(path: &Path) -> &str {
 
 #[test]
 fn a_saved_log_gives_the_live_runs_answer() -> Result<(), Box<dyn std::error::Error>> {
-    let tmp = TempDir::new("log");
+    let tmp = TempDir::new("shape-log");
     let weights = tiny_calibration(&tmp.0);
     let live = tmp.0.join("live");
     let output = ftwire(&[
@@ -111,7 +95,7 @@ fn a_saved_log_gives_the_live_runs_answer() -> Result<(), Box<dyn std::error::Er
 
 #[test]
 fn bad_and_empty_logs_are_bad_input() -> Result<(), Box<dyn std::error::Error>> {
-    let tmp = TempDir::new("bad");
+    let tmp = TempDir::new("shape-bad");
     let good = r#"{"time": 0.0, "a": [0, 0.01, 0.01, -0.05, 0.03, 0], "b": {"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}}"#;
     let bad = good.replace("-0.05", "1e999");
     let cases = [

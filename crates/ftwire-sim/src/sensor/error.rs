@@ -14,7 +14,7 @@ pub enum SensingError {
     Core(#[from] CoreError),
 
     /// A configuration value lies outside its allowed range.
-    #[error("{field}[{index}] = {value} is out of range; allowed is {min} ..= {max}")]
+    #[error("{field}[{index}] = {value} is out of range; allowed is {}", allowed_range(*min, *max))]
     OutOfRange {
         /// Name of the offending field.
         field: &'static str,
@@ -107,6 +107,23 @@ pub enum SensingError {
 }
 
 /// Checks `min <= value <= max` (and finiteness), naming the field in the error.
+/// `min ..= max` as a reader wants it: an open end (`f64::MAX`, infinity) is left out, and the
+/// smallest positive number reads as `> 0`.
+fn allowed_range(min: f64, max: f64) -> String {
+    let lower = if min == f64::MIN_POSITIVE {
+        "> 0".to_owned()
+    } else {
+        format!("≥ {min}")
+    };
+    if max == f64::MAX {
+        lower
+    } else if max.is_infinite() {
+        format!("{lower} (inf allowed)")
+    } else {
+        format!("{min} ..= {max}")
+    }
+}
+
 pub(crate) fn in_range(
     field: &'static str,
     index: usize,

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use ftwire::args::SeedArgs;
+use ftwire::args::{SeedArgs, SimSetupArgs};
 
 /// `ftwire demo`: the whole system at work in the simulator.
 #[derive(Debug, Clone, Args, Serialize)]
@@ -37,6 +37,10 @@ pub struct DemoArgs {
     /// Results folder [default: results/demo].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// The simulated F/T sensor and rig (`--sensor`, `--rig`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub setup: SimSetupArgs,
 }
 
 /// The demo's wire by default.

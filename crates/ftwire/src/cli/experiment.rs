@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use ftwire::error::CliError;
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::SeedArgs;
+use ftwire::args::{SeedArgs, SimSetupArgs};
 use ftwire::experiment::Gravity;
 use serde::Serialize;
 
@@ -65,6 +65,10 @@ pub struct CommonExperimentArgs {
     /// beside it.
     #[arg(long, value_enum)]
     pub model: Option<ModelArg>,
+    /// The simulated F/T sensor and rig (`--sensor`, `--rig`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub setup: SimSetupArgs,
 }
 
 impl CommonExperimentArgs {
@@ -121,12 +125,6 @@ pub struct IdentifyExperimentArgs {
     /// unseen-wire survey measured 400 best. At least 100.
     #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES)]
     pub rest_samples: usize,
-    /// The simulated F/T sensor: `distorted` has the default gain, cross-talk and
-    /// nonlinearity, which the tared, mounting-only pipeline leaves in `ã`; `undistorted`
-    /// removes them (noise, bias, drift and dropouts kept): what a perfect calibration gives,
-    /// so it goes with `--pipeline mounting` only.
-    #[arg(long, value_enum, default_value_t = crate::cli::identify::SensorArg::Distorted)]
-    pub sensor: crate::cli::identify::SensorArg,
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
     pub pipeline: IdentifyPipeline,

@@ -36,18 +36,6 @@ impl FormArg {
     }
 }
 
-/// The simulated F/T sensor of `ftwire experiment identify` (`--sensor`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum SensorArg {
-    /// The default sensor: gain and cross-talk of 1–1.5 %, a mild cubic nonlinearity, noise,
-    /// bias, drift and dropouts.
-    Distorted,
-    /// The default sensor without gain, cross-talk and nonlinearity (noise, bias, drift and
-    /// dropouts kept): the best a learnt calibration can do.
-    Undistorted,
-}
-
 /// How to identify: the residual form and the known relations between the parameters. Shared
 /// by `ftwire identify` and `ftwire experiment identify`, so both read the same flags the same
 /// way.

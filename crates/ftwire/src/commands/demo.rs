@@ -36,6 +36,7 @@ use ftwire::experiment::track::{Attempt, Tracking, plan_in_scene};
 use ftwire::experiment::{Gravity, ModelKind};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
+use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_control::NoiseModel;
 use ftwire_core::WireParams;
@@ -47,7 +48,6 @@ use ftwire_plan::Scene;
 use ftwire_report::{Chart3d, SeriesKind};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
-use ftwire_sim::RigConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
 use rand::SeedableRng;
@@ -56,7 +56,7 @@ use serde::Serialize;
 
 use crate::cli::demo::DemoArgs;
 use crate::cli::experiment::{IDENTIFY_REST_SAMPLES, NoiseModelArg};
-use crate::cli::identify::{FormArg, IdentifySettingsArgs, SensorArg};
+use crate::cli::identify::{FormArg, IdentifySettingsArgs};
 use crate::commands::experiment::identify::{
     Map, Protocol, linear_density, loaded_config, record_trial, truth,
 };
@@ -224,6 +224,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let total = Instant::now();
     let seed = args.seed.seed;
     let wire = WireSpec::load(&args.wire).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let setup = args.setup.load()?;
     let known = WireSpec::preset(KNOWN_WIRE)
         .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
     let folder = ResultsFolder::create_or_default(args.out.as_deref(), "demo")?;
@@ -234,6 +235,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let run = calibration::run(
         &known,
         (gravity, ModelKind::Loaded),
+        &setup,
         CALIBRATION_CONFIGS,
         seed,
         |k| phase.set(k + 1),
@@ -266,7 +268,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 
     // 2. Identification of the unknown wire.
     let phase = Phase::start(2, "identify the wire from F/T", IDENTIFY_SAMPLES as u64);
-    let (identification, model) = identify(&wire, &learnt, seed)?;
+    let (identification, model) = identify(&wire, &learnt, &setup, seed)?;
     phase.set(IDENTIFY_SAMPLES);
     let err = &identification.relative_error;
     let identify_s = phase.finish(&format!(
@@ -291,7 +293,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 
     // 3. Shape from F/T with the identified model.
     let phase = Phase::start(3, "estimate the shape from F/T", SHAPE_CONFIGS as u64);
-    let (shape, first) = shapes(&wire, &learnt, model, seed, |k| phase.set(k))?;
+    let (shape, first) = shapes(&wire, (&learnt, &setup), model, seed, |k| phase.set(k))?;
     if let Some((estimate, truth)) = &first {
         let chart = Chart3d::new(format!("{}: shape from F/T against the truth", wire.name))
             .with_curve("truth (simulator)", truth.clone(), SeriesKind::Line)
@@ -356,6 +358,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         gravity,
         scene: &scene,
         calibration: &learnt,
+        setup: &setup,
         noise,
         seed,
         gain: ftwire_control::ControlSettings::default().gain,
@@ -440,6 +443,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 fn identify(
     wire: &WireSpec,
     learnt: &Calibration,
+    setup: &SimSetup,
     seed: u64,
 ) -> Result<(IdentificationOut, KirchhoffModel), CliError> {
     let protocol = Protocol {
@@ -452,7 +456,7 @@ fn identify(
     let samples = record_trial(
         wire,
         Gravity::On,
-        SensorArg::Distorted,
+        setup,
         Map::Learnt(learnt),
         seed,
         0,
@@ -504,7 +508,7 @@ type Points = Vec<[f64; 3]>;
 /// wire; returns the errors and the first configuration's estimated and true centrelines.
 fn shapes(
     wire: &WireSpec,
-    learnt: &Calibration,
+    (learnt, setup): (&Calibration, &SimSetup),
     model: KirchhoffModel,
     seed: u64,
     mut progress: impl FnMut(usize),
@@ -523,10 +527,7 @@ fn shapes(
         let placed = sampler
             .sample_free(&rod, &mut rng)
             .map_err(|e| from_rod(e, "sampling A_free of the wire"))?;
-        let config = RigConfig {
-            seed: rig_seed(seed, k),
-            ..RigConfig::default()
-        };
+        let config = setup.rig_config(rig_seed(seed, k));
         let Ok(mut rig) = place_wire(wire, Gravity::On, &placed, config) else {
             continue;
         };

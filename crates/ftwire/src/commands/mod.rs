@@ -4,6 +4,7 @@
 pub mod demo;
 pub mod experiment;
 pub mod identify;
+pub mod init;
 pub mod plan;
 pub mod reproduce;
 pub mod robot;
@@ -28,5 +29,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Shape(args) => shape::run(args),
         Command::Plan(args) => plan::run(&args),
         Command::Scene(args) => plan::run_scene(&args),
+        Command::Init(args) => init::run(&args),
     }
 }

@@ -42,7 +42,6 @@ use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, Markers, ShapeFitter, centr
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
-use ftwire_sim::RigConfig;
 use nalgebra::{Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -51,6 +50,7 @@ use serde::Serialize;
 use super::rig::{measure, mounting, pipeline, place_wire, tare, true_centreline};
 use super::{Gravity, ModelKind, known_model};
 use crate::error::{CliError, from_estimate, from_rod};
+use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
 /// The known wire the calibration is collected on by default: the 3 mm nitinol wire of 820 mm,
@@ -190,14 +190,15 @@ pub fn rig_seed(seed: u64, k: usize) -> u64 {
     seed.wrapping_mul(1_000_003).wrapping_add(k as u64)
 }
 
-/// Collects `count` configurations on `wire` (see the module docs); `progress(k)` is called
-/// after each.
+/// Collects `count` configurations on `wire` in the rig `setup` (see the module docs);
+/// `progress(k)` is called after each.
 ///
 /// # Errors
 /// Bad input for a bad wire; no answer when `A_free` cannot be sampled.
 pub fn collect(
     wire: &WireSpec,
     (gravity, kind): (Gravity, ModelKind),
+    setup: &SimSetup,
     count: usize,
     seed: u64,
     mut progress: impl FnMut(usize),
@@ -216,10 +217,7 @@ pub fn collect(
             .sample_free(&rod, &mut rng)
             .map_err(|e| from_rod(e, "sampling A_free of the known wire"))?;
         progress(k);
-        let config = RigConfig {
-            seed: rig_seed(seed, k),
-            ..RigConfig::default()
-        };
+        let config = setup.rig_config(rig_seed(seed, k));
         let Ok(mut rig) = place_wire(wire, gravity, &placed, config.clone()) else {
             skipped.placement += 1;
             continue;
@@ -302,7 +300,7 @@ pub fn map_errors(
     })
 }
 
-/// Collects `count` configurations on `wire`, trains the network with the default
+/// Collects `count` configurations on `wire` in the rig `setup`, trains the network with the default
 /// [`TrainConfig`] and `seed`, and evaluates it (see the module docs).
 ///
 /// # Errors
@@ -311,12 +309,13 @@ pub fn map_errors(
 pub fn run(
     wire: &WireSpec,
     (gravity, kind): (Gravity, ModelKind),
+    setup: &SimSetup,
     count: usize,
     seed: u64,
     progress: impl FnMut(usize),
 ) -> Result<CalibrationRun, CliError> {
     let start = Instant::now();
-    let (samples, skipped) = collect(wire, (gravity, kind), count, seed, progress)?;
+    let (samples, skipped) = collect(wire, (gravity, kind), setup, count, seed, progress)?;
     let collect_s = start.elapsed().as_secs_f64();
     let data = Dataset::new(
         samples.iter().map(|s| s.raw).collect(),
@@ -370,7 +369,8 @@ pub fn run(
 }
 
 /// The calibration weights of `file`, or else a fresh run on [`KNOWN_WIRE`] with
-/// [`DEFAULT_SAMPLES`] configurations (the experiments that need a calibration cache it in
+/// [`DEFAULT_SAMPLES`] configurations in the rig `setup`, whose sensor the network then learns
+/// (the experiments that need a calibration cache it in
 /// their results folder as `calibration.json`). Returns the run when one was made.
 ///
 /// # Errors
@@ -378,6 +378,7 @@ pub fn run(
 pub fn load_or_run(
     file: Option<&Path>,
     (gravity, kind): (Gravity, ModelKind),
+    setup: &SimSetup,
     seed: u64,
     progress: impl FnMut(usize),
 ) -> Result<(Calibration, Option<CalibrationRun>), CliError> {
@@ -388,7 +389,14 @@ pub fn load_or_run(
     }
     let wire = WireSpec::preset(KNOWN_WIRE)
         .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
-    let run = run(&wire, (gravity, kind), DEFAULT_SAMPLES, seed, progress)?;
+    let run = run(
+        &wire,
+        (gravity, kind),
+        setup,
+        DEFAULT_SAMPLES,
+        seed,
+        progress,
+    )?;
     Ok((run.calibration.clone(), Some(run)))
 }
 
@@ -402,13 +410,14 @@ pub fn load_or_run_into(
     folder: &crate::results::ResultsFolder,
     file: Option<&Path>,
     (gravity, kind): (Gravity, ModelKind),
+    setup: &SimSetup,
     seed: u64,
 ) -> Result<(Calibration, f64), CliError> {
     if file.is_none() {
         eprintln!("no --calibration: calibrating on the known wire first");
     }
     let start = Instant::now();
-    let (calibration, calibration_run) = load_or_run(file, (gravity, kind), seed, |_| {})?;
+    let (calibration, calibration_run) = load_or_run(file, (gravity, kind), setup, seed, |_| {})?;
     let seconds = start.elapsed().as_secs_f64();
     if calibration_run.is_some() {
         let json = calibration

@@ -37,6 +37,7 @@ use super::Gravity;
 use super::rig::{SAMPLES_PER_REST, pipeline, place_in_world, tare};
 use crate::error::{CliError, from_plan, from_rod, from_sim};
 use crate::scene::with_scene;
+use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
 /// RRT* iterations of [`plan_in_scene`] (an iteration budget, not a time budget, so that the
@@ -315,6 +316,8 @@ pub struct Tracking<'a> {
     pub scene: &'a Scene,
     /// The learnt F/T calibration.
     pub calibration: &'a Calibration,
+    /// The simulated sensor and rig (`--sensor`, `--rig`).
+    pub setup: &'a SimSetup,
     /// Execution noise of the second gripper.
     pub noise: NoiseModel,
     /// The seed of the rig and of the noise.
@@ -372,10 +375,9 @@ impl Tracking<'_> {
         obstacles: bool,
         stream: u64,
     ) -> Result<(NoisyRig<SimRig>, FtFeedback<Calibration>), CliError> {
-        let config = RigConfig {
-            seed: self.seed ^ stream.wrapping_mul(0x9e37_79b9),
-            ..RigConfig::default()
-        };
+        let config = self
+            .setup
+            .rig_config(self.seed ^ stream.wrapping_mul(0x9e37_79b9));
         let mut rig = place_in_scene(
             self.wire,
             self.gravity,

@@ -95,3 +95,22 @@ pub fn tiny_calibration(dir: &std::path::Path) -> std::path::PathBuf {
     assert_success(&output, "experiment calibrate");
     cal.join("calibration.json")
 }
+
+/// A fresh folder `ftwire-<tag>-<pid>` under the system's temporary folder, removed on drop.
+pub struct TempDir(pub std::path::PathBuf);
+
+impl TempDir {
+    /// Creates the folder, emptied of what an earlier run left.
+    pub fn new(tag: &str) -> Self {
+        let path = std::env::temp_dir().join(format!("ftwire-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&path);
+        std::fs::create_dir_all(&path).expect("creates a temporary folder");
+        Self(path)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}

@@ -23,6 +23,7 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
     let wire_name = common.wire.clone().unwrap_or_else(|| KNOWN_WIRE.to_owned());
     let wire = WireSpec::load(&wire_name).map_err(|e| CliError::bad_input(e.to_string()))?;
     let count = common.trials.unwrap_or(DEFAULT_SAMPLES);
+    let setup = common.setup.load()?;
     let out = common.out_dir("calibrate")?;
     let folder = ResultsFolder::create(&out)?;
     let header = RunHeader::new("experiment calibrate", Some(common.seed.seed), &args)?;
@@ -33,6 +34,7 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
     let result = calibrate(
         &wire,
         (common.gravity, common.model()),
+        &setup,
         count,
         common.seed.seed,
         |k| {

@@ -51,6 +51,7 @@ use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::calibration::rig_seed;
 use ftwire::experiment::rig::{SAMPLES_PER_REST, pipeline, place_wire_among, tare};
 use ftwire::experiment::{Gravity, ModelKind, known_model};
+use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
@@ -66,7 +67,7 @@ use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::sampling::Sampler;
 use ftwire_rod::{Rod, from_normalised, to_normalised};
-use ftwire_sim::{BoxObstacle, RigConfig, SimRig};
+use ftwire_sim::{BoxObstacle, SimRig};
 use nalgebra::{Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -126,6 +127,8 @@ struct Context<'a> {
     gravity: Gravity,
     model: KirchhoffModel,
     calibration: &'a Calibration,
+    /// The simulated sensor and rig (`--sensor`, `--rig`).
+    rig: &'a SimSetup,
     seed: u64,
 }
 
@@ -372,10 +375,9 @@ impl Context<'_> {
         noise: NoiseModel,
         obstacles: &[BoxObstacle],
     ) -> Result<Option<TrialRig>, CliError> {
-        let config = RigConfig {
-            seed: rig_seed(self.seed.wrapping_add(0x60A1), k as usize),
-            ..RigConfig::default()
-        };
+        let config = self
+            .rig
+            .rig_config(rig_seed(self.seed.wrapping_add(0x60A1), k as usize));
         let Ok(mut sim) = place_wire_among(self.wire, self.gravity, &pair.a_s, config, obstacles)
         else {
             return Ok(None);
@@ -651,6 +653,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| DEFAULT_WIRE.to_owned());
     let wire = WireSpec::load(&wire_name).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let setup = common.setup.load()?;
     let kind = common.model();
     let model = known_model(&wire, common.gravity, kind)?;
     let params = *model.wire();
@@ -660,7 +663,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         header,
         calibration,
         calibration_s,
-    } = super::CalibratedRun::start("goal", common, &args, args.calibration.as_deref())?;
+    } = super::CalibratedRun::start("goal", common, &args, args.calibration.as_deref(), &setup)?;
     let noise = args.noise_model.model();
     let ctx = Context {
         wire: &wire,
@@ -668,6 +671,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         gravity: common.gravity,
         model,
         calibration: &calibration,
+        rig: &setup,
         seed,
     };
     let (noise_epsilons, noise_headline, noise_iterations) = match noise {

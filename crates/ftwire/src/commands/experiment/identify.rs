@@ -64,6 +64,7 @@ use ftwire::experiment::rig::{
 };
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
+use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_core::{Pose, Rig};
 use ftwire_estimate::calibration::Calibration;
@@ -72,14 +73,14 @@ use ftwire_estimate::identify::{IdentifyConfig, MotionPlan};
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_report::{LineChart, Series};
 use ftwire_rod::{Rod, from_normalised};
-use ftwire_sim::{FtSensorConfig, RigConfig, SimRig};
+use ftwire_sim::{RigConfig, SimRig};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::cli::experiment::{IdentifyExperimentArgs, IdentifyPipeline, ModelArg};
-use crate::cli::identify::{FormArg, SensorArg};
+use crate::cli::identify::FormArg;
 use crate::commands::identify::{flag_name, run_identification};
 
 /// The wires of Table I: 2 mm / 630 mm and 3 mm / 820 mm nitinol.
@@ -217,7 +218,8 @@ struct Summary<'a> {
     model: ModelArg,
     form: FormArg,
     gravity: Gravity,
-    sensor: SensorArg,
+    /// `--sensor`: a preset's name or the sensor file as given.
+    sensor: &'a str,
     pipeline: IdentifyPipeline,
     /// The `--calibration` path, `"cached"` when one was run, `None` for the mounting pipeline.
     calibration: Option<String>,
@@ -260,7 +262,8 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     }
     let counts = sample_counts(args.samples.as_deref())?;
     let config = args.settings.config()?;
-    check_pipeline(&args)?;
+    let setup = args.common.setup.load()?;
+    check_pipeline(&args, &setup)?;
     let gravity = args.common.gravity;
     let model = args.common.model();
     // Both models identify from the same data, `--model` first. Without gravity the loaded
@@ -300,8 +303,13 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
                 eprintln!("identify: no --calibration: calibrating on the known wire first");
             }
             let start = Instant::now();
-            let (learnt, _) =
-                load_or_run(args.calibration.as_deref(), (gravity, model), seed, |_| {})?;
+            let (learnt, _) = load_or_run(
+                args.calibration.as_deref(),
+                (gravity, model),
+                &setup,
+                seed,
+                |_| {},
+            )?;
             match &args.calibration {
                 Some(path) => (Some(learnt), Some(path.display().to_string()), 0.0),
                 None => {
@@ -321,7 +329,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
-            let samples = record_trial(wire, gravity, args.sensor, map, seed, stream, &protocol)
+            let samples = record_trial(wire, gravity, &setup, map, seed, stream, &protocol)
                 .map_err(|e| e.context(format!("wire {} trial {trial}", wire.name)))?;
             for (model, config) in &models {
                 let line = identify_trial(
@@ -387,7 +395,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         model,
         form: args.settings.form,
         gravity,
-        sensor: args.sensor,
+        sensor: &setup.sensor.name,
         pipeline: args.pipeline,
         calibration,
         trials,
@@ -422,14 +430,12 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
 /// `--pipeline` against `--sensor` and `--calibration`: the undistorted sensor is what a
 /// perfect calibration gives, so a learnt one on top of it is not meant; weights given to the
 /// mounting pipeline would be silently unused.
-fn check_pipeline(args: &IdentifyExperimentArgs) -> Result<(), CliError> {
+fn check_pipeline(args: &IdentifyExperimentArgs, setup: &SimSetup) -> Result<(), CliError> {
     match args.pipeline {
-        IdentifyPipeline::Calibrated if args.sensor == SensorArg::Undistorted => {
-            Err(CliError::bad_input(
-                "--sensor undistorted already removes what the calibration learns (and the \
+        IdentifyPipeline::Calibrated if setup.sensor.is_undistorted() => Err(CliError::bad_input(
+            "--sensor undistorted already removes what the calibration learns (and the \
                  calibration is learnt on the distorted sensor): use it with --pipeline mounting",
-            ))
-        }
+        )),
         IdentifyPipeline::Mounting if args.calibration.is_some() => Err(CliError::bad_input(
             "--calibration is for --pipeline calibrated; --pipeline mounting uses no weights",
         )),
@@ -482,7 +488,7 @@ fn sample_counts(given: Option<&[usize]>) -> Result<Vec<usize>, CliError> {
 pub(crate) fn record_trial(
     wire: &WireSpec,
     gravity: Gravity,
-    sensor: SensorArg,
+    setup: &SimSetup,
     map: Map<'_>,
     seed: u64,
     stream: u64,
@@ -507,11 +513,7 @@ pub(crate) fn record_trial(
         {
             continue;
         }
-        let config = RigConfig {
-            sensor: sensor_config(sensor),
-            seed: rng.random(),
-            ..RigConfig::default()
-        };
+        let config = setup.rig_config(rng.random());
         match follow_plan(wire, gravity, &a0, config, map, protocol, &mut rng) {
             Ok(samples) => return Ok(samples),
             Err(e) if e.exit_code() == ftwire::error::EXIT_NO_ANSWER => last = e,
@@ -519,19 +521,6 @@ pub(crate) fn record_trial(
         }
     }
     Err(last)
-}
-
-/// The simulated sensor's settings for `--sensor`.
-fn sensor_config(sensor: SensorArg) -> FtSensorConfig {
-    let default = FtSensorConfig::default();
-    match sensor {
-        SensorArg::Distorted => default,
-        SensorArg::Undistorted => FtSensorConfig {
-            gain: FtSensorConfig::ideal().gain,
-            cubic_nonlinearity: [0.0; 6],
-            ..default
-        },
-    }
 }
 
 /// One attempt of a trial from `a0`: places the wire, tares, and follows the plan through
@@ -894,7 +883,7 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
-        "identify: gravity {:?}, {} model, {:?} sensor, {:?} pipeline{}, {:?} residual, {} \
+        "identify: gravity {:?}, {} model, {} sensor, {:?} pipeline{}, {:?} residual, {} \
          trials; results in {}",
         summary.gravity,
         summary.model.name(),

@@ -12,6 +12,7 @@ use ftwire::error::CliError;
 use ftwire::experiment::calibration::load_or_run_into;
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
+use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_estimate::calibration::Calibration;
 use serde::Serialize;
@@ -55,7 +56,7 @@ pub struct CalibratedRun {
 
 impl CalibratedRun {
     /// Opens the results folder of experiment `id` (`--out`, default `results/<id>`) and loads
-    /// or runs the calibration.
+    /// the calibration, or runs one on the sensor and rig of `setup`.
     ///
     /// # Errors
     /// As [`ResultsFolder::create`] and `load_or_run_into`.
@@ -64,12 +65,18 @@ impl CalibratedRun {
         common: &CommonExperimentArgs,
         args: &impl Serialize,
         calibration: Option<&std::path::Path>,
+        setup: &SimSetup,
     ) -> Result<Self, CliError> {
         let folder = ResultsFolder::create(&common.out_dir(id)?)?;
         let seed = common.seed.seed;
         let header = RunHeader::new(&format!("experiment {id}"), Some(seed), args)?;
-        let (calibration, calibration_s) =
-            load_or_run_into(&folder, calibration, (common.gravity, common.model()), seed)?;
+        let (calibration, calibration_s) = load_or_run_into(
+            &folder,
+            calibration,
+            (common.gravity, common.model()),
+            setup,
+            seed,
+        )?;
         Ok(Self {
             folder,
             header,

@@ -203,6 +203,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     let gain = args.rollout.gain()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (scene, scene_name) = load_scene(args.scene.as_deref())?;
+    let setup = common.setup.load()?;
     let kind = common.model();
     let model = scene_model(&wire, common.gravity, kind, &scene)?;
     let CalibratedRun {
@@ -215,6 +216,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         common,
         &args,
         args.rollout.calibration.as_deref(),
+        &setup,
     )?;
 
     // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo).
@@ -240,6 +242,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         gravity: common.gravity,
         scene: &scene,
         calibration: &calibration,
+        setup: &setup,
         noise,
         seed,
         gain,

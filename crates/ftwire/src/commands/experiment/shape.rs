@@ -144,12 +144,8 @@ fn run_config(
     estimator: &mut ShapeEstimator<KirchhoffModel>,
     other: &KirchhoffModel,
     placed: &Vector6<f64>,
-    rig_seed: u64,
+    config: RigConfig,
 ) -> Result<Option<ConfigResult>, CliError> {
-    let config = RigConfig {
-        seed: rig_seed,
-        ..RigConfig::default()
-    };
     let Ok(mut rig) = place_wire(wire, args.common.gravity, placed, config.clone()) else {
         return Ok(None);
     };
@@ -235,6 +231,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     let common = &args.common;
     let seed = common.seed.seed;
     check_rest_samples(args.rest_samples)?;
+    let setup = common.setup.load()?;
     let wires: Vec<WireSpec> = match &common.wire {
         Some(given) => vec![WireSpec::load(given).map_err(|e| CliError::bad_input(e.to_string()))?],
         None => PRESETS
@@ -253,6 +250,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         &folder,
         args.calibration.as_deref(),
         (common.gravity, common.model()),
+        &setup,
         seed,
     )?;
     let mut csv = String::from(
@@ -292,7 +290,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
                 &mut estimator,
                 &other,
                 &placed,
-                rig,
+                setup.rig_config(rig),
             )? {
                 Some(mut row) => {
                     clock += row.record.time;

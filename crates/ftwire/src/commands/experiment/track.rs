@@ -160,6 +160,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         floor: None,
         configurations: BTreeMap::new(),
     };
+    let setup = common.setup.load()?;
     let kind = common.model();
     let model = scene_model(&wire, common.gravity, kind, &free)?;
     let CalibratedRun {
@@ -167,7 +168,13 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         header,
         calibration,
         calibration_s,
-    } = CalibratedRun::start("track", common, &args, args.rollout.calibration.as_deref())?;
+    } = CalibratedRun::start(
+        "track",
+        common,
+        &args,
+        args.rollout.calibration.as_deref(),
+        &setup,
+    )?;
 
     let planner_rod = Rod::new(*model.wire());
     let mut draws = PairDraws::default();
@@ -192,6 +199,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
                 gravity: common.gravity,
                 scene: &p.scene,
                 calibration: &calibration,
+                setup: &setup,
                 noise,
                 seed,
                 gain,

@@ -1,0 +1,198 @@
+//! The simulated rig's setup as users give it: the F/T sensor (a preset or a TOML file) and the
+//! rig (a TOML file), as [`crate::wire`] does for wires.
+//!
+//! Every key, its unit, default and allowed range is in `docs/config.md`; `ftwire init DIR`
+//! writes a commented example of each file. Missing keys take the library's defaults
+//! (`ftwire_sim::FtSensorConfig::default`, `ftwire_sim::RigConfig::default`), unknown keys are
+//! errors, and every error names the file, and the line and the key where there is one.
+//! With neither file, [`SimSetup::default`] is exactly the rig the experiments have always
+//! run against.
+
+pub mod rig;
+pub mod sensor;
+
+use std::path::Path;
+
+use ftwire_sim::RigConfig;
+use serde::de::DeserializeOwned;
+use thiserror::Error;
+
+pub use rig::RigSpec;
+pub use sensor::SensorSpec;
+
+/// Why a sensor or rig could not be had.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum SetupError {
+    /// Neither a preset nor an existing file.
+    #[error("unknown {kind} {given:?}: give {allowed}")]
+    Unknown {
+        /// `"sensor"` or `"rig"`.
+        kind: &'static str,
+        /// What was given.
+        given: String,
+        /// What is allowed.
+        allowed: String,
+    },
+    /// The file could not be read.
+    #[error("cannot read {kind} file {path}: {message}")]
+    Read {
+        /// `"sensor"` or `"rig"`.
+        kind: &'static str,
+        /// The file.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+    /// The file is not valid TOML of its kind, or holds a value out of range (the message names
+    /// the line and the key).
+    #[error("bad {kind} file {path}: {message}")]
+    Bad {
+        /// `"sensor"` or `"rig"`.
+        kind: &'static str,
+        /// The file.
+        path: String,
+        /// What was wrong, with the line and the key.
+        message: String,
+    },
+}
+
+/// Reads a TOML file of `kind` into `T` (unknown keys rejected by `T`'s `deny_unknown_fields`).
+///
+/// # Errors
+/// [`SetupError::Read`] or [`SetupError::Bad`] naming the file, with `toml`'s line and key.
+fn read_toml<T: DeserializeOwned>(
+    kind: &'static str,
+    path: &Path,
+) -> Result<(T, String), SetupError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SetupError::Read {
+        kind,
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let value = parse_toml(kind, &text, &path.display().to_string())?;
+    Ok((value, text))
+}
+
+/// Parses the text of a TOML file of `kind` (`path` names it in errors).
+///
+/// # Errors
+/// [`SetupError::Bad`] with `toml`'s line, column and key.
+fn parse_toml<T: DeserializeOwned>(
+    kind: &'static str,
+    text: &str,
+    path: &str,
+) -> Result<T, SetupError> {
+    toml::from_str(text).map_err(|e| SetupError::Bad {
+        kind,
+        path: path.to_owned(),
+        message: e.to_string().trim_end().to_owned(),
+    })
+}
+
+/// A value error of a file of `kind`: the library's `message` names the key; the key is the
+/// first word of the message that is one of `defaults`' keys (at any depth), and the line of
+/// its first `key = …` in `text` is added when the file sets it (a default can fail a check only
+/// together with the file's other values, and has no line).
+fn value_error(
+    kind: &'static str,
+    (path, text): (&str, &str),
+    defaults: &impl serde::Serialize,
+    message: String,
+) -> SetupError {
+    let keys = toml::Table::try_from(defaults)
+        .map(|table| leaf_keys(&table))
+        .unwrap_or_default();
+    let key = message
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .find(|word| keys.iter().any(|k| k == word));
+    let message = match key {
+        Some(key) => match line_of(text, key) {
+            Some(line) => format!("line {line}, key {key}: {message}"),
+            None => format!("key {key} (its default, with the file's other values): {message}"),
+        },
+        None => message,
+    };
+    SetupError::Bad {
+        kind,
+        path: path.to_owned(),
+        message,
+    }
+}
+
+/// Every key of `table`, nested tables' keys included.
+fn leaf_keys(table: &toml::Table) -> Vec<String> {
+    table
+        .iter()
+        .flat_map(|(key, value)| match value {
+            toml::Value::Table(inner) => leaf_keys(inner),
+            _ => vec![key.clone()],
+        })
+        .collect()
+}
+
+/// The 1-based line of the first `key = …` in `text`, if any (also used for wire files).
+pub(crate) fn line_of(text: &str, key: &str) -> Option<usize> {
+    if key.is_empty() {
+        return None;
+    }
+    text.lines()
+        .position(|line| {
+            line.trim_start()
+                .strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i + 1)
+}
+
+/// The simulated rig of a run: its F/T sensor and the rest of the rig.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SimSetup {
+    /// The F/T sensor on the base gripper.
+    pub sensor: SensorSpec,
+    /// Motion capture, execution error and motion timing.
+    pub rig: RigSpec,
+}
+
+impl SimSetup {
+    /// `--sensor PRESET|FILE.toml` and `--rig FILE.toml`, each defaulting to the library's.
+    ///
+    /// # Errors
+    /// [`SetupError`] naming the file, the line and the key.
+    pub fn load(sensor: Option<&str>, rig: Option<&Path>) -> Result<Self, SetupError> {
+        Ok(Self {
+            sensor: sensor.map_or_else(|| Ok(SensorSpec::default()), SensorSpec::load)?,
+            rig: rig.map_or_else(|| Ok(RigSpec::default()), RigSpec::load)?,
+        })
+    }
+
+    /// The simulator's rig settings with the rig's `seed`.
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire::setup::SimSetup;
+    /// use ftwire_sim::RigConfig;
+    /// // Without files: the rig the experiments have always used.
+    /// assert_eq!(SimSetup::default().rig_config(7), RigConfig { seed: 7, ..RigConfig::default() });
+    /// ```
+    pub fn rig_config(&self, seed: u64) -> RigConfig {
+        RigConfig {
+            sensor: self.sensor.config.clone(),
+            seed,
+            ..self.rig.config()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_line_of_a_key_is_found_at_its_assignment_only() {
+        let text = "# noise_std = 1\nrate = 5\n  noise_std= [1]\n";
+        assert_eq!(line_of(text, "noise_std"), Some(3));
+        assert_eq!(line_of(text, "rate"), Some(2));
+        assert_eq!(line_of(text, "gain"), None);
+    }
+}

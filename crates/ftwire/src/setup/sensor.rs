@@ -1,0 +1,174 @@
+//! The simulated F/T sensor: a preset or a TOML sensor file.
+//!
+//! A sensor file holds any of `ftwire_sim::FtSensorConfig`'s keys (force first, sensor frame);
+//! the keys it leaves out take the library's defaults, unknown keys are errors:
+//!
+//! ```toml
+//! noise_std = [0.05, 0.05, 0.05, 0.002, 0.002, 0.002]   # white noise σ [N, N·m]
+//! rate = 1000.0                                         # [Hz]
+//! dropout_probability = 1e-4
+//! ```
+//!
+//! `docs/config.md` lists every key with its unit, default and allowed range.
+
+use std::path::Path;
+
+use ftwire_sim::{FtSensor, FtSensorConfig};
+
+use super::{SetupError, parse_toml, read_toml, value_error};
+
+/// The names of the preset sensors, as `--sensor` takes them.
+pub const PRESETS: [&str; 2] = ["distorted", "undistorted"];
+
+/// A simulated F/T sensor: its name (a preset's, or the file as given) and its settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensorSpec {
+    /// The preset's name, or the path of the sensor file as given.
+    pub name: String,
+    /// The sensor model's settings, validated.
+    pub config: FtSensorConfig,
+}
+
+impl Default for SensorSpec {
+    /// The `distorted` preset: the library's default sensor.
+    fn default() -> Self {
+        Self {
+            name: "distorted".to_owned(),
+            config: FtSensorConfig::default(),
+        }
+    }
+}
+
+impl SensorSpec {
+    /// A preset by name: `distorted`, the library's default sensor (gain and cross-talk of
+    /// 1–1.5 %, a mild cubic nonlinearity, noise, bias, drift and dropouts); `undistorted`, the
+    /// same without gain, cross-talk and nonlinearity (what a perfect calibration gives).
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire::setup::SensorSpec;
+    /// let sensor = SensorSpec::preset("undistorted").expect("a preset");
+    /// assert_eq!(sensor.config.cubic_nonlinearity, [0.0; 6]);
+    /// assert!(SensorSpec::preset("perfect").is_none());
+    /// ```
+    pub fn preset(name: &str) -> Option<Self> {
+        let default = FtSensorConfig::default();
+        let config = match name {
+            "distorted" => default,
+            "undistorted" => FtSensorConfig {
+                gain: FtSensorConfig::ideal().gain,
+                cubic_nonlinearity: [0.0; 6],
+                ..default
+            },
+            _ => return None,
+        };
+        Some(Self {
+            name: name.to_owned(),
+            config,
+        })
+    }
+
+    /// Whether this is the `undistorted` preset.
+    pub fn is_undistorted(&self) -> bool {
+        self.name == "undistorted"
+    }
+
+    /// A preset name, or else a path to a sensor file.
+    ///
+    /// # Errors
+    /// [`SetupError`] naming what was wrong.
+    pub fn load(given: &str) -> Result<Self, SetupError> {
+        if let Some(sensor) = Self::preset(given) {
+            return Ok(sensor);
+        }
+        let path = Path::new(given);
+        if !path.exists() {
+            return Err(SetupError::Unknown {
+                kind: "sensor",
+                given: given.to_owned(),
+                allowed: format!(
+                    "a preset ({}) or a path to a .toml sensor file",
+                    PRESETS.join(", ")
+                ),
+            });
+        }
+        let (config, text): (FtSensorConfig, _) = read_toml("sensor", path)?;
+        Self::checked(config, given, &text)
+    }
+
+    /// A sensor from the text of a sensor file (`path` names it in errors).
+    ///
+    /// # Errors
+    /// [`SetupError::Bad`] naming the file, the line and the key.
+    pub fn from_toml(text: &str, path: &str) -> Result<Self, SetupError> {
+        Self::checked(parse_toml("sensor", text, path)?, path, text)
+    }
+
+    fn checked(config: FtSensorConfig, path: &str, text: &str) -> Result<Self, SetupError> {
+        FtSensor::new(config.clone(), 0).map_err(|e| {
+            value_error(
+                "sensor",
+                (path, text),
+                &FtSensorConfig::default(),
+                e.to_string(),
+            )
+        })?;
+        Ok(Self {
+            name: path.to_owned(),
+            config,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn error(text: &str) -> String {
+        match SensorSpec::from_toml(text, "s.toml") {
+            Err(e) => e.to_string(),
+            Ok(s) => panic!("accepted {s:?}"),
+        }
+    }
+
+    #[test]
+    fn the_defaults_round_trip_and_an_empty_file_is_the_default()
+    -> Result<(), Box<dyn std::error::Error>> {
+        let text = toml::to_string(&FtSensorConfig::default())?;
+        assert_eq!(
+            SensorSpec::from_toml(&text, "s.toml")?.config,
+            FtSensorConfig::default()
+        );
+        assert_eq!(
+            SensorSpec::from_toml("", "s.toml")?.config,
+            SensorSpec::default().config
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn a_bad_sensor_file_names_the_file_the_line_and_the_key() {
+        let message = error("rate = 500.0\n\nnoise_sdt = [0.1, 0.1, 0.1, 0.0, 0.0, 0.0]\n");
+        assert!(message.contains("s.toml"), "{message}");
+        assert!(message.contains("line 3"), "{message}");
+        assert!(message.contains("noise_sdt"), "{message}");
+        let message = error("rate = 500.0\nnoise_std = [0.1, 0.1, -0.1, 0.0, 0.0, 0.0]\n");
+        assert!(message.contains("s.toml"), "{message}");
+        assert!(message.contains("line 2, key noise_std"), "{message}");
+        assert!(message.contains("≥ 0"), "{message}");
+        let message = error("dropout_probability = 1.0\n");
+        assert!(
+            message.contains("line 1, key dropout_probability"),
+            "{message}"
+        );
+        let message = error("rate = \"fast\"\n");
+        assert!(
+            message.contains("line 1") && message.contains("rate"),
+            "{message}"
+        );
+        assert!(matches!(
+            SensorSpec::load("no-such-sensor"),
+            Err(SetupError::Unknown { .. })
+        ));
+    }
+}
