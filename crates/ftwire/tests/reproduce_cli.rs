@@ -40,7 +40,15 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
         assert_success(&output, "reproduce --quick");
         let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
         assert!(stderr.contains("expected time"), "{stderr}");
-        for id in ["calibrate", "identify", "shape", "goal"] {
+        for id in [
+            "calibrate",
+            "identify",
+            "shape",
+            "goal",
+            "track",
+            "passage",
+            "passage_offset",
+        ] {
             assert!(out.join(id).join("summary.json").is_file(), "{id}");
             assert!(out.join(id).join("log.txt").is_file(), "{id}'s log");
         }
@@ -54,6 +62,9 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
         "## Table I",
         "## Table II",
         "## Table III",
+        "## Table IV",
+        "## §IV-E",
+        "| `offset` | closed loop |",
         "§IV-A",
         "| nitinol-2mm-630 | c1 |",
     ] {

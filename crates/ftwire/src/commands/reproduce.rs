@@ -92,7 +92,22 @@ fn experiment_jobs(quick: bool, calibration: &Path) -> Vec<Job> {
     if quick {
         goal.extend(strings(&["--pairs", "10"]));
     }
-    for args in [&mut identify, &mut shape, &mut goal] {
+    let mut track = strings(&["experiment", "track"]);
+    let mut passage = strings(&["experiment", "passage"]);
+    let mut passage_offset = strings(&["experiment", "passage", "--noise-model", "offset"]);
+    if quick {
+        track.extend(strings(&["--pairs", "2"]));
+        passage.extend(strings(&["--attempts", "4"]));
+        passage_offset.extend(strings(&["--attempts", "4"]));
+    }
+    for args in [
+        &mut identify,
+        &mut shape,
+        &mut goal,
+        &mut track,
+        &mut passage,
+        &mut passage_offset,
+    ] {
         args.extend(["--calibration".to_owned(), calibration.clone()]);
     }
     vec![
@@ -110,6 +125,21 @@ fn experiment_jobs(quick: bool, calibration: &Path) -> Vec<Job> {
             id: "goal",
             args: goal,
             expected_s: (25.0, 70.0),
+        },
+        Job {
+            id: "track",
+            args: track,
+            expected_s: (50.0, 220.0),
+        },
+        Job {
+            id: "passage",
+            args: passage,
+            expected_s: (20.0, 170.0),
+        },
+        Job {
+            id: "passage_offset",
+            args: passage_offset,
+            expected_s: (20.0, 170.0),
         },
     ]
 }
@@ -333,12 +363,89 @@ fn report(dir: &Path, statuses: &[Status], quick: bool) -> String {
     if let Some(s) = summary_of(dir, "goal") {
         goal_table(&mut md, &s);
     }
+    if let Some(s) = summary_of(dir, "track") {
+        track_table(&mut md, &s);
+    }
+    let passages: Vec<Value> = ["passage", "passage_offset"]
+        .iter()
+        .filter_map(|id| summary_of(dir, id))
+        .collect();
+    if !passages.is_empty() {
+        passage_table(&mut md, &passages);
+    }
+    md
+}
+
+/// Paper Table IV: shape error along a tracked path \[mm\], `(open loop mean, closed loop
+/// mean ± std)`.
+const TABLE_IV: (f64, f64, f64) = (11.01, 6.22, 1.83);
+
+/// Table IV: tracking planned paths, ours beside the paper's.
+fn track_table(md: &mut String, s: &Value) {
     let _ = writeln!(
         md,
-        "## Not in this report\n\nTable IV (path tracking) and the passage success rates join \
-         this report when their experiments exist."
+        "## Table IV: tracking a path planned with RRT* ({} pairs, noise model `{}`, gain {})\n\n\
+         Distance [mm] between the true wire and Φ(γ_A) at each waypoint reached, over every \
+         waypoint of every pair; median planning time {} ms.\n\n\
+         | | mean ± std | max | waypoints | paper, mean ± std |\n| --- | --- | --- | --- | --- |",
+        number(&s["pairs"], 0),
+        s["noise_model"].as_str().unwrap_or("?"),
+        number(&s["gain"], 2),
+        number(&s["plan_ms_median"], 0),
     );
-    md
+    let (open, closed, closed_std) = TABLE_IV;
+    for (key, label, paper) in [
+        ("open_loop", "open loop", format!("{open:.2}")),
+        (
+            "closed_loop",
+            "closed loop",
+            format!("{closed:.2} ± {closed_std:.2}"),
+        ),
+    ] {
+        let r = &s["results"][key];
+        let _ = writeln!(
+            md,
+            "| {label} | {} ± {} | {} | {} | {paper} |",
+            number(&r["mean_mm"], 2),
+            number(&r["std_mm"], 2),
+            number(&r["max_mm"], 2),
+            number(&r["waypoints"], 0),
+        );
+    }
+    md.push('\n');
+}
+
+/// §IV-E: the passage success rates, ours beside the paper's (10 attempts each, with the
+/// paper's noise: open loop 3/10, closed loop 9/10).
+fn passage_table(md: &mut String, runs: &[Value]) {
+    let _ = writeln!(
+        md,
+        "## §IV-E: through the 50 mm passage\n\nSuccess: the true wire never touched a box and \
+         ended within the success tolerance of the goal; collisions: the true wire touched a \
+         box; detected: of those, stopped by the collision detector.\n\n\
+         | noise model | mode | successes | collisions | detected | false alarms | paper |\n\
+         | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    for s in runs {
+        let noise = s["noise_model"].as_str().unwrap_or("?");
+        for (key, label, paper) in [
+            ("open_loop", "open loop", "3/10 (increment)"),
+            ("closed_loop", "closed loop", "9/10 (increment)"),
+        ] {
+            let r = &s["results"][key];
+            let _ = writeln!(
+                md,
+                "| `{noise}` | {label} | {}/{} | {} | {} | {} | {} |",
+                number(&r["successes"], 0),
+                number(&r["attempts"], 0),
+                number(&r["collisions"], 0),
+                number(&r["detected"], 0),
+                number(&r["false_alarms"], 0),
+                if noise == "increment" { paper } else { "–" },
+            );
+        }
+    }
+    md.push('\n');
 }
 
 /// Table I: identification from 3 samples, ours (both models) beside the paper's.
