@@ -33,7 +33,8 @@ impl ReachCheck for AnyPose {
 /// The SDA10F's check: dual-arm IK within the joint limits and no arm–arm collision
 /// (`ftwire_robot::Robot::dual_arm_ik` with `check_collision`), the base gripper held at a
 /// fixed world pose; each solution seeds the next query, so that successive poses of a motion
-/// stay on one IK branch.
+/// stay on one IK branch, and a pose the seeded solve misses gets the full search before it is
+/// called unreachable.
 #[derive(Debug, Clone)]
 pub struct RobotReach {
     robot: Robot,
@@ -72,10 +73,16 @@ impl ReachCheck for RobotReach {
             base_gripper: self.base_gripper,
             relative: *relative,
         };
-        match self
+        let seeded = self
             .robot
-            .dual_arm_ik(&target, self.seed.as_ref(), &self.params)
-        {
+            .dual_arm_ik(&target, self.seed.as_ref(), &self.params);
+        // A seeded solve stays near the last solution's branch; when it fails, the full
+        // search (restarts and the torso sweep) decides whether the pose is out of reach.
+        let solved = match (seeded, &self.seed) {
+            (Err(_), Some(_)) => self.robot.dual_arm_ik(&target, None, &self.params),
+            (seeded, _) => seeded,
+        };
+        match solved {
             Ok(joints) => {
                 self.seed = Some(joints);
                 Reach::Reachable

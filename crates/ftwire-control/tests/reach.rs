@@ -30,3 +30,37 @@ fn the_robot_reaches_its_own_posture_and_not_far_away() {
     let far = base.inverse() * Pose::translation(3.0, 0.0, 0.0) * tip;
     assert!(matches!(reach.check(&far), Reach::Unreachable(_)));
 }
+
+#[test]
+fn whether_a_pose_is_reachable_does_not_depend_on_the_last_solution() {
+    let robot = Robot::sda10f().expect("the URDF parses");
+    let base = robot
+        .fk(
+            Arm::Left,
+            0.0,
+            robot.preferred_posture(Arm::Left),
+            EndFrame::Gripper,
+        )
+        .expect("fk");
+    let posture = robot.preferred_posture(Arm::Right);
+    // A far-off posture of the right arm: its pose is on another branch than the preferred one.
+    let mut other = *posture;
+    for (k, q) in other.iter_mut().enumerate() {
+        *q += if k % 2 == 0 { 0.5 } else { -0.4 };
+    }
+    let tip = |joints: &ftwire_robot::ArmJoints| {
+        base.inverse()
+            * robot
+                .fk(Arm::Right, 0.0, joints, EndFrame::Gripper)
+                .expect("fk")
+    };
+    let (near, far) = (tip(posture), tip(&other));
+    let fresh = RobotReach::new(robot.clone(), Pose::identity(), base).check(&far);
+    let mut seeded = RobotReach::new(robot, Pose::identity(), base);
+    assert_eq!(seeded.check(&near), Reach::Reachable);
+    assert_eq!(
+        seeded.check(&far),
+        fresh,
+        "the seeded check agrees with a fresh one"
+    );
+}
