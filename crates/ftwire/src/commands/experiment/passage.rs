@@ -8,7 +8,8 @@
 //! **Plan.** One RRT* plan in `A_free` of the scene from its `start` to its `goal`
 //! ([`plan_in_scene`]: a fixed iteration budget and seeded restarts, so the same seed gives the
 //! same path on any machine), with the wire's weightless model (the scene's configurations are
-//! the paper model's), resampled into waypoints `γ_A(i/N)`. `plan_ms` is its wall time.
+//! the paper model's), resampled into waypoints `γ_A(i/N)` whose shapes `Φ` and gripper poses
+//! `Γ` are those of the model of `--model`. `plan_ms` is its wall time.
 //!
 //! **Roll-outs.** `--attempts N` (default 50) of each of closed and open loop, attempt `k` of both
 //! under the same noise seed. Each places the true wire at the start anew, tares the sensor and
@@ -17,7 +18,9 @@
 //! `--model`, from waypoint to waypoint, with the collision detector armed: its threshold comes
 //! from rehearsals of the same path with the obstacles away (`Tracking::detector`), and a
 //! detection ends the attempt. The open loop rolls the planned gripper poses out with no
-//! feedback. Noise: `--noise-model` (default `increment`, the paper's), as in `experiment goal`.
+//! feedback. Noise: `--noise-model` (default `increment`, the paper's), as in `experiment goal`;
+//! the controller's gain `--gain` (default 0.5; the paper's 0.2); the SDA10F's arms must reach
+//! every commanded pose (`unreachable` ends an attempt).
 //!
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
 //! any rest (a contact force above `CONTACT_FORCE`); it *succeeded* when it never touched and
@@ -39,7 +42,8 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
-    Attempt, Tracking, Waypoint, plan_in_scene, scene_model, success_epsilon,
+    Attempt, Tracking, WAYPOINTS, Waypoint, plan_in_scene, scene_model, success_epsilon,
+    waypoints_along,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -223,6 +227,14 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     let planner_rod = Rod::new(*model.wire());
     let (planned, _) = plan_in_scene(&scene, &planner_rod, seed)?;
     let plan_ms = 1e3 * planned.seconds;
+    // The waypoints' shapes and gripper poses of the tracking model (the loaded one with
+    // gravity on): the open loop rolls out the poses that give `γ_A` on the true, heavy wire.
+    let waypoints = waypoints_along(
+        model.rod(),
+        &scene.base,
+        &planned.plan.path.waypoints,
+        WAYPOINTS,
+    )?;
     let plan = PlanOut {
         scene: scene_name,
         iterations: planned.plan.iterations,
@@ -249,7 +261,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         arms: true,
     };
     let started = Instant::now();
-    let detector = tracking.detector(&model, &planned.waypoints)?;
+    let detector = tracking.detector(&model, &waypoints)?;
     let detector_s = started.elapsed().as_secs_f64();
 
     let started = Instant::now();
@@ -259,8 +271,8 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     let rollouts: Vec<(Attempt, Attempt)> = streams
         .par_iter()
         .map(|&stream| {
-            let closed = tracking.closed_loop(&model, &planned.waypoints, detector, stream)?;
-            let open = tracking.open_loop(&model, &planned.waypoints, stream)?;
+            let closed = tracking.closed_loop(&model, &waypoints, detector, stream)?;
+            let open = tracking.open_loop(&model, &waypoints, stream)?;
             Ok((closed, open))
         })
         .collect::<Result<_, CliError>>()?;
@@ -282,7 +294,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     }
 
     folder.write("attempts.csv", attempts_csv(&closed, &open))?;
-    figures(&folder, &scene, &model, &planned.waypoints, &closed, &open)?;
+    figures(&folder, &scene, &model, &waypoints, &closed, &open)?;
     folder.write_json(
         "timings.json",
         &Timings {

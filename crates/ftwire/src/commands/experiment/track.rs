@@ -15,8 +15,11 @@
 //! closed loop runs the controller (eq. 13–14) from waypoint to waypoint on `ã` from the learnt
 //! calibration (`--calibration FILE`, or one run first and cached); the open loop rolls out the
 //! waypoints' gripper poses. Both under `--noise-model` (default `increment`, the paper's), with
-//! the same noise seed per pair. The collision detector is not armed: there is nothing to
-//! collide with, so it could only stop a run by a false alarm (`experiment passage` arms it).
+//! the same noise seed per pair, and the controller's gain `--gain` (default 0.5; the paper's
+//! 0.2). The collision detector is not armed: there is nothing to collide with, so it could
+//! only stop a run by a false alarm (`experiment passage` arms it). The arms' kinematics do not
+//! limit the closed loop's commanded poses unless `--reach robot` (as in `experiment goal`, and
+//! the paper's noise experiments).
 //!
 //! **Metric** (Table IV; the simulator's truth): at each waypoint the controller reached (or the
 //! roll-out passed), the mean distance between the true centreline and `Φ(γ_A(i/N))` at 100
