@@ -5,17 +5,22 @@ use ftwire_control::{Reach, ReachCheck, RobotReach};
 use ftwire_core::Pose;
 use ftwire_robot::{Arm, EndFrame, Robot};
 
-#[test]
-fn the_robot_reaches_its_own_posture_and_not_far_away() {
-    let robot = Robot::sda10f().expect("the URDF parses");
-    let base = robot
+/// The left (base) gripper's pose in the left arm's preferred posture.
+fn left_gripper(robot: &Robot) -> Pose {
+    robot
         .fk(
             Arm::Left,
             0.0,
             robot.preferred_posture(Arm::Left),
             EndFrame::Gripper,
         )
-        .expect("fk");
+        .expect("fk")
+}
+
+#[test]
+fn the_robot_reaches_its_own_posture_and_not_far_away() {
+    let robot = Robot::sda10f().expect("the URDF parses");
+    let base = left_gripper(&robot);
     let tip = robot
         .fk(
             Arm::Right,
@@ -34,14 +39,7 @@ fn the_robot_reaches_its_own_posture_and_not_far_away() {
 #[test]
 fn whether_a_pose_is_reachable_does_not_depend_on_the_last_solution() {
     let robot = Robot::sda10f().expect("the URDF parses");
-    let base = robot
-        .fk(
-            Arm::Left,
-            0.0,
-            robot.preferred_posture(Arm::Left),
-            EndFrame::Gripper,
-        )
-        .expect("fk");
+    let base = left_gripper(&robot);
     let posture = robot.preferred_posture(Arm::Right);
     // A far-off posture of the right arm: its pose is on another branch than the preferred one.
     let mut other = *posture;

@@ -89,21 +89,31 @@ impl Path {
             while segment + 2 < cumulative.len() && cumulative[segment + 1] < target {
                 segment += 1;
             }
-            let config: Config =
-                match (self.waypoints.get(segment), self.waypoints.get(segment + 1)) {
-                    (Some(a), Some(b)) => {
-                        let span = cumulative[segment + 1] - cumulative[segment];
-                        let s = if span > 0.0 {
-                            ((target - cumulative[segment]) / span).clamp(0.0, 1.0)
-                        } else {
-                            1.0
-                        };
-                        a.config.interpolate(&b.config, s)
-                    }
-                    _ => first.config,
-                };
-            let seed = out.last().map_or(first.joints, |s: &Sample| s.joints);
-            out.push(checker.sample(&config, &seed)?);
+            let (a, b) = (
+                self.waypoints.get(segment).unwrap_or(first),
+                self.waypoints.get(segment + 1).unwrap_or(first),
+            );
+            let span = cumulative.get(segment + 1).copied().unwrap_or(0.0)
+                - cumulative.get(segment).copied().unwrap_or(0.0);
+            let s = if span > 0.0 {
+                ((target - cumulative[segment]) / span).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            let config: Config = a.config.interpolate(&b.config, s);
+            // The arms' IK seeded from the last resampled point, then from the planned
+            // waypoints either side (each checked with IK when planned), then the full
+            // search: a seeded solve can miss a pose the arms do reach.
+            let last = out.last().map_or(first.joints, |s: &Sample| s.joints);
+            let sample = checker
+                .sample(&config, &last)
+                .or_else(|_| checker.sample(&config, &a.joints))
+                .or_else(|_| checker.sample(&config, &b.joints))
+                .or_else(|e| match e {
+                    Invalid::Unreachable { .. } | Invalid::ArmsCollide => checker.endpoint(&config),
+                    other => Err(other),
+                })?;
+            out.push(sample);
         }
         Ok(out)
     }

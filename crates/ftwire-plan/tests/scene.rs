@@ -36,7 +36,7 @@ fn error(text: &str) -> String {
 
 #[test]
 fn the_passage_scene_parses() {
-    let scene = common::passage();
+    let scene = common::shipped_passage();
     assert_eq!(scene.boxes.len(), 2);
     assert_eq!(scene.boxes[0].name, "front block");
     assert!(scene.configuration("start").is_ok());

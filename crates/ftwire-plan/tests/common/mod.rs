@@ -1,13 +1,21 @@
-//! Shared fixtures: the 3 mm / 820 mm nitinol wire and the repository's passage scene.
+//! Shared fixtures: the 3 mm / 820 mm nitinol wire, the repository's passage scene, and the
+//! planner tests' passage (`tests/data/passage-taut.toml`: the same boxes, the start taut).
 #![allow(dead_code)]
 
 use ftwire_plan::{Checker, Scene, ValidityParams};
 use ftwire_robot::Robot;
 use ftwire_rod::{Rod, WireParams};
 
-/// The passage scene's path in the repository.
+/// The planner tests' passage scene: the shipped passage with its first, taut start, from
+/// which RRT* finds a path in tens of iterations (see the file's comment).
 pub fn passage_path() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/passage.toml")
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/passage-taut.toml")
+}
+
+/// The shipped passage scene, `scenes/passage.toml`.
+pub fn shipped_passage() -> Scene {
+    Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/passage.toml"))
+        .expect("the shipped passage scene parses")
 }
 
 /// The 3 mm / 820 mm nitinol wire (the passage scene's wire).
@@ -15,9 +23,9 @@ pub fn rod() -> Rod {
     Rod::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire"))
 }
 
-/// The passage scene.
+/// The planner tests' passage scene ([`passage_path`]).
 pub fn passage() -> Scene {
-    Scene::load(passage_path()).expect("the shipped passage scene parses")
+    Scene::load(passage_path()).expect("the planner tests' passage scene parses")
 }
 
 /// A checker of `scene` with the default settings.
