@@ -136,3 +136,18 @@ fn a_scene_with_an_unknown_key_names_it() {
     assert_exit(&output, 2, "colour", "passage with an unknown scene key");
     let _ = std::fs::remove_dir_all(&tmp);
 }
+
+#[test]
+fn the_shipped_passage_variants_have_their_start_and_goal_in_z_free() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/variants");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).expect("scenes/variants") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let output = ftwire(&["scene", "check", path.to_str().expect("UTF-8")]);
+            assert_success(&output, &format!("scene check {}", path.display()));
+            checked += 1;
+        }
+    }
+    assert!(checked >= 7, "{checked} variants");
+}
