@@ -10,6 +10,7 @@
 //!   answer, 2 bad input);
 //! - [`output`]: JSON / text / JSON Lines output and the run header;
 //! - [`results`]: the results folder of an experiment, replaced whole or not at all;
+//! - [`report`]: the default `report.md` and `report.html` of a results folder;
 //! - [`wire`]: wires by preset name or TOML file;
 //! - [`setup`]: the simulated F/T sensor and rig, by preset or TOML file;
 //! - [`scene`]: a planning scene's obstacles for the simulator (the same file the planner
@@ -24,6 +25,7 @@ pub mod error;
 pub mod experiment;
 pub mod init;
 pub mod output;
+pub mod report;
 pub mod results;
 pub mod scene;
 pub mod setup;

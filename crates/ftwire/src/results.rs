@@ -1,4 +1,5 @@
-//! The results folder of an experiment: `summary.json` (with the [`RunHeader`]) and other
+//! The results folder of an experiment: `summary.json` (with the [`RunHeader`]), the default
+//! `report.md` and `report.html` ([`crate::report`]) unless the run wrote its own, and other
 //! files, written whole into a temporary sibling folder and renamed into place at the end, so
 //! that an existing results folder is never left half-overwritten.
 
@@ -154,6 +155,31 @@ impl ResultsFolder {
             .map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")))
     }
 
+    /// Writes the default `report.md` and `report.html` ([`crate::report`]) where the run did
+    /// not write its own.
+    fn write_default_reports(
+        &self,
+        header: &RunHeader,
+        summary: &impl Serialize,
+    ) -> Result<(), CliError> {
+        let value = serde_json::to_value(summary)
+            .map_err(|e| CliError::bad_input(format!("cannot serialise the summary: {e}")))?;
+        let figures = crate::report::pngs(&self.staging);
+        if !self.staging.join("report.md").exists() {
+            let names: Vec<String> = figures
+                .iter()
+                .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+                .collect();
+            self.write("report.md", crate::report::markdown(header, &value, &names))?;
+        }
+        if !self.staging.join("report.html").exists() {
+            let page = crate::report::html(header, &value, &figures)
+                .map_err(|e| CliError::no_answer(format!("report.html: {e}")))?;
+            self.write("report.html", page)?;
+        }
+        Ok(())
+    }
+
     /// Writes `value` as pretty JSON into the file `name`.
     ///
     /// # Errors
@@ -181,6 +207,7 @@ impl ResultsFolder {
         let context = |what: &str| format!("{what} {}", self.target.display());
         fs::write(self.staging.join("summary.json"), text)
             .map_err(|e| CliError::io(context("writing summary.json of"), e))?;
+        self.write_default_reports(header, summary)?;
         let old = if self.target.exists() {
             let name = self
                 .target

@@ -56,6 +56,8 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
     assert!(first["plan"]["waypoints"].as_u64().is_some_and(|n| n >= 2));
     for file in [
         "attempts.csv",
+        "report.md",
+        "report.html",
         "timings.json",
         "passage_path_in_a.png",
         "passage_shape_error.svg",
