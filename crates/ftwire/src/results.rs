@@ -296,7 +296,14 @@ mod tests {
             .expect("finishes");
         assert_eq!(
             entries(&target),
-            ["figure.svg", "logs", "samples.csv", "summary.json"]
+            [
+                "figure.svg",
+                "logs",
+                "report.html",
+                "report.md",
+                "samples.csv",
+                "summary.json"
+            ]
         );
         assert_eq!(
             fs::read_to_string(target.join("logs/trial0.jsonl")).expect("reads"),
@@ -314,14 +321,27 @@ mod tests {
         folder.write_json("other.json", &[1, 2]).expect("writes");
         assert_eq!(
             entries(&target),
-            ["figure.svg", "logs", "samples.csv", "summary.json"]
+            [
+                "figure.svg",
+                "logs",
+                "report.html",
+                "report.md",
+                "samples.csv",
+                "summary.json"
+            ]
         );
         folder.finish(&header, &2).expect("finishes");
-        assert_eq!(entries(&target), ["other.json", "summary.json"]);
+        assert_eq!(
+            entries(&target),
+            ["other.json", "report.html", "report.md", "summary.json"]
+        );
         let unfinished = ResultsFolder::create(&target).expect("creates");
         unfinished.write("x.csv", "1").expect("writes");
         drop(unfinished);
-        assert_eq!(entries(&target), ["other.json", "summary.json"]);
+        assert_eq!(
+            entries(&target),
+            ["other.json", "report.html", "report.md", "summary.json"]
+        );
         assert_eq!(
             entries(&tmp.0),
             ["run"],
