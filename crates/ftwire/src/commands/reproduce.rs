@@ -386,12 +386,11 @@ fn track_table(md: &mut String, s: &Value) {
         md,
         "## Table IV: tracking a path planned with RRT* ({} pairs, noise model `{}`, gain {})\n\n\
          Distance [mm] between the true wire and Φ(γ_A) at each waypoint reached, over every \
-         waypoint of every pair; median planning time {} ms.\n\n\
+         waypoint of every pair (the planning times are in the experiment's summary).\n\n\
          | | mean ± std | max | waypoints | paper, mean ± std |\n| --- | --- | --- | --- | --- |",
         number(&s["pairs"], 0),
         s["noise_model"].as_str().unwrap_or("?"),
         number(&s["gain"], 2),
-        number(&s["plan_ms_median"], 0),
     );
     let (open, closed, closed_std) = TABLE_IV;
     for (key, label, paper) in [
