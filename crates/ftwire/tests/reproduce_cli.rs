@@ -97,5 +97,16 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
     );
     let output = ftwire(&["reproduce", "--quick", "--jobs", "0", "--out", "x"]);
     assert_exit(&output, 2, "--jobs 0", "no jobs");
+    let out = dir.join("bad-sensor");
+    let output = ftwire(&[
+        "reproduce",
+        "--quick",
+        "--sensor",
+        "/no/such/sensor.toml",
+        "--out",
+        out.to_str().expect("UTF-8"),
+    ]);
+    assert_exit(&output, 2, "sensor.toml", "a missing sensor file");
+    assert!(!out.exists(), "nothing written for bad input");
     let _ = fs::remove_dir_all(&dir);
 }

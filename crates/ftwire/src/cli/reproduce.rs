@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::SeedArgs;
+use ftwire::args::{SeedArgs, SimSetupArgs};
 use serde::Serialize;
 
 /// `ftwire reproduce`: every experiment of the paper's §IV, one report beside the paper.
@@ -28,4 +28,7 @@ pub struct ReproduceArgs {
     /// Results folder [default: results/reproduce].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// The simulated sensor and rig, passed on to every experiment (checked before any runs).
+    #[command(flatten)]
+    pub setup: SimSetupArgs,
 }

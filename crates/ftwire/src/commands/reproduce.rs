@@ -206,11 +206,23 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
     if jobs == 0 {
         return Err(CliError::bad_input("--jobs 0: at least one is needed"));
     }
+    // A bad sensor or rig file is bad input before anything runs or is written.
+    args.setup.load()?;
+    let mut passed_on = Vec::new();
+    if let Some(sensor) = &args.setup.sensor {
+        passed_on.extend(["--sensor".to_owned(), sensor.clone()]);
+    }
+    if let Some(rig) = &args.setup.rig {
+        passed_on.extend(["--rig".to_owned(), rig.to_string_lossy().into_owned()]);
+    }
     let folder = ResultsFolder::create_or_default(args.out.as_deref(), "reproduce")?;
     let dir = folder.dir().to_path_buf();
-    let calibration = calibration_job(args.quick);
+    let mut calibration = calibration_job(args.quick);
     let calibration_file = dir.join(calibration.id).join("calibration.json");
-    let rest = experiment_jobs(args.quick, &calibration_file);
+    let mut rest = experiment_jobs(args.quick, &calibration_file);
+    for job in std::iter::once(&mut calibration).chain(rest.iter_mut()) {
+        job.args.extend(passed_on.iter().cloned());
+    }
     let pick = |(quick, full): (f64, f64)| if args.quick { quick } else { full };
     let parallel: f64 = rest.iter().map(|j| pick(j.expected_s)).sum::<f64>() / jobs as f64;
     let longest = rest.iter().map(|j| pick(j.expected_s)).fold(0.0, f64::max);
@@ -246,7 +258,16 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
             });
         }
     }
-    let markdown = report(&dir, &statuses, args.quick);
+    let sensor = match (&args.setup.sensor, &args.setup.rig) {
+        (None, None) => "the default F/T sensor".to_owned(),
+        (sensor, rig) => format!(
+            "the F/T sensor `{}` and the rig `{}`",
+            sensor.as_deref().unwrap_or("distorted"),
+            rig.as_ref()
+                .map_or_else(|| "default".to_owned(), |r| r.display().to_string()),
+        ),
+    };
+    let markdown = report(&dir, &statuses, args.quick, &sensor);
     folder.write("report.md", &markdown)?;
     let ids: Vec<&str> = statuses.iter().map(|s| s.id).collect();
     page::write(&folder, &dir, &markdown, &ids)?;
@@ -301,13 +322,13 @@ fn number(v: &Value, digits: usize) -> String {
 }
 
 /// `report.md`: the paper's tables beside ours.
-fn report(dir: &Path, statuses: &[Status], quick: bool) -> String {
+fn report(dir: &Path, statuses: &[Status], quick: bool, sensor: &str) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
         "# ftwire against Mishani & Sintov (RA-L 2022), §IV\n\nIn the simulator, gravity on, \
-         the default F/T sensor through the learnt calibration{}. Each experiment's own folder \
-         has its full summary, figures and log.\n",
+         {sensor} through the learnt calibration{}. Each experiment's own folder has its full \
+         summary, figures and log.\n",
         if quick {
             "; **quick run** (reduced trial counts)"
         } else {
