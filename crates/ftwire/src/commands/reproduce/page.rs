@@ -1,24 +1,11 @@
 //! `report.html` of `ftwire reproduce`: `report.md`'s tables as HTML, then each experiment's
 //! figures (its folder's PNGs, by name), embedded, so the page works alone and offline.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use ftwire::error::CliError;
 use ftwire::results::ResultsFolder;
 use ftwire_report::HtmlReport;
-
-/// The PNG files of `dir`, sorted by name (none when it does not exist).
-fn pngs(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .into_iter()
-        .flatten()
-        .filter_map(Result::ok)
-        .map(|entry| entry.path())
-        .filter(|path| path.extension().is_some_and(|e| e == "png"))
-        .collect();
-    files.sort();
-    files
-}
 
 /// Writes `report.html` beside `report.md`: `markdown` (the report), then the figures of the
 /// experiments `ids` from their subfolders of `dir`.
@@ -30,7 +17,7 @@ pub(super) fn write(
 ) -> Result<(), CliError> {
     let mut report = HtmlReport::new("ftwire reproduce").with_markdown(markdown);
     for id in ids {
-        let files = pngs(&dir.join(id));
+        let files = ftwire::report::pngs(&dir.join(id));
         if files.is_empty() {
             continue;
         }
