@@ -647,3 +647,19 @@ fn shape_mm(truth: &[Point3<f64>], planned: &[Point3<f64>]) -> Result<f64, CliEr
         .map(|d| 1e3 * d)
         .map_err(|e| CliError::no_answer(format!("the shape error: {e}")))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_success_tolerance_is_twice_the_stop_rule_of_the_noise() {
+        assert_eq!(success_epsilon(NoiseModel::None), SUCCESS_EPSILON);
+        assert_eq!(success_epsilon(NoiseModel::Offset), SUCCESS_EPSILON);
+        assert_eq!(success_epsilon(NoiseModel::Increment), 2.0 * EPSILON_NOISY);
+        assert_eq!(
+            goal_settings(NoiseModel::Absolute).max_iterations,
+            MAX_ITERATIONS_NOISY
+        );
+    }
+}
