@@ -187,6 +187,10 @@ pub struct StepRecord {
     pub plan_s: f64,
     /// Compute time of the reach check \[s\].
     pub reach_s: f64,
+    /// `b_{i+1}`: the second gripper's pose relative to the base clamp after the move, as the
+    /// robot reports it (its encoders). It is `plan.next_tip` unless the rig knows it landed
+    /// elsewhere (the `increment` noise model: the error is injected into the command).
+    pub tip: Pose,
 }
 
 /// A finished run: the outcome and every executed step.
@@ -436,6 +440,17 @@ impl<M: WireModel> Controller<M> {
                 };
                 return Ok(run);
             }
+            // The next step starts from where the robot reports it is, eq. 14's `b_i`.
+            let reported = match rig.gripper_poses() {
+                Ok(poses) => poses.relative(),
+                Err(e) => {
+                    run.outcome = Outcome::CommandFailed {
+                        step,
+                        message: format!("the robot cannot report its pose after the move: {e}"),
+                    };
+                    return Ok(run);
+                }
+            };
             let measured = match feedback.measure(rig) {
                 Ok(m) => m.a,
                 Err(e) => {
@@ -460,6 +475,7 @@ impl<M: WireModel> Controller<M> {
                 residual,
                 plan_s,
                 reach_s,
+                tip: reported,
             };
             observe(rig, &record);
             run.steps.push(record);
@@ -470,7 +486,7 @@ impl<M: WireModel> Controller<M> {
                 return Ok(run);
             }
             a = measured;
-            tip = plan.next_tip;
+            tip = reported;
         }
         run.outcome = Outcome::IterationLimit {
             error: self.distance(&a, goal),

@@ -108,8 +108,14 @@ pub struct RollOut {
 }
 
 /// Commands the second gripper through `poses` (relative to the base clamp, the first one
-/// skipped: it is the start) with no feedback; `feedback`, if given, only records `ã` after
-/// each move. `observe(rig, k)` is called after move `k`.
+/// skipped: it is the start) with no feedback on the wire; `feedback`, if given, only records
+/// `ã` after each move. `observe(rig, k)` is called after move `k`.
+///
+/// Move `k` applies the plan's increment `δb_k = poses[k]⁻¹ poses[k+1]` to the pose the robot
+/// reports, `b_{k+1} = b_k δb_k` (eq. 14 with the planned increments, as the paper rolls the open
+/// loop out). A robot that lands where it is commanded reports the planned poses, so this is
+/// the plan itself; under the paper's `increment` noise the robot reports where each noisy
+/// increment took it, and the errors accumulate along the roll-out.
 ///
 /// # Errors
 /// [`ControlError::Rig`] when the rig cannot report its poses at the start; a failed move ends
@@ -120,27 +126,32 @@ pub fn roll_out<R: Rig, C: FtCalibration>(
     feedback: Option<&FtFeedback<C>>,
     mut observe: impl FnMut(&R, usize),
 ) -> Result<RollOut, ControlError> {
-    let base = rig
-        .gripper_poses()
-        .map_err(|e| ControlError::Rig {
-            message: e.to_string(),
-        })?
-        .base;
+    let rig_error = |e: R::Error| ControlError::Rig {
+        message: e.to_string(),
+    };
+    let base = rig.gripper_poses().map_err(rig_error)?.base;
     let mut out = RollOut {
         moves: 0,
         measured: Vec::new(),
         failed: None,
     };
-    for (k, pose) in poses.iter().enumerate().skip(1) {
-        if let Err(e) = rig.move_tip(base * pose) {
-            out.failed = Some((k - 1, e.to_string()));
+    for (k, step) in poses.windows(2).enumerate() {
+        let now = match rig.gripper_poses() {
+            Ok(p) => p.relative(),
+            Err(e) => {
+                out.failed = Some((k, format!("the robot cannot report its pose: {e}")));
+                break;
+            }
+        };
+        if let Err(e) = rig.move_tip(base * now * (step[0].inverse() * step[1])) {
+            out.failed = Some((k, e.to_string()));
             break;
         }
         out.moves += 1;
         if let Some(feedback) = feedback {
             out.measured.push(feedback.measure(rig).ok().map(|m| m.a));
         }
-        observe(rig, k - 1);
+        observe(rig, k);
     }
     Ok(out)
 }

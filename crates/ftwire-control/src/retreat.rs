@@ -51,7 +51,7 @@ pub fn retreat<R: Rig, C: FtCalibration>(
         .base;
     // Pose k and the ã recorded there: the start, then after each step.
     let mut poses: Vec<(Pose, Vector6<f64>)> = vec![(run.start_tip, run.start)];
-    poses.extend(run.steps.iter().map(|s| (s.plan.next_tip, s.measured)));
+    poses.extend(run.steps.iter().map(|s| (s.tip, s.measured)));
     // The last pose is the one the contact was detected at: leave it.
     let last = poses.len().saturating_sub(1);
     let mut result = Retreat {
