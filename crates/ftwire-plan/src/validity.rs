@@ -4,6 +4,8 @@
 //! when all of these hold ([`Checker::sample`]):
 //! - `a ∈ A_stable` (`det J(t)` keeps its sign on `(0, L]`, ftwire-rod's test) and the wire does
 //!   not self-intersect ([`ftwire_rod::self_contact`]);
+//! - the grippers are at most [`ValidityParams::max_span`] of the wire's length apart (no limit
+//!   by default; a plan to be tracked under large execution noise keeps the wire slack);
 //! - the centreline, a polyline of [`ValidityParams::nodes`] nodes in the world frame, keeps a
 //!   clearance of at least [`ValidityParams::margin`] beyond the wire's radius from every box
 //!   (segment–box distances by parry3d's GJK, through [`ftwire_robot::segment_box_distance`])
@@ -74,6 +76,11 @@ pub struct ValidityParams {
     pub radii: LinkRadii,
     /// The seeded IK's budget and tolerances (default: 40 iterations, 1e-6 m and rad).
     pub reach: ReachParams,
+    /// Largest distance between the grippers' clamps as a fraction of the wire's length, in
+    /// `(0, 1]` (default `1.0`: whatever the model allows). Below 1 it keeps the wire slack
+    /// enough that a gripper landing a few centimetres off its pose neither pulls it taut nor
+    /// tears it (`ftwire experiment passage` under the paper's noise).
+    pub max_span: f64,
 }
 
 impl Default for ValidityParams {
@@ -92,6 +99,7 @@ impl Default for ValidityParams {
                 max_iterations: 40,
                 ..ReachParams::default()
             },
+            max_span: 1.0,
         }
     }
 }
@@ -133,6 +141,13 @@ pub enum Invalid {
     Unstable,
     /// The wire touches itself.
     SelfIntersecting,
+    /// The grippers are farther apart than [`ValidityParams::max_span`] allows.
+    Taut {
+        /// Their distance \[m\].
+        span: f64,
+        /// The largest allowed \[m\].
+        limit: f64,
+    },
     /// The wire comes closer than the margin to an obstacle.
     WireCollision {
         /// The obstacle's name (`floor` for the floor).
@@ -168,6 +183,12 @@ impl fmt::Display for Invalid {
             Self::Model(m) => write!(f, "the wire model refused it: {m}"),
             Self::Unstable => write!(f, "a is not in A_stable (det J changes sign)"),
             Self::SelfIntersecting => write!(f, "the wire intersects itself"),
+            Self::Taut { span, limit } => write!(
+                f,
+                "the grippers are {:.1} mm apart, more than the {:.1} mm max_span allows",
+                span * 1e3,
+                limit * 1e3
+            ),
             Self::WireCollision {
                 obstacle,
                 clearance,
@@ -253,6 +274,13 @@ impl Checker {
                     allowed: "a finite value > 0",
                 });
             }
+        }
+        if !(params.max_span.is_finite() && params.max_span > 0.0 && params.max_span <= 1.0) {
+            return Err(PlanError::InvalidParameter {
+                name: "max_span",
+                value: params.max_span,
+                allowed: "a fraction of the wire's length in (0, 1]",
+            });
         }
         if params.min_step > params.max_step {
             return Err(PlanError::InvalidParameter {
@@ -352,6 +380,11 @@ impl Checker {
         }
         if solution.self_intersecting {
             return Err(Invalid::SelfIntersecting);
+        }
+        let span = solution.jacobian.tip.translation.vector.norm();
+        let limit = self.params.max_span * self.rod.wire().length();
+        if span > limit {
+            return Err(Invalid::Taut { span, limit });
         }
         let centreline: Vec<Point3<f64>> = solution
             .shape

@@ -130,3 +130,38 @@ fn the_edge_through_a_block_is_invalid_and_its_reason_named() {
         .expect_err("the edge ends in a block");
     assert!(matches!(e, Invalid::WireCollision { .. }), "{e:?}");
 }
+
+#[test]
+fn max_span_keeps_the_grippers_closer_than_the_limit() {
+    // The planner tests' passage starts taut (the grippers 0.80 m apart, 98 % of 0.82 m).
+    let scene = common::passage();
+    let start = scene_endpoint(&scene, &common::checker(&scene), "start", "start").expect("valid");
+    let span = (start.tip.translation.vector - scene.base.translation.vector).norm();
+    let with = |max_span: f64| {
+        ftwire_plan::Checker::new(
+            common::rod(),
+            ftwire_robot::Robot::sda10f().expect("robot"),
+            &scene,
+            ftwire_plan::ValidityParams {
+                max_span,
+                ..ftwire_plan::ValidityParams::default()
+            },
+        )
+    };
+    let loose = with((span + 0.001) / 0.82).expect("valid setting");
+    assert!(loose.endpoint(&start.config).is_ok());
+    let tight = with((span - 0.001) / 0.82).expect("valid setting");
+    match tight.endpoint(&start.config) {
+        Err(Invalid::Taut { span: s, limit }) => {
+            assert!((s - span).abs() < 1e-9, "{s} against {span}");
+            assert!((limit - (span - 0.001)).abs() < 1e-12);
+        }
+        other => panic!("expected Taut, got {other:?}"),
+    }
+    for bad in [0.0, -0.5, 1.01, f64::NAN] {
+        match with(bad) {
+            Err(PlanError::InvalidParameter { name, .. }) => assert_eq!(name, "max_span"),
+            other => panic!("max_span {bad}: expected InvalidParameter, got {other:?}"),
+        }
+    }
+}
