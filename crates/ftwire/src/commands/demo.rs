@@ -32,7 +32,7 @@ use std::time::{Duration, Instant};
 use ftwire::error::{CliError, from_estimate, from_plan, from_rod};
 use ftwire::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
 use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
-use ftwire::experiment::track::{Attempt, Tracking, plan_in_scene};
+use ftwire::experiment::track::{self, Attempt, Tracking, plan_in_scene};
 use ftwire::experiment::{Gravity, ModelKind};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
@@ -325,8 +325,11 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     // iteration budget found no path for some identified wires (seeds 0 and 3 with the full
     // calibration). The wire sags about 2.5 mm from them; the controller tracks the
     // configurations with the loaded model.
+    let noise = args
+        .noise_model
+        .map_or(NoiseModel::None, NoiseModelArg::model);
     let identified = Rod::new(*model.wire());
-    let (planned, _) = plan_in_scene(&scene, &identified, seed)?;
+    let (planned, _) = plan_in_scene(&scene, &identified, track::validity(noise), seed)?;
     let plan_out = PlanOut {
         scene: scene_name,
         iterations: planned.plan.iterations,
@@ -344,9 +347,6 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
 
     // 5. Track the plan closed loop, then open loop.
     let phase = Phase::start(5, "track the plan, closed then open loop", 3);
-    let noise = args
-        .noise_model
-        .map_or(NoiseModel::None, NoiseModelArg::model);
     // The controller's model: the identified one, with gravity in the base clamp frame.
     let g_clamp = scene.base.rotation.inverse() * gravity.vector();
     let weight = summary_density(&identification) * g_clamp;

@@ -77,7 +77,7 @@ struct Metrics {
     max_mm: f64,
     /// Waypoints the statistics cover.
     waypoints: usize,
-    /// Outcome counts of the runs (successes: ended within `success_epsilon`).
+    /// Outcome counts of the runs (`successes` by the summary's `success_rule`).
     runs: Rates,
 }
 
@@ -117,6 +117,8 @@ struct Summary {
     gain: f64,
     /// Whether the closed loop stopped at poses the arms cannot reach.
     reach: ReachArg,
+    /// What the runs' `successes` count under this noise model.
+    success_rule: &'static str,
     pairs: usize,
     results: Results,
     /// Median wall time of the plans \[ms\] (also in `timings.json`).
@@ -181,17 +183,17 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
 
     let planner_rod = Rod::new(*model.wire());
     let mut draws = PairDraws::default();
+    let noise = args.rollout.noise_model.model();
     let planned = draw_and_plan(
         &free,
         &planner_rod,
         model.rod(),
         args.pairs,
-        seed,
+        (seed, ftwire::experiment::track::validity(noise)),
         &mut draws,
     )?;
     eprintln!("{} pairs planned ({draws:?})", planned.len());
 
-    let noise = args.rollout.noise_model.model();
     let started = Instant::now();
     let runs: Vec<(Attempt, Attempt)> = planned
         .par_iter()
@@ -263,6 +265,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
+        success_rule: ftwire::experiment::track::success_rule(noise),
         reach: args.reach,
         pairs: planned.len(),
         results,
@@ -282,11 +285,11 @@ fn draw_and_plan(
     planner: &Rod,
     tracker: &Rod,
     count: usize,
-    seed: u64,
+    (seed, validity): (u64, ValidityParams),
     draws: &mut PairDraws,
 ) -> Result<Vec<Planned>, CliError> {
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
-    let checker = Checker::new(*planner, robot, free, ValidityParams::default())
+    let checker = Checker::new(*planner, robot, free, validity)
         .map_err(|e| CliError::bad_input(e.to_string()))?;
     let sampler = Sampler {
         half_width: PAIR_BOX,
@@ -342,7 +345,7 @@ fn draw_and_plan(
         let pair_seed = seed
             .wrapping_add(PLAN_RESTARTS)
             .wrapping_add(draws.drawn as u64);
-        match plan_in_scene(&scene, planner, pair_seed) {
+        match plan_in_scene(&scene, planner, validity, pair_seed) {
             Ok((plan, _)) => {
                 let waypoints =
                     waypoints_along(tracker, &scene.base, &plan.plan.path.waypoints, WAYPOINTS)?;
@@ -463,6 +466,8 @@ mod tests {
             touched: false,
             detected: false,
             final_error: 0.01,
+            completed: true,
+            at_goal: true,
             success: true,
             shape_mm,
             centrelines: Vec::new(),
