@@ -418,8 +418,9 @@ impl Checker {
         };
         let step = 1.0 / steps;
         // The end's wire checks first (a model solve, no IK): an edge whose end is not in
-        // Z_free is invalid whatever lies between, and most rejected extensions end in a
-        // collision or outside A_stable. The result is kept for the last sample.
+        // Z_free is invalid whatever lies between, and an extension into a box or out of
+        // A_stable is then rejected without the samples before it. The solve is kept for the
+        // last sample.
         let mut end_wire = Some(self.wire(to)?);
         let mut state = EdgeState {
             samples: 0,
