@@ -4,11 +4,20 @@
 //! - **Sampling:** uniform in the space's box, with probability [`PlannerParams::goal_bias`]
 //!   the goal; once a path exists, informed (Gammell et al. 2014): uniform in the prolate
 //!   hyperspheroid of states that could shorten it.
+//! - **Extension:** the new state lies at most [`PlannerParams::step`] from the node nearest
+//!   the sample, and the edge from that node gates the iteration (Karaman & Frazzoli 2011,
+//!   Alg. 6 line 5, `ObstacleFree(x_nearest, x_new)`): only a state that node reaches is
+//!   added, so a failed iteration costs one edge check.
 //! - **Neighbours:** a kd-tree ([`kiddo`]); the `k = ⌈k_rrt · ln n⌉` nearest
-//!   (`k_rrt = 2e`, the k-nearest RRT* constant) are candidate parents and are rewired.
+//!   (`k_rrt = 2e`, the k-nearest RRT* constant) are candidate parents, up to
+//!   [`PlannerParams::parent_attempts`] of them cheaper than the nearest node tried in order of
+//!   cost, and are rewired.
 //! - **Edges** are checked by [`Checker::edge`] at the resolution its module documents; a
 //!   rewired node keeps its joints only if the new edge arrives within
-//!   [`ValidityParams::max_joint_step`](crate::ValidityParams::max_joint_step) of them.
+//!   [`ValidityParams::max_joint_step`](crate::ValidityParams::max_joint_step) of them. An
+//!   extension found invalid is remembered by its start node and end state, and not checked
+//!   again: goal-biased samples repeat the same extension until the tree grows near it. The
+//!   check is deterministic, so this changes the time and not the path.
 //! - **Cost:** an edge of length `ℓ` whose smallest clearance is `c` costs
 //!   `ℓ · (1 + w · max(0, c_ref / c − 1))` ([`PlannerParams::clearance_weight`] `w`,
 //!   [`PlannerParams::clearance_reference`] `c_ref`): the length alone when `w = 0`, and a
@@ -22,6 +31,7 @@
 //!   same path (test `same_seed_same_path`). With a time budget the iteration count depends on
 //!   the machine; [`Plan::iterations`] says how many ran, to replay with `max_iterations`.
 
+use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
 use kiddo::{KdTree, SquaredEuclidean};
@@ -29,7 +39,7 @@ use nalgebra::{SMatrix, SVector};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::validity::{Checker, Sample, joint_distance};
+use crate::validity::{Checker, Edge, Sample, joint_distance};
 use crate::{Config, Path, PlanError, Space};
 
 /// Settings of [`plan`] (public fields + `Default`).
@@ -50,7 +60,8 @@ pub struct PlannerParams {
     /// A new node within this distance of the goal tries to connect to it (default `5.0`; a
     /// long connection costs one edge check, a missed one many iterations).
     pub goal_radius: f64,
-    /// Candidate parents whose edges are checked, cheapest first (default `4`).
+    /// Candidate parents cheaper than the nearest node whose edges are checked, cheapest first,
+    /// once the nearest node's edge is valid (default `4`).
     pub parent_attempts: usize,
     /// Weight `w` of the clearance penalty (default `0`: cost = length).
     pub clearance_weight: f64,
@@ -226,6 +237,37 @@ fn joints_close(checker: &Checker, a: &Sample, b: &Sample) -> bool {
     joint_distance(&a.joints, &b.joints) <= checker.params().max_joint_step
 }
 
+/// The extensions found invalid, by their start node and end state: a goal-biased sample
+/// repeats the same extension from the same nearest node until the tree changes near it, and
+/// an edge's check is deterministic, so a repeat is answered from here.
+#[derive(Default)]
+struct FailedEdges<const D: usize> {
+    edges: HashSet<(usize, [u64; D])>,
+}
+
+impl<const D: usize> FailedEdges<D> {
+    /// [`Checker::edge`] from node `from` (its sample `sample`) to the state `x` (`config`),
+    /// or `None` if that edge is, or was found, invalid.
+    fn check(
+        &mut self,
+        checker: &Checker,
+        from: usize,
+        sample: &Sample,
+        x: &SVector<f64, D>,
+        config: &Config,
+    ) -> Option<Edge> {
+        let id = (from, std::array::from_fn(|i| x[i].to_bits()));
+        if self.edges.contains(&id) {
+            return None;
+        }
+        let edge = checker.edge(sample, config).ok();
+        if edge.is_none() {
+            self.edges.insert(id);
+        }
+        edge
+    }
+}
+
 /// Appends a node under `parent`, reached by `edge`; returns its index.
 fn add_node<const D: usize>(
     nodes: &mut Vec<Node<D>>,
@@ -282,6 +324,7 @@ pub fn plan<const D: usize, S: Space<D>>(
     let mut tree: KdTree<f64, D> = KdTree::new();
     tree.add(&key(&x_start), 0);
     let mut goals: Vec<usize> = Vec::new();
+    let mut failed = FailedEdges::default();
     let mut first: Option<(usize, f64, f64)> = None;
     let mut iterations = 0;
 
@@ -337,19 +380,35 @@ pub fn plan<const D: usize, S: Space<D>>(
                 .total_cmp(&(nodes[b.0].cost + b.1))
                 .then(a.0.cmp(&b.0))
         });
-        let mut chosen = None;
+        // Informed pruning: no parent could bring the new state under the best path's cost.
+        if near.first().is_none_or(|&(i, d)| nodes[i].cost + d >= best) {
+            continue;
+        }
+        // The extension from the nearest node gates the iteration (Karaman & Frazzoli 2011,
+        // Alg. 6 line 5); only then are cheaper parents tried.
+        let step_length = dist.min(params.step);
+        let Some(edge) = failed.check(checker, nearest, &nodes[nearest].sample, &x_new, &config)
+        else {
+            continue;
+        };
+        let mut chosen = (
+            nearest,
+            Link::new(params, step_length, edge.min_clearance),
+            edge.end,
+        );
         for &(i, d) in near.iter().take(params.parent_attempts) {
-            if nodes[i].cost + d >= best {
+            if i == nearest || nodes[i].cost + d >= nodes[nearest].cost + chosen.1.cost {
                 break;
             }
-            if let Ok(edge) = checker.edge(&nodes[i].sample, &config) {
-                chosen = Some((i, Link::new(params, d, edge.min_clearance), edge.end));
+            if let Some(edge) = failed.check(checker, i, &nodes[i].sample, &x_new, &config) {
+                chosen = (i, Link::new(params, d, edge.min_clearance), edge.end);
                 break;
             }
         }
-        let Some((parent, link, sample)) = chosen else {
+        let (parent, link, sample) = chosen;
+        if nodes[parent].cost + link.cost >= best {
             continue;
-        };
+        }
         let id = add_node(&mut nodes, x_new, parent, link, sample);
         tree.add(&key(&x_new), id as u64);
 

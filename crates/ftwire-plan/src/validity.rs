@@ -427,10 +427,12 @@ impl Checker {
     }
 
     /// Checks the straight edge from a valid sample to `to` at the resolution of the module
-    /// docs.
+    /// docs. The end's wire checks (stability, self-intersection, clearance) run first, as
+    /// they need no IK: the edge is valid or not as if its samples were checked in order.
     ///
     /// # Errors
-    /// The reason the first failing sample or interval is not in `Z_free`.
+    /// The reason the end's wire is not in `Z_free`, else the reason the first failing sample
+    /// or interval is not.
     pub fn edge(&self, from: &Sample, to: &Config) -> Result<Edge, Invalid> {
         let wire = self.rod.wire();
         let da = (to_normalised(wire, &to.a) - to_normalised(wire, &from.config.a)).norm();
@@ -448,6 +450,11 @@ impl Checker {
             1.0 / (steps * 64.0)
         };
         let step = 1.0 / steps;
+        // The end's wire checks first (a model solve, no IK): an edge whose end is not in
+        // Z_free is invalid whatever lies between, and an extension into a box or out of
+        // A_stable is then rejected without the samples before it. The solve is kept for the
+        // last sample.
+        let mut end_wire = Some(self.wire(to)?);
         let mut state = EdgeState {
             samples: 0,
             min_clearance: from.clearance,
@@ -457,7 +464,15 @@ impl Checker {
         let mut h = step;
         while s_prev < 1.0 {
             let s = (s_prev + h).min(1.0);
-            let next = match self.sample(&from.config.interpolate(to, s), &prev.joints) {
+            let checked = if s >= 1.0 {
+                match end_wire.take() {
+                    Some(wire) => self.finish(to, wire, &prev.joints),
+                    None => self.sample(to, &prev.joints),
+                }
+            } else {
+                self.sample(&from.config.interpolate(to, s), &prev.joints)
+            };
+            let next = match checked {
                 Ok(next) => next,
                 // The seeded IK follows the motion: a smaller step may reach what a long one
                 // could not.

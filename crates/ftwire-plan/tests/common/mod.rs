@@ -2,7 +2,7 @@
 //! planner tests' passage (`tests/data/passage-taut.toml`: the same boxes, the start taut).
 #![allow(dead_code)]
 
-use ftwire_plan::{Checker, Scene, ValidityParams};
+use ftwire_plan::{Checker, Config, Plan, Scene, ValidityParams};
 use ftwire_robot::Robot;
 use ftwire_rod::{Rod, WireParams};
 
@@ -37,4 +37,9 @@ pub fn checker(scene: &Scene) -> Checker {
         ValidityParams::default(),
     )
     .expect("default settings are valid")
+}
+
+/// A plan's waypoints' configurations (to compare two plans' paths).
+pub fn configs(plan: &Plan) -> Vec<Config> {
+    plan.path.waypoints.iter().map(|w| w.config).collect()
 }

@@ -1,0 +1,115 @@
+//! RRT* on the shipped passage scene (`scenes/passage.toml`), whose start is slack: the same
+//! seed gives the same path, every edge of a found path is valid when checked again from its
+//! first waypoint (the joints arriving within one joint step of the next waypoint's), and so
+//! for any seed. The planner tests in `planner.rs` use the taut start of `tests/data`.
+
+mod common;
+
+use ftwire_plan::{
+    Checker, FixedBase, Plan, PlannerParams, Sample, joint_distance, plan, scene_endpoint,
+};
+use proptest::prelude::*;
+
+struct Setup {
+    checker: Checker,
+    space: FixedBase,
+    start: Sample,
+    goal: Sample,
+}
+
+fn setup() -> Setup {
+    let scene = common::shipped_passage();
+    let checker = common::checker(&scene);
+    let start = scene_endpoint(&scene, &checker, "start", "start").expect("valid start");
+    let goal = scene_endpoint(&scene, &checker, "goal", "goal").expect("valid goal");
+    let space = FixedBase::around(
+        *checker.rod().wire(),
+        scene.base,
+        &[start.config, goal.config],
+        2.0,
+    );
+    Setup {
+        checker,
+        space,
+        start,
+        goal,
+    }
+}
+
+fn first(s: &Setup, seed: u64) -> Plan {
+    let params = PlannerParams {
+        seed,
+        max_iterations: 3000,
+        stop_at_first: true,
+        shortcut_attempts: 0,
+        ..PlannerParams::default()
+    };
+    plan(&s.space, &s.checker, &s.start, &s.goal.config, &params)
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"))
+}
+
+/// Every edge of `found` re-checked from its first waypoint: valid, and arriving within one
+/// joint step of the joints the next waypoint carries (rewiring and shortcuts keep a node's
+/// joints when the new edge arrives that close).
+fn assert_valid(s: &Setup, found: &Plan, seed: u64) {
+    let w = &found.path.waypoints;
+    assert!(w.len() >= 2);
+    assert_eq!(w[0].config, s.start.config);
+    assert_eq!(w[w.len() - 1].config, s.goal.config);
+    assert_eq!(found.path.edge_clearance.len(), w.len() - 1);
+    let margin = s.checker.params().margin;
+    assert!(found.path.min_clearance() >= margin);
+    for (i, pair) in w.windows(2).enumerate() {
+        let edge = s
+            .checker
+            .edge(&pair[0], &pair[1].config)
+            .unwrap_or_else(|e| panic!("seed {seed}: edge {i} is invalid: {e}"));
+        assert!(edge.min_clearance >= margin);
+        let moved = joint_distance(&edge.end.joints, &pair[1].joints);
+        assert!(
+            moved <= s.checker.params().max_joint_step,
+            "seed {seed}: edge {i}"
+        );
+    }
+}
+
+#[test]
+fn same_seed_same_path_from_the_slack_start() {
+    let s = setup();
+    let (a, b) = (first(&s, 3), first(&s, 3));
+    assert_eq!(a.iterations, b.iterations);
+    assert_eq!(common::configs(&a), common::configs(&b));
+    assert_ne!(
+        common::configs(&a),
+        common::configs(&first(&s, 7)),
+        "another seed, another path"
+    );
+}
+
+#[test]
+fn the_first_and_the_refined_path_are_valid() {
+    let s = setup();
+    let found = first(&s, 0);
+    assert_valid(&s, &found, 0);
+    // Refinement after the first path (the same run, longer) keeps a valid path no dearer.
+    let params = PlannerParams {
+        seed: 0,
+        max_iterations: found.iterations + 150,
+        ..PlannerParams::default()
+    };
+    let refined = plan(&s.space, &s.checker, &s.start, &s.goal.config, &params).expect("a path");
+    assert_eq!(refined.first_path_iteration, found.first_path_iteration);
+    assert!(refined.best_cost_before_shortcut <= found.first_path_cost * (1.0 + 1e-12));
+    assert!(refined.path.cost <= refined.best_cost_before_shortcut * (1.0 + 1e-12));
+    assert_valid(&s, &refined, 0);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4))]
+    #[test]
+    fn any_seed_finds_a_valid_first_path(seed in any::<u64>()) {
+        let s = setup();
+        let found = first(&s, seed);
+        assert_valid(&s, &found, seed);
+    }
+}
