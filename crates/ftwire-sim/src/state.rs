@@ -19,6 +19,15 @@ pub struct RodState {
     pub(crate) theta: Vec<f64>,
     pub(crate) ref_tangent: Vec<Vector3<f64>>,
     pub(crate) ref_d1: Vec<Vector3<f64>>,
+    /// The reference twist `m_ref` \[rad\] of each vertex `i = 1..N−1` (slot 0 unused), the
+    /// last value the state was rebased with. `atan2` gives `m_ref` only modulo 2π; the energy
+    /// takes the branch nearest this value, so that `m_ref` stays continuous along a motion as
+    /// in Bergou et al. 2010, §4.1, where it is updated incrementally. Without it, a clamp
+    /// whose director turns more than π from the transported reference of its neighbour (a tip
+    /// rolled about its own axis) would wrap `m_ref` by 2π, change the rod's total twist by a
+    /// full turn and snap it to another equilibrium (issue 14; test
+    /// `tests/issue_14_reference_twist_wrap.rs`).
+    pub(crate) ref_twist: Vec<f64>,
     pub(crate) base: Pose,
     pub(crate) tip: Pose,
 }
@@ -83,6 +92,7 @@ impl RodState {
             theta: vec![0.0; n],
             ref_tangent: vec![t; n],
             ref_d1: vec![d1; n],
+            ref_twist: vec![0.0; n],
             base: *base,
             tip,
         }
@@ -246,6 +256,7 @@ impl RodState {
             theta: vec![0.0; n],
             ref_tangent,
             ref_d1,
+            ref_twist: vec![0.0; n],
             base: *base,
             tip: *tip,
         };
@@ -273,13 +284,21 @@ impl RodState {
     }
 
     /// Moves every reference frame to its edge's current tangent by time-parallel transport
-    /// (Bergou 2010, §4.1). The material frames, and hence the energy, do not change.
+    /// (Bergou 2010, §4.1), and records the reference twists on their continuous branch (see
+    /// `RodState::ref_twist`). The material frames, and hence the energy, do not change.
     pub(crate) fn rebase(&mut self) {
         for j in 0..self.theta.len() {
             let t = (self.nodes[j + 1] - self.nodes[j]).normalize();
             let d1 = transport_f64(&self.ref_tangent[j], &t, &self.ref_d1[j]);
             self.ref_d1[j] = perpendicular(&t, &d1);
             self.ref_tangent[j] = t;
+        }
+        for i in 1..self.theta.len() {
+            let (t0, t1) = (&self.ref_tangent[i - 1], &self.ref_tangent[i]);
+            let carried = transport_f64(t0, t1, &self.ref_d1[i - 1]);
+            let d1 = &self.ref_d1[i];
+            let raw = carried.cross(d1).dot(t1).atan2(carried.dot(d1));
+            self.ref_twist[i] = raw + nearest_turns(raw, self.ref_twist[i]);
         }
     }
 
@@ -429,4 +448,10 @@ impl RodState {
             self.rebase();
         }
     }
+}
+
+/// The multiple of 2π that, added to the angle `raw`, comes nearest to `previous`.
+pub(crate) fn nearest_turns(raw: f64, previous: f64) -> f64 {
+    let turn = std::f64::consts::TAU;
+    turn * ((previous - raw) / turn).round()
 }

@@ -36,7 +36,9 @@
 //! `r = t⁰·a¹`, `s = t⁰·b¹`, `α = a⁰·a¹`, `β = a⁰·b¹`:
 //! - `ℓ(1 + c)·u2 = (−C⁰q + S⁰p + C¹s − S¹r)·g·sec`, `ℓ(1 + c)·u3 = (S⁰q + C⁰p − S¹s − C¹r)·g·sec`;
 //! - `m_ref = atan2(y, x)` with `x = cα − rp − qs/(1 + c)`, `y = −cβ + sp − qr/(1 + c)`
-//!   (the parallel transport `P(t⁰ → t¹)a⁰` dotted with `a¹` and `−b¹`).
+//!   (the parallel transport `P(t⁰ → t¹)a⁰` dotted with `a¹` and `−b¹`), plus the multiple of
+//!   2π that keeps it nearest the vertex's previous reference twist, so that it stays continuous
+//!   along a motion (Bergou 2010, §4.1: the reference twist is updated incrementally).
 //!
 //! Each edge's directors depend on its own edge vector only, so they are differentiated once per
 //! edge with 3 variables and the dot products assembled directly into the stencil's 8 variables;
@@ -50,6 +52,7 @@
 use nalgebra::Vector3;
 
 use crate::dual::{Dual1, Dual2, Scalar, V3, cross, dot, scale};
+use crate::state::nearest_turns;
 use crate::transport::transport_from_const;
 
 /// Constants of one bending–twisting stencil.
@@ -60,6 +63,9 @@ pub(crate) struct Stencil<'a> {
     pub rest: &'a Vector3<f64>,
     /// Rest Voronoi length ℓ \[m\].
     pub voronoi: f64,
+    /// The vertex's last reference twist \[rad\] (`RodState::ref_twist`): of the values of
+    /// `m_ref` that `atan2` gives modulo 2π, the one nearest it is taken.
+    pub ref_twist: f64,
 }
 
 /// An edge's tangent `t` and reference directors `a = d1`, `b = d2 = t × a`.
@@ -167,7 +173,8 @@ pub(crate) fn strains<S: Scalar>(dots: &[S; 7], th0: S, th1: S, st: &Stencil<'_>
     let k = S::cst(1.0 / st.voronoi) / one_c;
     let x = c * alpha - r * p - q * s / one_c;
     let y = s * p - c * beta - q * r / one_c;
-    let m_ref = y.atan2(x);
+    let raw = y.atan2(x);
+    let m_ref = raw + nearest_turns(raw.re(), st.ref_twist);
     let twist = th1 - th0 + m_ref;
     let u1 = twist * (1.0 / st.voronoi);
     // Turning angle instead of 2·tan(φ/2), and the mid-vertex material frame instead of the
@@ -292,6 +299,7 @@ mod tests {
             c: &[1.0, 1.0, 1.0],
             rest: &Vector3::zeros(),
             voronoi: 0.01,
+            ref_twist: 0.0,
         };
         let d0: Directors<f64> = directors(&[e0.x, e0.y, e0.z], &refs[0].0, &refs[0].1);
         let d1: Directors<f64> = directors(&[e1.x, e1.y, e1.z], &refs[1].0, &refs[1].1);
@@ -303,5 +311,29 @@ mod tests {
                 "{fast:?} vs {slow:?}"
             );
         }
+    }
+
+    /// Issue 14: the reference twist is taken on the branch nearest the vertex's previous one,
+    /// not always in `(−π, π]`: a reference director turned 3.1 rad past its neighbour's reads
+    /// as `3.1 − 2π` when the previous value was just below −π.
+    #[test]
+    fn the_reference_twist_keeps_the_branch_of_its_previous_value() {
+        let e = [0.01, 0.0, 0.0];
+        let x = Vector3::x();
+        let turned = Vector3::new(0.0, 3.1_f64.cos(), 3.1_f64.sin());
+        let d0: Directors<f64> = directors(&e, &x, &Vector3::y());
+        let d1: Directors<f64> = directors(&e, &x, &turned);
+        let (c, rest) = ([1.0; 3], Vector3::zeros());
+        let stencil = |ref_twist| Stencil {
+            c: &c,
+            rest: &rest,
+            voronoi: 0.01,
+            ref_twist,
+        };
+        let principal = strains(&dots(&d0, &d1), 0.0, 0.0, &stencil(0.0))[0];
+        let continued = strains(&dots(&d0, &d1), 0.0, 0.0, &stencil(-3.2))[0];
+        assert!((principal.abs() * 0.01 - 3.1).abs() < 1e-12);
+        assert!((continued - (principal - 2.0 * PI / 0.01 * principal.signum())).abs() < 1e-9);
+        assert!((continued * 0.01 + 3.2).abs() < 0.1);
     }
 }

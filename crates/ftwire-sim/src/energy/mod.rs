@@ -128,10 +128,11 @@ pub(crate) fn evaluate(world: &World, state: &RodState, order: Order) -> Evaluat
 
     // Bending and twisting at the interior vertices 1..N−1. Each edge's directors are computed
     // (and differentiated, with its own 3 variables) once and shared by its two vertices.
-    let st = bend_twist::Stencil {
+    let vertex = |i: usize| bend_twist::Stencil {
         c: &p.stiffness,
         rest: &p.rest_strain,
         voronoi: h,
+        ref_twist: state.ref_twist[i],
     };
     let edge = |j: usize| nodes[j + 1] - nodes[j];
     let (rt, rd) = (&state.ref_tangent, &state.ref_d1);
@@ -142,6 +143,7 @@ pub(crate) fn evaluate(world: &World, state: &RodState, order: Order) -> Evaluat
                 .collect();
             for i in 1..n {
                 let dots = bend_twist::dots(&dirs[i - 1], &dirs[i]);
+                let st = vertex(i);
                 let (b, t) = bend_twist::energy(&dots, state.theta[i - 1], state.theta[i], &st);
                 en.bend += b;
                 en.twist += t;
@@ -161,7 +163,7 @@ pub(crate) fn evaluate(world: &World, state: &RodState, order: Order) -> Evaluat
                     &dots,
                     Dual1::var(state.theta[i - 1], 6),
                     Dual1::var(state.theta[i], 7),
-                    &st,
+                    &vertex(i),
                 );
                 en.bend += b.re();
                 en.twist += t.re();
@@ -183,7 +185,7 @@ pub(crate) fn evaluate(world: &World, state: &RodState, order: Order) -> Evaluat
                     &dots,
                     Dual2::var(state.theta[i - 1], 6),
                     Dual2::var(state.theta[i], 7),
-                    &st,
+                    &vertex(i),
                 );
                 en.bend += b.re();
                 en.twist += t.re();
