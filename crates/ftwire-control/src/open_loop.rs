@@ -111,10 +111,11 @@ pub struct RollOut {
 /// skipped: it is the start) with no feedback on the wire; `feedback`, if given, only records
 /// `ã` after each move. `observe(rig, k)` is called after move `k`.
 ///
-/// Move `k` applies the plan's increment `δb_k = poses[k]⁻¹ poses[k+1]` to the pose the robot
-/// reports, `b_{k+1} = b_k δb_k` (eq. 14 with the planned increments, as the paper rolls the open
-/// loop out). A robot that lands where it is commanded reports the planned poses, so this is
-/// the plan itself; under the paper's `increment` noise the robot reports where each noisy
+/// The first move goes to `poses[1]` from wherever the rig starts; every later move applies the
+/// plan's increment `δb_k = poses[k]⁻¹ poses[k+1]` to the pose the robot reports,
+/// `b_{k+1} = b_k δb_k` (eq. 14 with the planned increments, as the paper rolls the open loop
+/// out). A robot that lands where it is commanded reports the planned poses, so this is the
+/// plan itself; under the paper's `increment` noise the robot reports where each noisy
 /// increment took it, and the errors accumulate along the roll-out.
 ///
 /// # Errors
@@ -135,7 +136,9 @@ pub fn roll_out<R: Rig, C: FtCalibration>(
         measured: Vec::new(),
         failed: None,
     };
-    for (k, step) in poses.windows(2).enumerate() {
+    // Where the last move was meant to end: the increments are the plan's from there.
+    let mut last: Option<Pose> = None;
+    for (k, target) in poses.iter().skip(1).enumerate() {
         let now = match rig.gripper_poses() {
             Ok(p) => p.relative(),
             Err(e) => {
@@ -143,10 +146,15 @@ pub fn roll_out<R: Rig, C: FtCalibration>(
                 break;
             }
         };
-        if let Err(e) = rig.move_tip(base * now * (step[0].inverse() * step[1])) {
+        let command = match last {
+            Some(last) => now * (last.inverse() * target),
+            None => *target,
+        };
+        if let Err(e) = rig.move_tip(base * command) {
             out.failed = Some((k, e.to_string()));
             break;
         }
+        last = Some(*target);
         out.moves += 1;
         if let Some(feedback) = feedback {
             out.measured.push(feedback.measure(rig).ok().map(|m| m.a));

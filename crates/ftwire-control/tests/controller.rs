@@ -458,3 +458,43 @@ fn the_noise_models_differ_as_documented() {
     assert!((offset - 0.0173).abs() < 0.004, "{offset}");
     assert_eq!(rms_after(NoiseModel::None, 5, 3, true), 0.0);
 }
+
+/// The RMS distance [m] of the actual tip from the plan's last pose after rolling out a plan of
+/// `moves` moves that starts 5 cm from where the rig is, over `runs` seeds.
+fn roll_out_rms(model: NoiseModel, moves: usize, runs: u64) -> f64 {
+    let start = ftwire_core::GripperPoses {
+        base: Pose::identity(),
+        tip: Pose::translation(0.45, 0.0, 0.0),
+    };
+    let poses: Vec<Pose> = (0..=moves)
+        .map(|k| Pose::translation(0.5, 0.01 * k as f64, 0.0))
+        .collect();
+    let last = poses[moves].translation.vector;
+    let mut sum = 0.0;
+    for seed in 0..runs {
+        let mut rig =
+            NoisyRig::new(Still(start), model, NoiseSettings::default(), seed).expect("valid");
+        let out = roll_out(
+            &mut rig,
+            &poses,
+            None::<&ftwire_control::FtFeedback<ftwire_estimate::ft::Mounting>>,
+            |_, _| {},
+        )
+        .expect("rolls");
+        assert_eq!(out.moves, moves);
+        sum += (rig.inner().0.tip.translation.vector - last).norm_squared();
+    }
+    (sum / runs as f64).sqrt()
+}
+
+#[test]
+fn the_roll_out_goes_to_the_plan_and_the_increment_noise_accumulates_along_it() {
+    // Without noise the rig ends on the plan, though it started 5 cm off its first pose.
+    assert!(roll_out_rms(NoiseModel::None, 16, 1) < 1e-12);
+    // The paper's noise lands every increment 17 mm (RMS) off, and the robot steps on from
+    // where it landed: after 16 moves about 4 draws; independent pose errors stay one draw.
+    let increment = roll_out_rms(NoiseModel::Increment, 16, 300);
+    assert!((increment / 0.0173 - 4.0).abs() < 0.8, "{increment}");
+    let absolute = roll_out_rms(NoiseModel::Absolute, 16, 300);
+    assert!((absolute - 0.0173).abs() < 0.003, "{absolute}");
+}
