@@ -188,8 +188,8 @@ pub struct StepRecord {
     /// Compute time of the reach check \[s\].
     pub reach_s: f64,
     /// `b_{i+1}`: the second gripper's pose relative to the base clamp after the move, as the
-    /// robot reports it (its encoders). It is `plan.next_tip` unless the rig knows it landed
-    /// elsewhere (the `increment` noise model: the error is injected into the command).
+    /// robot reports it. It is `plan.next_tip` unless the rig reports that it landed elsewhere
+    /// (a robot whose encoders see an error injected into its commands).
     pub tip: Pose,
 }
 

@@ -3,12 +3,9 @@
 //! Three models (see the control issue and DESIGN.md):
 //!
 //! - [`NoiseModel::Increment`], the paper's (§IV-D): `N(0, 10 mm)` per axis and `N(0, 3°)` per
-//!   rotation-vector component on each control output `δb`. The paper injects the error into
-//!   the command it sends, so the robot executes `b_i · δb_i · Δ_i` and its encoders then report
-//!   that pose: this model's [`Rig::gripper_poses`] reports the pose actually reached, and a
-//!   command `b` (built from the reported `b_i`) lands at `b · Δ_i`. Callers that step from the
-//!   reported pose, as eq. 14 and [`crate::open_loop::roll_out`] do, see the errors accumulate
-//!   along a motion: `actual_{i+1} = actual_i · δb_i · Δ_i`.
+//!   rotation-vector component on each control output `δb`. The actual pose follows the
+//!   commanded *increments*, each with its own error, so the error accumulates along a motion:
+//!   `actual_{i+1} = actual_i · (b_i⁻¹ b_{i+1}) · Δ_i`.
 //! - [`NoiseModel::Absolute`]: each commanded pose is perturbed independently,
 //!   `actual = b · Δ_i` (as the simulator's own execution-error model).
 //! - [`NoiseModel::Offset`]: what a real robot has: one calibration error `Δ₀` drawn once per
@@ -17,8 +14,7 @@
 //!
 //! Every `Δ` is built in the gripper frame, `(exp(ω̂), δ)` with isotropic normal components.
 //! Only the second gripper is perturbed; the base gripper (with the sensor) goes where it is
-//! commanded. Under `absolute` and `offset` the error is the robot's own and unknown to it: it
-//! believes it is where it commanded. All draws come from one seeded RNG.
+//! commanded. The robot believes it is where it commanded. All draws come from one seeded RNG.
 
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
@@ -187,12 +183,11 @@ impl<R: Rig> NoisyRig<R> {
         )
     }
 
-    /// Where the second gripper really goes when commanded from the reported `from` to `to`.
+    /// Where the second gripper really goes when commanded from the believed `from` to `to`.
     fn actual_tip(&mut self, actual_now: &Pose, from: &Pose, to: &Pose) -> Pose {
         let s = self.settings;
         match self.model {
             NoiseModel::None => *to,
-            // The robot reports `actual_now` (= `from`), so `to` is built on the actual pose.
             NoiseModel::Increment => {
                 actual_now * (from.inverse() * to) * self.draw(s.position_std, s.orientation_std)
             }
@@ -211,20 +206,15 @@ impl<R: Rig> Rig for NoisyRig<R> {
         self.inner.read_ft()
     }
 
-    /// The poses the robot reports: where it went under `increment` (the error was injected
-    /// into the command), where it was commanded under the other models.
     fn gripper_poses(&self) -> Result<GripperPoses, Self::Error> {
-        match self.model {
-            NoiseModel::Increment => self.inner.gripper_poses(),
-            _ => Ok(self.believed),
-        }
+        Ok(self.believed)
     }
 
     /// Commands the inner rig with the noisy tip pose; on failure nothing changes but the
     /// noise stream (a retry draws a new error).
     fn command(&mut self, command: &Command) -> Result<(), Self::Error> {
         let actual_now = self.inner.gripper_poses()?.tip;
-        let from = self.gripper_poses()?.tip;
+        let from = self.believed.tip;
         let tip = self.actual_tip(&actual_now, &from, &command.tip);
         self.inner.command(&Command {
             base: command.base,

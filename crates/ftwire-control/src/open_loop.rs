@@ -114,9 +114,9 @@ pub struct RollOut {
 /// The first move goes to `poses[1]` from wherever the rig starts; every later move applies the
 /// plan's increment `δb_k = poses[k]⁻¹ poses[k+1]` to the pose the robot reports,
 /// `b_{k+1} = b_k δb_k` (eq. 14 with the planned increments, as the paper rolls the open loop
-/// out). A robot that lands where it is commanded reports the planned poses, so this is the
-/// plan itself; under the paper's `increment` noise the robot reports where each noisy
-/// increment took it, and the errors accumulate along the roll-out.
+/// out). A robot that reports the poses it was commanded (every noise model of
+/// [`crate::NoisyRig`]) goes through the planned poses themselves; one that reports where an
+/// error took it steps on from there, and its errors accumulate along the roll-out.
 ///
 /// # Errors
 /// [`ControlError::Rig`] when the rig cannot report its poses at the start; a failed move ends

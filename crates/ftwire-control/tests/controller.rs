@@ -408,10 +408,9 @@ impl ftwire_core::Rig for Still {
     }
 }
 
-/// The RMS position error [m] of the actual tip after `moves` commands over `runs` seeds:
-/// each a zero increment from the pose the robot reports (`from_reported`, eq. 14's
-/// `b_{i+1} = b_i δb_i` with `δb_i = I`), or the start pose itself.
-fn rms_after(model: NoiseModel, moves: usize, runs: u64, from_reported: bool) -> f64 {
+/// The RMS position error [m] of the actual tip after `moves` commands to the same pose,
+/// over `runs` seeds.
+fn rms_after(model: NoiseModel, moves: usize, runs: u64) -> f64 {
     let start = ftwire_core::GripperPoses {
         base: Pose::identity(),
         tip: Pose::translation(0.5, 0.0, 0.0),
@@ -421,13 +420,7 @@ fn rms_after(model: NoiseModel, moves: usize, runs: u64, from_reported: bool) ->
         let mut rig =
             NoisyRig::new(Still(start), model, NoiseSettings::default(), seed).expect("valid");
         for _ in 0..moves {
-            let target = if from_reported {
-                let Ok(poses) = ftwire_core::Rig::gripper_poses(&rig);
-                poses.tip
-            } else {
-                start.tip
-            };
-            let Ok(()) = ftwire_core::Rig::move_tip(&mut rig, target);
+            let Ok(()) = ftwire_core::Rig::move_tip(&mut rig, start.tip);
         }
         let miss = rig.inner().0.tip.translation.vector - start.tip.translation.vector;
         sum += miss.norm_squared();
@@ -437,26 +430,17 @@ fn rms_after(model: NoiseModel, moves: usize, runs: u64, from_reported: bool) ->
 
 #[test]
 fn the_noise_models_differ_as_documented() {
-    // 3-D RMS of N(0, 10 mm) per axis is 17 mm; stepping from the reported pose under the
-    // increment model, it grows as √moves.
-    let one = rms_after(NoiseModel::Increment, 1, 400, true);
-    let sixteen = rms_after(NoiseModel::Increment, 16, 400, true);
+    // 3-D RMS of N(0, 10 mm) per axis is 17 mm; the increment model's grows as √moves.
+    let one = rms_after(NoiseModel::Increment, 1, 400);
+    let sixteen = rms_after(NoiseModel::Increment, 16, 400);
     assert!((one - 0.0173).abs() < 0.003, "{one}");
     assert!((sixteen / one - 4.0).abs() < 0.8, "{sixteen} / {one}");
-    // The increment model's robot knows where it is: commanding a fixed pose again lands
-    // one draw away from it, not a random walk.
-    let back = rms_after(NoiseModel::Increment, 16, 400, false);
-    assert!((back - 0.0173).abs() < 0.003, "{back}");
-    let absolute = rms_after(NoiseModel::Absolute, 16, 400, false);
+    let absolute = rms_after(NoiseModel::Absolute, 16, 400);
     assert!((absolute - 0.0173).abs() < 0.003, "{absolute}");
-    // The robot does not know its absolute or offset error: stepping from what it reports is
-    // stepping from where it commanded.
-    let absolute = rms_after(NoiseModel::Absolute, 16, 400, true);
-    assert!((absolute - 0.0173).abs() < 0.003, "{absolute}");
-    let offset = rms_after(NoiseModel::Offset, 16, 400, true);
+    let offset = rms_after(NoiseModel::Offset, 16, 400);
     // The rotation of the offset also moves the point, a little: still about one draw.
     assert!((offset - 0.0173).abs() < 0.004, "{offset}");
-    assert_eq!(rms_after(NoiseModel::None, 5, 3, true), 0.0);
+    assert_eq!(rms_after(NoiseModel::None, 5, 3), 0.0);
 }
 
 /// The RMS distance [m] of the actual tip from the plan's last pose after rolling out a plan of

@@ -185,7 +185,7 @@ impl fmt::Display for Invalid {
             Self::SelfIntersecting => write!(f, "the wire intersects itself"),
             Self::Taut { span, limit } => write!(
                 f,
-                "the grippers are {:.1} mm apart, more than the {:.1} mm max_span allows",
+                "the grippers are too far apart ({:.1} mm; max_span allows {:.1} mm)",
                 span * 1e3,
                 limit * 1e3
             ),

@@ -81,6 +81,10 @@ fn a_bad_scene_exits_2_naming_the_item() {
         ("--resample", "0", "--resample"),
         ("--margin", "-0.001", "margin"),
         ("--clearance-weight", "-1", "clearance_weight"),
+        ("--max-span", "0", "max_span"),
+        ("--max-span", "1.2", "max_span"),
+        // The start holds the grippers 0.72 m apart, 88 % of the wire.
+        ("--max-span", "0.85", "too far apart"),
     ] {
         let out = ftwire(&["plan", "--scene", &passage(), option, value]);
         assert_exit(&out, 2, needle, &format!("plan {option} {value}"));

@@ -22,6 +22,17 @@ pub struct PlanWireArgs {
         value_parser = parse_finite
     )]
     pub margin: f64,
+
+    /// Largest distance between the grippers as a fraction of the wire's length, in (0, 1]:
+    /// keeps the wire slack (1 = whatever the model allows).
+    #[arg(
+        long,
+        value_name = "FRACTION",
+        default_value_t = 1.0,
+        allow_hyphen_values = true,
+        value_parser = parse_finite
+    )]
+    pub max_span: f64,
 }
 
 /// The start and goal configurations' names in the scene.

@@ -208,10 +208,11 @@ fn setup(
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
     let validity = ValidityParams {
         margin: wire.margin,
+        max_span: wire.max_span,
         ..ValidityParams::default()
     };
     let checker = Checker::new(Rod::new(params), robot, &scene, validity)
-        .map_err(|e| from_plan(e, "--margin"))?;
+        .map_err(|e| from_plan(e, "--margin or --max-span"))?;
     Ok((scene, spec, checker))
 }
 
