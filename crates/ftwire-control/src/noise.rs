@@ -3,9 +3,12 @@
 //! Three models (see the control issue and DESIGN.md):
 //!
 //! - [`NoiseModel::Increment`], the paper's (§IV-D): `N(0, 10 mm)` per axis and `N(0, 3°)` per
-//!   rotation-vector component on each control output `δb`. The actual pose follows the
-//!   commanded *increments*, each with its own error, so the error accumulates along a motion:
-//!   `actual_{i+1} = actual_i · (b_i⁻¹ b_{i+1}) · Δ_i`.
+//!   rotation-vector component on each control output `δb`. The paper injects the error into
+//!   the command it sends, so the robot's encoders know where the gripper went: this model's
+//!   [`Rig::gripper_poses`] reports the pose reached, and a command built on it lands with the
+//!   next error. Callers that step from the reported pose, as eq. 14 and
+//!   [`crate::open_loop::roll_out`] do, see the errors accumulate along a motion:
+//!   `actual_{i+1} = actual_i · δb_i · Δ_i`.
 //! - [`NoiseModel::Absolute`]: each commanded pose is perturbed independently,
 //!   `actual = b · Δ_i` (as the simulator's own execution-error model).
 //! - [`NoiseModel::Offset`]: what a real robot has: one calibration error `Δ₀` drawn once per
@@ -14,7 +17,8 @@
 //!
 //! Every `Δ` is built in the gripper frame, `(exp(ω̂), δ)` with isotropic normal components.
 //! Only the second gripper is perturbed; the base gripper (with the sensor) goes where it is
-//! commanded. The robot believes it is where it commanded. All draws come from one seeded RNG.
+//! commanded. Under `absolute` and `offset` the error is the robot's own and unknown to it: it
+//! believes it is where it commanded. All draws come from one seeded RNG.
 
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
@@ -206,16 +210,27 @@ impl<R: Rig> Rig for NoisyRig<R> {
         self.inner.read_ft()
     }
 
+    /// The poses the robot reports: where it went under `increment` (the paper injects the
+    /// error into the command, so the encoders know), where it was commanded otherwise.
     fn gripper_poses(&self) -> Result<GripperPoses, Self::Error> {
-        Ok(self.believed)
+        match self.model {
+            NoiseModel::Increment => self.inner.gripper_poses(),
+            _ => Ok(self.believed),
+        }
     }
 
     /// Commands the inner rig with the noisy tip pose; on failure nothing changes but the
     /// noise stream (a retry draws a new error).
     fn command(&mut self, command: &Command) -> Result<(), Self::Error> {
         let actual_now = self.inner.gripper_poses()?.tip;
-        let from = self.believed.tip;
-        let tip = self.actual_tip(&actual_now, &from, &command.tip);
+        let from = self.gripper_poses()?.tip;
+        let mut tip = self.actual_tip(&actual_now, &from, &command.tip);
+        if self.model == NoiseModel::Increment {
+            // The reported pose feeds the next command, which lands as the next reported pose:
+            // a quaternion's norm error would compound (`inverse` is the conjugate), by about 3×
+            // per move, and the wire would be clamped by a non-rotation within a few dozen.
+            tip.rotation.renormalize();
+        }
         self.inner.command(&Command {
             base: command.base,
             tip,
