@@ -376,7 +376,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let verdict = |a: &Attempt| {
         format!(
             "{} ({} moves{}, final error {:.3}, shape {:.1} mm at the goal)",
-            if a.success { "success" } else { "failure" },
+            a.verdict(),
             a.steps,
             match (a.touched, a.detected) {
                 (true, true) => ", touched an obstacle, detected",

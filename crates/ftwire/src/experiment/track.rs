@@ -370,6 +370,18 @@ pub struct Attempt {
     pub a_true: Vec<[f64; 6]>,
 }
 
+impl Attempt {
+    /// `success` or `failure` in words, saying when a success by the paper's rule (under
+    /// `increment`/`absolute` noise) did not end at the goal.
+    pub fn verdict(&self) -> &'static str {
+        match (self.success, self.at_goal) {
+            (true, true) => "success",
+            (true, false) => "success by the paper's rule (no contact), not at the goal",
+            (false, _) => "failure",
+        }
+    }
+}
+
 /// One scenario of tracking: the true wire, the scene, the sensor's calibration, the noise.
 #[derive(Debug, Clone, Copy)]
 pub struct Tracking<'a> {
@@ -733,6 +745,27 @@ mod tests {
             goal_settings(NoiseModel::Absolute).max_iterations,
             MAX_ITERATIONS_NOISY
         );
+    }
+
+    #[test]
+    fn the_verdict_says_when_a_success_is_not_at_the_goal() {
+        let attempt = |success, at_goal| Attempt {
+            mode: "open_loop",
+            outcome: "done".to_owned(),
+            steps: 12,
+            touched: false,
+            detected: false,
+            final_error: 14.0,
+            completed: true,
+            at_goal,
+            success,
+            shape_mm: Vec::new(),
+            centrelines: Vec::new(),
+            a_true: Vec::new(),
+        };
+        assert_eq!(attempt(true, true).verdict(), "success");
+        assert!(attempt(true, false).verdict().contains("not at the goal"));
+        assert_eq!(attempt(false, true).verdict(), "failure");
     }
 
     #[test]

@@ -152,7 +152,7 @@ fn numbers(summary: &Summary) -> String {
             md,
             "| track, {} | {} after {} moves (`{}`){}, final error {:.3} |",
             a.mode.replace('_', " "),
-            if a.success { "success" } else { "failure" },
+            a.verdict(),
             a.steps,
             a.outcome,
             if a.touched {
