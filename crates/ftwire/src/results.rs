@@ -294,17 +294,15 @@ mod tests {
         folder
             .finish(&header, &serde_json::json!({"ok": true}))
             .expect("finishes");
-        assert_eq!(
-            entries(&target),
-            [
-                "figure.svg",
-                "logs",
-                "report.html",
-                "report.md",
-                "samples.csv",
-                "summary.json"
-            ]
-        );
+        let finished = [
+            "figure.svg",
+            "logs",
+            "report.html",
+            "report.md",
+            "samples.csv",
+            "summary.json",
+        ];
+        assert_eq!(entries(&target), finished);
         assert_eq!(
             fs::read_to_string(target.join("logs/trial0.jsonl")).expect("reads"),
             "{}\n"
@@ -319,17 +317,7 @@ mod tests {
         // A second run replaces the folder; an unfinished third leaves it as it was.
         let folder = ResultsFolder::create(&target).expect("creates");
         folder.write_json("other.json", &[1, 2]).expect("writes");
-        assert_eq!(
-            entries(&target),
-            [
-                "figure.svg",
-                "logs",
-                "report.html",
-                "report.md",
-                "samples.csv",
-                "summary.json"
-            ]
-        );
+        assert_eq!(entries(&target), finished);
         folder.finish(&header, &2).expect("finishes");
         assert_eq!(
             entries(&target),
