@@ -37,7 +37,8 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::track::{
-    Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, waypoints_along,
+    Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
+    validity, waypoints_along,
 };
 use ftwire::results::ResultsFolder;
 use ftwire_estimate::WireModel;
@@ -189,7 +190,8 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         &planner_rod,
         model.rod(),
         args.pairs,
-        (seed, ftwire::experiment::track::validity(noise)),
+        seed,
+        validity(noise),
         &mut draws,
     )?;
     eprintln!("{} pairs planned ({draws:?})", planned.len());
@@ -265,7 +267,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
-        success_rule: ftwire::experiment::track::success_rule(noise),
+        success_rule: success_rule(noise),
         reach: args.reach,
         pairs: planned.len(),
         results,
@@ -285,7 +287,8 @@ fn draw_and_plan(
     planner: &Rod,
     tracker: &Rod,
     count: usize,
-    (seed, validity): (u64, ValidityParams),
+    seed: u64,
+    validity: ValidityParams,
     draws: &mut PairDraws,
 ) -> Result<Vec<Planned>, CliError> {
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
