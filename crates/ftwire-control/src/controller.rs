@@ -43,6 +43,17 @@ pub struct ControlSettings {
     pub max_iterations: usize,
     /// Most halvings of a step whose predicted configuration leaves `A_stable` (default `6`).
     pub max_shrinks: usize,
+    /// Settling radius \[normalised\]: once the measured `ã` is within it of the goal, each
+    /// rest averages at least [`ControlSettings::settle_samples`] F/T samples (default `0`:
+    /// off). Near the goal the steps `K (a_g − ã)` shrink below the noise of a rest's mean, so
+    /// the loop steers by noise and the stop rule fires on a lucky reading; a longer average
+    /// there halves the noise for each fourfold of samples, at the cost of only the last few
+    /// rests, and lets the loop stop at an ε below that noise (`tests/controller.rs`,
+    /// `longer_rests_near_the_goal_let_the_loop_stop_at_a_small_epsilon`).
+    pub settle_radius: f64,
+    /// F/T samples averaged per rest inside [`ControlSettings::settle_radius`] (default `0`;
+    /// the feedback's own count when that is larger).
+    pub settle_samples: usize,
 }
 
 impl Default for ControlSettings {
@@ -54,6 +65,8 @@ impl Default for ControlSettings {
             max_rotation: 0.3,
             max_iterations: 100,
             max_shrinks: 6,
+            settle_radius: 0.0,
+            settle_samples: 0,
         }
     }
 }
@@ -79,6 +92,13 @@ impl ControlSettings {
         }
         if self.max_iterations == 0 {
             return Err(bad("max_iterations", 0.0, "at least 1 step"));
+        }
+        if !(self.settle_radius.is_finite() && self.settle_radius >= 0.0) {
+            return Err(bad(
+                "settle_radius",
+                self.settle_radius,
+                "a finite number ≥ 0 (0: off)",
+            ));
         }
         Ok(())
     }
@@ -274,6 +294,34 @@ impl<M: WireModel> Controller<M> {
         self.detector.as_ref()
     }
 
+    /// F/T samples to average at the rest after a step taken `error` (normalised) from the
+    /// goal: `samples` (the feedback's own), or at least [`ControlSettings::settle_samples`]
+    /// within [`ControlSettings::settle_radius`].
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_control::{ControlSettings, Controller};
+    /// use ftwire_estimate::KirchhoffModel;
+    /// let wire = ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?;
+    /// let settings = ControlSettings {
+    ///     settle_radius: 0.2,
+    ///     settle_samples: 400,
+    ///     ..Default::default()
+    /// };
+    /// let controller = Controller::new(KirchhoffModel::new(wire), settings)?;
+    /// assert_eq!(controller.rest_samples(100, 0.5), 100);
+    /// assert_eq!(controller.rest_samples(100, 0.1), 400);
+    /// assert_eq!(controller.rest_samples(1000, 0.1), 1000);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn rest_samples(&self, samples: usize, error: f64) -> usize {
+        if error < self.settings.settle_radius {
+            samples.max(self.settings.settle_samples)
+        } else {
+            samples
+        }
+    }
+
     /// `‖a_g − a‖` in normalised units.
     pub fn distance(&self, a: &Vector6<f64>, goal: &Vector6<f64>) -> f64 {
         to_normalised(self.model.wire(), &(goal - a)).norm()
@@ -451,7 +499,8 @@ impl<M: WireModel> Controller<M> {
                     return Ok(run);
                 }
             };
-            let measured = match feedback.measure(rig) {
+            let samples = self.rest_samples(feedback.samples(), error);
+            let measured = match feedback.measure_samples(rig, samples) {
                 Ok(m) => m.a,
                 Err(e) => {
                     run.outcome = Outcome::SensorFault {

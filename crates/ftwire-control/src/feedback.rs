@@ -43,8 +43,20 @@ impl<C: FtCalibration> FtFeedback<C> {
     /// # Errors
     /// As [`FtPipeline::measure`]: too few good samples, or a non-finite `ã`.
     pub fn measure<R: Rig>(&self, rig: &mut R) -> Result<Measurement, EstimateError> {
-        let samples: Vec<Option<FtSample>> =
-            (0..self.samples).map(|_| rig.read_ft().ok()).collect();
+        self.measure_samples(rig, self.samples)
+    }
+
+    /// As [`FtFeedback::measure`], averaging `count` samples instead of
+    /// [`FtFeedback::samples`] (the controller's longer rests near the goal).
+    ///
+    /// # Errors
+    /// As [`FtFeedback::measure`].
+    pub fn measure_samples<R: Rig>(
+        &self,
+        rig: &mut R,
+        count: usize,
+    ) -> Result<Measurement, EstimateError> {
+        let samples: Vec<Option<FtSample>> = (0..count).map(|_| rig.read_ft().ok()).collect();
         self.pipeline.measure(samples.iter().map(Option::as_ref))
     }
 }

@@ -8,6 +8,9 @@ use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, WireParams};
 use ftwire_estimate::ft::{FtPipeline, Mounting, RestAverage, Tare};
 use ftwire_rod::{Rod, from_normalised, se3};
 use nalgebra::Vector6;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
 
 /// The 3 mm / 820 mm nitinol wire.
 pub fn wire() -> WireParams {
@@ -69,6 +72,9 @@ pub struct ModelRig {
     /// After this many moves, a contact adds this wrench (torque first) to the reading,
     /// growing with each further move.
     pub contact: Option<(usize, Vector6<f64>)>,
+    /// White noise on each reading: the standard deviation of each channel of `a` (torque
+    /// first, SI units) and the seeded generator drawing it.
+    pub noise: Option<(Vector6<f64>, ChaCha8Rng)>,
 }
 
 impl ModelRig {
@@ -84,7 +90,15 @@ impl ModelRig {
             dropout_after: None,
             zeros_after: None,
             contact: None,
+            noise: None,
         }
+    }
+
+    /// The same rig with white noise of standard deviation `std` (torque first) on every
+    /// reading, drawn from `seed`.
+    pub fn with_noise(mut self, std: Vector6<f64>, seed: u64) -> Self {
+        self.noise = Some((std, ChaCha8Rng::seed_from_u64(seed)));
+        self
     }
 
     /// Newton on `log(Γ(a)⁻¹ b) = 0` from the current `a`.
@@ -122,6 +136,12 @@ impl Rig for ModelRig {
         }
         if self.after(self.zeros_after) {
             a = Vector6::zeros();
+        }
+        if let Some((std, rng)) = &mut self.noise {
+            for i in 0..6 {
+                let z: f64 = StandardNormal.sample(rng);
+                a[i] += std[i] * z;
+            }
         }
         let raw = Vector6::new(a[3], a[4], a[5], a[0], a[1], a[2]);
         Ok(FtSample {
