@@ -81,6 +81,36 @@ pub fn goal_settings(noise: NoiseModel) -> ControlSettings {
     }
 }
 
+/// The controller's stop `ε` at the waypoints before the last without noise and under
+/// `offset` \[normalised\]: tight enough that the wire passes each waypoint within about a
+/// millimetre and a half of its planned shape (`ftwire experiment goal` measures 1.5 mm at
+/// 0.05), a few steps of gain 0.5 from the last waypoint's stop.
+pub const EPSILON_THROUGH: f64 = 0.05;
+
+/// The controller's stop `ε` at the waypoints before the last under `increment` or
+/// `absolute` noise \[normalised\]: looser than each move's own scatter, so that the wire
+/// moves on rather than waiting for a lucky move at every waypoint.
+pub const EPSILON_THROUGH_NOISY: f64 = 0.3;
+
+/// The controller's settings between waypoints under `noise`: [`EPSILON_THROUGH`] with up to
+/// 20 steps where the error is systematic (none, `offset`), so that closed loop follows the
+/// planned shapes, not only ends at the goal; [`EPSILON_THROUGH_NOISY`] and 8 steps where
+/// every move scatters the wire (`increment`, `absolute`).
+pub fn through_settings(noise: NoiseModel) -> ControlSettings {
+    match noise {
+        NoiseModel::Increment | NoiseModel::Absolute => ControlSettings {
+            epsilon: EPSILON_THROUGH_NOISY,
+            max_iterations: 8,
+            ..ControlSettings::default()
+        },
+        NoiseModel::None | NoiseModel::Offset => ControlSettings {
+            epsilon: EPSILON_THROUGH,
+            max_iterations: 20,
+            ..ControlSettings::default()
+        },
+    }
+}
+
 /// The success tolerance on the true final configuration under `noise`: twice the stop `ε`
 /// of [`goal_settings`] ([`SUCCESS_EPSILON`] without noise and with `offset`).
 pub fn success_epsilon(noise: NoiseModel) -> f64 {
@@ -554,12 +584,10 @@ impl Tracking<'_> {
         } else {
             TrackReach::Any(AnyPose)
         };
-        // Between waypoints a few steps and a loose stop; the goal to the controller's ε.
+        // Between waypoints the stop of `through_settings`; the goal to the controller's ε.
         let through = ControlSettings {
             gain: self.gain,
-            epsilon: 0.3,
-            max_iterations: 8,
-            ..ControlSettings::default()
+            ..through_settings(self.noise)
         };
         let end = ControlSettings {
             gain: self.gain,
