@@ -54,9 +54,14 @@ pub const PLAN_RESTARTS: u64 = 4;
 pub const WAYPOINTS: usize = 12;
 
 /// Success tolerance on the true configuration at the end, `‖a_true − a_g‖` \[normalised\],
-/// without noise or with `offset` noise: twice the controller's stop `ε` (0.05), which is on
-/// the measured `ã`, whose calibration error is a few tenths of a per cent of `|a|`.
+/// without noise or with `offset` noise: twice the controller's default stop `ε` (0.05).
 pub const SUCCESS_EPSILON: f64 = 0.1;
+
+/// The controller's stop `ε` on the last leg without noise and under `offset` \[normalised\],
+/// well inside [`SUCCESS_EPSILON`]: the stop is on the measured `ã`, and after a passage's
+/// hundred moves the sensor's bias has drifted a few hundredths from its tare (with a stop at
+/// 0.05, 6 of 50 `offset` passage attempts ended 0.10–0.13 from the goal, seed 0).
+pub const EPSILON_GOAL: f64 = 0.02;
 
 /// The controller's stop `ε` on the last leg under `increment` or `absolute` noise
 /// \[normalised\]: each noisy move lands the wire about 0.2–0.5 away from where it was sent,
@@ -68,8 +73,8 @@ pub const EPSILON_NOISY: f64 = 0.5;
 pub const MAX_ITERATIONS_NOISY: usize = 400;
 
 /// The controller's settings on the last leg (to the goal) under `noise`: the library's
-/// defaults, with [`EPSILON_NOISY`] and [`MAX_ITERATIONS_NOISY`] for the noise models whose
-/// every move is off by the full noise.
+/// defaults with [`EPSILON_GOAL`], or with [`EPSILON_NOISY`] and [`MAX_ITERATIONS_NOISY`] for
+/// the noise models whose every move is off by the full noise.
 pub fn goal_settings(noise: NoiseModel) -> ControlSettings {
     match noise {
         NoiseModel::Increment | NoiseModel::Absolute => ControlSettings {
@@ -77,7 +82,10 @@ pub fn goal_settings(noise: NoiseModel) -> ControlSettings {
             max_iterations: MAX_ITERATIONS_NOISY,
             ..ControlSettings::default()
         },
-        NoiseModel::None | NoiseModel::Offset => ControlSettings::default(),
+        NoiseModel::None | NoiseModel::Offset => ControlSettings {
+            epsilon: EPSILON_GOAL,
+            ..ControlSettings::default()
+        },
     }
 }
 
@@ -111,10 +119,14 @@ pub fn through_settings(noise: NoiseModel) -> ControlSettings {
     }
 }
 
-/// The success tolerance on the true final configuration under `noise`: twice the stop `ε`
-/// of [`goal_settings`] ([`SUCCESS_EPSILON`] without noise and with `offset`).
+/// The success tolerance on the true final configuration under `noise`: [`SUCCESS_EPSILON`]
+/// without noise and with `offset`, twice the stop `ε` of [`goal_settings`] under
+/// `increment` and `absolute`.
 pub fn success_epsilon(noise: NoiseModel) -> f64 {
-    2.0 * goal_settings(noise).epsilon
+    match noise {
+        NoiseModel::None | NoiseModel::Offset => SUCCESS_EPSILON,
+        NoiseModel::Increment | NoiseModel::Absolute => 2.0 * goal_settings(noise).epsilon,
+    }
 }
 
 /// Whether success under `noise` also asks the wire to end at the goal (within
@@ -765,9 +777,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_success_tolerance_is_twice_the_stop_rule_of_the_noise() {
+    fn the_success_tolerance_holds_the_stop_rule_of_the_noise() {
         assert_eq!(success_epsilon(NoiseModel::None), SUCCESS_EPSILON);
         assert_eq!(success_epsilon(NoiseModel::Offset), SUCCESS_EPSILON);
+        // Without noise and under `offset` the stop aims well inside the tolerance, leaving
+        // room for the sensor's drift between the stop's reading and the truth.
+        for noise in [NoiseModel::None, NoiseModel::Offset] {
+            assert!(goal_settings(noise).epsilon <= 0.25 * SUCCESS_EPSILON);
+        }
         assert_eq!(success_epsilon(NoiseModel::Increment), 2.0 * EPSILON_NOISY);
         assert_eq!(
             goal_settings(NoiseModel::Absolute).max_iterations,

@@ -25,8 +25,9 @@
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
 //! any rest (a contact force above `CONTACT_FORCE`); it *completed* when the whole path was
 //! executed (no refused waypoint, failed move, sensor fault or detection); it is *at the goal*
-//! when it completed within [`success_epsilon`] of the goal (twice the controller's stop ε for
-//! the noise model). It *succeeded* by [`success_rule`]: completed without touching, and at
+//! when it completed within [`success_epsilon`] of the goal (0.1 without noise and under
+//! `offset`, where the last leg stops at 0.02; twice the stop ε under `increment` and
+//! `absolute`). It *succeeded* by [`success_rule`]: completed without touching, and at
 //! the goal too without noise and under `offset`; under `increment` and `absolute`, whose every
 //! move lands the wire the full noise away, the paper's rule (no collision) with the path
 //! completed. `at_goal` is reported for every noise model. `detected` counts collided attempts
