@@ -19,14 +19,11 @@
 //! wire is a normalised torque of about 9). A 20° twist already took the three-sample error on
 //! `c1` of the simulated nitinol wires within 0.43 % over three seeds.
 //!
-//! Why 40° rather than 20°: the sensor's noise and drift are fixed in newton-metres, the
-//! twist's torque is `c1 θ / L`, so on the softest, longest wires of the brief's range (`c2/L`
-//! of 36–50 mN·m) a 20° twist stood only about a hundred times above the error of a tared,
-//! averaged torque, and three samples left 0.5–0.6 % on `c1`. Doubling the twist doubles that
-//! margin for every wire alike (it is normalised) at a twentieth of Greenhill's load; over 30
-//! trials on two such simulated wires it took the mean error on `c1` from 0.56 to 0.40 % and
-//! from 0.58 to 0.51 %, and on `c2` from 0.45 to 0.35 % and from 0.41 to 0.37 %
-//! (`crates/ftwire/tests/identify_unseen.rs` names the survey; the README has its numbers).
+//! Why 40° rather than 20°: the sensor's noise and drift are fixed in newton-metres and the
+//! twist's torque is `c1 θ / L`, so on the softest, longest wires of the brief's range
+//! (`c2/L` of tens of mN·m) a 20° twist left 0.5–0.7 % on `c1` from three samples. Doubling
+//! it doubles the margin over the noise on every wire alike (it is normalised), still at a
+//! fifteenth of Greenhill's load; the measurements are in `docs/identify-soft-wires.md`.
 //!
 //! Why small, and why near `b0`:
 //! - **the equilibrium branch**: a held wire can have several equilibria for one gripper pose;
