@@ -116,7 +116,7 @@ pub struct IdentifyExperimentArgs {
     /// The twist of each identification move about the wire's tangent at the second gripper
     /// [degrees], alternating in sign (0: the paper's purely random moves; see
     /// `ftwire_estimate::identify::MotionPlan`).
-    #[arg(long, value_name = "DEG", default_value_t = 20.0, allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
+    #[arg(long, value_name = "DEG", default_value_t = 40.0, allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub twist: f64,
     /// F/T samples averaged at each rest of the motion (at the simulated sensor's 1 kHz, 400
     /// is a 0.4 s rest): the white noise of `ã` falls as `1/√N`, while the sensor's bias

@@ -7,7 +7,7 @@
 //!    `[−5, 5]⁶`, stable for the true wire; [`place_wire`]) and the robot tares its sensor
 //!    before the pick-up ([`tare`]);
 //! 2. the second gripper follows the library's identification [`MotionPlan`] (seeded; its
-//!    twist about the wire's tangent is `--twist`, default 20°), and at
+//!    twist about the wire's tangent is `--twist`, default 40°), and at
 //!    each rest the robot records `(ã, b̃)`: `ã` from the tared reading averaged over `--rest-samples` samples ([`measure_over`]) through
 //!    the learnt calibration by default (`--pipeline calibrated`: `--calibration FILE`, or a
 //!    calibration run first on the known wire with this run's gravity and seed and cached as
