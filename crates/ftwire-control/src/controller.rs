@@ -24,7 +24,7 @@ use ftwire_rod::to_normalised;
 use nalgebra::Vector6;
 use serde::Serialize;
 
-use crate::collision::{jump_ratio, miss};
+use crate::collision::MoveCheck;
 use crate::{CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck};
 
 /// Settings of the controller (public fields + `Default`; checked by [`Controller::new`]).
@@ -201,7 +201,11 @@ pub struct StepRecord {
     pub measured: Vector6<f64>,
     /// The move's miss against the model's prediction \[normalised\] (see [`crate::collision`]).
     pub miss: f64,
-    /// The move's jump ratio (see [`crate::collision`]).
+    /// The move as the collision detector sees it: its deviation from the model's (Newton)
+    /// prediction for the executed motion, and the predicted step.
+    pub check: MoveCheck,
+    /// The move's detector residual (see [`crate::collision`]; without a detector, that of
+    /// [`CollisionDetector::uncalibrated`]).
     pub residual: f64,
     /// Compute time of the control law and its stability guard \[s\].
     pub plan_s: f64,
@@ -451,7 +455,7 @@ impl<M: WireModel> Controller<M> {
         };
         run.start = a;
         let mut tip = start_tip;
-        let mut misses = Vec::new();
+        let mut checks = Vec::new();
         for step in 0..self.settings.max_iterations {
             let error = self.distance(&a, goal);
             if error < self.settings.epsilon {
@@ -510,17 +514,24 @@ impl<M: WireModel> Controller<M> {
                     return Ok(run);
                 }
             };
-            let floor = self
+            let check = MoveCheck::of_move(
+                &self.model,
+                &a,
+                &measured,
+                &(tip.inverse() * reported),
+                &plan.predicted_da,
+            );
+            checks.push(check);
+            let residual = self
                 .detector
-                .map_or(CollisionDetector::DEFAULT_FLOOR, |d| d.floor());
-            let miss = miss(self.model.wire(), &a, &measured, &plan.predicted_da);
-            misses.push(miss);
-            let residual = jump_ratio(&misses, floor);
+                .unwrap_or_else(CollisionDetector::uncalibrated)
+                .residual(&checks);
             let record = StepRecord {
                 a,
                 plan,
                 measured,
-                miss,
+                miss: check.miss(),
+                check,
                 residual,
                 plan_s,
                 reach_s,

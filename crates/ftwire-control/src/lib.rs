@@ -29,7 +29,8 @@ mod reach;
 mod retreat;
 
 pub use collision::{
-    CollisionDetector, MIN_CALIBRATION_RESIDUALS, jump_ratio, miss, predicted_delta_a,
+    CollisionDetector, MIN_CALIBRATION_RESIDUALS, MoveCheck, miss, predicted_change,
+    predicted_delta_a,
 };
 pub use controller::{ControlSettings, Controller, Outcome, Run, StepPlan, StepRecord};
 pub use error::ControlError;

@@ -108,7 +108,7 @@ struct PlanOut {
 #[derive(Debug, Serialize)]
 struct TrackingOut {
     noise_model: &'static str,
-    /// The collision detector's threshold on the jump ratio.
+    /// The collision detector's threshold on its residual (`ftwire_control::collision`).
     detector_threshold: f64,
     closed_loop: Attempt,
     open_loop: Attempt,

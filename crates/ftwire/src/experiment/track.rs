@@ -519,7 +519,8 @@ impl Tracking<'_> {
     /// Calibrates the collision detector on [`REHEARSALS`] rehearsals of the path with the
     /// obstacles away (free motion in the same conditions, each under its own noise draw), as a
     /// robot would before entering the passage: the threshold is the detector's default margin
-    /// over the largest jump ratio of those free moves.
+    /// over the largest residual of those free moves (the miss against the model's Newton
+    /// prediction over the default floor, `CollisionDetector::uncalibrated`).
     ///
     /// # Errors
     /// No answer when the rehearsal gives too few residuals.

@@ -37,14 +37,18 @@
 //! simulator or sensor failed (a refused or failed move, a failed measurement, an unreachable
 //! pose) is listed in `failures` and left out of the means, which state how many they cover.
 //!
-//! **Collision detection.** The detector's floor is [`FLOOR_SIGMAS`] times the measured noise of
+//! **Collision detection.** The detector (`ftwire_control::collision`: each move's deviation
+//! from the model's Newton prediction, summed over the last moves, against the noise floor
+//! plus the model's error bound) has its floor at [`FLOOR_SIGMAS`] times the measured noise of
 //! `ã` at rest (median over [`DETECTOR_MOTIONS`] free calibration motions, pairs of their own),
-//! its threshold [`CollisionDetector::DEFAULT_MARGIN`] times the [`DETECTOR_QUANTILE`] quantile
-//! of the jump ratios of those motions (`CollisionDetector::calibrate_quantile`). `false_alarms` counts the pairs'
-//! no-noise closed-loop motions on which it would have fired; then up to [`CONTACT_TRIALS`] pairs
-//! are run again (no noise) with a 20 mm box at the middle of `Φ(a_g)`, the detector on, and the
-//! delay is the detected step minus the first step with a contact force in the simulator.
-//! After each detection the robot retreats (`ftwire_control::retreat`).
+//! and its slope and threshold from the moves of those motions
+//! (`CollisionDetector::calibrate_moves`: threshold [`CollisionDetector::DEFAULT_MARGIN`] times
+//! the [`DETECTOR_QUANTILE`] quantile of their residuals, at least 1). `false_alarms` counts the
+//! pairs' no-noise closed-loop motions on which it would have fired; then up to
+//! [`CONTACT_TRIALS`] pairs are run again (no noise) with a 20 mm box at the middle of
+//! `Φ(a_g)`, the detector on, and the delay is the detected step minus the first step with a
+//! contact force in the simulator (`delays`, with the force at detection in
+//! `detection_force_n`). After each detection the robot retreats (`ftwire_control::retreat`).
 //!
 //! Writes `summary.json`, `trials.csv`, `timings.json`, `calibration.json` (when it ran one),
 //! and the figures `motion_in_a` (Fig. 6) and `shape_error_along_motion` (Fig. 7).
@@ -62,8 +66,8 @@ use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
 };
 use ftwire_control::{
-    AnyPose, CollisionDetector, ControlSettings, Controller, FtFeedback, NoiseModel, NoiseSettings,
-    NoisyRig, Outcome, Run, retreat,
+    AnyPose, CollisionDetector, ControlSettings, Controller, FtFeedback, MoveCheck, NoiseModel,
+    NoiseSettings, NoisyRig, Outcome, Run, retreat,
 };
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::calibration::Calibration;
@@ -121,8 +125,8 @@ const CONNECT_CHECKS: usize = 20;
 const MAX_DRAWS_PER_PAIR: usize = 200;
 /// Free motions that calibrate the collision detector.
 const DETECTOR_MOTIONS: usize = 5;
-/// The quantile of the free jump ratios the threshold is set from (snaps of the true wire,
-/// which the model does not have, are rare large ratios on free motion).
+/// The quantile of the free residuals the threshold is set from (snaps of the true wire,
+/// which the model does not have, are rare large residuals on free motion).
 const DETECTOR_QUANTILE: f64 = 0.95;
 /// Obstacle motions of the collision sub-run (at most `--pairs`).
 const CONTACT_TRIALS: usize = 10;
@@ -176,6 +180,8 @@ struct Truth {
     shape_mm: f64,
     a_error: f64,
     contact: bool,
+    /// Total contact force on the obstacles \[N\].
+    contact_force: f64,
     /// The last move snapped the wire to another branch (simulator's report).
     snapped: bool,
 }
@@ -272,10 +278,16 @@ struct Collision {
     early_alarms: usize,
     /// Obstacle motions that never touched the box, or could not be run.
     no_contact: usize,
+    /// Detected step minus the first step with a contact force, per detected contact.
     delays: Vec<usize>,
-    /// The detector: jump-ratio threshold and floor \[normalised\].
+    /// The simulator's total contact force at each detection \[N\] (in the order of `delays`).
+    detection_force_n: Vec<f64>,
+    /// The detector: threshold on the residual, floor \[normalised\], slope \[-\] and window
+    /// \[moves\] (see `ftwire_control::CollisionDetector`).
     threshold: f64,
     floor: f64,
+    slope: f64,
+    window: usize,
     /// Retreats that found a pose agreeing with the way out.
     retreat_agreed: usize,
 }
@@ -376,6 +388,7 @@ impl Context<'_> {
             shape_mm: 1e3 * distance,
             a_error: to_normalised(&self.params, &(a_true - pair.a_g)).norm(),
             contact: equilibrium.contact_forces.iter().any(|f| f.norm() > 0.0),
+            contact_force: equilibrium.contact_forces.iter().map(|f| f.norm()).sum(),
             snapped: rig
                 .simulator()
                 .last_motion()
@@ -435,6 +448,7 @@ impl Context<'_> {
                         shape_mm: f64::NAN,
                         a_error: f64::NAN,
                         contact: false,
+                        contact_force: 0.0,
                         snapped: false,
                     },
                     reached: false,
@@ -529,6 +543,7 @@ impl Context<'_> {
                     shape_mm: f64::NAN,
                     a_error: f64::NAN,
                     contact: false,
+                    contact_force: 0.0,
                     snapped: false,
                 },
                 failure: Some("the simulator could not place the wire".into()),
@@ -654,10 +669,8 @@ fn obstacle_for(pair: &Pair) -> Result<Option<BoxObstacle>, CliError> {
 
 /// The first step of `run` at which `detector` would have fired.
 fn first_alarm(detector: &CollisionDetector, run: &Run) -> Option<usize> {
-    let misses: Vec<f64> = run.steps.iter().map(|s| s.miss).collect();
-    (1..=misses.len())
-        .find(|&i| detector.is_contact(detector.residual(&misses[..i])))
-        .map(|i| i - 1)
+    let moves: Vec<MoveCheck> = run.steps.iter().map(|s| s.check).collect();
+    detector.first_alarm(&moves)
 }
 
 /// Runs the experiment.
@@ -743,28 +756,23 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
     } else {
         CollisionDetector::DEFAULT_FLOOR
     };
-    let probe =
-        CollisionDetector::new(1.0, floor).map_err(|e| CliError::no_answer(e.to_string()))?;
-    let ratios: Vec<f64> = calibration_runs
+    let free_moves: Vec<Vec<MoveCheck>> = calibration_runs
         .iter()
-        .flat_map(|run| {
-            let misses: Vec<f64> = run.steps.iter().map(|s| s.miss).collect();
-            (1..=misses.len())
-                .map(move |i| probe.residual(&misses[..i]))
-                .collect::<Vec<_>>()
-        })
+        .map(|run| run.steps.iter().map(|s| s.check).collect())
         .collect();
-    let detector = CollisionDetector::calibrate_quantile(
-        &ratios,
+    let free_moves: Vec<&[MoveCheck]> = free_moves.iter().map(Vec::as_slice).collect();
+    let detector = CollisionDetector::calibrate_moves(
+        &free_moves,
         DETECTOR_QUANTILE,
         CollisionDetector::DEFAULT_MARGIN,
         floor,
     )
     .map_err(|e| CliError::no_answer(format!("calibrating the collision detector: {e}")))?;
     eprintln!(
-        "collision detector: floor {floor:.4}, threshold {:.3} from {} free steps",
+        "collision detector: floor {floor:.4}, slope {:.3}, threshold {:.3} from {} free steps",
+        detector.slope(),
         detector.threshold(),
-        ratios.len()
+        free_moves.iter().map(|m| m.len()).sum::<usize>()
     );
 
     let mut csv =
@@ -779,6 +787,8 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
     let mut collision = Collision {
         threshold: detector.threshold(),
         floor,
+        slope: detector.slope(),
+        window: detector.window(),
         ..Collision::default()
     };
     let mut sample = None;
@@ -914,6 +924,9 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
                 collision.trials += 1;
                 collision.detected += 1;
                 collision.delays.push(d - c);
+                collision
+                    .detection_force_n
+                    .push(trial.truths.get(d).map_or(f64::NAN, |t| t.contact_force));
             }
         }
         if detected.is_some()
@@ -1166,7 +1179,7 @@ fn print_summary(s: &GoalSummary) {
     );
     let c = &s.collision;
     println!(
-        "collision: {} false alarms ({} at snaps) in {} free motions; {} contacts, {} detected, {} missed, delay median {} steps, {} early alarms, {} without contact; threshold {:.3}, floor {:.4}",
+        "collision: {} false alarms ({} at snaps) in {} free motions; {} contacts, {} detected, {} missed, delay median {} steps ({:?}), {} early alarms, {} without contact; threshold {:.3}, floor {:.4}",
         c.false_alarms,
         c.false_alarms_at_snaps,
         c.free_motions,
@@ -1174,6 +1187,7 @@ fn print_summary(s: &GoalSummary) {
         c.detected,
         c.missed,
         c.detection_delay_steps_median,
+        c.delays,
         c.early_alarms,
         c.no_contact,
         c.threshold,
