@@ -59,8 +59,8 @@ pub const SUCCESS_EPSILON: f64 = 0.1;
 
 /// The controller's stop `ε` on the last leg without noise and under `offset` \[normalised\],
 /// well inside [`SUCCESS_EPSILON`]: the stop is on the measured `ã`, and after a passage's
-/// hundred moves the sensor's bias has drifted a few hundredths from its tare (with a stop at
-/// 0.05, 6 of 50 `offset` passage attempts ended 0.10–0.13 from the goal, seed 0).
+/// hundred moves the sensor's bias has drifted a few hundredths from its tare (README,
+/// "Tracking and the passage").
 pub const EPSILON_GOAL: f64 = 0.02;
 
 /// The controller's stop `ε` on the last leg under `increment` or `absolute` noise
@@ -90,9 +90,8 @@ pub fn goal_settings(noise: NoiseModel) -> ControlSettings {
 }
 
 /// The controller's stop `ε` at the waypoints before the last without noise and under
-/// `offset` \[normalised\]: tight enough that the wire passes each waypoint within about a
-/// millimetre and a half of its planned shape (`ftwire experiment goal` measures 1.5 mm at
-/// 0.05), a few steps of gain 0.5 from the last waypoint's stop.
+/// `offset` \[normalised\]: the wire passes each waypoint near its planned shape (Table IV
+/// scores every waypoint), a few steps of gain 0.5 from the last waypoint's stop.
 pub const EPSILON_THROUGH: f64 = 0.05;
 
 /// The controller's stop `ε` at the waypoints before the last under `increment` or

@@ -27,9 +27,8 @@
 //! [`EPSILON_NOISE`]. Without noise and with `offset`, rests within [`SETTLE_RADIUS`] of the
 //! goal average [`SETTLE_SAMPLES`] samples, so the reading the stop rule trusts is four times
 //! the usual rest. What remains at a small ε is the sensor's bias drift since the tare: a
-//! random walk of a few mN over a run's 10–20 s, a few hundredths in normalised force.
-//! (Measured: seed 0, gravity off, 10 pairs, ε = 0.02: 1.11 mm with the default sensor,
-//! 0.49 mm with its drift switched off, `--sensor` with `bias_random_walk = [0, …]`.)
+//! random walk of a few mN over a run's 10–20 s, a few hundredths in normalised force (the
+//! README's Table III section has the measurement with the drift switched off).
 //!
 //! **Metrics** (ground truth, the binary only): `mean_mm` is the mean distance between the
 //! simulator's final centreline and the model's `Φ(a_g)` at 100 matched arc lengths, averaged
