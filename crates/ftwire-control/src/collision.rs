@@ -55,6 +55,23 @@ const NEWTON_ITERATIONS: usize = 8;
 /// length is of order 1 m).
 const NEWTON_TOLERANCE: f64 = 1e-10;
 
+/// `J(L)` in normalised units, `S J N⁻¹`: columns per normalised `δa` (times the torque or
+/// force scale), rows `(δθ, δx / L)`.
+pub(crate) fn normalised_jacobian(wire: &WireParams, jacobian: &Matrix6<f64>) -> Matrix6<f64> {
+    let (ts, fs, l) = (wire.torque_scale(), wire.force_scale(), wire.length());
+    let mut normalised = *jacobian;
+    for c in 0..6 {
+        let column = if c < 3 { ts } else { fs };
+        for r in 0..6 {
+            normalised[(r, c)] *= column;
+            if r >= 3 {
+                normalised[(r, c)] /= l;
+            }
+        }
+    }
+    normalised
+}
+
 /// What the detector keeps of one move.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MoveCheck {
@@ -100,18 +117,8 @@ impl MoveCheck {
         let predicted = predicted_change(model, before, motion, first_order);
         let mut check = Self::new(wire, before, after, &predicted);
         if let Ok(solution) = model.jacobian(before) {
-            let (ts, fs, l) = (wire.torque_scale(), wire.force_scale(), wire.length());
-            // J in normalised units: columns δa/N, rows (δθ, δx / L).
-            let mut normalised = solution.jacobian;
-            for c in 0..6 {
-                let column = if c < 3 { ts } else { fs };
-                for r in 3..6 {
-                    normalised[(r, c)] /= l;
-                }
-                for r in 0..6 {
-                    normalised[(r, c)] *= column;
-                }
-            }
+            let l = wire.length();
+            let normalised = normalised_jacobian(wire, &solution.jacobian);
             let smallest = normalised.singular_values().min();
             let xi = se3::log(motion);
             let db = Vector6::new(xi[0], xi[1], xi[2], xi[3] / l, xi[4] / l, xi[5] / l);

@@ -19,13 +19,13 @@ use std::time::Instant;
 
 use ftwire_core::{Pose, Rig};
 use ftwire_estimate::WireModel;
-use ftwire_estimate::ft::FtCalibration;
+use ftwire_estimate::ft::{FtCalibration, Measurement};
 use ftwire_rod::to_normalised;
 use nalgebra::Vector6;
 use serde::Serialize;
 
 use crate::collision::MoveCheck;
-use crate::{CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck};
+use crate::{BiasObserver, CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck};
 
 /// Settings of the controller (public fields + `Default`; checked by [`Controller::new`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -199,6 +199,9 @@ pub struct StepRecord {
     pub plan: StepPlan,
     /// `ã_{i+1}` measured after the move.
     pub measured: Vector6<f64>,
+    /// What the controller took as `a_{i+1}`: `measured`, corrected by the bias observer
+    /// when the run has one ([`Controller::run_estimated`]).
+    pub estimate: Vector6<f64>,
     /// The move's miss against the model's prediction \[normalised\] (see [`crate::collision`]).
     pub miss: f64,
     /// The move as the collision detector sees it: its deviation from the model's (Newton)
@@ -224,6 +227,9 @@ pub struct Run {
     pub outcome: Outcome,
     /// `ã_0`, measured at the start.
     pub start: Vector6<f64>,
+    /// What the controller took as `a_0`: `start`, corrected by the bias observer when the
+    /// run has one.
+    pub start_estimate: Vector6<f64>,
     /// `b_0`, the second gripper's pose relative to the base clamp at the start (believed).
     pub start_tip: Pose,
     /// The executed steps, in order.
@@ -234,6 +240,14 @@ impl Run {
     /// The last measured `ã`.
     pub fn last_a(&self) -> Vector6<f64> {
         self.steps.last().map_or(self.start, |s| s.measured)
+    }
+
+    /// The last configuration the controller steered by (the last `ã`, corrected by the bias
+    /// observer when the run has one).
+    pub fn last_estimate(&self) -> Vector6<f64> {
+        self.steps
+            .last()
+            .map_or(self.start_estimate, |s| s.estimate)
     }
 }
 
@@ -426,6 +440,26 @@ impl<M: WireModel> Controller<M> {
         feedback: &FtFeedback<C>,
         reach: &mut Q,
         goal: &Vector6<f64>,
+        observe: impl FnMut(&R, &StepRecord),
+    ) -> Result<Run, ControlError> {
+        self.run_estimated(rig, feedback, reach, goal, None, observe)
+    }
+
+    /// As [`Controller::run_observed`], steering by `ã` corrected by a [`BiasObserver`] of
+    /// the sensor's drift when one is given: every rest, the measured `ã`, its standard errors
+    /// and the reported pose update it, and the step, the stop rule and the stability guard
+    /// use `ã − β̂`. The collision detector keeps watching the raw `ã`. Pass the same observer
+    /// to every run after one tare (the legs of a tracked path).
+    ///
+    /// # Errors
+    /// As [`Controller::run_observed`].
+    pub fn run_estimated<R: Rig, C: FtCalibration, Q: ReachCheck>(
+        &self,
+        rig: &mut R,
+        feedback: &FtFeedback<C>,
+        reach: &mut Q,
+        goal: &Vector6<f64>,
+        mut observer: Option<&mut BiasObserver<M>>,
         mut observe: impl FnMut(&R, &StepRecord),
     ) -> Result<Run, ControlError> {
         self.check_goal(goal)?;
@@ -440,11 +474,16 @@ impl<M: WireModel> Controller<M> {
         let mut run = Run {
             outcome: Outcome::IterationLimit { error: f64::NAN },
             start: Vector6::zeros(),
+            start_estimate: Vector6::zeros(),
             start_tip,
             steps: Vec::new(),
         };
-        let mut a = match feedback.measure(rig) {
-            Ok(m) => m.a,
+        let mut estimate = |m: &Measurement, tip: &Pose, time: f64| match observer.as_deref_mut() {
+            Some(o) => o.update(&m.a, &m.a_std_error, tip, time),
+            None => m.a,
+        };
+        let (mut raw, mut a) = match feedback.measure(rig) {
+            Ok(m) => (m.a, estimate(&m, &start_tip, rig.time())),
             Err(e) => {
                 run.outcome = Outcome::SensorFault {
                     step: 0,
@@ -453,7 +492,8 @@ impl<M: WireModel> Controller<M> {
                 return Ok(run);
             }
         };
-        run.start = a;
+        run.start = raw;
+        run.start_estimate = a;
         let mut tip = start_tip;
         let mut checks = Vec::new();
         for step in 0..self.settings.max_iterations {
@@ -504,8 +544,8 @@ impl<M: WireModel> Controller<M> {
                 }
             };
             let samples = self.rest_samples(feedback.samples(), error);
-            let measured = match feedback.measure_samples(rig, samples) {
-                Ok(m) => m.a,
+            let (measured, next) = match feedback.measure_samples(rig, samples) {
+                Ok(m) => (m.a, estimate(&m, &reported, rig.time())),
                 Err(e) => {
                     run.outcome = Outcome::SensorFault {
                         step: step + 1,
@@ -516,7 +556,7 @@ impl<M: WireModel> Controller<M> {
             };
             let check = MoveCheck::of_move(
                 &self.model,
-                &a,
+                &raw,
                 &measured,
                 &(tip.inverse() * reported),
                 &plan.predicted_da,
@@ -530,6 +570,7 @@ impl<M: WireModel> Controller<M> {
                 a,
                 plan,
                 measured,
+                estimate: next,
                 miss: check.miss(),
                 check,
                 residual,
@@ -545,7 +586,8 @@ impl<M: WireModel> Controller<M> {
                 run.outcome = Outcome::CollisionDetected { step, residual };
                 return Ok(run);
             }
-            a = measured;
+            raw = measured;
+            a = next;
             tip = reported;
         }
         run.outcome = Outcome::IterationLimit {

@@ -10,7 +10,8 @@
 //! 3. [`Controller::run`] steers any [`ftwire_core::Rig`] to a goal `a_g ∈ A_stable` by eq.
 //!    13–14, checking every pose with a [`ReachCheck`] ([`RobotReach`] for the SDA10F,
 //!    [`AnyPose`] to ignore the robot), and ends with a typed [`Outcome`]. After a detected
-//!    contact, [`retreat()`] goes back along the run.
+//!    contact, [`retreat()`] goes back along the run. [`Controller::run_estimated`] steers by
+//!    `ã` corrected for the sensor's bias drift by a [`BiasObserver`].
 //! 4. The open-loop baselines are in [`open_loop`]; execution noise as the paper adds it, and
 //!    two more realistic models, wrap any rig in [`NoisyRig`].
 //!
@@ -19,6 +20,7 @@
 //! `δb = (w δθ, δx)` rotation first (eq. 8–10); distances in `A` are in normalised units
 //! (torque in `c2/L`, force in `c2/L²`; `ftwire_rod::to_normalised`).
 
+mod bias;
 mod collision;
 mod controller;
 mod error;
@@ -28,6 +30,7 @@ pub mod open_loop;
 mod reach;
 mod retreat;
 
+pub use bias::{BiasObserver, BiasObserverSettings};
 pub use collision::{
     CollisionDetector, MIN_CALIBRATION_RESIDUALS, MoveCheck, miss, predicted_change,
     predicted_delta_a,

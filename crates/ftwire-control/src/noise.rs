@@ -115,11 +115,13 @@ pub struct NoisyRig<R> {
 
 impl<R: Rig> NoisyRig<R> {
     /// Wraps `inner`, which holds the wire where the robot believes it is; `seed` seeds every
-    /// draw (the `offset` model draws its offset here).
+    /// draw. The `offset` model draws its offset here and moves `inner`'s second gripper by it
+    /// at once: a real robot's calibration error is there from the start, so the wire is held
+    /// at `b₀ · Δ₀` before the first command, and no move jumps by the offset.
     ///
     /// # Errors
     /// [`ControlError::BadSetting`] for a negative or non-finite σ; [`ControlError::Rig`] when
-    /// `inner` cannot report its poses.
+    /// `inner` cannot report its poses, or (`offset`) cannot move to the offset pose.
     pub fn new(
         inner: R,
         model: NoiseModel,
@@ -153,6 +155,16 @@ impl<R: Rig> NoisyRig<R> {
         };
         if model == NoiseModel::Offset {
             rig.offset = rig.draw(settings.position_std, settings.orientation_std);
+            // The calibration error is there before the first command: the gripper that
+            // picked the wire up was already off by it. Without this the whole offset would
+            // arrive with the first move, as a jump no real robot makes.
+            let held = Command {
+                base: believed.base,
+                tip: believed.tip * rig.offset,
+            };
+            rig.inner.command(&held).map_err(|e| ControlError::Rig {
+                message: format!("holding the wire at the offset pose: {e}"),
+            })?;
         }
         Ok(rig)
     }

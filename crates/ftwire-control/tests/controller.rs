@@ -509,6 +509,10 @@ fn the_noise_models_differ_as_documented() {
     let offset = rms_after(NoiseModel::Offset, 16, 400, true);
     // The rotation of the offset also moves the point, a little: still about one draw.
     assert!((offset - 0.0173).abs() < 0.004, "{offset}");
+    // And it is there before the first command: the gripper held the wire off by it from the
+    // start, so no move jumps by it.
+    let held = rms_after(NoiseModel::Offset, 0, 400, true);
+    assert!((held - offset).abs() < 0.001, "{held} against {offset}");
     assert_eq!(rms_after(NoiseModel::None, 5, 3, true), 0.0);
 }
 

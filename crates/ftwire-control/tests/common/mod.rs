@@ -75,6 +75,9 @@ pub struct ModelRig {
     /// White noise on each reading: the standard deviation of each channel of `a` (torque
     /// first, SI units) and the seeded generator drawing it.
     pub noise: Option<(Vector6<f64>, ChaCha8Rng)>,
+    /// A sensor bias on every reading (torque first, SI units): `bias.0 + bias.1 · moves`, a
+    /// bias that drifts steadily with each move.
+    pub bias: (Vector6<f64>, Vector6<f64>),
 }
 
 impl ModelRig {
@@ -91,7 +94,14 @@ impl ModelRig {
             zeros_after: None,
             contact: None,
             noise: None,
+            bias: (Vector6::zeros(), Vector6::zeros()),
         }
+    }
+
+    /// The same rig with a sensor bias `initial + per_move · moves` on every reading.
+    pub fn with_bias(mut self, initial: Vector6<f64>, per_move: Vector6<f64>) -> Self {
+        self.bias = (initial, per_move);
+        self
     }
 
     /// The same rig with white noise of standard deviation `std` (torque first) on every
@@ -137,6 +147,7 @@ impl Rig for ModelRig {
         if self.after(self.zeros_after) {
             a = Vector6::zeros();
         }
+        a += self.bias.0 + self.bias.1 * self.moves as f64;
         if let Some((std, rng)) = &mut self.noise {
             for i in 0..6 {
                 let z: f64 = StandardNormal.sample(rng);

@@ -224,6 +224,28 @@ pub struct GoalExperimentArgs {
     /// calibration is first run on the default known wire and cached in the results folder.
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
+    /// Steer the closed loop without noise and under `offset` by `ã` corrected for the F/T
+    /// sensor's bias drift (`ftwire_control::BiasObserver`, from the model and the reported
+    /// poses); `off` steers by the tared `ã` alone.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub bias_observer: OnOff,
+}
+
+/// A switch (`on|off`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OnOff {
+    /// Switched on.
+    On,
+    /// Switched off.
+    Off,
+}
+
+impl OnOff {
+    /// Whether it is on.
+    pub fn on(self) -> bool {
+        self == Self::On
+    }
 }
 
 /// The options of the experiments that roll a plan out (`track`, `passage`).
@@ -243,6 +265,11 @@ pub struct RolloutArgs {
     /// with `offset` noise (seed 0): 50/50 successes at 0.5; 9/10 at 0.2 and at 1.
     #[arg(long, value_name = "K", default_value_t = 0.5, value_parser = ftwire::args::parse_finite)]
     pub gain: f64,
+    /// Steer the closed loop without noise and under `offset` by `ã` corrected for the F/T
+    /// sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole path); `off`
+    /// steers by the tared `ã` alone.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub bias_observer: OnOff,
 }
 
 impl RolloutArgs {

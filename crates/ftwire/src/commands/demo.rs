@@ -363,6 +363,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         seed,
         gain: ftwire_control::ControlSettings::default().gain,
         arms: true,
+        bias_observer: true,
     };
     let detector = tracking.detector(&controller_model, &planned.waypoints)?;
     phase.set(1);

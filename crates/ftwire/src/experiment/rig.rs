@@ -1,6 +1,7 @@
 //! The simulated rig of an experiment: the true wire between the grippers, the sensor, the
 //! markers; and the measurements a real robot makes on it.
 
+use ftwire_control::{BiasObserverSettings, NoiseModel, NoiseSettings};
 use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
 use ftwire_rod::Rod;
@@ -102,6 +103,43 @@ pub fn tare(rig: &mut SimRig) -> Result<Tare, CliError> {
         .average(samples.iter().map(Option::as_ref))
         .map_err(|e| CliError::no_answer(format!("taring the F/T sensor: {e}")))?;
     Ok(Tare::from_rest(&rest, &Vector6::zeros()))
+}
+
+/// The bias observer's settings for a robot with `config`'s sensor and the execution error
+/// `noise`: what a user reads off the sensor's data sheet (its drift intensity; a force drift
+/// also drifts the torque at the clamp, `clamp_position_in_sensor` away) and knows of the tare
+/// ([`TARE_SAMPLES`] of its noise, with a margin of two) and of the robot's calibration (the
+/// `offset` model's spread; the repeatability for a robot that goes where it is told). `None`
+/// under `increment` and `absolute`: their stop tolerances (0.3–1 normalised) are ten times the
+/// drift of a run, and under `absolute` the reported pose is off by a new 10 mm / 3° at every
+/// rest, which the observer would read as drift.
+pub fn bias_observer(config: &RigConfig, noise: NoiseModel) -> Option<BiasObserverSettings> {
+    let execution = NoiseSettings::default();
+    let (offset_position_std, offset_rotation_std) = match noise {
+        NoiseModel::None => (
+            execution.repeat_position_std,
+            execution.repeat_orientation_std,
+        ),
+        NoiseModel::Offset => (execution.position_std, execution.orientation_std),
+        NoiseModel::Increment | NoiseModel::Absolute => return None,
+    };
+    let sensor = &config.sensor;
+    let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+    let force_drift = max(&sensor.bias_random_walk[..3]);
+    let lever = nalgebra::Vector3::from(sensor.clamp_position_in_sensor).norm();
+    let torque_drift = max(&sensor.bias_random_walk[3..]).hypot(lever * force_drift);
+    let tare = 2.0 / (TARE_SAMPLES as f64).sqrt();
+    Some(BiasObserverSettings {
+        force_drift,
+        torque_drift,
+        initial_force_std: tare * max(&sensor.noise_std[..3]),
+        initial_torque_std: tare * max(&sensor.noise_std[3..]),
+        offset_position_std,
+        offset_rotation_std,
+        repeat_position_std: execution.repeat_position_std,
+        repeat_rotation_std: execution.repeat_orientation_std,
+        ..BiasObserverSettings::default()
+    })
 }
 
 /// The mounting the robot knows from its drawings: the simulated sensor's `sensor_from_clamp`.

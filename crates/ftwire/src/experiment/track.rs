@@ -15,8 +15,8 @@
 use std::time::Instant;
 
 use ftwire_control::{
-    AnyPose, CollisionDetector, ControlSettings, Controller, FtFeedback, NoiseModel, NoiseSettings,
-    NoisyRig, Outcome, Reach, ReachCheck, RobotReach,
+    AnyPose, BiasObserver, BiasObserverSettings, CollisionDetector, ControlSettings, Controller,
+    FtFeedback, NoiseModel, NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck, RobotReach,
 };
 use ftwire_core::Pose;
 use ftwire_estimate::KirchhoffModel;
@@ -34,7 +34,7 @@ use nalgebra::{Point3, Vector3, Vector6};
 use serde::Serialize;
 
 use super::Gravity;
-use super::rig::{SAMPLES_PER_REST, pipeline, place_in_world, tare};
+use super::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare};
 use crate::error::{CliError, from_plan, from_rod, from_sim};
 use crate::scene::with_scene;
 use crate::setup::SimSetup;
@@ -448,6 +448,10 @@ pub struct Tracking<'a> {
     /// ignores the arms' kinematics, as the paper's noise experiments do (eq. 13–14 do not
     /// see them).
     pub arms: bool,
+    /// Whether the closed loop steers by `ã` corrected for the sensor's bias drift (one
+    /// [`BiasObserver`] over the whole path; only without noise and under `offset`, see
+    /// [`bias_observer`]).
+    pub bias_observer: bool,
 }
 
 /// The reach check of a closed-loop run: the robot's arms, or none.
@@ -513,6 +517,12 @@ impl Tracking<'_> {
         )
         .map_err(|e| CliError::bad_input(e.to_string()))?;
         Ok((noisy, FtFeedback::new(tared, SAMPLES_PER_REST)))
+    }
+
+    /// The bias observer's settings of the closed loop; `None` where it steers by the tared
+    /// `ã` alone (switched off, or under `increment`/`absolute`).
+    pub fn observer_settings(&self) -> Option<BiasObserverSettings> {
+        bias_observer(&self.setup.rig_config(0), self.noise).filter(|_| self.bias_observer)
     }
 
     /// Calibrates the collision detector on [`REHEARSALS`] rehearsals of the path with the
@@ -614,6 +624,12 @@ impl Tracking<'_> {
             })
         };
         let (through, end) = (build(through)?, build(end)?);
+        // One observer follows the sensor from its tare over every leg.
+        let mut observer = self
+            .observer_settings()
+            .map(|settings| BiasObserver::new(*model, settings))
+            .transpose()
+            .map_err(|e| CliError::bad_input(e.to_string()))?;
         // The last leg rests longer: its stop rule and the success are judged there.
         let end_feedback = FtFeedback::new(feedback.pipeline().clone(), GOAL_REST_SAMPLES);
         let mut attempt = Attempt {
@@ -642,12 +658,18 @@ impl Tracking<'_> {
                 (&through, &feedback)
             };
             let mut centrelines = Vec::new();
-            let run =
-                controller.run_observed(&mut rig, feedback, &mut reach, &waypoint.a, |r, _| {
+            let run = controller.run_estimated(
+                &mut rig,
+                feedback,
+                &mut reach,
+                &waypoint.a,
+                observer.as_mut(),
+                |r, _| {
                     let truth = truth_of(r.inner());
                     touched |= truth.touched;
                     centrelines.push((truth.centreline, truth.a));
-                });
+                },
+            );
             // The controller refuses a waypoint it cannot steer to (outside its model's
             // A_stable, or from a pose the robot cannot hold): the attempt ends there.
             let run = match run {

@@ -57,7 +57,7 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::calibration::rig_seed;
-use ftwire::experiment::rig::{SAMPLES_PER_REST, pipeline, place_wire_among, tare};
+use ftwire::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_wire_among, tare};
 use ftwire::experiment::{Gravity, ModelKind, known_model};
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
@@ -65,8 +65,8 @@ use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
 };
 use ftwire_control::{
-    AnyPose, CollisionDetector, ControlSettings, Controller, FtFeedback, MoveCheck, NoiseModel,
-    NoiseSettings, NoisyRig, Outcome, Run, retreat,
+    AnyPose, BiasObserver, BiasObserverSettings, CollisionDetector, ControlSettings, Controller,
+    FtFeedback, MoveCheck, NoiseModel, NoiseSettings, NoisyRig, Outcome, Run, retreat,
 };
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::calibration::Calibration;
@@ -148,6 +148,8 @@ struct Context<'a> {
     /// The simulated sensor and rig (`--sensor`, `--rig`).
     rig: &'a SimSetup,
     seed: u64,
+    /// Steer the closed loop by `ã` corrected for the sensor's drift (`--bias-observer`).
+    bias_observer: bool,
 }
 
 /// A placed, tared rig of a trial and its feedback.
@@ -318,6 +320,9 @@ struct GoalSummary {
     wire: String,
     model: ModelKind,
     noise_model: NoiseModel,
+    /// The bias observer's settings of the closed loops without noise and with noise (`null`
+    /// where it is off: `--bias-observer off`, or under `increment`/`absolute`).
+    bias_observer: BiasObservers,
     gain: f64,
     epsilon: Epsilons,
     pairs: usize,
@@ -331,6 +336,13 @@ struct GoalSummary {
     collision: Collision,
     pair_draws: PairDraws,
     failures: Vec<Failure>,
+}
+
+/// The bias observers of a run's closed loops.
+#[derive(Serialize)]
+struct BiasObservers {
+    no_noise: Option<BiasObserverSettings>,
+    noise: Option<BiasObserverSettings>,
 }
 
 /// Means over the trials that did not fail; each trial is its final truth, whether it failed,
@@ -393,6 +405,16 @@ impl Context<'_> {
                 .last_motion()
                 .is_some_and(|m| !m.snaps.is_empty()),
         })
+    }
+
+    /// The bias observer of a closed loop under `noise`, when `--bias-observer on` and the
+    /// noise model uses one ([`bias_observer`]).
+    fn observer_settings(&self, noise: NoiseModel) -> Option<BiasObserverSettings> {
+        if self.bias_observer {
+            bias_observer(&self.rig.rig_config(0), noise)
+        } else {
+            None
+        }
     }
 
     /// The placed, tared rig of trial `k` (with `obstacles`) and its feedback; `None` when the
@@ -478,17 +500,22 @@ impl Context<'_> {
         let mut truths = vec![self.truth(rig.inner(), pair)?];
         let mut truth_error = None;
         let mut reach = self.reach();
-        let run =
-            controller.run_observed(
-                &mut rig,
-                &feedback,
-                &mut reach,
-                &pair.a_g,
-                |rig, _| match self.truth(rig.inner(), pair) {
-                    Ok(t) => truths.push(t),
-                    Err(e) => truth_error = Some(e),
-                },
-            );
+        let mut observer = self
+            .observer_settings(noise)
+            .map(|settings| BiasObserver::new(self.model, settings))
+            .transpose()
+            .map_err(|e| CliError::bad_input(e.to_string()))?;
+        let run = controller.run_estimated(
+            &mut rig,
+            &feedback,
+            &mut reach,
+            &pair.a_g,
+            observer.as_mut(),
+            |rig, _| match self.truth(rig.inner(), pair) {
+                Ok(t) => truths.push(t),
+                Err(e) => truth_error = Some(e),
+            },
+        );
         if let Some(e) = truth_error {
             return Err(e);
         }
@@ -497,8 +524,8 @@ impl Context<'_> {
             Err(e) => return Ok(failed(format!("refused: {e}"))),
         };
         // The measured distance to the goal at the start and after each step.
-        let distances: Vec<f64> = std::iter::once(run.start)
-            .chain(run.steps.iter().map(|s| s.measured))
+        let distances: Vec<f64> = std::iter::once(run.start_estimate)
+            .chain(run.steps.iter().map(|s| s.estimate))
             .map(|a| controller.distance(&a, &pair.a_g))
             .collect();
         let failure = match &run.outcome {
@@ -705,6 +732,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         calibration: &calibration,
         rig: &setup,
         seed,
+        bias_observer: args.bias_observer.on(),
     };
     let (noise_epsilons, noise_headline, noise_iterations) = match noise {
         NoiseModel::Increment | NoiseModel::Absolute => {
@@ -982,6 +1010,10 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         wire: wire.name.clone(),
         model: kind,
         noise_model: noise,
+        bias_observer: BiasObservers {
+            no_noise: ctx.observer_settings(NoiseModel::None),
+            noise: ctx.observer_settings(noise),
+        },
         gain: GAIN,
         epsilon: Epsilons {
             no_noise: EPSILON_NO_NOISE,

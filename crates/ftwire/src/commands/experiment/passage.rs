@@ -167,6 +167,9 @@ struct Summary {
     noise_model: ftwire_control::NoiseModel,
     /// The controller's gain K.
     gain: f64,
+    /// The bias observer's settings of the closed loop (`null`: off, or under
+    /// `increment`/`absolute`).
+    bias_observer: Option<ftwire_control::BiasObserverSettings>,
     /// The success tolerance on the true final configuration \[normalised\].
     success_epsilon: f64,
     /// What `successes` counts under this noise model.
@@ -272,6 +275,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         seed,
         gain,
         arms: true,
+        bias_observer: args.rollout.bias_observer.on(),
     };
     let started = Instant::now();
     let detector = tracking.detector(&model, &waypoints)?;
@@ -323,6 +327,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
+        bias_observer: tracking.observer_settings(),
         success_epsilon: success_epsilon(noise),
         success_rule: success_rule(noise),
         detector_threshold: detector.threshold(),

@@ -116,6 +116,9 @@ struct Summary {
     noise_model: ftwire_control::NoiseModel,
     /// The controller's gain K.
     gain: f64,
+    /// The bias observer's settings of the closed loop (`null`: off, or under
+    /// `increment`/`absolute`).
+    bias_observer: Option<ftwire_control::BiasObserverSettings>,
     /// Whether the closed loop stopped at poses the arms cannot reach.
     reach: ReachArg,
     /// What the runs' `successes` count under this noise model.
@@ -211,6 +214,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
                 seed,
                 gain,
                 arms: args.reach == ReachArg::Robot,
+                bias_observer: args.rollout.bias_observer.on(),
             };
             let stream = FIRST_STREAM + k as u64;
             let closed = tracking.closed_loop_unarmed(&model, &p.waypoints, stream)?;
@@ -267,6 +271,8 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
+        bias_observer: ftwire::experiment::rig::bias_observer(&setup.rig_config(0), noise)
+            .filter(|_| args.rollout.bias_observer.on()),
         success_rule: success_rule(noise),
         reach: args.reach,
         pairs: planned.len(),

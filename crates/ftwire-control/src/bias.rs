@@ -1,0 +1,370 @@
+//! An observer of the F/T sensor's bias drift, from the model and the robot's poses.
+//!
+//! A wrist F/T sensor is tared before the wire is picked up; from then on its bias drifts (the
+//! simulated default: a random walk of 2 mN/√s per force channel). Over a run of a hundred
+//! moves that is a few hundredths in normalised units, an error of `ã` that the closed loop
+//! cannot see and steers into the wire: it is the largest error left in goal reaching once the
+//! noise of each rest is averaged out (README, "What limits goal reaching").
+//!
+//! **What tells the bias apart.** The model gives a second, bias-free view of the same wire:
+//! the pose `Γ(a)` of the second clamp. At every rest the robot reports `b_i`, and
+//!
+//! ```text
+//! Γ(ã_i − β) = b_i · Δ₀
+//! ```
+//!
+//! holds up to noise, with `β` the bias (in `A`, normalised) and `Δ₀` the robot's own
+//! calibration error of the second gripper, a constant pose that it does not know (the
+//! `offset` execution model; identity for a robot that knows where it is). One rest cannot
+//! tell `β` from `Δ₀` (six equations, twelve unknowns), but `J(L)` changes along a motion while
+//! `Δ₀` stays put, so a run's rests separate them.
+//!
+//! **The filter.** An error-state Kalman filter on `x = (β, Δ₀)`: `β` a random walk with the
+//! sensor's drift intensity, `Δ₀` constant with the robot's calibration spread as its prior.
+//! At a rest, `z = S log((b_i Δ̂₀)⁻¹ Γ(ã_i − β̂))` (rotation first, translation divided by `L`:
+//! `S`) is to first order
+//!
+//! ```text
+//! z = J_n e_β + e_Δ + J_n w + r
+//! ```
+//!
+//! with `J_n = S J(L) N⁻¹` (`N` the normalisation of `A`), the rest's own noise `w` (from the
+//! pipeline's standard errors), and `r` the robot's repeatability plus a floor for the model's
+//! error. An innovation beyond [`BiasObserverSettings::gate`] (squared Mahalanobis) is not
+//! used: a contact, or a model far off, must not be explained away as drift. The collision
+//! detector watches the raw `ã`, not the corrected one.
+//!
+//! The corrected configuration is `ã − β̂`. It is only as good as the model: the observer trusts
+//! `Γ` to the [`BiasObserverSettings::model_std`] floor, so on a real rig with a worse model that
+//! floor must be raised, or the observer left out.
+
+use ftwire_core::Pose;
+use ftwire_estimate::WireModel;
+use ftwire_rod::{from_normalised, se3, to_normalised};
+use nalgebra::{Matrix6, SMatrix, SVector, Vector6};
+use serde::Serialize;
+
+use crate::ControlError;
+use crate::collision::normalised_jacobian;
+
+type Matrix12 = SMatrix<f64, 12, 12>;
+type Matrix6x12 = SMatrix<f64, 6, 12>;
+type Matrix12x6 = SMatrix<f64, 12, 6>;
+
+/// Gauss–Newton iterations of one update.
+const UPDATE_ITERATIONS: usize = 3;
+
+/// One rest, linearised at an estimate.
+struct Linearised {
+    z: Vector6<f64>,
+    h: Matrix6x12,
+    r: Matrix6<f64>,
+}
+
+/// Settings of the [`BiasObserver`] (public fields + `Default`, the simulated default sensor
+/// and the paper's execution spread).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BiasObserverSettings {
+    /// Drift intensity of each force channel \[N/√s\] (default `0.002`).
+    pub force_drift: f64,
+    /// Drift intensity of each torque channel \[N·m/√s\] (default `2e-4`: the sensor's own
+    /// `8e-5`, plus its force drift acting 8 cm from the clamp).
+    pub torque_drift: f64,
+    /// Standard deviation of each force channel's bias just after the tare \[N\] (default
+    /// `0.005`: a 0.5 s tare of a 0.05 N-noise sensor, with margin).
+    pub initial_force_std: f64,
+    /// As [`BiasObserverSettings::initial_force_std`], torque \[N·m\] (default `2e-4`).
+    pub initial_torque_std: f64,
+    /// Prior spread of the robot's calibration error `Δ₀` per axis, position \[m\] (default
+    /// `0.01`).
+    pub offset_position_std: f64,
+    /// As [`BiasObserverSettings::offset_position_std`], rotation \[rad\] (default 3°).
+    pub offset_rotation_std: f64,
+    /// The robot's repeatability per move, position \[m\] (default `1e-4`).
+    pub repeat_position_std: f64,
+    /// As [`BiasObserverSettings::repeat_position_std`], rotation \[rad\] (default 0.05°).
+    pub repeat_rotation_std: f64,
+    /// How far the model's `Γ` is trusted, per component of the scaled twist (rad, and m per
+    /// metre of wire) (default `2e-4`).
+    pub model_std: f64,
+    /// Largest squared Mahalanobis distance of an innovation that is used (default `36`; the
+    /// χ² of six degrees of freedom exceeds it with probability 3e-6).
+    pub gate: f64,
+}
+
+impl Default for BiasObserverSettings {
+    fn default() -> Self {
+        Self {
+            force_drift: 0.002,
+            torque_drift: 2e-4,
+            initial_force_std: 0.005,
+            initial_torque_std: 2e-4,
+            offset_position_std: 0.01,
+            offset_rotation_std: 3f64.to_radians(),
+            repeat_position_std: 1e-4,
+            repeat_rotation_std: 0.05f64.to_radians(),
+            model_std: 2e-4,
+            gate: 36.0,
+        }
+    }
+}
+
+impl BiasObserverSettings {
+    fn validate(&self) -> Result<(), ControlError> {
+        for (name, value) in [
+            ("force_drift", self.force_drift),
+            ("torque_drift", self.torque_drift),
+            ("initial_force_std", self.initial_force_std),
+            ("initial_torque_std", self.initial_torque_std),
+            ("offset_position_std", self.offset_position_std),
+            ("offset_rotation_std", self.offset_rotation_std),
+            ("repeat_position_std", self.repeat_position_std),
+            ("repeat_rotation_std", self.repeat_rotation_std),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(ControlError::BadSetting {
+                    name,
+                    value,
+                    allowed: "a finite σ ≥ 0",
+                });
+            }
+        }
+        if !(self.model_std.is_finite() && self.model_std > 0.0) {
+            return Err(ControlError::BadSetting {
+                name: "model_std",
+                value: self.model_std,
+                allowed: "a finite σ > 0 (the model is never exact)",
+            });
+        }
+        if !(self.gate.is_finite() && self.gate > 0.0) {
+            return Err(ControlError::BadSetting {
+                name: "gate",
+                value: self.gate,
+                allowed: "a finite squared distance > 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The bias observer (see the module docs). One observer follows one tare: keep it across the
+/// runs of a tracked path, and build a new one after each tare.
+///
+/// # Example
+/// ```
+/// use ftwire_control::{BiasObserver, BiasObserverSettings};
+/// use ftwire_core::WireParams;
+/// use ftwire_estimate::{KirchhoffModel, WireModel};
+/// use nalgebra::Vector6;
+///
+/// let model = KirchhoffModel::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
+/// let mut observer = BiasObserver::new(model, BiasObserverSettings::default())?;
+/// let a = Vector6::new(0.0, 0.2, 0.1, -0.5, 0.3, 0.0);
+/// let tip = model.tip(&a)?;
+/// // A reading 20 mN off in x, where the robot holds the wire at Γ(a).
+/// let biased = a + Vector6::new(0.0, 0.0, 0.0, 0.02, 0.0, 0.0);
+/// let corrected = observer.update(&biased, &Vector6::repeat(1e-3), &tip, 0.0);
+/// assert!((corrected - a).norm() < (biased - a).norm());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct BiasObserver<M> {
+    model: M,
+    settings: BiasObserverSettings,
+    /// `β̂`, normalised.
+    bias: Vector6<f64>,
+    /// `Δ̂₀`.
+    offset: Pose,
+    covariance: Matrix12,
+    last_time: Option<f64>,
+    updates: usize,
+    rejected: usize,
+}
+
+impl<M: WireModel> BiasObserver<M> {
+    /// An observer for `model` just after a tare.
+    ///
+    /// # Errors
+    /// [`ControlError::BadSetting`] for a setting outside its range.
+    pub fn new(model: M, settings: BiasObserverSettings) -> Result<Self, ControlError> {
+        settings.validate()?;
+        let wire = model.wire();
+        let (ts, fs, l) = (wire.torque_scale(), wire.force_scale(), wire.length());
+        let mut diagonal = [0.0; 12];
+        for i in 0..3 {
+            diagonal[i] = (settings.initial_torque_std / ts).powi(2);
+            diagonal[i + 3] = (settings.initial_force_std / fs).powi(2);
+            diagonal[i + 6] = settings.offset_rotation_std.powi(2);
+            diagonal[i + 9] = (settings.offset_position_std / l).powi(2);
+        }
+        Ok(Self {
+            model,
+            settings,
+            bias: Vector6::zeros(),
+            offset: Pose::identity(),
+            covariance: Matrix12::from_diagonal(&diagonal.into()),
+            last_time: None,
+            updates: 0,
+            rejected: 0,
+        })
+    }
+
+    /// The estimated bias `β̂` in `A` (torque first, base clamp frame, SI units).
+    pub fn bias(&self) -> Vector6<f64> {
+        from_normalised(self.model.wire(), &self.bias)
+    }
+
+    /// The estimated calibration error `Δ̂₀` of the second gripper (gripper frame).
+    pub fn offset(&self) -> &Pose {
+        &self.offset
+    }
+
+    /// Rests used so far.
+    pub fn updates(&self) -> usize {
+        self.updates
+    }
+
+    /// Rests whose innovation was beyond the gate, and not used.
+    pub fn rejected(&self) -> usize {
+        self.rejected
+    }
+
+    /// `a` corrected by the current bias estimate.
+    pub fn correct(&self, a: &Vector6<f64>) -> Vector6<f64> {
+        a - self.bias()
+    }
+
+    /// Takes the rest measured at `time` \[s\] (`a` with per-component standard errors
+    /// `a_std`, SI units, with the second gripper reported at `tip` relative to the base clamp)
+    /// and returns it corrected by the updated bias estimate.
+    ///
+    /// A non-finite input, a configuration the model cannot solve, or an innovation beyond
+    /// the gate leaves the estimate as it was (the last two are counted in
+    /// [`BiasObserver::rejected`]); time that does not advance adds no drift.
+    pub fn update(
+        &mut self,
+        a: &Vector6<f64>,
+        a_std: &Vector6<f64>,
+        tip: &Pose,
+        time: f64,
+    ) -> Vector6<f64> {
+        let finite = a.iter().chain(a_std.iter()).all(|v| v.is_finite()) && time.is_finite();
+        if !finite {
+            return self.correct(a);
+        }
+        self.predict(time);
+        let noise = to_normalised(self.model.wire(), a_std);
+        // Iterated update (Gauss–Newton on the prior and this rest): the robot's offset can be
+        // degrees, where one linearisation leaves an error above the model's floor.
+        let (bias0, offset0) = (self.bias, self.offset);
+        let (mut bias, mut offset) = (bias0, offset0);
+        let mut last = None;
+        for iteration in 0..UPDATE_ITERATIONS {
+            let Some(rest) = self.linearise(a, &noise, tip, &bias, &offset) else {
+                if iteration == 0 {
+                    self.rejected += 1;
+                    return self.correct(a);
+                }
+                break;
+            };
+            let innovation = rest.h * self.covariance * rest.h.transpose() + rest.r;
+            let Some(inverse) = innovation.try_inverse() else {
+                self.rejected += 1;
+                return self.correct(a);
+            };
+            if iteration == 0 {
+                let distance = (rest.z.transpose() * inverse * rest.z)[0];
+                if !(distance.is_finite() && distance <= self.settings.gate) {
+                    self.rejected += 1;
+                    return self.correct(a);
+                }
+            }
+            // How far this iterate already is from the prior, in the error coordinates.
+            let mut moved = SVector::<f64, 12>::zeros();
+            moved.fixed_rows_mut::<6>(0).copy_from(&(bias - bias0));
+            moved
+                .fixed_rows_mut::<6>(6)
+                .copy_from(&self.scale_twist(se3::log(&(offset0.inverse() * offset))));
+            let gain: Matrix12x6 = self.covariance * rest.h.transpose() * inverse;
+            let step = gain * (rest.z + rest.h * moved);
+            bias = bias0 + step.fixed_rows::<6>(0);
+            offset = offset0 * se3::exp(&self.unscale_twist(step.fixed_rows::<6>(6).into()));
+            offset.rotation.renormalize();
+            last = Some((gain, rest));
+        }
+        let Some((gain, rest)) = last else {
+            self.rejected += 1;
+            return self.correct(a);
+        };
+        // Joseph form: stays symmetric and positive definite.
+        let keep = Matrix12::identity() - gain * rest.h;
+        self.covariance =
+            keep * self.covariance * keep.transpose() + gain * rest.r * gain.transpose();
+        self.bias = bias;
+        self.offset = offset;
+        self.updates += 1;
+        self.correct(a)
+    }
+
+    /// A twist `(ω, v)` as `(ω, v / L)`.
+    fn scale_twist(&self, xi: Vector6<f64>) -> Vector6<f64> {
+        let l = self.model.wire().length();
+        Vector6::new(xi[0], xi[1], xi[2], xi[3] / l, xi[4] / l, xi[5] / l)
+    }
+
+    /// A twist `(ω, v / L)` as `(ω, v)`.
+    fn unscale_twist(&self, xi: Vector6<f64>) -> Vector6<f64> {
+        let l = self.model.wire().length();
+        Vector6::new(xi[0], xi[1], xi[2], xi[3] * l, xi[4] * l, xi[5] * l)
+    }
+
+    /// The innovation `z`, its Jacobian `H` and noise `R` of the rest `(a, tip)` at the
+    /// estimate `(bias, offset)`; `None` where the model cannot be solved.
+    fn linearise(
+        &self,
+        a: &Vector6<f64>,
+        noise: &Vector6<f64>,
+        tip: &Pose,
+        bias: &Vector6<f64>,
+        offset: &Pose,
+    ) -> Option<Linearised> {
+        let wire = self.model.wire();
+        let corrected = a - from_normalised(wire, bias);
+        let solution = self.model.jacobian(&corrected).ok()?;
+        let l = wire.length();
+        let z = self.scale_twist(se3::log(&((tip * offset).inverse() * solution.tip)));
+        let jn = normalised_jacobian(wire, &solution.jacobian);
+        let s = &self.settings;
+        let mut floor = [0.0; 6];
+        for i in 0..3 {
+            floor[i] = s.repeat_rotation_std.powi(2) + s.model_std.powi(2);
+            floor[i + 3] = (s.repeat_position_std / l).powi(2) + s.model_std.powi(2);
+        }
+        let r = jn * Matrix6::from_diagonal(&noise.component_mul(noise)) * jn.transpose()
+            + Matrix6::from_diagonal(&floor.into());
+        let mut h = Matrix6x12::zeros();
+        h.fixed_view_mut::<6, 6>(0, 0).copy_from(&jn);
+        h.fixed_view_mut::<6, 6>(0, 6)
+            .copy_from(&Matrix6::identity());
+        (z.iter().all(|v| v.is_finite()) && h.iter().all(|v| v.is_finite())).then_some(Linearised {
+            z,
+            h,
+            r,
+        })
+    }
+
+    /// Lets the bias drift until `time`.
+    fn predict(&mut self, time: f64) {
+        let dt = self.last_time.map_or(0.0, |t| (time - t).max(0.0));
+        self.last_time = Some(self.last_time.map_or(time, |t| t.max(time)));
+        if dt > 0.0 {
+            let wire = self.model.wire();
+            let torque = (self.settings.torque_drift / wire.torque_scale()).powi(2) * dt;
+            let force = (self.settings.force_drift / wire.force_scale()).powi(2) * dt;
+            for i in 0..3 {
+                self.covariance[(i, i)] += torque;
+                self.covariance[(i + 3, i + 3)] += force;
+            }
+        }
+    }
+}
