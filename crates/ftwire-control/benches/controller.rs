@@ -1,13 +1,15 @@
 //! Compute per controller step (target ≤ 100 µs): the control law of eq. 13–14 with the
 //! Jacobian at `ã`, the step limits and the stability guard on the predicted configuration,
-//! for the weightless model and for the loaded one (the 3 mm / 820 mm nitinol under gravity).
+//! for the weightless model and for the loaded one (the 3 mm / 820 mm nitinol under gravity);
+//! and one update of the bias observer at a rest (three Gauss–Newton iterations, each a
+//! solve of `J(L)`), which the loop adds when it steers by the drift-corrected `ã`.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use ftwire_control::{ControlSettings, Controller};
+use ftwire_control::{BiasObserver, BiasObserverSettings, ControlSettings, Controller};
 use ftwire_core::{Pose, WireParams};
-use ftwire_estimate::KirchhoffModel;
+use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::{Load, from_normalised};
 use nalgebra::{Vector3, Vector6};
 
@@ -28,6 +30,16 @@ fn bench(c: &mut Criterion) {
                     .plan_step(black_box(&a), black_box(&goal), &Pose::identity())
                     .expect("solves")
             });
+        });
+        let tip = model.tip(&a).expect("solves");
+        let reading = a + from_normalised(&wire, &Vector6::new(0.0, 0.0, 0.0, 0.01, 0.0, 0.0));
+        let std = from_normalised(&wire, &Vector6::repeat(0.01));
+        c.bench_function(&format!("bias observer update ({name})"), |b| {
+            b.iter_batched(
+                || BiasObserver::new(model, BiasObserverSettings::default()).expect("valid"),
+                |mut observer| observer.update(black_box(&reading), &std, &tip, 0.0),
+                criterion::BatchSize::SmallInput,
+            );
         });
     }
 }
