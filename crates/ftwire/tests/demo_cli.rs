@@ -49,7 +49,17 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
     }
     assert!(
         tracking["closed_loop"]["touched"] == false,
-        "closed loop without noise keeps clear of the boxes: {tracking}"
+        "closed loop keeps clear of the boxes: {tracking}"
+    );
+    // The default noise is a real robot's calibration error: the closed loop removes it, the
+    // open loop cannot.
+    assert_eq!(tracking["noise_model"], "offset");
+    assert!(tracking["closed_loop"]["success"] == true, "{tracking}");
+    let final_error = |mode: &str| tracking[mode]["final_error"].as_f64().expect("a number");
+    assert!(final_error("closed_loop") < 0.1, "{tracking}");
+    assert!(
+        final_error("open_loop") > 5.0 * final_error("closed_loop"),
+        "{tracking}"
     );
     for file in [
         "timings.json",

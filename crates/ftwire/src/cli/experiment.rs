@@ -195,6 +195,8 @@ pub enum NoiseModelArg {
     Absolute,
     /// One 10 mm / 3° offset per run plus 0.1 mm / 0.05° repeatability per move.
     Offset,
+    /// None: the grippers go where they are commanded.
+    None,
 }
 
 impl NoiseModelArg {
@@ -204,6 +206,7 @@ impl NoiseModelArg {
             Self::Increment => ftwire_control::NoiseModel::Increment,
             Self::Absolute => ftwire_control::NoiseModel::Absolute,
             Self::Offset => ftwire_control::NoiseModel::Offset,
+            Self::None => ftwire_control::NoiseModel::None,
         }
     }
 }

@@ -13,7 +13,7 @@
 //!    `scenes/passage.toml`) with RRT* in `A_free` for the identified wire, a fixed iteration
 //!    budget (the same path on any machine), resampled into waypoints.
 //! 5. **Track** the plan in the simulator with the scene's obstacles (execution noise of
-//!    `--noise-model`, none by default): closed loop with the identified loaded model and the
+//!    `--noise-model`, `offset` by default: a real robot's calibration error): closed loop with the identified loaded model and the
 //!    collision detector armed (calibrated on a rehearsal away from the obstacles), then once
 //!    open loop for contrast; each scored on the true wire (touched an obstacle, final error,
 //!    shape against the plan at each waypoint).
@@ -38,7 +38,6 @@ use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
-use ftwire_control::NoiseModel;
 use ftwire_core::WireParams;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::identify::MotionPlan;
@@ -55,7 +54,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::cli::demo::DemoArgs;
-use crate::cli::experiment::{IDENTIFY_REST_SAMPLES, NoiseModelArg};
+use crate::cli::experiment::IDENTIFY_REST_SAMPLES;
 use crate::cli::identify::{FormArg, IdentifySettingsArgs};
 use crate::commands::experiment::identify::{
     Map, Protocol, linear_density, loaded_config, record_trial, truth,
@@ -325,9 +324,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     // iteration budget found no path for some identified wires (seeds 0 and 3 with the full
     // calibration). The wire sags about 2.5 mm from them; the controller tracks the
     // configurations with the loaded model.
-    let noise = args
-        .noise_model
-        .map_or(NoiseModel::None, NoiseModelArg::model);
+    let noise = args.noise_model.model();
     let identified = Rod::new(*model.wire());
     let (planned, _) = plan_in_scene(&scene, &identified, track::validity(noise), seed)?;
     let plan_out = PlanOut {
@@ -365,11 +362,14 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         arms: true,
         bias_observer: true,
     };
-    let detector = tracking.detector(&controller_model, &planned.waypoints)?;
+    // The plan's poses with the loaded model's configurations and shapes: the controller steers
+    // to where the plan puts the grippers, and the shape error is against the wire that sags.
+    let waypoints = track::reexpress(&planned.waypoints, &controller_model, &scene.base)?;
+    let detector = tracking.detector(&controller_model, &waypoints)?;
     phase.set(1);
-    let closed = tracking.closed_loop(&controller_model, &planned.waypoints, detector, 2)?;
+    let closed = tracking.closed_loop(&controller_model, &waypoints, detector, 2)?;
     phase.set(2);
-    let open = tracking.open_loop(&controller_model, &planned.waypoints, 2)?;
+    let open = tracking.open_loop(&controller_model, &waypoints, 2)?;
     let chart = scene_chart(&scene, &closed);
     chart
         .write(folder.dir(), "tracking")
@@ -425,7 +425,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     folder.write_json("timings.json", &timings)?;
     let drawn = page::Drawn {
         scene: &scene,
-        waypoints: &planned.waypoints,
+        waypoints: &waypoints,
         shape: first.as_ref(),
     };
     page::write(&folder, &summary, &drawn)?;

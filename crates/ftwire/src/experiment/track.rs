@@ -246,6 +246,73 @@ pub fn waypoints_along(
         .collect()
 }
 
+/// Newton iterations of [`reexpress`].
+const REEXPRESS_ITERATIONS: usize = 30;
+
+/// The waypoints of a plan made with one model, re-expressed for `model` (another load, e.g.
+/// the identified wire's weight): each keeps its gripper pose and takes the `a` whose `Γ` under
+/// `model` is that pose, with `model`'s shape (world frame, base clamp at `base`). Each is
+/// found by Newton's method from the previous answer moved by the plan's own step, so that the
+/// path stays on one branch. A plan made with the weightless model and tracked with the loaded
+/// one would otherwise steer to the planned *wrenches*, whose loaded shapes sag away from the
+/// planned ones.
+///
+/// # Errors
+/// No answer when `model` has no stable configuration near a waypoint's pose.
+pub fn reexpress(
+    waypoints: &[Waypoint],
+    model: &KirchhoffModel,
+    base: &Pose,
+) -> Result<Vec<Waypoint>, CliError> {
+    let mut out: Vec<Waypoint> = Vec::with_capacity(waypoints.len());
+    for (i, waypoint) in waypoints.iter().enumerate() {
+        let mut a = match (out.last(), i.checked_sub(1).and_then(|j| waypoints.get(j))) {
+            (Some(previous), Some(planned)) => previous.a + (waypoint.a - planned.a),
+            _ => waypoint.a,
+        };
+        let fail = |why: String| {
+            CliError::no_answer(format!(
+                "waypoint {i}: the tracking model has no configuration at the planned pose ({why})"
+            ))
+        };
+        let mut converged = false;
+        for _ in 0..REEXPRESS_ITERATIONS {
+            let solution = model.jacobian(&a).map_err(|e| fail(e.to_string()))?;
+            let r = ftwire_rod::se3::log(&(solution.tip.inverse() * waypoint.tip));
+            if r.norm() < 1e-11 {
+                converged = true;
+                break;
+            }
+            let step = solution
+                .jacobian
+                .lu()
+                .solve(&r)
+                .ok_or_else(|| fail("a singular Jacobian".into()))?;
+            a += step;
+        }
+        if !converged || !model.is_stable(&a).unwrap_or(false) {
+            return Err(fail(if converged {
+                "it is not stable there".into()
+            } else {
+                "Newton's method did not converge".into()
+            }));
+        }
+        let shape = model
+            .shape(&a, ValidityParams::default().nodes)
+            .map_err(|e| fail(e.to_string()))?;
+        out.push(Waypoint {
+            a,
+            tip: waypoint.tip,
+            centreline: shape
+                .positions
+                .iter()
+                .map(|p| base * Point3::from(*p))
+                .collect(),
+        });
+    }
+    Ok(out)
+}
+
 /// The largest distance between the grippers of a plan under `noise`, as a fraction of the
 /// wire's length: [`MAX_SPAN_NOISY`] under `increment` and `absolute`, whose every move lands
 /// the gripper the full noise (17 mm RMS) away, and no limit but the model's otherwise.
@@ -812,6 +879,47 @@ mod tests {
             goal_settings(NoiseModel::Absolute).max_iterations,
             MAX_ITERATIONS_NOISY
         );
+    }
+
+    #[test]
+    fn reexpressed_waypoints_keep_the_poses_and_take_the_loaded_configurations() {
+        let wire =
+            ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
+        let weightless = KirchhoffModel::new(wire);
+        let load =
+            Load::from_gravity(6450.0, 0.0015, Vector3::new(0.0, 0.0, -9.81)).expect("valid load");
+        let loaded = weightless.with_load(load);
+        let base = Pose::translation(0.1, 0.0, 0.3);
+        let waypoints: Vec<Waypoint> = [
+            Vector6::new(0.5, 2.0, 1.0, -2.0, 3.0, 0.5),
+            Vector6::new(0.35, 2.5, 0.75, -1.5, 2.5, 0.75),
+            Vector6::new(0.2, 3.0, 0.5, -1.0, 2.0, 1.0),
+        ]
+        .iter()
+        .map(|n| {
+            let a = ftwire_rod::from_normalised(&wire, n);
+            Waypoint {
+                a,
+                tip: weightless.tip(&a).expect("solves"),
+                centreline: Vec::new(),
+            }
+        })
+        .collect();
+        // The same model gives the same configurations back.
+        let same = reexpress(&waypoints, &weightless, &base).expect("re-expressed");
+        for (w, r) in waypoints.iter().zip(&same) {
+            assert!((w.a - r.a).norm() < 1e-8, "{:?} against {:?}", r.a, w.a);
+        }
+        // The loaded model: the same poses, other wrenches, its own shapes.
+        let heavy = reexpress(&waypoints, &loaded, &base).expect("re-expressed");
+        for (w, r) in waypoints.iter().zip(&heavy) {
+            let miss = ftwire_rod::se3::log(&(w.tip.inverse() * loaded.tip(&r.a).expect("solves")));
+            assert!(miss.norm() < 1e-9, "{miss:?}");
+            assert!((w.a - r.a).norm() > 1e-3, "the weight changes the wrench");
+            let shape = loaded.shape(&r.a, r.centreline.len()).expect("solves");
+            let first = base * Point3::from(shape.positions[1]);
+            assert!((r.centreline[1] - first).norm() < 1e-12);
+        }
     }
 
     #[test]
