@@ -12,7 +12,9 @@
 //! scale `s` (exactly `J⁻¹ δb`), must be in `A_stable`, or the step is halved until it is (at
 //! most [`ControlSettings::max_shrinks`] times); and the robot must be able to reach `b_{i+1}`
 //! ([`ReachCheck`]). The loop stops when the *measured* `ã` is within `ε` of the goal in
-//! normalised units, and every other end is an [`Outcome`]. A [`CollisionDetector`] can watch
+//! normalised units, and every other end is an [`Outcome`]. With a [`BiasObserver`]
+//! ([`Controller::run_estimated`]) the step, the guard and the stop use `ã` corrected for the
+//! sensor's bias drift. A [`CollisionDetector`] can watch
 //! the residual of every move (see [`crate::collision`]).
 
 use std::time::Instant;
@@ -193,7 +195,8 @@ impl Outcome {
 /// One executed step of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepRecord {
-    /// `ã_i` the step was computed from.
+    /// `a_i` the step was computed from: the measured `ã_i`, corrected by the bias observer
+    /// when the run has one (the `estimate` of the step before).
     pub a: Vector6<f64>,
     /// The planned step.
     pub plan: StepPlan,
