@@ -9,12 +9,13 @@
 //!
 //! with three guards the paper leaves out: `δb` is scaled down to the step limits; the
 //! configuration the model predicts after the step, `ã_i + s K (a_g − ã_i)` for the step's
-//! scale `s` (exactly `J⁻¹ δb`), must be in `A_stable`, or the step is halved until it is (at
-//! most [`ControlSettings::max_shrinks`] times); and the robot must be able to reach `b_{i+1}`
-//! ([`ReachCheck`]). The loop stops when the *measured* `ã` is within `ε` of the goal in
-//! normalised units, and every other end is an [`Outcome`]. With a [`BiasObserver`]
-//! ([`Controller::run_estimated`]) the step, the guard and the stop use `ã` corrected for the
-//! sensor's bias drift. A [`CollisionDetector`] can watch
+//! scale `s` (exactly `J⁻¹ δb`), must be in `A_stable`; and the robot must be able to reach
+//! `b_{i+1}` ([`ReachCheck`]). A step that fails either of the last two is halved until it
+//! passes both (at most [`ControlSettings::max_shrinks`] times): near a joint limit a shorter
+//! step along the same direction often stays inside. The loop stops when the *measured* `ã` is
+//! within `ε` of the goal in normalised units, and every other end is an [`Outcome`]. With a
+//! [`BiasObserver`] ([`Controller::run_estimated`]) the step, the guard and the stop use `ã`
+//! corrected for the sensor's bias drift. A [`CollisionDetector`] can watch
 //! the residual of every move (see [`crate::collision`]).
 
 use std::time::Instant;
@@ -27,7 +28,9 @@ use nalgebra::Vector6;
 use serde::Serialize;
 
 use crate::collision::MoveCheck;
-use crate::{BiasObserver, CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck};
+use crate::{
+    AnyPose, BiasObserver, CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck,
+};
 
 /// Settings of the controller (public fields + `Default`; checked by [`Controller::new`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -43,7 +46,8 @@ pub struct ControlSettings {
     pub max_rotation: f64,
     /// Most steps of one run (default `100`).
     pub max_iterations: usize,
-    /// Most halvings of a step whose predicted configuration leaves `A_stable` (default `6`).
+    /// Most halvings of a step whose predicted configuration leaves `A_stable` or whose pose
+    /// the robot cannot reach (default `6`).
     pub max_shrinks: usize,
     /// Settling radius \[normalised\]: once the measured `ã` is within it of the goal, each
     /// rest averages at least [`ControlSettings::settle_samples`] F/T samples (default `0`:
@@ -117,6 +121,16 @@ pub struct StepPlan {
     pub predicted_da: Vector6<f64>,
     /// The scale `s ∈ (0, 1]` applied to eq. 13's `δb`.
     pub scale: f64,
+}
+
+/// What the step search of [`Controller::plan_reachable_step`] found.
+enum Planned {
+    /// A step that passes the stability guard and the reach check.
+    Step(StepPlan),
+    /// No step passes the stability guard.
+    Unstable,
+    /// Some step passes the stability guard but the robot reaches none (the last reason).
+    Unreachable(String),
 }
 
 /// How a controlled motion ended.
@@ -215,7 +229,7 @@ pub struct StepRecord {
     pub residual: f64,
     /// Compute time of the control law and its stability guard \[s\].
     pub plan_s: f64,
-    /// Compute time of the reach check \[s\].
+    /// Compute time of the reach checks, one per halving the step needed \[s\].
     pub reach_s: f64,
     /// `b_{i+1}`: the second gripper's pose relative to the base clamp after the move, as the
     /// robot reports it. It is `plan.next_tip` unless the rig reports that it landed elsewhere
@@ -363,6 +377,23 @@ impl<M: WireModel> Controller<M> {
         goal: &Vector6<f64>,
         tip: &Pose,
     ) -> Result<Option<StepPlan>, ControlError> {
+        let (planned, _) = self.plan_reachable_step(a, goal, tip, &mut AnyPose)?;
+        Ok(match planned {
+            Planned::Step(plan) => Some(plan),
+            Planned::Unstable | Planned::Unreachable(_) => None,
+        })
+    }
+
+    /// [`Controller::plan_step`] with the reach guard: the step's scale is halved (at most
+    /// [`ControlSettings::max_shrinks`] times) until its prediction passes the stability guard
+    /// and `reach` can reach its `next_tip`. Also returns the time spent in `reach` \[s\].
+    fn plan_reachable_step<Q: ReachCheck>(
+        &self,
+        a: &Vector6<f64>,
+        goal: &Vector6<f64>,
+        tip: &Pose,
+        reach: &mut Q,
+    ) -> Result<(Planned, f64), ControlError> {
         let s = &self.settings;
         let jacobian = self.model.jacobian(a)?.jacobian;
         let da = s.gain * (goal - a);
@@ -376,21 +407,35 @@ impl<M: WireModel> Controller<M> {
         // wire disagree near the boundary), every step toward the (stable) goal is the way
         // back: the guard only keeps a stable configuration from leaving A_stable.
         let inside = self.model.is_stable(a).unwrap_or(false);
+        let mut reach_s = 0.0;
+        let mut unreachable = None;
         for _ in 0..=s.max_shrinks {
             let predicted_da = scale * da;
             // A prediction outside A (or one the model cannot solve) is not a stable step.
             if !inside || self.model.is_stable(&(a + predicted_da)).unwrap_or(false) {
                 let delta_b = scale * db;
-                return Ok(Some(StepPlan {
-                    delta_b,
-                    next_tip: tip * ftwire_rod::se3::exp(&delta_b),
-                    predicted_da,
-                    scale,
-                }));
+                let next_tip = tip * ftwire_rod::se3::exp(&delta_b);
+                let clock = Instant::now();
+                let reachable = reach.check(&next_tip);
+                reach_s += clock.elapsed().as_secs_f64();
+                match reachable {
+                    Reach::Reachable => {
+                        let plan = StepPlan {
+                            delta_b,
+                            next_tip,
+                            predicted_da,
+                            scale,
+                        };
+                        return Ok((Planned::Step(plan), reach_s));
+                    }
+                    Reach::Unreachable(reason) => unreachable = Some(reason),
+                }
             }
             scale *= 0.5;
         }
-        Ok(None)
+        // Unreachable when some stable step was found but none the robot could reach.
+        let planned = unreachable.map_or(Planned::Unstable, Planned::Unreachable);
+        Ok((planned, reach_s))
     }
 
     /// Checks the goal: finite and in `A_stable` of the model.
@@ -506,10 +551,14 @@ impl<M: WireModel> Controller<M> {
                 return Ok(run);
             }
             let clock = Instant::now();
-            let plan = match self.plan_step(&a, goal, &tip) {
-                Ok(Some(plan)) => plan,
-                Ok(None) => {
+            let (plan, reach_s) = match self.plan_reachable_step(&a, goal, &tip, reach) {
+                Ok((Planned::Step(plan), reach_s)) => (plan, reach_s),
+                Ok((Planned::Unstable, _)) => {
                     run.outcome = Outcome::PredictedInstability { step };
+                    return Ok(run);
+                }
+                Ok((Planned::Unreachable(reason), _)) => {
+                    run.outcome = Outcome::Unreachable { step, reason };
                     return Ok(run);
                 }
                 Err(e) => {
@@ -520,14 +569,7 @@ impl<M: WireModel> Controller<M> {
                     return Ok(run);
                 }
             };
-            let plan_s = clock.elapsed().as_secs_f64();
-            let clock = Instant::now();
-            let reachable = reach.check(&plan.next_tip);
-            let reach_s = clock.elapsed().as_secs_f64();
-            if let Reach::Unreachable(reason) = reachable {
-                run.outcome = Outcome::Unreachable { step, reason };
-                return Ok(run);
-            }
+            let plan_s = (clock.elapsed().as_secs_f64() - reach_s).max(0.0);
             if let Err(e) = rig.move_tip(base * plan.next_tip) {
                 run.outcome = Outcome::CommandFailed {
                     step,

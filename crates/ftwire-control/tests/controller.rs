@@ -163,6 +163,52 @@ fn an_unreachable_pose_stops_the_run_before_moving_there() {
     assert_eq!(rig.moves, 2);
 }
 
+/// Reachable within `radius` \[m\] of the first queried pose (the start), as an arm near a
+/// joint limit.
+struct ReachWithin {
+    radius: f64,
+    start: Option<Pose>,
+}
+
+impl ReachCheck for ReachWithin {
+    fn check(&mut self, relative: &Pose) -> Reach {
+        let start = *self.start.get_or_insert(*relative);
+        let moved = (relative.translation.vector - start.translation.vector).norm();
+        if moved <= self.radius {
+            Reach::Reachable
+        } else {
+            Reach::Unreachable(format!("{moved} m from the start"))
+        }
+    }
+}
+
+#[test]
+fn an_unreachable_step_is_halved_until_the_robot_can_reach_it() {
+    let (a_s, a_g) = pair();
+    let mut rig = ModelRig::new(a_s);
+    let controller = controller();
+    let start = ftwire_core::Rig::gripper_poses(&rig)
+        .expect("poses")
+        .relative();
+    let full = controller
+        .plan_step(&a_s, &a_g, &start)
+        .expect("solves")
+        .expect("stable");
+    let reach_full = (full.next_tip.translation.vector - start.translation.vector).norm();
+    // The full first step is out of reach, its half is not.
+    let mut reach = ReachWithin {
+        radius: 0.6 * reach_full,
+        start: None,
+    };
+    let run = controller
+        .run(&mut rig, &feedback(), &mut reach, &a_g)
+        .expect("runs");
+    let first = run.steps.first().expect("the run moves");
+    assert!((first.plan.scale - 0.5 * full.scale).abs() < 1e-12);
+    assert!((first.plan.predicted_da - 0.5 * full.predicted_da).norm() < 1e-12);
+    assert!(rig.moves >= 2, "{} moves, {:?}", rig.moves, run.outcome);
+}
+
 /// The exact model, except that nothing but the listed configurations is stable.
 #[derive(Clone)]
 struct OnlyStableAt(KirchhoffModel, Vec<Vector6<f64>>);
