@@ -4,7 +4,7 @@
 //! simulated default: a random walk of 2 mN/√s per force channel). Over a run of a hundred
 //! moves that is a few hundredths in normalised units, an error of `ã` that the closed loop
 //! cannot see and steers into the wire: it is the largest error left in goal reaching once the
-//! noise of each rest is averaged out (README, "What limits goal reaching").
+//! noise of each rest is averaged out (README, Control: "Settled rests and the drift floor").
 //!
 //! **What tells the bias apart.** The model gives a second, bias-free view of the same wire:
 //! the pose `Γ(a)` of the second clamp. At every rest the robot reports `b_i`, and
