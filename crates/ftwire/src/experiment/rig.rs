@@ -11,6 +11,7 @@ use nalgebra::{Vector3, Vector6};
 use super::{Gravity, SIM_EDGES};
 use crate::bridge::kirchhoff_guess;
 use crate::error::{CliError, from_rod, from_sim};
+use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
 /// F/T samples averaged per rest period (0.1 s at the simulated sensor's 1 kHz): the noise of
@@ -105,15 +106,22 @@ pub fn tare(rig: &mut SimRig) -> Result<Tare, CliError> {
     Ok(Tare::from_rest(&rest, &Vector6::zeros()))
 }
 
-/// The bias observer's settings for a robot with `config`'s sensor and the execution error
-/// `noise`: what a user reads off the sensor's data sheet (its drift intensity; a force drift
+/// The bias observer's settings for a robot with `setup`'s sensor and the execution error
+/// `noise`, when it is switched `on`: what a user reads off the sensor's data sheet (its drift intensity; a force drift
 /// also drifts the torque at the clamp, `clamp_position_in_sensor` away) and knows of the tare
 /// ([`TARE_SAMPLES`] of its noise, with a margin of two) and of the robot's calibration (the
 /// `offset` model's spread; the repeatability for a robot that goes where it is told). `None`
 /// under `increment` and `absolute`: their stop tolerances (0.3–1 normalised) are ten times the
 /// drift of a run, and under `absolute` the reported pose is off by a new 10 mm / 3° at every
 /// rest, which the observer would read as drift.
-pub fn bias_observer(config: &RigConfig, noise: NoiseModel) -> Option<BiasObserverSettings> {
+pub fn bias_observer(
+    setup: &SimSetup,
+    noise: NoiseModel,
+    on: bool,
+) -> Option<BiasObserverSettings> {
+    if !on {
+        return None;
+    }
     let execution = NoiseSettings::default();
     let (offset_position_std, offset_rotation_std) = match noise {
         NoiseModel::None => (
@@ -123,7 +131,7 @@ pub fn bias_observer(config: &RigConfig, noise: NoiseModel) -> Option<BiasObserv
         NoiseModel::Offset => (execution.position_std, execution.orientation_std),
         NoiseModel::Increment | NoiseModel::Absolute => return None,
     };
-    let sensor = &config.sensor;
+    let sensor = &setup.rig_config(0).sensor;
     let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
     let force_drift = max(&sensor.bias_random_walk[..3]);
     let lever = nalgebra::Vector3::from(sensor.clamp_position_in_sensor).norm();

@@ -608,7 +608,7 @@ impl Tracking<'_> {
     /// The bias observer's settings of the closed loop; `None` where it steers by the tared
     /// `ã` alone (switched off, or under `increment`/`absolute`).
     pub fn observer_settings(&self) -> Option<BiasObserverSettings> {
-        bias_observer(&self.setup.rig_config(0), self.noise).filter(|_| self.bias_observer)
+        bias_observer(self.setup, self.noise, self.bias_observer)
     }
 
     /// Calibrates the collision detector on [`REHEARSALS`] rehearsals of the path with the

@@ -410,11 +410,7 @@ impl Context<'_> {
     /// The bias observer of a closed loop under `noise`, when `--bias-observer on` and the
     /// noise model uses one ([`bias_observer`]).
     fn observer_settings(&self, noise: NoiseModel) -> Option<BiasObserverSettings> {
-        if self.bias_observer {
-            bias_observer(&self.rig.rig_config(0), noise)
-        } else {
-            None
-        }
+        bias_observer(self.rig, noise, self.bias_observer)
     }
 
     /// The placed, tared rig of trial `k` (with `obstacles`) and its feedback; `None` when the

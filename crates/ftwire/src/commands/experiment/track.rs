@@ -271,8 +271,11 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
-        bias_observer: ftwire::experiment::rig::bias_observer(&setup.rig_config(0), noise)
-            .filter(|_| args.rollout.bias_observer.on()),
+        bias_observer: ftwire::experiment::rig::bias_observer(
+            &setup,
+            noise,
+            args.rollout.bias_observer.on(),
+        ),
         success_rule: success_rule(noise),
         reach: args.reach,
         pairs: planned.len(),
