@@ -418,7 +418,7 @@ pub fn predicted_delta_a(jacobian: &Matrix6<f64>, delta_b: &Vector6<f64>) -> Opt
 }
 
 /// The model's change of `a` for the second gripper's motion `motion = b_i⁻¹ b_{i+1}` (in
-/// the clamp frame of `b_i`) from `a`: Newton's method on `log(Γ(a')⁻¹ Γ(a) motion) = 0` from
+/// the clamp frame of `b_i`) from `a`: [`configuration_at`] `Γ(a) motion`, from
 /// `a + first_order` (see the module docs). Falls back to `first_order` when the model cannot
 /// be solved or Newton does not converge.
 pub fn predicted_change<M: WireModel>(
@@ -430,29 +430,34 @@ pub fn predicted_change<M: WireModel>(
     let Ok(start) = model.tip(a) else {
         return *first_order;
     };
-    let target = start * motion;
-    let mut next = a + first_order;
+    configuration_at(model, &(a + first_order), &(start * motion))
+        .map_or(*first_order, |next| next - a)
+}
+
+/// The configuration whose `Γ` is `target`, by Newton's method on `log(Γ(a)⁻¹ target) = 0`
+/// from `guess`: `None` when the model cannot be solved on the way, `J(L)` is singular, or the
+/// iteration does not converge (it stops below `1e-10`, rad and m mixed; after its last
+/// iteration it accepts `1e-6`).
+pub fn configuration_at<M: WireModel>(
+    model: &M,
+    guess: &Vector6<f64>,
+    target: &Pose,
+) -> Option<Vector6<f64>> {
+    let mut next = *guess;
     for _ in 0..NEWTON_ITERATIONS {
-        let Ok(solution) = model.jacobian(&next) else {
-            return *first_order;
-        };
+        let solution = model.jacobian(&next).ok()?;
         let r = se3::log(&(solution.tip.inverse() * target));
         if !r.iter().all(|v| v.is_finite()) {
-            return *first_order;
+            return None;
         }
         if r.norm() < NEWTON_TOLERANCE {
-            return next - a;
+            return Some(next);
         }
-        let Some(step) = solution.jacobian.lu().solve(&r) else {
-            return *first_order;
-        };
-        next += step;
+        next += solution.jacobian.lu().solve(&r)?;
     }
-    // Accept a nearly converged answer; a diverging one is no better than the guess.
-    match model.tip(&next) {
-        Ok(tip) if se3::log(&(tip.inverse() * target)).norm() < 1e-6 => next - a,
-        _ => *first_order,
-    }
+    // Accept a nearly converged answer; a diverging one is no answer.
+    let tip = model.tip(&next).ok()?;
+    (se3::log(&(tip.inverse() * target)).norm() < 1e-6).then_some(next)
 }
 
 #[cfg(test)]

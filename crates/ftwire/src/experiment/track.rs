@@ -17,6 +17,7 @@ use std::time::Instant;
 use ftwire_control::{
     AnyPose, BiasObserver, BiasObserverSettings, CollisionDetector, ControlSettings, Controller,
     FtFeedback, NoiseModel, NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck, RobotReach,
+    configuration_at,
 };
 use ftwire_core::Pose;
 use ftwire_estimate::KirchhoffModel;
@@ -246,9 +247,6 @@ pub fn waypoints_along(
         .collect()
 }
 
-/// Newton iterations of [`reexpress`].
-const REEXPRESS_ITERATIONS: usize = 30;
-
 /// The waypoints of a plan made with one model, re-expressed for `model` (another load, e.g.
 /// the identified wire's weight): each keeps its gripper pose and takes the `a` whose `Γ` under
 /// `model` is that pose, with `model`'s shape (world frame, base clamp at `base`). Each is
@@ -266,40 +264,23 @@ pub fn reexpress(
 ) -> Result<Vec<Waypoint>, CliError> {
     let mut out: Vec<Waypoint> = Vec::with_capacity(waypoints.len());
     for (i, waypoint) in waypoints.iter().enumerate() {
-        let mut a = match (out.last(), i.checked_sub(1).and_then(|j| waypoints.get(j))) {
+        let guess = match (out.last(), i.checked_sub(1).and_then(|j| waypoints.get(j))) {
             (Some(previous), Some(planned)) => previous.a + (waypoint.a - planned.a),
             _ => waypoint.a,
         };
-        let fail = |why: String| {
+        let fail = |why: &str| {
             CliError::no_answer(format!(
                 "waypoint {i}: the tracking model has no configuration at the planned pose ({why})"
             ))
         };
-        let mut converged = false;
-        for _ in 0..REEXPRESS_ITERATIONS {
-            let solution = model.jacobian(&a).map_err(|e| fail(e.to_string()))?;
-            let r = ftwire_rod::se3::log(&(solution.tip.inverse() * waypoint.tip));
-            if r.norm() < 1e-11 {
-                converged = true;
-                break;
-            }
-            let step = solution
-                .jacobian
-                .lu()
-                .solve(&r)
-                .ok_or_else(|| fail("a singular Jacobian".into()))?;
-            a += step;
-        }
-        if !converged || !model.is_stable(&a).unwrap_or(false) {
-            return Err(fail(if converged {
-                "it is not stable there".into()
-            } else {
-                "Newton's method did not converge".into()
-            }));
+        let a = configuration_at(model, &guess, &waypoint.tip)
+            .ok_or_else(|| fail("Newton's method did not converge"))?;
+        if !model.is_stable(&a).unwrap_or(false) {
+            return Err(fail("it is not stable there"));
         }
         let shape = model
             .shape(&a, ValidityParams::default().nodes)
-            .map_err(|e| fail(e.to_string()))?;
+            .map_err(|e| fail(&e.to_string()))?;
         out.push(Waypoint {
             a,
             tip: waypoint.tip,
