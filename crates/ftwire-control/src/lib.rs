@@ -35,7 +35,9 @@ pub use collision::{
     CollisionDetector, MIN_CALIBRATION_RESIDUALS, MoveCheck, configuration_at, miss,
     predicted_change, predicted_delta_a,
 };
-pub use controller::{ControlSettings, Controller, Outcome, Run, StepPlan, StepRecord};
+pub use controller::{
+    ControlSettings, Controller, Outcome, Run, SHAPE_STOP_SAMPLES, StepPlan, StepRecord,
+};
 pub use error::ControlError;
 pub use feedback::FtFeedback;
 pub use noise::{NoiseModel, NoiseSettings, NoisyRig};

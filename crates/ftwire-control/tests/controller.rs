@@ -626,3 +626,80 @@ fn the_reported_pose_stays_a_rotation_over_many_noisy_moves() {
     let norm = rig.inner().0.tip.rotation.quaternion().norm();
     assert!((norm - 1.0).abs() < 1e-12, "|q| = {norm}");
 }
+
+#[test]
+fn the_shape_stop_ends_a_run_at_the_first_shape_within_its_tolerance() {
+    let (a_s, a_g) = pair();
+    let model = KirchhoffModel::new(wire());
+    let tolerance = 0.005;
+    let shaped = Controller::new(
+        model,
+        ControlSettings {
+            epsilon: 1e-9,
+            shape_tolerance: tolerance,
+            ..ControlSettings::default()
+        },
+    )
+    .expect("valid settings");
+    let mut rig = ModelRig::new(a_s);
+    let run = shaped
+        .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(
+        matches!(run.outcome, Outcome::Reached { .. }),
+        "{:?}",
+        run.outcome
+    );
+    let goal = model.shape(&a_g, 50).expect("solves").positions;
+    let distance = |a: &Vector6<f64>| shaped.shape_distance(a, &goal).expect("solves");
+    // Stopped where the shape holds, and not a step earlier.
+    let last = run.last_estimate();
+    assert!(distance(&last) < tolerance, "{}", distance(&last));
+    let before = run
+        .steps
+        .iter()
+        .rev()
+        .nth(1)
+        .map_or(run.start_estimate, |s| s.estimate);
+    assert!(distance(&before) >= tolerance, "{}", distance(&before));
+    // The model rig is exact: the true wire is where the model says.
+    let truth = model.shape(&rig.a, 50).expect("solves").positions;
+    let true_distance = ftwire_estimate::shape::centreline_distance(&truth, &goal, 50).expect("ok");
+    assert!(true_distance < tolerance * 1.01, "{true_distance}");
+    // ε alone runs on (the shape stop replaced it above).
+    let plain = Controller::new(
+        model,
+        ControlSettings {
+            epsilon: 1e-9,
+            ..ControlSettings::default()
+        },
+    )
+    .expect("valid settings")
+    .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
+    .expect("runs");
+    assert!(plain.steps.len() > run.steps.len() + 5);
+}
+
+#[test]
+fn a_bad_shape_tolerance_is_refused_by_name() {
+    for value in [-0.001, f64::NAN, f64::INFINITY] {
+        let err = Controller::new(
+            KirchhoffModel::new(wire()),
+            ControlSettings {
+                shape_tolerance: value,
+                ..ControlSettings::default()
+            },
+        )
+        .expect_err("refused");
+        assert!(
+            matches!(
+                err,
+                ControlError::BadSetting {
+                    name: "shape_tolerance",
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
+    }
+}

@@ -78,3 +78,16 @@ fn zero_pairs_is_bad_input() {
     let output = ftwire(&["experiment", "goal", "--pairs", "0", "--gravity", "off"]);
     assert_exit(&output, 2, "--pairs 0", "goal --pairs 0");
 }
+
+#[test]
+fn a_negative_shape_stop_is_bad_input() {
+    let output = ftwire(&[
+        "experiment",
+        "goal",
+        "--shape-stop",
+        "-2",
+        "--gravity",
+        "off",
+    ]);
+    assert_exit(&output, 2, "--shape-stop -2", "goal --shape-stop -2");
+}

@@ -52,6 +52,13 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
         }
         assert!(r["detected"].as_u64() <= r["collisions"].as_u64());
     }
+    let closed = &first["results"]["closed_loop"];
+    for key in ["retreats", "recovered", "false_alarms"] {
+        assert!(closed[key].as_u64().is_some(), "results.closed_loop.{key}");
+    }
+    // Under `offset` the defaults are gain 0.5 and the ε stops (no shape stop).
+    assert_eq!(first["gain"], 0.5);
+    assert_eq!(first["shape_stop_mm"], 0.0);
     assert!(first["plan_ms"].as_f64().is_some_and(|t| t > 0.0));
     assert!(first["plan"]["waypoints"].as_u64().is_some_and(|n| n >= 2));
     for file in [
@@ -116,6 +123,8 @@ fn bad_options_are_refused_before_any_work() {
     assert_exit(&output, 2, "--pairs 0", "track --pairs 0");
     let output = ftwire(&["experiment", "passage", "--gain", "1.5"]);
     assert_exit(&output, 2, "--gain 1.5", "passage --gain 1.5");
+    let output = ftwire(&["experiment", "track", "--shape-stop", "-1"]);
+    assert_exit(&output, 2, "--shape-stop -1", "track --shape-stop -1");
     let output = ftwire(&["experiment", "passage", "--scene", "/no/such/scene.toml"]);
     assert_exit(&output, 2, "scene.toml", "passage --scene missing");
 }

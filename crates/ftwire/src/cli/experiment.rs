@@ -232,6 +232,11 @@ pub struct GoalExperimentArgs {
     /// poses); `off` steers by the tared `ã` alone.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub bias_observer: OnOff,
+    /// The closed loop's shape stop in mm for the `noise` runs: a run ends once the model's
+    /// shape at the measured `ã` is within this mean distance of `Φ(a_g)` (instead of the `ε`
+    /// stop); 0 switches it off [default: 6 under `increment` and `absolute`, off otherwise].
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
+    pub shape_stop: Option<f64>,
 }
 
 /// A switch (`on|off`).
@@ -261,13 +266,20 @@ pub struct RolloutArgs {
     /// calibration is first run on the default known wire and cached in the results folder.
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
-    /// The controller's gain K of eq. 13, in (0, 1]. The paper's is 0.2; a larger gain undoes
-    /// each move's error sooner (under `increment` noise the wire's stationary spread about the
-    /// path falls from 1.67 times one move's error at K = 0.2 to 1 at K = 1) and takes fewer
-    /// moves, each of them a rest in which the sensor drifts. Measured on the shipped passage
-    /// with `offset` noise (seed 0): 50/50 successes at 0.5; 9/10 at 0.2 and at 1.
-    #[arg(long, value_name = "K", default_value_t = 0.5, value_parser = ftwire::args::parse_finite)]
-    pub gain: f64,
+    /// The controller's gain K of eq. 13, in (0, 1] [default: 1 under `increment` and
+    /// `absolute`, 0.5 otherwise]. The paper's is 0.2; a larger gain undoes each move's error
+    /// sooner (under `increment` noise the wire's stationary spread about the path falls from
+    /// 1.67 times one move's error at K = 0.2 to 1 at K = 1) and takes fewer moves, each of
+    /// them a rest in which the sensor drifts. Measured on the shipped passage (seed 0): with
+    /// `offset` noise 50/50 successes at 0.5, 9/10 at 0.2 and at 1; with `increment`, 43/50 at
+    /// 1 against 35/50 at 0.5 (without the shape stop).
+    #[arg(long, value_name = "K", value_parser = ftwire::args::parse_finite)]
+    pub gain: Option<f64>,
+    /// The closed loop's shape stop in mm: each leg ends once the model's shape at the
+    /// measured `ã` is within this mean distance of the waypoint's (instead of the `ε` stop);
+    /// 0 switches it off [default: 6 under `increment` and `absolute`, off otherwise].
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
+    pub shape_stop: Option<f64>,
     /// Steer the closed loop without noise and under `offset` by `ã` corrected for the F/T
     /// sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole path); `off`
     /// steers by the tared `ã` alone.
@@ -276,19 +288,43 @@ pub struct RolloutArgs {
 }
 
 impl RolloutArgs {
-    /// `--gain`, checked.
+    /// `--gain`, checked, or the default for the noise model
+    /// (`ftwire::experiment::track::default_gain`).
     ///
     /// # Errors
     /// Bad input for a gain outside `(0, 1]`.
     pub fn gain(&self) -> Result<f64, CliError> {
-        if self.gain > 0.0 && self.gain <= 1.0 {
-            Ok(self.gain)
-        } else {
-            Err(CliError::bad_input(format!(
-                "--gain {}: give a gain K in (0, 1]",
-                self.gain
-            )))
+        let noise = self.noise_model.model();
+        match self.gain {
+            None => Ok(ftwire::experiment::track::default_gain(noise)),
+            Some(gain) if gain > 0.0 && gain <= 1.0 => Ok(gain),
+            Some(gain) => Err(CliError::bad_input(format!(
+                "--gain {gain}: give a gain K in (0, 1]"
+            ))),
         }
+    }
+
+    /// `--shape-stop` in metres, checked, or the default for the noise model.
+    ///
+    /// # Errors
+    /// Bad input for a negative distance.
+    pub fn shape_stop(&self) -> Result<f64, CliError> {
+        shape_stop(self.shape_stop, self.noise_model)
+    }
+}
+
+/// `--shape-stop` \[mm\] in metres, or the default for `noise`
+/// (`ftwire::experiment::track::default_shape_stop`).
+///
+/// # Errors
+/// Bad input for a negative distance.
+pub fn shape_stop(mm: Option<f64>, noise: NoiseModelArg) -> Result<f64, CliError> {
+    match mm {
+        None => Ok(ftwire::experiment::track::default_shape_stop(noise.model())),
+        Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
+        Some(mm) => Err(CliError::bad_input(format!(
+            "--shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
+        ))),
     }
 }
 

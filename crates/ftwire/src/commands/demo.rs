@@ -359,6 +359,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         noise,
         seed,
         gain: ftwire_control::ControlSettings::default().gain,
+        shape_stop: track::default_shape_stop(noise),
         arms: true,
         bias_observer: true,
     };
@@ -382,6 +383,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
             match (a.touched, a.detected) {
                 (true, true) => ", touched an obstacle, detected",
                 (true, false) => ", touched an obstacle",
+                (false, true) if a.completed => ", a false alarm, retreated",
                 (false, true) => ", stopped by a false alarm",
                 (false, false) => "",
             },

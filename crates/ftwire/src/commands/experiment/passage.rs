@@ -16,22 +16,29 @@
 //! reads `ã` through the learnt calibration (`--calibration FILE`, or one run first and cached as
 //! `calibration.json`). The closed loop is the controller (eq. 13–14) with the model of
 //! `--model`, from waypoint to waypoint, with the collision detector armed: its threshold comes
-//! from rehearsals of the same path with the obstacles away (`Tracking::detector`), and a
-//! detection ends the attempt. The open loop rolls the planned gripper poses out with no
+//! from rehearsals of the same path with the obstacles away (`Tracking::detector`). After a
+//! detection the gripper retreats one move and the leg runs again (`MAX_RETREATS`, 2, per
+//! attempt; the next detection ends it). The open loop rolls the planned gripper poses out with no
 //! feedback. Noise: `--noise-model` (default `increment`, the paper's), as in `experiment goal`;
-//! the controller's gain `--gain` (default 0.5; the paper's 0.2); the SDA10F's arms must reach
+//! the controller's gain `--gain` (default 1 under `increment` and `absolute`, 0.5
+//! otherwise; the paper's 0.2) and its shape stop `--shape-stop` (default 6 mm under `increment`
+//! and `absolute`: each leg ends once the model's shape at the measured `ã` is within it of the
+//! waypoint's; the `ε` stops otherwise); the SDA10F's arms must reach
 //! every commanded pose (`unreachable` ends an attempt).
 //!
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
 //! any rest (a contact force above `CONTACT_FORCE`); it *completed* when the whole path was
-//! executed (no refused waypoint, failed move, sensor fault or detection); it is *at the goal*
+//! executed (no refused waypoint, failed move, sensor fault or detection after the last
+//! retreat); it is *at the goal*
 //! when it completed within [`success_epsilon`] of the goal (0.1 without noise and under
 //! `offset`, where the last leg stops at 0.02; twice the stop ε under `increment` and
 //! `absolute`). It *succeeded* by [`success_rule`]: completed without touching, and at
 //! the goal too without noise and under `offset`; under `increment` and `absolute`, whose every
 //! move lands the wire the full noise away, the paper's rule (no collision) with the path
 //! completed. `at_goal` is reported for every noise model. `detected` counts collided attempts
-//! the detector stopped, `false_alarms` attempts it stopped without a contact.
+//! the detector flagged, `false_alarms` attempts it flagged without a contact, `retreats` the
+//! retreats and `recovered` the flagged attempts that completed the path after them (a touch
+//! before a retreat still fails the attempt).
 //!
 //! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{attempts, successes,
 //! collisions, detected, ...}` and `plan_ms`, the one wall-clock figure in it), `attempts.csv`,
@@ -89,10 +96,15 @@ pub struct Rates {
     pub at_goal: usize,
     /// The true wire touched a box.
     pub collisions: usize,
-    /// Collisions the detector stopped.
+    /// Collisions the detector flagged.
     pub detected: usize,
-    /// Attempts the detector stopped with no contact.
+    /// Attempts the detector flagged with no contact.
     pub false_alarms: usize,
+    /// Retreats over all attempts (`MAX_RETREATS` per attempt at most): after a detection the
+    /// gripper moved back one move and the leg ran again.
+    pub retreats: usize,
+    /// Attempts the detector flagged that still completed the path after their retreats.
+    pub recovered: usize,
     /// Attempts that ended early for another reason than a detection (a waypoint the
     /// controller refused, a failed move, a sensor fault).
     pub ended_early: usize,
@@ -127,6 +139,8 @@ impl Rates {
             collisions: count(&|a| a.touched),
             detected: count(&|a| a.touched && a.detected),
             false_alarms: count(&|a| !a.touched && a.detected),
+            retreats: attempts.iter().map(|a| a.retreats).sum(),
+            recovered: count(&|a| a.detected && a.completed),
             ended_early: count(&|a| !a.detected && !a.completed),
             final_error_median: median(&attempts.iter().map(|a| a.final_error).collect::<Vec<_>>()),
             shape_mean_mm: mean_std(&shapes).0,
@@ -167,6 +181,8 @@ struct Summary {
     noise_model: ftwire_control::NoiseModel,
     /// The controller's gain K.
     gain: f64,
+    /// The closed loop's shape stop \[mm\] (0: the `ε` stops).
+    shape_stop_mm: f64,
     /// The bias observer's settings of the closed loop (`null`: off, or under
     /// `increment`/`absolute`).
     bias_observer: Option<ftwire_control::BiasObserverSettings>,
@@ -221,6 +237,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         return Err(CliError::bad_input("--attempts 0: give at least 1"));
     }
     let gain = args.rollout.gain()?;
+    let shape_stop = args.rollout.shape_stop()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (scene, scene_name) = load_scene(args.scene.as_deref())?;
     let setup = common.setup.load()?;
@@ -274,6 +291,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         noise,
         seed,
         gain,
+        shape_stop,
         arms: true,
         bias_observer: args.rollout.bias_observer.on(),
     };
@@ -327,6 +345,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
+        shape_stop_mm: 1e3 * shape_stop,
         bias_observer: tracking.observer_settings(),
         success_epsilon: success_epsilon(noise),
         success_rule: success_rule(noise),
@@ -482,6 +501,7 @@ mod tests {
             steps: 10,
             touched,
             detected,
+            retreats: 0,
             final_error: 0.2,
             completed: outcome == "reached",
             at_goal: outcome == "reached" && !touched,
@@ -505,16 +525,23 @@ mod tests {
                 false,
                 false,
             ),
+            // A false alarm the retreat recovered: flagged, then the path completed.
+            Attempt {
+                retreats: 2,
+                ..attempt("reached", false, true, true)
+            },
         ];
         let rates = Rates::of(&attempts);
-        assert_eq!(rates.attempts, 5);
-        assert_eq!(rates.successes, 1);
+        assert_eq!(rates.attempts, 6);
+        assert_eq!(rates.successes, 2);
         assert_eq!(rates.collisions, 2);
         assert_eq!(rates.detected, 1);
-        assert_eq!(rates.false_alarms, 1);
+        assert_eq!(rates.false_alarms, 2);
+        assert_eq!(rates.retreats, 2);
+        assert_eq!(rates.recovered, 1);
         assert_eq!(rates.ended_early, 1);
-        assert_eq!(rates.completed, 2);
-        assert_eq!(rates.at_goal, 1);
+        assert_eq!(rates.completed, 3);
+        assert_eq!(rates.at_goal, 2);
         assert_eq!(rates.outcomes.get("refused at waypoint 3"), Some(&1));
         assert_eq!(rates.shape_max_mm, 3.0);
         assert_eq!(rates.shape_mean_mm, 2.0);

@@ -15,8 +15,10 @@
 //! closed loop runs the controller (eq. 13–14) from waypoint to waypoint on `ã` from the learnt
 //! calibration (`--calibration FILE`, or one run first and cached); the open loop rolls out the
 //! waypoints' gripper poses. Both under `--noise-model` (default `increment`, the paper's), with
-//! the same noise seed per pair, and the controller's gain `--gain` (default 0.5; the paper's
-//! 0.2). The collision detector is not armed: there is nothing to collide with, so it could
+//! the same noise seed per pair, the controller's gain `--gain` (default 1 under `increment`
+//! and `absolute`, 0.5 otherwise; the paper's 0.2) and its shape stop `--shape-stop` (default
+//! 6 mm under `increment` and `absolute`: each leg ends once the model's shape at the measured
+//! `ã` is within it of the waypoint's; the `ε` stops otherwise). The collision detector is not armed: there is nothing to collide with, so it could
 //! only stop a run by a false alarm (`experiment passage` arms it). The arms' kinematics do not
 //! limit the closed loop's commanded poses unless `--reach robot` (as in `experiment goal`, and
 //! the paper's noise experiments).
@@ -116,6 +118,8 @@ struct Summary {
     noise_model: ftwire_control::NoiseModel,
     /// The controller's gain K.
     gain: f64,
+    /// The closed loop's shape stop \[mm\] (0: the `ε` stops).
+    shape_stop_mm: f64,
     /// The bias observer's settings of the closed loop (`null`: off, or under
     /// `increment`/`absolute`).
     bias_observer: Option<ftwire_control::BiasObserverSettings>,
@@ -161,6 +165,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         return Err(CliError::bad_input("--pairs 0: give at least 1"));
     }
     let gain = args.rollout.gain()?;
+    let shape_stop = args.rollout.shape_stop()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (passage_scene, _) = passage::load_scene(None)?;
     let free = Scene {
@@ -213,6 +218,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
                 noise,
                 seed,
                 gain,
+                shape_stop,
                 arms: args.reach == ReachArg::Robot,
                 bias_observer: args.rollout.bias_observer.on(),
             };
@@ -271,6 +277,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         model: kind,
         noise_model: noise,
         gain,
+        shape_stop_mm: 1e3 * shape_stop,
         bias_observer: ftwire::experiment::rig::bias_observer(
             &setup,
             noise,
@@ -477,6 +484,7 @@ mod tests {
             steps: 3,
             touched: false,
             detected: false,
+            retreats: 0,
             final_error: 0.01,
             completed: true,
             at_goal: true,
