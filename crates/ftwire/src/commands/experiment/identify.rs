@@ -79,6 +79,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
+use super::stats::median;
 use crate::cli::experiment::{IdentifyExperimentArgs, IdentifyPipeline, ModelArg};
 use crate::cli::identify::FormArg;
 use crate::commands::identify::{flag_name, run_identification};
@@ -675,17 +676,6 @@ pub(crate) fn truth(wire: &WireSpec) -> [f64; 4] {
     [wire.c[0], wire.c[1], wire.c[2], wire.length]
 }
 
-/// The median of `values` (NaN for none).
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    match n {
-        0 => f64::NAN,
-        _ if n % 2 == 1 => values[n / 2],
-        _ => 0.5 * (values[n / 2 - 1] + values[n / 2]),
-    }
-}
-
 /// The mean of `|e[j] − truth| / truth` over `estimates` (NaN for none).
 fn mean_abs_relative(estimates: &[[f64; 4]], j: usize, truth: f64) -> f64 {
     estimates
@@ -753,8 +743,13 @@ fn aggregate<'a>(wire: &WireSpec, rows: impl Iterator<Item = &'a Row>, n: usize)
         relative_error,
         mean_abs_relative_error,
         mean_abs_relative_error_identified,
-        compute_ms_median: median(rows.iter().map(|r| r.compute_ms).collect()),
-        evaluations_median: median(rows.iter().map(|r| r.evaluations as f64).collect()),
+        compute_ms_median: median(&rows.iter().map(|r| r.compute_ms).collect::<Vec<_>>()),
+        evaluations_median: median(
+            &rows
+                .iter()
+                .map(|r| r.evaluations as f64)
+                .collect::<Vec<_>>(),
+        ),
     }
 }
 

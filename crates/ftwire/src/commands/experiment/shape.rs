@@ -52,6 +52,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
+use super::stats::median;
 use crate::cli::experiment::ShapeExperimentArgs;
 
 /// Configurations per wire by default (the paper's 50).
@@ -127,15 +128,6 @@ fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => values[n / 2],
-        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
-    }
-}
-
 /// Runs one configuration `k` of `wire` at `placed`.
 fn run_config(
     wire: &WireSpec,
@@ -174,7 +166,7 @@ fn run_config(
         *time = start.elapsed().as_secs_f64() * 1e6;
         std::hint::black_box(estimate.is_ok());
     }
-    let estimate_us = median(&mut times);
+    let estimate_us = median(&times);
     estimator.reset();
     let Ok(estimate) = estimator.estimate(&a_tilde) else {
         return Ok(None);
@@ -325,14 +317,14 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         let other_m = mean(&rows.iter().map(|r| 1e3 * r.other_mean).collect::<Vec<_>>());
         let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>()
             / (means.len().saturating_sub(1).max(1)) as f64;
-        let mut times: Vec<f64> = rows.iter().map(|r| r.estimate_us).collect();
+        let times: Vec<f64> = rows.iter().map(|r| r.estimate_us).collect();
         results.push(WireResult {
             name: wire.name.clone(),
             configs: rows.len(),
             mean_mm: m,
             std_mm: var.sqrt(),
             marker_mean_mm: mean(&rows.iter().map(|r| 1e3 * r.marker_mean).collect::<Vec<_>>()),
-            estimate_us_median: median(&mut times),
+            estimate_us_median: median(&times),
             mounting_mean_mm: mean(
                 &rows
                     .iter()
