@@ -6,13 +6,10 @@
 //! default wire `nitinol-3mm-820`). The simulator builds its boxes from the same file.
 //!
 //! **Plan.** One RRT* plan in `A_free` of the scene from its `start` to its `goal`
-//! (`plan_in_scene`: a fixed iteration budget and seeded restarts, so the same seed gives the
+//! ([`plan_in_scene`]: a fixed iteration budget and seeded restarts, so the same seed gives the
 //! same path on any machine), with the wire's weightless model (the scene's configurations are
 //! the paper model's), resampled into waypoints `γ_A(i/N)` whose shapes `Φ` and gripper poses
-//! `Γ` are those of the model of `--model`. Under `increment` and `absolute` noise four seeded
-//! plans are made and the one tracked is the one the model expects to touch least under one
-//! move's noise (`plan_for_noise`, `touch_risk`; each candidate's risk is in
-//! `plan.touch_risks`). `plan_ms` is the wall time of all of them.
+//! `Γ` are those of the model of `--model`. `plan_ms` is its wall time.
 //!
 //! **Roll-outs.** `--attempts N` (default 50) of each of closed and open loop, attempt `k` of both
 //! under the same noise seed. Each places the true wire at the start anew, tares the sensor and
@@ -57,8 +54,8 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
-    Attempt, Tracking, WAYPOINTS, Waypoint, plan_for_noise, scene_model, success_epsilon,
-    success_rule, waypoints_along,
+    Attempt, Tracking, WAYPOINTS, Waypoint, plan_in_scene, scene_model, success_epsilon,
+    success_rule, validity, waypoints_along,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -175,10 +172,6 @@ pub struct PlanOut {
     pub min_clearance_mm: f64,
     /// Waypoints tracked (`N + 1`).
     pub waypoints: usize,
-    /// Under `increment` and `absolute` noise, each candidate plan's touch risk
-    /// (`track::touch_risk`: the model's fraction of noisy moves that touch a box); the plan
-    /// with the least is tracked. Empty otherwise (one plan).
-    pub touch_risks: Vec<f64>,
 }
 
 #[derive(Serialize)]
@@ -266,7 +259,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo).
     let noise = args.rollout.noise_model.model();
     let planner_rod = Rod::new(*model.wire());
-    let (planned, _, touch_risks) = plan_for_noise(&scene, &planner_rod, model.rod(), noise, seed)?;
+    let (planned, _) = plan_in_scene(&scene, &planner_rod, validity(noise), seed)?;
     let plan_ms = 1e3 * planned.seconds;
     // The waypoints' shapes and gripper poses of the tracking model (the loaded one with
     // gravity on): the open loop rolls out the poses that give `γ_A` on the true, heavy wire.
@@ -283,26 +276,10 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         cost: planned.plan.path.cost,
         min_clearance_mm: 1e3 * planned.plan.path.min_clearance(),
         waypoints: planned.waypoints.len(),
-        touch_risks,
     };
     eprintln!(
-        "plan: {} waypoints, length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms{}",
-        plan.waypoints,
-        plan.cost,
-        plan.min_clearance_mm,
-        plan_ms,
-        if plan.touch_risks.is_empty() {
-            String::new()
-        } else {
-            format!(
-                "; touch risks of the candidates {}",
-                plan.touch_risks
-                    .iter()
-                    .map(|r| format!("{r:.1e}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
-        }
+        "plan: {} waypoints, length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms",
+        plan.waypoints, plan.cost, plan.min_clearance_mm, plan_ms
     );
 
     let tracking = Tracking {
