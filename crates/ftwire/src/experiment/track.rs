@@ -827,6 +827,8 @@ impl Tracking<'_> {
                         attempt.outcome = format!("retreat failed: {e}");
                         break;
                     }
+                    // The flagged leg did not reach its waypoint: Table IV scores the rerun.
+                    attempt.shape_mm.pop();
                     attempt.retreats += 1;
                     attempt.steps += 1;
                     let truth = truth_of(rig.inner());
