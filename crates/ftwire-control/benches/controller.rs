@@ -2,7 +2,9 @@
 //! Jacobian at `ã`, the step limits and the stability guard on the predicted configuration,
 //! for the weightless model and for the loaded one (the 3 mm / 820 mm nitinol under gravity);
 //! and one update of the bias observer at a rest (three Gauss–Newton iterations, each a
-//! solve of `J(L)`), which the loop adds when it steers by the drift-corrected `ã`.
+//! solve of `J(L)`), which the loop adds when it steers by the drift-corrected `ã`; and the
+//! shape stop's check at a rest (`Controller::shape_distance`: one shape solve of 50 nodes and
+//! the mean distance to the goal's), which the loop adds when it stops on the shape.
 
 use std::hint::black_box;
 
@@ -28,6 +30,14 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 controller
                     .plan_step(black_box(&a), black_box(&goal), &Pose::identity())
+                    .expect("solves")
+            });
+        });
+        let goal_shape = model.shape(&goal, 50).expect("solves").positions;
+        c.bench_function(&format!("shape stop check ({name})"), |b| {
+            b.iter(|| {
+                controller
+                    .shape_distance(black_box(&a), &goal_shape)
                     .expect("solves")
             });
         });
