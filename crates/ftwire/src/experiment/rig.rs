@@ -107,8 +107,9 @@ pub fn tare(rig: &mut SimRig) -> Result<Tare, CliError> {
 }
 
 /// The bias observer's settings for a robot with `setup`'s sensor and the execution error
-/// `noise`, when it is switched `on`: what a user reads off the sensor's data sheet (its drift intensity; a force drift
-/// also drifts the torque at the clamp, `clamp_position_in_sensor` away) and knows of the tare
+/// `noise`, when it is switched `on`: what a user reads off the sensor's data sheet (its drift
+/// intensity; a force drift also drifts the torque at the clamp, `clamp_position_in_sensor`
+/// away) and knows of the tare
 /// ([`TARE_SAMPLES`] of its noise, with a margin of two) and of the robot's calibration (the
 /// `offset` model's spread; the repeatability for a robot that goes where it is told). `None`
 /// under `increment` and `absolute`: their stop tolerances (0.3–1 normalised) are ten times the

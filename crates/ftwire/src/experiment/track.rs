@@ -101,8 +101,9 @@ pub const EPSILON_THROUGH: f64 = 0.05;
 pub const EPSILON_THROUGH_NOISY: f64 = 0.3;
 
 /// Most moves toward one waypoint before the last under `increment` or `absolute` noise: with
-/// the shape stop ([`SHAPE_STOP_NOISY`]) about one move in four lands within it, so 20 moves
-/// leave a waypoint unmet now and then without stalling the path.
+/// the shape stop ([`SHAPE_STOP_NOISY`]) `experiment track` took 74.5 moves median over a
+/// path's 12 legs (about 6 a waypoint, seed 0), so 20 leave a waypoint unmet now and then
+/// without stalling the path.
 pub const MAX_ITERATIONS_THROUGH_NOISY: usize = 20;
 
 /// The shape stop \[m\] of the closed loop under `increment` or `absolute` noise
