@@ -34,7 +34,10 @@ impl ReachCheck for AnyPose {
 /// (`ftwire_robot::Robot::dual_arm_ik` with `check_collision`), the base gripper held at a
 /// fixed world pose; each solution seeds the next query, so that successive poses of a motion
 /// stay on one IK branch, and a pose the seeded solve misses gets the full search before it is
-/// called unreachable.
+/// called unreachable. The search refines the torso angle where one arm stops reaching and
+/// the other starts ([`DualArmParams::refine_torso`]): a planner keeps to the coarse search's
+/// reach, and execution, which must follow the wire wherever the noise puts it, may use the
+/// narrow torso windows at the edge of the robot's reach.
 #[derive(Debug, Clone)]
 pub struct RobotReach {
     robot: Robot,
@@ -54,6 +57,7 @@ impl RobotReach {
             base_gripper,
             params: DualArmParams {
                 check_collision: true,
+                refine_torso: true,
                 ..DualArmParams::default()
             },
             seed: None,

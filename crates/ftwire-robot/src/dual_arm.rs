@@ -50,7 +50,18 @@ pub struct DualArmParams {
     pub check_collision: bool,
     /// Capsule radii for that check (default [`LinkRadii::default`]).
     pub radii: LinkRadii,
+    /// When a [`TorsoChoice::Search`] finds no angle, search again between each pair of
+    /// neighbouring angles where the failing arm changes (the left arm failing at one, the
+    /// right at the other), in steps of [`REFINE_DIVISIONS`]ths of the search step (at least
+    /// [`MIN_TORSO_STEP`]). A pose near the edge of the robot's reach can be held only in a
+    /// torso window narrower than the search step: the window lies between the angles where
+    /// each arm alone stops reaching. Default `false` (a planner's conservative reach);
+    /// execution turns it on.
+    pub refine_torso: bool,
 }
+
+/// Into how many parts [`DualArmParams::refine_torso`] divides a search step.
+pub const REFINE_DIVISIONS: u32 = 20;
 
 impl Default for DualArmParams {
     fn default() -> Self {
@@ -62,6 +73,7 @@ impl Default for DualArmParams {
             },
             check_collision: true,
             radii: LinkRadii::default(),
+            refine_torso: false,
         }
     }
 }
@@ -130,8 +142,7 @@ impl Robot {
         let right_pose = left_pose * target.relative;
         let torsos = self.torso_candidates(params.torso, seed.map(|s| s.torso))?;
 
-        let (mut left_failures, mut right_failures, mut collisions) = (0, 0, 0);
-        for &torso in &torsos {
+        let try_at = |torso: f64| -> Result<Result<DualArmJoints, Failure>, RobotError> {
             let solve = |arm: Arm, pose: Pose, seed: Option<&ArmJoints>| {
                 let t = IkTarget {
                     arm,
@@ -146,25 +157,63 @@ impl Robot {
                 }
             };
             let Some(left) = solve(Arm::Left, left_pose, seed.map(|s| &s.left))? else {
-                left_failures += 1;
-                continue;
+                return Ok(Err(Failure::Left));
             };
             let Some(right) = solve(Arm::Right, right_pose, seed.map(|s| &s.right))? else {
-                right_failures += 1;
-                continue;
+                return Ok(Err(Failure::Right));
             };
             if params.check_collision {
                 let l = self.capsules_unchecked(Arm::Left, torso, &left, &params.radii);
                 let r = self.capsules_unchecked(Arm::Right, torso, &right, &params.radii);
                 if capsule_sets_contact(&l, &r).is_some() {
-                    collisions += 1;
-                    continue;
+                    return Ok(Err(Failure::Collided));
                 }
             }
-            return Ok(DualArmJoints { torso, left, right });
+            Ok(Ok(DualArmJoints { torso, left, right }))
+        };
+
+        let (mut left_failures, mut right_failures, mut collisions) = (0, 0, 0);
+        let mut count = |failure: Failure| match failure {
+            Failure::Left => left_failures += 1,
+            Failure::Right => right_failures += 1,
+            Failure::Collided => collisions += 1,
+        };
+        let mut tried = Vec::with_capacity(torsos.len());
+        for &torso in &torsos {
+            let failure = match try_at(torso)? {
+                Ok(joints) => return Ok(joints),
+                Err(failure) => failure,
+            };
+            count(failure);
+            tried.push((torso, failure));
+        }
+        let mut torsos_tried = torsos.len();
+        if let (true, TorsoChoice::Search { step, .. }) = (params.refine_torso, params.torso) {
+            tried.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let fine = (step / f64::from(REFINE_DIVISIONS)).max(MIN_TORSO_STEP);
+            for pair in tried.windows(2) {
+                let ((lo, lo_kind), (hi, hi_kind)) = (pair[0], pair[1]);
+                // Only where one arm stops reaching and the other starts can a window hide.
+                let crossing = matches!(
+                    (lo_kind, hi_kind),
+                    (Failure::Left, Failure::Right) | (Failure::Right, Failure::Left)
+                );
+                if !crossing {
+                    continue;
+                }
+                let mut torso = lo + fine;
+                while torso < hi - 0.5 * fine {
+                    torsos_tried += 1;
+                    match try_at(torso)? {
+                        Ok(joints) => return Ok(joints),
+                        Err(failure) => count(failure),
+                    }
+                    torso += fine;
+                }
+            }
         }
         Err(RobotError::DualArmUnreachable {
-            torsos_tried: torsos.len(),
+            torsos_tried,
             left_failures,
             right_failures,
             collisions,
@@ -207,4 +256,15 @@ impl Robot {
             }
         }
     }
+}
+
+/// Why one torso angle gave no solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Failure {
+    /// The left (base) arm cannot reach its pose.
+    Left,
+    /// The right arm cannot.
+    Right,
+    /// Both can, but the arms collide.
+    Collided,
 }

@@ -19,7 +19,9 @@ pub use collision::{
     Capsule, Contact, LINK_CAPSULES, LinkRadii, OrientedBox, point_box_distance,
     segment_box_distance, segment_segment_distance,
 };
-pub use dual_arm::{DualArmJoints, DualArmParams, DualArmTarget, MIN_TORSO_STEP, TorsoChoice};
+pub use dual_arm::{
+    DualArmJoints, DualArmParams, DualArmTarget, MIN_TORSO_STEP, REFINE_DIVISIONS, TorsoChoice,
+};
 pub use error::RobotError;
 pub use ik::{IkParams, IkSolution, IkTarget, Posture};
 pub use reach::{ReachParams, Reachability};

@@ -158,3 +158,70 @@ fn too_long_a_wire_has_no_solution_and_says_why() {
         Err(RobotError::InvalidParameter { .. })
     ));
 }
+
+/// The refinement of the torso search finds poses the coarse search steps over (each arm alone
+/// reaches its pose in a torso window; the windows overlap between two search angles), returns
+/// only true solutions, and changes nothing where the coarse search succeeds.
+#[test]
+fn refining_the_torso_finds_the_windows_between_search_angles() {
+    let robot = robot();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let coarse = DualArmParams {
+        torso: TorsoChoice::Search {
+            start: 0.0,
+            step: 1.0,
+        },
+        check_collision: false,
+        ..DualArmParams::default()
+    };
+    let refined = DualArmParams {
+        refine_torso: true,
+        ..coarse
+    };
+    let (mut coarse_solved, mut refined_solved) = (0, 0);
+    for _ in 0..60 {
+        let torso = rng.random_range(-1.5..=1.5);
+        let (l, r) = (
+            random(&robot, Arm::Left, &mut rng),
+            random(&robot, Arm::Right, &mut rng),
+        );
+        let base = robot
+            .fk(Arm::Left, torso, &l, EndFrame::Gripper)
+            .expect("fk");
+        let tip = robot
+            .fk(Arm::Right, torso, &r, EndFrame::Gripper)
+            .expect("fk");
+        let target = DualArmTarget {
+            world_from_base: ftwire_core::Pose::identity(),
+            base_gripper: base,
+            relative: base.inverse() * tip,
+        };
+        let first = robot.dual_arm_ik(&target, None, &coarse).ok();
+        let second = robot.dual_arm_ik(&target, None, &refined).ok();
+        if let Some(s) = &first {
+            coarse_solved += 1;
+            assert_eq!(
+                second.as_ref(),
+                Some(s),
+                "the refinement runs only after a miss"
+            );
+        }
+        if let Some(s) = &second {
+            refined_solved += 1;
+            let b = robot
+                .fk(Arm::Left, s.torso, &s.left, EndFrame::Gripper)
+                .expect("fk");
+            let t = robot
+                .fk(Arm::Right, s.torso, &s.right, EndFrame::Gripper)
+                .expect("fk");
+            assert!((b.translation.vector - base.translation.vector).norm() <= 1e-6);
+            assert!((t.translation.vector - tip.translation.vector).norm() <= 1e-6);
+            assert!(b.rotation.angle_to(&base.rotation) <= 1e-6);
+            assert!(t.rotation.angle_to(&tip.rotation) <= 1e-6);
+        }
+    }
+    assert!(
+        refined_solved > coarse_solved,
+        "refined {refined_solved}, coarse {coarse_solved} of 60"
+    );
+}
