@@ -505,6 +505,9 @@ pub struct Attempt {
     /// Retreats after a detection ([`MAX_RETREATS`] at most): each moved the second gripper
     /// back one move and ran the leg again.
     pub retreats: usize,
+    /// Intermediate waypoints passed over because the arms could not reach them (the closed
+    /// loop moves on to the next; two in a row end the attempt).
+    pub skipped: usize,
     /// `‖a_true − a_g‖` at the end \[normalised\] (the simulator's wrench).
     pub final_error: f64,
     /// The whole path was executed: every leg ended by reaching its waypoint or, between
@@ -760,6 +763,7 @@ impl Tracking<'_> {
             touched: false,
             detected: false,
             retreats: 0,
+            skipped: 0,
             final_error: f64::NAN,
             completed: false,
             at_goal: false,
@@ -773,6 +777,7 @@ impl Tracking<'_> {
         let mut touched = start.touched;
         attempt.a_true.push(start.a.into());
         let mut i = 1;
+        let mut skipped_last = None;
         while let Some(waypoint) = waypoints.get(i) {
             let final_leg = i + 1 == waypoints.len();
             let (controller, feedback) = if final_leg {
@@ -838,6 +843,15 @@ impl Tracking<'_> {
                     attempt.a_true.push(truth.a.into());
                     continue;
                 }
+                // An intermediate waypoint the arms cannot reach (the run's grasp offset or
+                // the accumulated noise moved its pose beyond them) is passed over once: the
+                // leg to the next waypoint starts from where the wire is. The waypoint is not
+                // scored; a second unreachable waypoint in a row ends the attempt.
+                Outcome::Unreachable { .. } if !final_leg && skipped_last != Some(i - 1) => {
+                    attempt.shape_mm.pop();
+                    attempt.skipped += 1;
+                    skipped_last = Some(i);
+                }
                 _ => break,
             }
             i += 1;
@@ -870,6 +884,7 @@ impl Tracking<'_> {
             touched: start.touched,
             detected: false,
             retreats: 0,
+            skipped: 0,
             final_error: f64::NAN,
             completed: false,
             at_goal: false,
@@ -1022,6 +1037,7 @@ mod tests {
             touched: false,
             detected: false,
             retreats: 0,
+            skipped: 0,
             final_error: 14.0,
             completed: true,
             at_goal,

@@ -24,7 +24,9 @@
 //! otherwise; the paper's 0.2) and its shape stop `--shape-stop` (default 6 mm under `increment`
 //! and `absolute`: each leg ends once the model's shape at the measured `ã` is within it of the
 //! waypoint's; the `ε` stops otherwise); the SDA10F's arms must reach
-//! every commanded pose (`unreachable` ends an attempt).
+//! every commanded pose: an intermediate waypoint they cannot reach is passed over, the leg to
+//! the next one starting from where the wire is (`skipped`; a second in a row, or the goal,
+//! ends the attempt as `unreachable`).
 //!
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
 //! any rest (a contact force above `CONTACT_FORCE`); it *completed* when the whole path was
@@ -105,6 +107,9 @@ pub struct Rates {
     pub retreats: usize,
     /// Attempts the detector flagged that still completed the path after their retreats.
     pub recovered: usize,
+    /// Intermediate waypoints passed over over all attempts because the arms could not reach
+    /// them (at most one in a row per attempt).
+    pub skipped: usize,
     /// Attempts that ended early for another reason than a detection (a waypoint the
     /// controller refused, a failed move, a sensor fault).
     pub ended_early: usize,
@@ -141,6 +146,7 @@ impl Rates {
             false_alarms: count(&|a| !a.touched && a.detected),
             retreats: attempts.iter().map(|a| a.retreats).sum(),
             recovered: count(&|a| a.detected && a.completed),
+            skipped: attempts.iter().map(|a| a.skipped).sum(),
             ended_early: count(&|a| !a.detected && !a.completed),
             final_error_median: median(&attempts.iter().map(|a| a.final_error).collect::<Vec<_>>()),
             shape_mean_mm: mean_std(&shapes).0,
@@ -502,6 +508,7 @@ mod tests {
             touched,
             detected,
             retreats: 0,
+            skipped: 0,
             final_error: 0.2,
             completed: outcome == "reached",
             at_goal: outcome == "reached" && !touched,
@@ -528,6 +535,7 @@ mod tests {
             // A false alarm the retreat recovered: flagged, then the path completed.
             Attempt {
                 retreats: 2,
+                skipped: 1,
                 ..attempt("reached", false, true, true)
             },
         ];
@@ -539,6 +547,7 @@ mod tests {
         assert_eq!(rates.false_alarms, 2);
         assert_eq!(rates.retreats, 2);
         assert_eq!(rates.recovered, 1);
+        assert_eq!(rates.skipped, 1);
         assert_eq!(rates.ended_early, 1);
         assert_eq!(rates.completed, 3);
         assert_eq!(rates.at_goal, 2);

@@ -485,6 +485,7 @@ mod tests {
             touched: false,
             detected: false,
             retreats: 0,
+            skipped: 0,
             final_error: 0.01,
             completed: true,
             at_goal: true,
