@@ -212,6 +212,12 @@ pub const REHEARSALS: u64 = 5;
 /// judged on the true wire: a touch before the retreat is a failure.
 pub const MAX_RETREATS: usize = 2;
 
+/// Whether the closed loop may pass over waypoint `i` (1-based leg), out of the arms' reach:
+/// not the goal, and not right after passing over the one before.
+fn may_pass_over(i: usize, final_leg: bool, skipped_last: Option<usize>) -> bool {
+    !final_leg && (skipped_last.is_none() || skipped_last != i.checked_sub(1))
+}
+
 /// Contact force \[N\] on a node of the simulated wire above which it touches an obstacle.
 pub const CONTACT_FORCE: f64 = 1e-6;
 
@@ -511,7 +517,8 @@ pub struct Attempt {
     /// `‖a_true − a_g‖` at the end \[normalised\] (the simulator's wrench).
     pub final_error: f64,
     /// The whole path was executed: every leg ended by reaching its waypoint or, between
-    /// waypoints and on the last leg, by the iteration limit (closed loop); every move made
+    /// waypoints and on the last leg, by the iteration limit, or passed over an intermediate
+    /// waypoint out of the arms' reach ([`Attempt::skipped`]) (closed loop); every move made
     /// (open loop).
     pub completed: bool,
     /// Ended within [`success_epsilon`] of the goal (true wrench).
@@ -847,7 +854,7 @@ impl Tracking<'_> {
                 // the accumulated noise moved its pose beyond them) is passed over once: the
                 // leg to the next waypoint starts from where the wire is. The waypoint is not
                 // scored; a second unreachable waypoint in a row ends the attempt.
-                Outcome::Unreachable { .. } if !final_leg && skipped_last != Some(i - 1) => {
+                Outcome::Unreachable { .. } if may_pass_over(i, final_leg, skipped_last) => {
                     attempt.shape_mm.pop();
                     attempt.skipped += 1;
                     skipped_last = Some(i);
@@ -1049,6 +1056,21 @@ mod tests {
         assert_eq!(attempt(true, true).verdict(), "success");
         assert!(attempt(true, false).verdict().contains("not at the goal"));
         assert_eq!(attempt(false, true).verdict(), "failure");
+    }
+
+    #[test]
+    fn an_unreachable_waypoint_is_passed_over_once_in_a_row_and_never_the_goal() {
+        assert!(may_pass_over(3, false, None));
+        assert!(
+            !may_pass_over(4, false, Some(3)),
+            "two in a row end the attempt"
+        );
+        assert!(may_pass_over(5, false, Some(3)));
+        assert!(
+            !may_pass_over(12, true, None),
+            "the goal is never passed over"
+        );
+        assert!(may_pass_over(1, false, None));
     }
 
     #[test]
