@@ -19,19 +19,20 @@ use ftwire_control::{
     FtFeedback, NoiseModel, NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck, RobotReach, Run,
     configuration_at,
 };
-use ftwire_core::{Pose, Rig};
+use ftwire_core::{Command, GripperPoses, Pose, Rig};
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::WireModel;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::ft::FtPipeline;
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, centreline_distance};
 use ftwire_plan::{
-    Checker, FixedBase, Plan, PlannerParams, Sample, Scene, ValidityParams, plan, scene_endpoint,
+    Checker, Config, FixedBase, Plan, PlannerParams, Sample, Scene, ValidityParams, plan,
+    scene_endpoint,
 };
-use ftwire_robot::Robot;
+use ftwire_robot::{DualArmParams, DualArmTarget, Robot};
 use ftwire_rod::{Load, Rod, to_normalised};
 use ftwire_sim::{RigConfig, SimRig, World};
-use nalgebra::{Point3, Vector3, Vector6};
+use nalgebra::{Point3, Translation3, Vector3, Vector6};
 use serde::Serialize;
 
 use super::Gravity;
@@ -211,6 +212,75 @@ pub const REHEARSALS: u64 = 5;
 /// crosses it now and then) costs one move back instead of the attempt. The success is still
 /// judged on the true wire: a touch before the retreat is a failure.
 pub const MAX_RETREATS: usize = 2;
+
+/// A base gripper pose from which the arms reach the goal again, when the controller has
+/// found the goal out of their reach (under `offset` noise the run's grasp offset moves the
+/// pose the robot must command by up to a few centimetres): the current base `poses.base`
+/// moved by one translation of 1–4 cm along a world axis ([`RELOCATION_STEPS`], shortest
+/// first), which leaves the wire's configuration and the sensor's gravity direction unchanged.
+/// A candidate must keep the goal `a_goal` valid in `scene` with the margins of a plan tracked
+/// under `noise` ([`validity`]: `model`'s wire clear of the boxes there and halfway, the
+/// planned goal pose reachable with the planner's coarse torso sweep, the arms clear), and
+/// two relative poses must be reachable from it with that sweep: the robot's current one and
+/// the one it will command at the goal, `Γ(a_goal) · Γ(a_now)⁻¹ · b`, the current command
+/// `b` carried by the model's step from the measured `a_now` (which holds the grasp offset
+/// the robot cannot see). `None` when no candidate does.
+///
+/// # Errors
+/// Bad input when the scene or the robot cannot be built; no answer when the model cannot
+/// solve `a_now` or `a_goal`.
+pub fn relocation(
+    scene: &Scene,
+    noise: NoiseModel,
+    model: &KirchhoffModel,
+    poses: &GripperPoses,
+    a_now: &Vector6<f64>,
+    a_goal: &Vector6<f64>,
+) -> Result<Option<Pose>, CliError> {
+    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+    let checker = Checker::new(*model.rod(), robot.clone(), scene, validity(noise))
+        .map_err(|e| from_plan(e, "the scene"))?;
+    let tip = |a: &Vector6<f64>| {
+        model
+            .tip(a)
+            .map_err(|e| CliError::no_answer(format!("relocating the base: {e}")))
+    };
+    let now = poses.relative();
+    let at_goal = tip(a_goal)? * tip(a_now)?.inverse() * now;
+    let moved = |t: Vector3<f64>| {
+        Pose::from_parts(
+            Translation3::from(poses.base.translation.vector + t),
+            poses.base.rotation,
+        )
+    };
+    let clear = |base: Pose| checker.endpoint(&Config { a: *a_goal, base }).is_ok();
+    let coarse = DualArmParams::default();
+    for step in RELOCATION_STEPS {
+        for axis in 0..6 {
+            let mut t = Vector3::zeros();
+            t[axis % 3] = if axis < 3 { step } else { -step };
+            let base = moved(t);
+            if !(clear(base) && clear(moved(0.5 * t))) {
+                continue;
+            }
+            let reaches = |relative: Pose| {
+                let target = DualArmTarget {
+                    world_from_base: Pose::identity(),
+                    base_gripper: base,
+                    relative,
+                };
+                robot.dual_arm_ik(&target, None, &coarse).is_ok()
+            };
+            if reaches(now) && reaches(at_goal) {
+                return Ok(Some(base));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// Lengths \[m\] of the translations [`Tracking::relocation`] tries along each world axis.
+pub const RELOCATION_STEPS: [f64; 4] = [0.01, 0.02, 0.03, 0.04];
 
 /// Whether the closed loop may pass over waypoint `i` (1-based leg), out of the arms' reach:
 /// not the goal, and not right after passing over the one before.
@@ -514,6 +584,9 @@ pub struct Attempt {
     /// Intermediate waypoints passed over because the arms could not reach them (the closed
     /// loop moves on to the next; two in a row end the attempt).
     pub skipped: usize,
+    /// Whether the closed loop moved both grippers by one translation to reach the goal
+    /// ([`Tracking::relocation`]; at most once an attempt).
+    pub relocated: bool,
     /// `‖a_true − a_g‖` at the end \[normalised\] (the simulator's wrench).
     pub final_error: f64,
     /// The whole path was executed: every leg ended by reaching its waypoint or, between
@@ -771,6 +844,7 @@ impl Tracking<'_> {
             detected: false,
             retreats: 0,
             skipped: 0,
+            relocated: false,
             final_error: f64::NAN,
             completed: false,
             at_goal: false,
@@ -850,6 +924,40 @@ impl Tracking<'_> {
                     attempt.a_true.push(truth.a.into());
                     continue;
                 }
+                // The goal out of the arms' reach: one translation of both grippers (the
+                // wire's configuration unchanged) that brings it back, then the leg again.
+                Outcome::Unreachable { .. } if final_leg && self.arms && !attempt.relocated => {
+                    let poses = rig
+                        .gripper_poses()
+                        .map_err(|e| CliError::no_answer(e.to_string()))?;
+                    let a_now = run.steps.last().map_or(run.start_estimate, |s| s.estimate);
+                    let Some(base) =
+                        relocation(self.scene, self.noise, model, &poses, &a_now, &last.a)?
+                    else {
+                        break;
+                    };
+                    let command = Command {
+                        base,
+                        tip: base * poses.relative(),
+                    };
+                    if let Err(e) = rig.command(&command) {
+                        attempt.outcome = format!("relocation failed: {e}");
+                        break;
+                    }
+                    reach = TrackReach::Robot(Box::new(RobotReach::new(
+                        Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?,
+                        Pose::identity(),
+                        base,
+                    )));
+                    attempt.shape_mm.pop();
+                    attempt.relocated = true;
+                    attempt.steps += 1;
+                    let truth = truth_of(rig.inner());
+                    touched |= truth.touched;
+                    attempt.centrelines.push(to_points(&truth.centreline));
+                    attempt.a_true.push(truth.a.into());
+                    continue;
+                }
                 // An intermediate waypoint the arms cannot reach (the run's grasp offset or
                 // the accumulated noise moved its pose beyond them) is passed over once: the
                 // leg to the next waypoint starts from where the wire is. The waypoint is not
@@ -892,6 +1000,7 @@ impl Tracking<'_> {
             detected: false,
             retreats: 0,
             skipped: 0,
+            relocated: false,
             final_error: f64::NAN,
             completed: false,
             at_goal: false,
@@ -1045,6 +1154,7 @@ mod tests {
             detected: false,
             retreats: 0,
             skipped: 0,
+            relocated: false,
             final_error: 14.0,
             completed: true,
             at_goal,
@@ -1056,6 +1166,45 @@ mod tests {
         assert_eq!(attempt(true, true).verdict(), "success");
         assert!(attempt(true, false).verdict().contains("not at the goal"));
         assert_eq!(attempt(false, true).verdict(), "failure");
+    }
+
+    #[test]
+    fn a_relocation_is_one_clear_axis_translation_from_which_the_arms_reach() {
+        let scene = Scene::from_toml(crate::scene::PASSAGE, "passage.toml").expect("scene");
+        let wire =
+            ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
+        let rod = Rod::new(wire);
+        let goal = ftwire_plan::scene_configuration(&scene, &rod, "goal").expect("goal");
+        let tip = scene.base * KirchhoffModel::new(wire).tip(&goal.a).expect("solves");
+        let poses = GripperPoses {
+            base: scene.base,
+            tip,
+        };
+        let model = KirchhoffModel::new(wire);
+        let base = relocation(&scene, NoiseModel::Offset, &model, &poses, &goal.a, &goal.a)
+            .expect("runs")
+            .expect("the passage's goal has room around it");
+        assert_eq!(base.rotation, scene.base.rotation, "a pure translation");
+        let t = base.translation.vector - scene.base.translation.vector;
+        let along = t.iter().filter(|c| c.abs() > 1e-12).count();
+        assert_eq!(along, 1, "along one axis: {t:?}");
+        assert!(
+            RELOCATION_STEPS
+                .iter()
+                .any(|s| (t.norm() - s).abs() < 1e-12)
+        );
+        let robot = Robot::sda10f().expect("robot");
+        let checker = Checker::new(rod, robot, &scene, validity(NoiseModel::Offset)).expect("ok");
+        assert!(checker.endpoint(&Config { a: goal.a, base }).is_ok());
+        // A relative pose no base near here reaches (the grippers 3 m apart): none.
+        let far = GripperPoses {
+            base: scene.base,
+            tip: scene.base * Pose::translation(3.0, 0.0, 0.0),
+        };
+        assert_eq!(
+            relocation(&scene, NoiseModel::Offset, &model, &far, &goal.a, &goal.a).expect("runs"),
+            None
+        );
     }
 
     #[test]

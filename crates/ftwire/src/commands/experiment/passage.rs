@@ -26,7 +26,9 @@
 //! waypoint's; the `ε` stops otherwise); the SDA10F's arms must reach
 //! every commanded pose: an intermediate waypoint they cannot reach is passed over, the leg to
 //! the next one starting from where the wire is (`skipped`; a second in a row, or the goal,
-//! ends the attempt as `unreachable`).
+//! ends the attempt as `unreachable`). A goal out of their reach (under `offset`, the run's
+//! grasp offset moves the pose to command) is brought back once by translating both grippers
+//! 1–4 cm along a world axis where the model's wire stays clear (`relocated`; `track::relocation`).
 //!
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
 //! any rest (a contact force above `CONTACT_FORCE`); it *completed* when the whole path was
@@ -110,6 +112,9 @@ pub struct Rates {
     /// Intermediate waypoints passed over over all attempts because the arms could not reach
     /// them (at most one in a row per attempt).
     pub skipped: usize,
+    /// Attempts that moved both grippers by one translation to bring a goal out of the arms'
+    /// reach back into it (`track::relocation`).
+    pub relocated: usize,
     /// Attempts that ended early for another reason than a detection (a waypoint the
     /// controller refused, a failed move, a sensor fault).
     pub ended_early: usize,
@@ -147,6 +152,7 @@ impl Rates {
             retreats: attempts.iter().map(|a| a.retreats).sum(),
             recovered: count(&|a| a.detected && a.completed),
             skipped: attempts.iter().map(|a| a.skipped).sum(),
+            relocated: count(&|a| a.relocated),
             ended_early: count(&|a| !a.detected && !a.completed),
             final_error_median: median(&attempts.iter().map(|a| a.final_error).collect::<Vec<_>>()),
             shape_mean_mm: mean_std(&shapes).0,
@@ -368,14 +374,14 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
 /// One row per attempt and mode.
 pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> String {
     let mut csv = String::from(
-        "mode,attempt,outcome,steps,touched,detected,success,final_error,shape_mean_mm,shape_max_mm\n",
+        "mode,attempt,outcome,steps,touched,detected,success,final_error,shape_mean_mm,shape_max_mm,retreats,skipped,relocated\n",
     );
     for (k, a) in closed.iter().enumerate().chain(open.iter().enumerate()) {
         let (mean, _) = mean_std(&a.shape_mm);
         let max = a.shape_mm.iter().copied().fold(f64::NAN, f64::max);
         let _ = writeln!(
             csv,
-            "{},{k},\"{}\",{},{},{},{},{:.6},{:.3},{:.3}",
+            "{},{k},\"{}\",{},{},{},{},{:.6},{:.3},{:.3},{},{},{}",
             a.mode,
             a.outcome.replace('"', "'"),
             a.steps,
@@ -384,7 +390,10 @@ pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> String {
             a.success,
             a.final_error,
             mean,
-            max
+            max,
+            a.retreats,
+            a.skipped,
+            a.relocated
         );
     }
     csv
@@ -509,6 +518,7 @@ mod tests {
             detected,
             retreats: 0,
             skipped: 0,
+            relocated: false,
             final_error: 0.2,
             completed: outcome == "reached",
             at_goal: outcome == "reached" && !touched,
@@ -536,6 +546,7 @@ mod tests {
             Attempt {
                 retreats: 2,
                 skipped: 1,
+                relocated: true,
                 ..attempt("reached", false, true, true)
             },
         ];
@@ -548,6 +559,7 @@ mod tests {
         assert_eq!(rates.retreats, 2);
         assert_eq!(rates.recovered, 1);
         assert_eq!(rates.skipped, 1);
+        assert_eq!(rates.relocated, 1);
         assert_eq!(rates.ended_early, 1);
         assert_eq!(rates.completed, 3);
         assert_eq!(rates.at_goal, 2);

@@ -486,6 +486,7 @@ mod tests {
             detected: false,
             retreats: 0,
             skipped: 0,
+            relocated: false,
             final_error: 0.01,
             completed: true,
             at_goal: true,
