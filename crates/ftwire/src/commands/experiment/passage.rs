@@ -17,7 +17,7 @@
 //! `calibration.json`). The closed loop is the controller (eq. 13–14) with the model of
 //! `--model`, from waypoint to waypoint, with the collision detector armed: its threshold comes
 //! from rehearsals of the same path with the obstacles away (`Tracking::detector`). After a
-//! detection the gripper retreats one move and the leg runs again (`MAX_RETREATS`, 2, per
+//! detection the gripper retreats one move and the leg runs again (`MAX_RETREATS`, 4, per
 //! attempt; the next detection ends it). The open loop rolls the planned gripper poses out with no
 //! feedback. Noise: `--noise-model` (default `increment`, the paper's), as in `experiment goal`;
 //! the controller's gain `--gain` (default 1 under `increment` and `absolute`, 0.5
