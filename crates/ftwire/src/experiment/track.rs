@@ -917,14 +917,8 @@ impl Tracking<'_> {
                         attempt.outcome = format!("retreat failed: {e}");
                         break;
                     }
-                    // The flagged leg did not reach its waypoint: Table IV scores the rerun.
-                    attempt.shape_mm.pop();
                     attempt.retreats += 1;
-                    attempt.steps += 1;
-                    let truth = truth_of(rig.inner());
-                    touched |= truth.touched;
-                    attempt.centrelines.push(to_points(&truth.centreline));
-                    attempt.a_true.push(truth.a.into());
+                    touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
                 // The goal out of the arms' reach: one translation of both grippers (the
@@ -952,13 +946,8 @@ impl Tracking<'_> {
                         Pose::identity(),
                         base,
                     )));
-                    attempt.shape_mm.pop();
                     attempt.relocated = true;
-                    attempt.steps += 1;
-                    let truth = truth_of(rig.inner());
-                    touched |= truth.touched;
-                    attempt.centrelines.push(to_points(&truth.centreline));
-                    attempt.a_true.push(truth.a.into());
+                    touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
                 // An intermediate waypoint the arms cannot reach (the run's grasp offset or
@@ -1071,6 +1060,18 @@ fn step_back<R: Rig>(rig: &mut R, run: &Run) -> Result<(), CliError> {
         .base;
     rig.move_tip(base * back)
         .map_err(|e| CliError::no_answer(e.to_string()))
+}
+
+/// Records a move the closed loop made outside a controller run (a retreat, a relocation)
+/// before it runs the leg again: the leg's waypoint was not reached, so its score is dropped
+/// (Table IV scores the rerun), and the rest's truth is kept. Returns whether the wire touched.
+fn extra_move(attempt: &mut Attempt, rig: &SimRig) -> bool {
+    attempt.shape_mm.pop();
+    attempt.steps += 1;
+    let truth = truth_of(rig);
+    attempt.centrelines.push(to_points(&truth.centreline));
+    attempt.a_true.push(truth.a.into());
+    truth.touched
 }
 
 fn to_points(centreline: &[Point3<f64>]) -> Vec<[f64; 3]> {
