@@ -282,7 +282,7 @@ pub fn relocation(
     Ok(None)
 }
 
-/// Lengths \[m\] of the translations [`Tracking::relocation`] tries along each world axis.
+/// Lengths \[m\] of the translations [`relocation`] tries along each world axis.
 pub const RELOCATION_STEPS: [f64; 4] = [0.01, 0.02, 0.03, 0.04];
 
 /// Whether the closed loop may pass over waypoint `i` (1-based leg), out of the arms' reach:
@@ -588,7 +588,7 @@ pub struct Attempt {
     /// loop moves on to the next; two in a row end the attempt).
     pub skipped: usize,
     /// Whether the closed loop moved both grippers by one translation to reach the goal
-    /// ([`Tracking::relocation`]; at most once an attempt).
+    /// ([`relocation`]; at most once an attempt).
     pub relocated: bool,
     /// `‖a_true − a_g‖` at the end \[normalised\] (the simulator's wrench).
     pub final_error: f64,
