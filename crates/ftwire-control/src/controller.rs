@@ -15,7 +15,8 @@
 //! step along the same direction often stays inside. The loop stops when the *measured* `ã` is
 //! within `ε` of the goal in normalised units (or, with [`ControlSettings::shape_tolerance`],
 //! when the model's shape at `ã` is within that distance of the goal's), and every other end
-//! is an [`Outcome`]. With a
+//! is an [`Outcome`]; with [`ControlSettings::divergence`] one of them is
+//! [`Outcome::Diverged`], a measured `ã` that ran away from the goal. With a
 //! [`BiasObserver`] ([`Controller::run_estimated`]) the step, the guard and the stop use `ã`
 //! corrected for the sensor's bias drift. A [`CollisionDetector`] can watch
 //! the residual of every move (see [`crate::collision`]).
@@ -70,7 +71,19 @@ pub struct ControlSettings {
     /// execution noise, the stop picks a move that landed the *wire* near its goal, which `ε`
     /// on the six wrench components does only loosely (README, "The shape stop").
     pub shape_tolerance: f64,
+    /// Divergence stop \[normalised\] (default `0`: off). When positive, the run stops with
+    /// [`Outcome::Diverged`] once the measured `‖a_g − ã‖` has exceeded its value at the
+    /// run's start by more than this at [`DIVERGED_RESTS`] rests in a row. Under the paper's
+    /// `increment` noise one move can throw the gripper 40 mm; near a taut wire the next
+    /// measurement is then far from the goal. One such throw is noise the next step corrects;
+    /// a second in a row is a run away from the region where eq. 13's linear step helps,
+    /// where every further move only adds its own noise. Stopping there lets the caller undo
+    /// the run from a pose it knows.
+    pub divergence: f64,
 }
+
+/// Rests in a row beyond [`ControlSettings::divergence`] that stop a run as diverged.
+pub const DIVERGED_RESTS: usize = 2;
 
 /// Nodes of the model shapes the shape stop compares, and their matched arc lengths
 /// ([`ControlSettings::shape_tolerance`]).
@@ -88,6 +101,7 @@ impl Default for ControlSettings {
             settle_radius: 0.0,
             settle_samples: 0,
             shape_tolerance: 0.0,
+            divergence: 0.0,
         }
     }
 }
@@ -118,6 +132,13 @@ impl ControlSettings {
             return Err(bad(
                 "settle_radius",
                 self.settle_radius,
+                "a finite number ≥ 0 (0: off)",
+            ));
+        }
+        if !(self.divergence.is_finite() && self.divergence >= 0.0) {
+            return Err(bad(
+                "divergence",
+                self.divergence,
                 "a finite number ≥ 0 (0: off)",
             ));
         }
@@ -196,6 +217,14 @@ pub enum Outcome {
         /// The pipeline's message.
         message: String,
     },
+    /// The measured `ã` stayed away from the goal by more than [`ControlSettings::divergence`]
+    /// beyond the start's distance for [`DIVERGED_RESTS`] rests in a row.
+    Diverged {
+        /// The step whose move ended there (0-based).
+        step: usize,
+        /// `‖a_g − ã‖` there \[normalised\].
+        error: f64,
+    },
     /// The rig refused or failed a commanded move (nothing moved).
     CommandFailed {
         /// The step (0-based).
@@ -222,6 +251,7 @@ impl Outcome {
             Self::PredictedInstability { .. } => "predicted_instability",
             Self::CollisionDetected { .. } => "collision_detected",
             Self::SensorFault { .. } => "sensor_fault",
+            Self::Diverged { .. } => "diverged",
             Self::CommandFailed { .. } => "command_failed",
             Self::ModelFailed { .. } => "model_failed",
         }
@@ -594,6 +624,8 @@ impl<M: WireModel> Controller<M> {
         let mut tip = start_tip;
         let mut checks = Vec::new();
         let goal_shape = self.stop_shape(goal)?;
+        let start_error = self.distance(&a, goal);
+        let mut beyond = 0;
         for step in 0..self.settings.max_iterations {
             let error = self.distance(&a, goal);
             let reached = match &goal_shape {
@@ -604,6 +636,16 @@ impl<M: WireModel> Controller<M> {
             };
             if reached {
                 run.outcome = Outcome::Reached { error };
+                return Ok(run);
+            }
+            let diverging =
+                self.settings.divergence > 0.0 && error > start_error + self.settings.divergence;
+            beyond = if diverging { beyond + 1 } else { 0 };
+            if beyond >= DIVERGED_RESTS {
+                run.outcome = Outcome::Diverged {
+                    step: step - 1,
+                    error,
+                };
                 return Ok(run);
             }
             let clock = Instant::now();

@@ -36,7 +36,8 @@ pub use collision::{
     predicted_change, predicted_delta_a,
 };
 pub use controller::{
-    ControlSettings, Controller, Outcome, Run, SHAPE_STOP_SAMPLES, StepPlan, StepRecord,
+    ControlSettings, Controller, DIVERGED_RESTS, Outcome, Run, SHAPE_STOP_SAMPLES, StepPlan,
+    StepRecord,
 };
 pub use error::ControlError;
 pub use feedback::FtFeedback;

@@ -384,6 +384,87 @@ fn sensor_and_rig_faults_are_outcomes() {
 }
 
 #[test]
+fn a_reading_that_runs_away_two_rests_in_a_row_stops_the_run_as_diverged() {
+    let (a_s, a_g) = pair();
+    // From the second move on, a wrench 20 normalised units larger at every move.
+    let runaway = from_normalised(&wire(), &Vector6::new(0.0, 0.0, 0.0, 20.0, 0.0, 0.0));
+    let rig = || ModelRig {
+        contact: Some((2, runaway)),
+        ..ModelRig::new(a_s)
+    };
+    let watching = Controller::new(
+        KirchhoffModel::new(wire()),
+        ControlSettings {
+            divergence: 5.0,
+            ..settings()
+        },
+    )
+    .expect("valid settings");
+    let mut stopped = rig();
+    let run = watching
+        .run(&mut stopped, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    // Beyond at the rests after moves 2 and 3: stopped there, after the third move (step 2).
+    let Outcome::Diverged { step, error } = run.outcome else {
+        panic!("not diverged: {:?}", run.outcome);
+    };
+    assert_eq!((step, stopped.moves), (2, 3));
+    assert!(error > 5.0 + watching.distance(&run.start_estimate, &a_g));
+    assert_eq!(run.outcome.name(), "diverged");
+    // Off (the default), the same rig runs on.
+    let mut unwatched = rig();
+    let run = controller()
+        .run(&mut unwatched, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(!matches!(run.outcome, Outcome::Diverged { .. }));
+    assert!(unwatched.moves > 3);
+    // One rest beyond is noise the next step corrects: a reading thrown once does not stop
+    // the run. (Short steps here, so that the move made on the thrown reading does not itself
+    // carry the wire away.)
+    let short = Controller::new(
+        KirchhoffModel::new(wire()),
+        ControlSettings {
+            divergence: 5.0,
+            max_translation: 0.002,
+            max_rotation: 0.01,
+            max_iterations: 10,
+            ..settings()
+        },
+    )
+    .expect("valid settings");
+    let mut thrown = ModelRig {
+        spike: Some((2, runaway)),
+        ..ModelRig::new(a_s)
+    };
+    let run = short
+        .run(&mut thrown, &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(
+        matches!(run.outcome, Outcome::IterationLimit { .. }),
+        "{:?}",
+        run.outcome
+    );
+    assert_eq!(thrown.moves, 10);
+    let bad = Controller::new(
+        KirchhoffModel::new(wire()),
+        ControlSettings {
+            divergence: -1.0,
+            ..settings()
+        },
+    );
+    assert!(
+        matches!(
+            bad,
+            Err(ControlError::BadSetting {
+                name: "divergence",
+                ..
+            })
+        ),
+        "{bad:?}"
+    );
+}
+
+#[test]
 fn bad_input_is_refused_before_any_motion() {
     let (a_s, a_g) = pair();
     let mut rig = ModelRig::new(a_s);

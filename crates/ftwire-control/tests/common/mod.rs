@@ -72,6 +72,9 @@ pub struct ModelRig {
     /// After this many moves, a contact adds this wrench (torque first) to the reading,
     /// growing with each further move.
     pub contact: Option<(usize, Vector6<f64>)>,
+    /// After exactly this many moves, and only then, this wrench (torque first) is added to
+    /// the reading: one move's throw that the next move undoes.
+    pub spike: Option<(usize, Vector6<f64>)>,
     /// White noise on each reading: the standard deviation of each channel of `a` (torque
     /// first, SI units) and the seeded generator drawing it.
     pub noise: Option<(Vector6<f64>, ChaCha8Rng)>,
@@ -93,6 +96,7 @@ impl ModelRig {
             dropout_after: None,
             zeros_after: None,
             contact: None,
+            spike: None,
             noise: None,
             bias: (Vector6::zeros(), Vector6::zeros()),
         }
@@ -143,6 +147,11 @@ impl Rig for ModelRig {
             && self.moves >= n
         {
             a += wrench * (1 + self.moves - n) as f64;
+        }
+        if let Some((n, wrench)) = self.spike
+            && self.moves == n
+        {
+            a += wrench;
         }
         if self.after(self.zeros_after) {
             a = Vector6::zeros();

@@ -82,6 +82,7 @@ pub fn goal_settings(noise: NoiseModel) -> ControlSettings {
         NoiseModel::Increment | NoiseModel::Absolute => ControlSettings {
             epsilon: EPSILON_NOISY,
             max_iterations: MAX_ITERATIONS_NOISY,
+            divergence: DIVERGENCE_NOISY,
             ..ControlSettings::default()
         },
         NoiseModel::None | NoiseModel::Offset => ControlSettings {
@@ -146,6 +147,7 @@ pub fn through_settings(noise: NoiseModel) -> ControlSettings {
         NoiseModel::Increment | NoiseModel::Absolute => ControlSettings {
             epsilon: EPSILON_THROUGH_NOISY,
             max_iterations: MAX_ITERATIONS_THROUGH_NOISY,
+            divergence: DIVERGENCE_NOISY,
             ..ControlSettings::default()
         },
         NoiseModel::None | NoiseModel::Offset => ControlSettings {
@@ -215,6 +217,25 @@ pub const REHEARSALS: u64 = 5;
 /// retreats left 2 of 4 false alarms unrecovered (flagged a third time); four recover all
 /// four (seeds 0, 1, 2: 45, 46, 37 → 46, 46, 38 of 50).
 pub const MAX_RETREATS: usize = 4;
+
+/// The controller's divergence stop under `increment` and `absolute` noise \[normalised\]
+/// (`ControlSettings::divergence`): a leg whose measured `‖a_g − ã‖` stays more than this
+/// above its start's for two rests in a row is stopped and undone ([`MAX_UNDOS`]). The one
+/// leg of `experiment track --seed 1` that ran away went from 1.4 to 10, 18 and 24 at its
+/// second to fourth rests (a 38 mm throw toward a taut wire) and to 62 after twenty, 200 mm
+/// from its waypoint. Near a taut wire one move's throw alone sets `ã` 5–15 away and the next move
+/// brings it back: on `experiment passage --seed 1`, a stop at 5 undid 37 legs and at 10 six
+/// (and each undo is one more noisy move near the boxes), at 20 none; 5, 10 and 20 all
+/// rescue the run away.
+pub const DIVERGENCE_NOISY: f64 = 20.0;
+
+/// Most undone legs of one closed-loop attempt. A leg the controller stopped as diverged
+/// (`Outcome::Diverged`), or one that ended on a rest without a usable measurement
+/// (`Outcome::SensorFault`: a wire pulled taut saturates the sensor), is undone: the second
+/// gripper goes back to the pose the leg started from (the robot knows it: under `increment`
+/// noise the encoders report where it went), and the leg runs again. The next such end after
+/// the last undo ends the attempt.
+pub const MAX_UNDOS: usize = 4;
 
 /// A base gripper pose from which the arms reach the goal again, when the controller has
 /// found the goal out of their reach (under `offset` noise the run's grasp offset moves the
@@ -584,6 +605,10 @@ pub struct Attempt {
     /// Retreats after a detection ([`MAX_RETREATS`] at most): each moved the second gripper
     /// back one move and ran the leg again.
     pub retreats: usize,
+    /// Legs undone after the controller stopped them as diverged or on a sensor fault
+    /// ([`MAX_UNDOS`] at most): each moved the second gripper back to the leg's start and ran
+    /// the leg again.
+    pub undone: usize,
     /// Intermediate waypoints passed over because the arms could not reach them (the closed
     /// loop moves on to the next; two in a row end the attempt).
     pub skipped: usize,
@@ -846,6 +871,7 @@ impl Tracking<'_> {
             touched: false,
             detected: false,
             retreats: 0,
+            undone: 0,
             skipped: 0,
             relocated: false,
             final_error: f64::NAN,
@@ -921,6 +947,20 @@ impl Tracking<'_> {
                     touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
+                // A leg thrown far from its waypoint, or a rest with no usable measurement
+                // (the sensor saturated by a wire pulled taut, or dropped out): back to where
+                // the leg started, then again.
+                Outcome::Diverged { .. } | Outcome::SensorFault { .. }
+                    if attempt.undone < MAX_UNDOS =>
+                {
+                    if let Err(e) = rig.move_tip(rig_base(&rig)? * run.start_tip) {
+                        attempt.outcome = format!("undo failed: {e}");
+                        break;
+                    }
+                    attempt.undone += 1;
+                    touched |= extra_move(&mut attempt, rig.inner());
+                    continue;
+                }
                 // The goal out of the arms' reach: one translation of both grippers (the
                 // wire's configuration unchanged) that brings it back, then the leg again.
                 Outcome::Unreachable { .. } if final_leg && self.arms && !attempt.relocated => {
@@ -991,6 +1031,7 @@ impl Tracking<'_> {
             touched: start.touched,
             detected: false,
             retreats: 0,
+            undone: 0,
             skipped: 0,
             relocated: false,
             final_error: f64::NAN,
@@ -1054,11 +1095,14 @@ fn step_back<R: Rig>(rig: &mut R, run: &Run) -> Result<(), CliError> {
         return Ok(());
     };
     let back = before.last().map_or(run.start_tip, |s| s.tip);
-    let base = rig
-        .gripper_poses()
-        .map_err(|e| CliError::no_answer(e.to_string()))?
-        .base;
-    rig.move_tip(base * back)
+    rig.move_tip(rig_base(rig)? * back)
+        .map_err(|e| CliError::no_answer(e.to_string()))
+}
+
+/// The base gripper's pose as the robot reports it.
+fn rig_base<R: Rig>(rig: &R) -> Result<Pose, CliError> {
+    rig.gripper_poses()
+        .map(|poses| poses.base)
         .map_err(|e| CliError::no_answer(e.to_string()))
 }
 
@@ -1157,6 +1201,7 @@ mod tests {
             touched: false,
             detected: false,
             retreats: 0,
+            undone: 0,
             skipped: 0,
             relocated: false,
             final_error: 14.0,

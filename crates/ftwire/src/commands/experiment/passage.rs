@@ -109,6 +109,10 @@ pub struct Rates {
     pub retreats: usize,
     /// Attempts the detector flagged that still completed the path after their retreats.
     pub recovered: usize,
+    /// Legs undone over all attempts (`track::MAX_UNDOS` per attempt at most): the controller
+    /// stopped a leg whose measured configuration ran away from its waypoint, the gripper went
+    /// back to the leg's start and the leg ran again (under `increment` and `absolute` noise).
+    pub undone: usize,
     /// Intermediate waypoints passed over over all attempts because the arms could not reach
     /// them (at most one in a row per attempt).
     pub skipped: usize,
@@ -151,6 +155,7 @@ impl Rates {
             false_alarms: count(&|a| !a.touched && a.detected),
             retreats: attempts.iter().map(|a| a.retreats).sum(),
             recovered: count(&|a| a.detected && a.completed),
+            undone: attempts.iter().map(|a| a.undone).sum(),
             skipped: attempts.iter().map(|a| a.skipped).sum(),
             relocated: count(&|a| a.relocated),
             ended_early: count(&|a| !a.detected && !a.completed),
@@ -374,14 +379,14 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
 /// One row per attempt and mode.
 pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> String {
     let mut csv = String::from(
-        "mode,attempt,outcome,steps,touched,detected,success,final_error,shape_mean_mm,shape_max_mm,retreats,skipped,relocated\n",
+        "mode,attempt,outcome,steps,touched,detected,success,final_error,shape_mean_mm,shape_max_mm,retreats,skipped,relocated,undone\n",
     );
     for (k, a) in closed.iter().enumerate().chain(open.iter().enumerate()) {
         let (mean, _) = mean_std(&a.shape_mm);
         let max = a.shape_mm.iter().copied().fold(f64::NAN, f64::max);
         let _ = writeln!(
             csv,
-            "{},{k},\"{}\",{},{},{},{},{:.6},{:.3},{:.3},{},{},{}",
+            "{},{k},\"{}\",{},{},{},{},{:.6},{:.3},{:.3},{},{},{},{}",
             a.mode,
             a.outcome.replace('"', "'"),
             a.steps,
@@ -393,7 +398,8 @@ pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> String {
             max,
             a.retreats,
             a.skipped,
-            a.relocated
+            a.relocated,
+            a.undone
         );
     }
     csv
@@ -517,6 +523,7 @@ mod tests {
             touched,
             detected,
             retreats: 0,
+            undone: 0,
             skipped: 0,
             relocated: false,
             final_error: 0.2,
@@ -545,6 +552,7 @@ mod tests {
             // A false alarm the retreat recovered: flagged, then the path completed.
             Attempt {
                 retreats: 2,
+                undone: 3,
                 skipped: 1,
                 relocated: true,
                 ..attempt("reached", false, true, true)
@@ -558,6 +566,7 @@ mod tests {
         assert_eq!(rates.false_alarms, 2);
         assert_eq!(rates.retreats, 2);
         assert_eq!(rates.recovered, 1);
+        assert_eq!(rates.undone, 3);
         assert_eq!(rates.skipped, 1);
         assert_eq!(rates.relocated, 1);
         assert_eq!(rates.ended_early, 1);

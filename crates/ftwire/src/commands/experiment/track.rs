@@ -485,6 +485,7 @@ mod tests {
             touched: false,
             detected: false,
             retreats: 0,
+            undone: 0,
             skipped: 0,
             relocated: false,
             final_error: 0.01,
