@@ -271,12 +271,12 @@ pub struct StepRecord {
     /// What the controller took as `a_{i+1}`: `measured`, corrected by the bias observer
     /// when the run has one ([`Controller::run_estimated`]).
     pub estimate: Vector6<f64>,
-    /// The move's miss against the model's prediction \[normalised\] (see [`crate::collision`]).
+    /// The move's miss against the model's prediction \[normalised\] (see [`MoveCheck::miss`]).
     pub miss: f64,
     /// The move as the collision detector sees it: its deviation from the model's (Newton)
     /// prediction for the executed motion, and the predicted step.
     pub check: MoveCheck,
-    /// The move's detector residual (see [`crate::collision`]; without a detector, that of
+    /// The move's detector residual (see [`CollisionDetector`]; without a detector, that of
     /// [`CollisionDetector::uncalibrated`]).
     pub residual: f64,
     /// Compute time of the control law and its stability guard \[s\].

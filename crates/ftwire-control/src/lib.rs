@@ -32,8 +32,8 @@ mod retreat;
 
 pub use bias::{BiasObserver, BiasObserverSettings};
 pub use collision::{
-    CollisionDetector, MIN_CALIBRATION_RESIDUALS, MoveCheck, configuration_at, miss,
-    predicted_change, predicted_delta_a,
+    CollisionDetector, MIN_CALIBRATION_RESIDUALS, MoveCheck, SLOPE_QUANTILE, configuration_at,
+    miss, predicted_change, predicted_delta_a,
 };
 pub use controller::{
     ControlSettings, Controller, DIVERGED_RESTS, Outcome, Run, SHAPE_STOP_SAMPLES, StepPlan,

@@ -8,7 +8,7 @@
 //! of the known wire (`ftwire_rod::sampling::Sampler`, default box). The operator places the
 //! wire at `Γ(a_k)` anew for every sample, and the robot tares its sensor on the empty gripper
 //! before it grips the wire (as it does at every re-grip); then it averages
-//! [`rig::SAMPLES_PER_REST`] samples at rest and the motion-capture system takes one frame of
+//! [`super::rig::SAMPLES_PER_REST`] samples at rest and the motion-capture system takes one frame of
 //! the 11 markers (noise and dropouts). Re-placing rather than moving from one configuration
 //! to the next keeps every sample on the intended equilibrium branch (a long move can snap the
 //! wire) and makes the samples independent. A placement the simulator cannot solve, a rest with

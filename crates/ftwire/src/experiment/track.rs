@@ -6,8 +6,8 @@
 //!   `γ_A(i/N)`.
 //! - [`place_in_scene`]: the simulated rig with the base clamp at the scene's base pose, the
 //!   scene's obstacles (the same file the planner read) and the true wire at a configuration.
-//! - [`track_closed_loop`]: the controller (eq. 13–14) toward each waypoint in turn, with the
-//!   collision detector armed; [`roll_out_open_loop`]: the planned gripper poses with no
+//! - [`Tracking::closed_loop`]: the controller (eq. 13–14) toward each waypoint in turn, with
+//!   the collision detector armed; [`Tracking::open_loop`]: the planned gripper poses with no
 //!   feedback. Both under the execution noise of [`NoiseModel`], both scored on the simulator's
 //!   truth: whether the true wire touched an obstacle at any rest, and its shape against
 //!   `Φ(γ_A)` at each waypoint.
