@@ -1,6 +1,7 @@
 //! `ftwire demo`: it runs end to end in the simulator, the same seed gives a byte-identical
-//! `summary.json` (timings live in `timings.json`) and `report.html`, its answers are the system's (the wire
-//! identified and its shape seen from F/T), and bad input is exit 2 with nothing written.
+//! `summary.json` (but for the `--out` folder it names; timings live in `timings.json`) and
+//! `report.html`, its answers are the system's (the wire identified and its shape seen from
+//! F/T), and bad input is exit 2 with nothing written.
 
 mod cli_support;
 
