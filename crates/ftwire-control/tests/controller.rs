@@ -16,7 +16,11 @@ use ftwire_rod::{JacobianSolution, Rod, Shape, from_normalised, to_normalised};
 use nalgebra::{Vector3, Vector6};
 
 fn controller() -> Controller<KirchhoffModel> {
-    Controller::new(KirchhoffModel::new(wire()), settings()).expect("valid settings")
+    controller_with(settings())
+}
+
+fn controller_with(settings: ControlSettings) -> Controller<KirchhoffModel> {
+    Controller::new(KirchhoffModel::new(wire()), settings).expect("valid settings")
 }
 
 #[test]
@@ -124,14 +128,10 @@ fn the_first_order_prediction_matches_finite_moves() {
 #[test]
 fn the_iteration_limit_ends_a_run() {
     let (a_s, a_g) = pair();
-    let controller = Controller::new(
-        KirchhoffModel::new(wire()),
-        ControlSettings {
-            max_iterations: 3,
-            ..settings()
-        },
-    )
-    .expect("valid");
+    let controller = controller_with(ControlSettings {
+        max_iterations: 3,
+        ..settings()
+    });
     let run = controller
         .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
         .expect("runs");
@@ -392,14 +392,10 @@ fn a_reading_that_runs_away_two_rests_in_a_row_stops_the_run_as_diverged() {
         contact: Some((2, runaway)),
         ..ModelRig::new(a_s)
     };
-    let watching = Controller::new(
-        KirchhoffModel::new(wire()),
-        ControlSettings {
-            divergence: 5.0,
-            ..settings()
-        },
-    )
-    .expect("valid settings");
+    let watching = controller_with(ControlSettings {
+        divergence: 5.0,
+        ..settings()
+    });
     let mut stopped = rig();
     let run = watching
         .run(&mut stopped, &feedback(), &mut AnyPose, &a_g)
@@ -421,17 +417,13 @@ fn a_reading_that_runs_away_two_rests_in_a_row_stops_the_run_as_diverged() {
     // One rest beyond is noise the next step corrects: a reading thrown once does not stop
     // the run. (Short steps here, so that the move made on the thrown reading does not itself
     // carry the wire away.)
-    let short = Controller::new(
-        KirchhoffModel::new(wire()),
-        ControlSettings {
-            divergence: 5.0,
-            max_translation: 0.002,
-            max_rotation: 0.01,
-            max_iterations: 10,
-            ..settings()
-        },
-    )
-    .expect("valid settings");
+    let short = controller_with(ControlSettings {
+        divergence: 5.0,
+        max_translation: 0.002,
+        max_rotation: 0.01,
+        max_iterations: 10,
+        ..settings()
+    });
     let mut thrown = ModelRig {
         spike: Some((2, runaway)),
         ..ModelRig::new(a_s)

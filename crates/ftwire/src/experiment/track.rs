@@ -223,10 +223,10 @@ pub const MAX_RETREATS: usize = 4;
 /// above its start's for two rests in a row is stopped and undone ([`MAX_UNDOS`]). The one
 /// leg of `experiment track --seed 1` that ran away went from 1.4 to 10, 18 and 24 at its
 /// second to fourth rests (a 38 mm throw toward a taut wire) and to 62 after twenty, 200 mm
-/// from its waypoint. Near a taut wire one move's throw alone sets `ã` 5–15 away and the next move
-/// brings it back: on `experiment passage --seed 1`, a stop at 5 undid 37 legs and at 10 six
-/// (and each undo is one more noisy move near the boxes), at 20 none; 5, 10 and 20 all
-/// rescue the run away.
+/// from its waypoint. Near a taut wire one move's throw alone sets `ã` 5–15 away and the
+/// next move brings it back: on `experiment passage --seed 1`, a stop at 5 undid 37 legs and
+/// at 10 six (and each undo is one more noisy move near the boxes), at 20 none; 5, 10 and 20
+/// all rescue the run away.
 pub const DIVERGENCE_NOISY: f64 = 20.0;
 
 /// Most undone legs of one closed-loop attempt. A leg the controller stopped as diverged
