@@ -109,9 +109,10 @@ pub struct Rates {
     pub retreats: usize,
     /// Attempts the detector flagged that still completed the path after their retreats.
     pub recovered: usize,
-    /// Legs undone over all attempts (`track::MAX_UNDOS` per attempt at most): the controller
-    /// stopped a leg whose measured configuration ran away from its waypoint, the gripper went
-    /// back to the leg's start and the leg ran again (under `increment` and `absolute` noise).
+    /// Legs undone over all attempts (`track::MAX_UNDOS` per attempt at most): a leg the
+    /// controller stopped because its measured configuration ran away from the waypoint (under
+    /// `increment` and `absolute` noise), or that ended on a sensor fault; the gripper went back
+    /// to the leg's start and the leg ran again.
     pub undone: usize,
     /// Intermediate waypoints passed over over all attempts because the arms could not reach
     /// them (at most one in a row per attempt).
