@@ -59,6 +59,13 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
     // Under `offset` the defaults are gain 0.5 and the ε stops (no shape stop).
     assert_eq!(first["gain"], 0.5);
     assert_eq!(first["shape_stop_mm"], 0.0);
+    assert_eq!(first["shape_stop_near_mm"], 0.0);
+    // The plan passes the 50 mm gap: some waypoints are near its boxes.
+    assert!(
+        first["plan"]["near_waypoints"]
+            .as_u64()
+            .is_some_and(|n| n >= 1)
+    );
     assert!(first["plan_ms"].as_f64().is_some_and(|t| t > 0.0));
     assert!(first["plan"]["waypoints"].as_u64().is_some_and(|n| n >= 2));
     for file in [

@@ -58,8 +58,8 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
-    Attempt, Tracking, WAYPOINTS, Waypoint, plan_in_scene, scene_model, success_epsilon,
-    success_rule, validity, waypoints_along,
+    Attempt, Tracking, WAYPOINTS, Waypoint, near_obstacles, near_shape_stop, plan_in_scene,
+    scene_model, success_epsilon, success_rule, validity, waypoints_along,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -190,6 +190,9 @@ pub struct PlanOut {
     pub min_clearance_mm: f64,
     /// Waypoints tracked (`N + 1`).
     pub waypoints: usize,
+    /// Waypoints whose planned wire is within `track::NEAR_CLEARANCE` of a box or the floor
+    /// (the legs from and to them stop at `shape_stop_near_mm`).
+    pub near_waypoints: usize,
 }
 
 #[derive(Serialize)]
@@ -201,6 +204,9 @@ struct Summary {
     gain: f64,
     /// The closed loop's shape stop \[mm\] (0: the `ε` stops).
     shape_stop_mm: f64,
+    /// The shape stop \[mm\] of the legs from or to a waypoint near a box
+    /// (`track::near_shape_stop`; the same as `shape_stop_mm` where it is not looser).
+    shape_stop_near_mm: f64,
     /// The bias observer's settings of the closed loop (`null`: off, or under
     /// `increment`/`absolute`).
     bias_observer: Option<ftwire_control::BiasObserverSettings>,
@@ -294,10 +300,14 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         cost: planned.plan.path.cost,
         min_clearance_mm: 1e3 * planned.plan.path.min_clearance(),
         waypoints: planned.waypoints.len(),
+        near_waypoints: near_obstacles(&scene, model.rod(), &waypoints)?
+            .iter()
+            .filter(|&&near| near)
+            .count(),
     };
     eprintln!(
-        "plan: {} waypoints, length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms",
-        plan.waypoints, plan.cost, plan.min_clearance_mm, plan_ms
+        "plan: {} waypoints ({} near a box), length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms",
+        plan.waypoints, plan.near_waypoints, plan.cost, plan.min_clearance_mm, plan_ms
     );
 
     let tracking = Tracking {
@@ -364,6 +374,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         noise_model: noise,
         gain,
         shape_stop_mm: 1e3 * shape_stop,
+        shape_stop_near_mm: 1e3 * near_shape_stop(noise, shape_stop),
         bias_observer: tracking.observer_settings(),
         success_epsilon: success_epsilon(noise),
         success_rule: success_rule(noise),
