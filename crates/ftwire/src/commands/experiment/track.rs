@@ -5,9 +5,11 @@
 //! **Pairs.** `--pairs` (default 10, the paper's) seeded pairs `(a_s, a_g)` drawn uniformly in
 //! the normalised box `[−5, 5]⁶` (as `experiment goal`'s), each in `Z_free` of a scene with no
 //! obstacles and the base gripper where the shipped passage holds it (stable, no
-//! self-contact, both grippers' poses reachable by the SDA10F's arms), at least
-//! [`MIN_PAIR_DISTANCE`] apart in normalised `A`. A pair the planner finds no path for is
-//! replaced by a new draw (counted in `pair_draws`).
+//! self-contact, both grippers' poses reachable by the SDA10F's arms), both ends stable under
+//! the tracking model too (the loaded one with gravity on: a heavy wire such as the cable can
+//! rest where the weightless planner's model has it stable and the true wire has no
+//! equilibrium), at least [`MIN_PAIR_DISTANCE`] apart in normalised `A`. A pair the planner
+//! finds no path for is replaced by a new draw (counted in `pair_draws`).
 //!
 //! **Plan and tracking.** RRT* in `A_free` (`plan_in_scene`: a fixed iteration budget and
 //! seeded restarts) with the wire's weightless model; the path is resampled into waypoints
@@ -43,6 +45,7 @@ use ftwire::experiment::track::{
     validity, waypoints_along,
 };
 use ftwire::results::ResultsFolder;
+use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
 use ftwire_plan::{Checker, Config, ConfigurationSpec, Scene, ValidityParams};
 use ftwire_report::{LineChart, Series};
@@ -336,21 +339,7 @@ fn draw_and_plan(
             draws.too_close += 1;
             continue;
         }
-        let invalid = [a_s, a_g].iter().find_map(|a| {
-            checker
-                .endpoint(&Config {
-                    a: *a,
-                    base: free.base,
-                })
-                .err()
-        });
-        if let Some(reason) = invalid {
-            let key = format!("{reason}")
-                .split([':', '('])
-                .next()
-                .unwrap_or_default()
-                .trim()
-                .to_owned();
+        if let Some(key) = unusable(&checker, tracker, &free.base, [a_s, a_g]) {
             *draws.invalid.entry(key).or_insert(0) += 1;
             continue;
         }
@@ -381,6 +370,34 @@ fn draw_and_plan(
         }
     }
     Ok(out)
+}
+
+/// Why a drawn pair cannot be tracked, as `pair_draws.invalid` counts it (the reason's first
+/// words); `None` when both ends rest under the tracking model `tracker` (the loaded one with
+/// gravity on: a pair stable only for the weightless planner would put a heavy wire, such as
+/// the cable, where the simulator finds no equilibrium) and are in `Z_free` of `checker` with
+/// the base gripper at `base`. The stability check, a single solve, goes first; the arms' IK
+/// is the costly one.
+fn unusable(
+    checker: &Checker,
+    tracker: &Rod,
+    base: &Pose,
+    ends: [Vector6<f64>; 2],
+) -> Option<String> {
+    if ends.iter().any(|a| !tracker.is_stable(a).unwrap_or(false)) {
+        return Some("unstable under the tracking model".to_owned());
+    }
+    let reason = ends
+        .iter()
+        .find_map(|a| checker.endpoint(&Config { a: *a, base: *base }).err())?;
+    Some(
+        format!("{reason}")
+            .split([':', '('])
+            .next()
+            .unwrap_or_default()
+            .trim()
+            .to_owned(),
+    )
 }
 
 /// Table IV's row over every waypoint of every run.
@@ -474,6 +491,10 @@ fn figures(
 
 #[cfg(test)]
 mod tests {
+    use ftwire::experiment::{Gravity, ModelKind};
+    use ftwire::wire::WireSpec;
+    use ftwire_control::NoiseModel;
+
     use super::*;
 
     #[test]
@@ -501,5 +522,58 @@ mod tests {
         assert!((m.mean_mm - 3.0).abs() < 1e-12);
         assert_eq!(m.max_mm, 6.0);
         assert_eq!(m.runs.successes, 2);
+    }
+
+    #[test]
+    fn a_cable_pair_that_rests_only_without_its_weight_is_not_drawn() {
+        // The weightless planner's model has the cable stable where its weight makes it
+        // unstable: the simulator found no equilibrium at seed 0's second start before this
+        // check.
+        let wire = WireSpec::preset("cable-3mm-920").expect("a preset");
+        let (passage, _) = passage::load_scene(None).expect("the passage");
+        let free = Scene {
+            base: passage.base,
+            boxes: Vec::new(),
+            floor: None,
+            configurations: BTreeMap::new(),
+        };
+        let model =
+            scene_model(&wire, Gravity::On, ModelKind::Loaded, &free).expect("the loaded model");
+        let planner = Rod::new(*model.wire());
+        let robot = Robot::sda10f().expect("the robot");
+        let checker = Checker::new(planner, robot, &free, validity(NoiseModel::Increment))
+            .expect("a checker");
+        let sampler = Sampler {
+            half_width: PAIR_BOX,
+            ..Sampler::default()
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(0);
+        let (mut heavy, mut both) = (None, None);
+        for _ in 0..2000 {
+            let a = sampler.sample_free(&planner, &mut rng).expect("a sample");
+            match model.rod().is_stable(&a) {
+                Ok(false) => heavy = heavy.or(Some(a)),
+                Ok(true) => both = both.or(Some(a)),
+                Err(_) => {}
+            }
+            if heavy.is_some() && both.is_some() {
+                break;
+            }
+        }
+        let (heavy, both) = (heavy.expect("one unstable"), both.expect("one stable"));
+        assert_eq!(
+            unusable(&checker, model.rod(), &free.base, [both, heavy]).as_deref(),
+            Some("unstable under the tracking model")
+        );
+        assert_eq!(
+            unusable(&checker, model.rod(), &free.base, [heavy, both]).as_deref(),
+            Some("unstable under the tracking model")
+        );
+        // Stable under both models: the verdict is Z_free's (reachable, or why not).
+        let verdict = unusable(&checker, model.rod(), &free.base, [both, both]);
+        assert_ne!(
+            verdict.as_deref(),
+            Some("unstable under the tracking model")
+        );
     }
 }
