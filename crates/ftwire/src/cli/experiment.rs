@@ -277,7 +277,9 @@ pub struct RolloutArgs {
     pub gain: Option<f64>,
     /// The closed loop's shape stop in mm: each leg ends once the model's shape at the
     /// measured `ã` is within this mean distance of the waypoint's (instead of the `ε` stop);
-    /// 0 switches it off [default: 6 under `increment` and `absolute`, off otherwise].
+    /// 0 switches it off [default: 6 under `increment` and `absolute`, off otherwise]. Under
+    /// `increment` and `absolute` a leg from or to a waypoint whose planned wire is within
+    /// 25 mm of a box stops at no less than 10 mm (`passage`: fewer landings beside a box).
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub shape_stop: Option<f64>,
     /// Steer the closed loop without noise and under `offset` by `ã` corrected for the F/T
