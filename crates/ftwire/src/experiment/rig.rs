@@ -4,7 +4,7 @@
 use ftwire_control::{BiasObserverSettings, NoiseModel, NoiseSettings};
 use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
-use ftwire_rod::Rod;
+use ftwire_rod::{Load, Rod};
 use ftwire_sim::{BoxObstacle, RigConfig, SimRig, Simulator, World};
 use nalgebra::{Vector3, Vector6};
 
@@ -49,16 +49,61 @@ pub fn place_wire_among(
     config: RigConfig,
     obstacles: &[BoxObstacle],
 ) -> Result<SimRig, CliError> {
-    let params = wire.rod_params(gravity.vector(), SIM_EDGES);
-    let world = obstacles.iter().fold(
-        World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?,
-        |world, obstacle| world.with_box(*obstacle),
-    );
+    let world = world_among(wire, gravity, obstacles)?;
     let model = Rod::new(
         wire.wire_params()
             .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
     );
     place_in_world(world, &model, &Pose::identity(), a0, config)
+}
+
+/// As [`place_wire_among`], with the second gripper at `Γ(a0)` of the true wire's loaded
+/// model ([`true_rod`]: its weight under `gravity` and its rest curvature) instead of the
+/// weightless one: the true wire's base wrench is then `a0` (up to the simulator's
+/// discretisation), with gravity on too. What a configuration means to an experiment that
+/// steers the wire by the loaded model, from `a0` to a goal.
+///
+/// # Errors
+/// As [`place_wire`].
+pub fn place_loaded_among(
+    wire: &WireSpec,
+    gravity: Gravity,
+    a0: &Vector6<f64>,
+    config: RigConfig,
+    obstacles: &[BoxObstacle],
+) -> Result<SimRig, CliError> {
+    let world = world_among(wire, gravity, obstacles)?;
+    let model = true_rod(wire, gravity.vector())?;
+    place_in_world(world, &model, &Pose::identity(), a0, config)
+}
+
+/// The simulated `wire` under `gravity` among box `obstacles`.
+fn world_among(
+    wire: &WireSpec,
+    gravity: Gravity,
+    obstacles: &[BoxObstacle],
+) -> Result<World, CliError> {
+    let params = wire.rod_params(gravity.vector(), SIM_EDGES);
+    Ok(obstacles.iter().fold(
+        World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?,
+        |world, obstacle| world.with_box(*obstacle),
+    ))
+}
+
+/// The loaded model of the true `wire`: its weight under `g_clamp` \[m/s²\] (in the base clamp
+/// frame; zero for none) and its natural curvature.
+///
+/// # Errors
+/// Bad input for a wire whose parameters are not valid.
+pub fn true_rod(wire: &WireSpec, g_clamp: Vector3<f64>) -> Result<Rod, CliError> {
+    let load = Load::from_gravity(wire.density, wire.radius, g_clamp)
+        .and_then(|load| load.with_natural_curvature(Vector3::from(wire.natural_curvature)))
+        .map_err(|e| from_rod(e, "the loaded model of the wire"))?;
+    Ok(Rod::new(
+        wire.wire_params()
+            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
+    )
+    .with_load(load))
 }
 
 /// A simulated rig in `world` with the base clamp at `base` (world frame) and the second

@@ -30,13 +30,13 @@ use ftwire_plan::{
     scene_endpoint,
 };
 use ftwire_robot::{DualArmParams, DualArmTarget, Robot};
-use ftwire_rod::{Load, Rod, to_normalised};
+use ftwire_rod::{Rod, to_normalised};
 use ftwire_sim::{RigConfig, SimRig, World};
 use nalgebra::{Point3, Translation3, Vector3, Vector6};
 use serde::Serialize;
 
 use super::Gravity;
-use super::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare};
+use super::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare, true_rod};
 use crate::error::{CliError, from_plan, from_rod, from_sim};
 use crate::scene::with_scene;
 use crate::setup::SimSetup;
@@ -609,18 +609,7 @@ pub fn place_in_scene(
         world = with_scene(world, scene).map_err(|e| from_sim(e, "the scene's obstacles"))?;
     }
     // The true wire's loaded model places it: its weight in the base clamp frame.
-    let load = Load::from_gravity(
-        wire.density,
-        wire.radius,
-        scene.base.rotation.inverse() * gravity.vector(),
-    )
-    .and_then(|load| load.with_natural_curvature(Vector3::from(wire.natural_curvature)))
-    .map_err(|e| from_rod(e, "the loaded model of the wire"))?;
-    let model = Rod::new(
-        wire.wire_params()
-            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
-    )
-    .with_load(load);
+    let model = true_rod(wire, scene.base.rotation.inverse() * gravity.vector())?;
     place_in_world(world, &model, &scene.base, a0, config)
 }
 
@@ -1219,8 +1208,8 @@ mod tests {
         let wire =
             ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
         let weightless = KirchhoffModel::new(wire);
-        let load =
-            Load::from_gravity(6450.0, 0.0015, Vector3::new(0.0, 0.0, -9.81)).expect("valid load");
+        let load = ftwire_rod::Load::from_gravity(6450.0, 0.0015, Vector3::new(0.0, 0.0, -9.81))
+            .expect("valid load");
         let loaded = weightless.with_load(load);
         let base = Pose::translation(0.1, 0.0, 0.3);
         let waypoints: Vec<Waypoint> = [

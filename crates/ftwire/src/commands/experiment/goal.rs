@@ -11,7 +11,9 @@
 //! box had a start or goal out of reach, and the closed loop left the workspace within a few
 //! steps on the rest.)
 //!
-//! **Runs.** For each pair the operator places the wire at `Γ(a_s)` anew, the robot tares its
+//! **Runs.** For each pair the operator places the wire at `Γ(a_s)` anew (`Γ` of the steering
+//! model: under the loaded model the true wire's base wrench is then `a_s`; under the weightless
+//! one, with gravity on, the wire sags from it), the robot tares its
 //! sensor, and `ã` comes through the learnt calibration (`--calibration FILE`, or one run first
 //! and cached as `calibration.json`), [`SAMPLES_PER_REST`] samples per rest. The closed loop is
 //! `ftwire_control::Controller` with the model of `--model`. The
@@ -66,7 +68,9 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::calibration::rig_seed;
-use ftwire::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_wire_among, tare};
+use ftwire::experiment::rig::{
+    SAMPLES_PER_REST, bias_observer, pipeline, place_loaded_among, place_wire_among, tare,
+};
 use ftwire::experiment::{Gravity, ModelKind, known_model};
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
@@ -153,6 +157,8 @@ struct Context<'a> {
     params: WireParams,
     gravity: Gravity,
     model: KirchhoffModel,
+    /// Which model `model` is: a loaded model places the true wire at its own `Γ(a_s)`.
+    kind: ModelKind,
     calibration: &'a Calibration,
     /// The simulated sensor and rig (`--sensor`, `--rig`).
     rig: &'a SimSetup,
@@ -440,8 +446,17 @@ impl Context<'_> {
         let config = self
             .rig
             .rig_config(rig_seed(self.seed.wrapping_add(0x60A1), k as usize));
-        let Ok(mut sim) = place_wire_among(self.wire, self.gravity, &pair.a_s, config, obstacles)
-        else {
+        // The start is `a_s` of the steering model: under the loaded model the true wire's
+        // base wrench is then `a_s`, as the pair was drawn (under the weightless one it sags).
+        let placed = match self.kind {
+            ModelKind::Loaded => {
+                place_loaded_among(self.wire, self.gravity, &pair.a_s, config, obstacles)
+            }
+            ModelKind::Kirchhoff => {
+                place_wire_among(self.wire, self.gravity, &pair.a_s, config, obstacles)
+            }
+        };
+        let Ok(mut sim) = placed else {
             return Ok(None);
         };
         let tare = tare(&mut sim)?;
@@ -753,6 +768,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         params,
         gravity: common.gravity,
         model,
+        kind,
         calibration: &calibration,
         rig: &setup,
         seed,
