@@ -4,6 +4,9 @@
 //! when all of these hold ([`Checker::sample`]):
 //! - `a ∈ A_stable` (`det J(t)` keeps its sign on `(0, L]`, ftwire-rod's test) and the wire does
 //!   not self-intersect ([`ftwire_rod::self_contact`]);
+//! - with a [`ValidityParams::stability_margin`] `m > 0` (none by default), a step of `m` along
+//!   each normalised axis of `a`, both ways, stays in `A_stable` too: 12 more stability tests,
+//!   which keep a plan tracked under gripper noise away from the folds where the wire snaps;
 //! - the grippers are at most [`ValidityParams::max_span`] of the wire's length apart (no limit
 //!   by default; a plan to be tracked under large execution noise keeps the wire slack);
 //! - the centreline, a polyline of [`ValidityParams::nodes`] nodes in the world frame, keeps a
@@ -46,7 +49,7 @@ use ftwire_robot::{
     Arm, DualArmJoints, DualArmParams, DualArmTarget, EndFrame, IkTarget, LinkRadii, OrientedBox,
     ReachParams, Reachability, Robot, RobotError, point_box_distance, segment_box_distance,
 };
-use ftwire_rod::{Rod, to_normalised};
+use ftwire_rod::{Rod, from_normalised, to_normalised};
 use nalgebra::{Point3, Vector6};
 
 use crate::{PlanError, Scene};
@@ -81,6 +84,13 @@ pub struct ValidityParams {
     /// enough that a gripper landing a few centimetres off its pose neither pulls it taut nor
     /// tears it (`ftwire experiment passage` under the paper's noise).
     pub max_span: f64,
+    /// Distance in normalised `a` that every configuration keeps from the boundary of
+    /// `A_stable` (default `0`: none, the paper's `A_free`): a step of this length along any
+    /// of the six normalised axes, either way, must stay stable under the checker's model.
+    /// Above 0 it keeps a plan tracked under gripper noise, whose moves scatter `a` by units,
+    /// from being pushed over a fold onto another equilibrium (`ftwire experiment track` under
+    /// the paper's noise). Each checked configuration then costs 12 stability tests more.
+    pub stability_margin: f64,
 }
 
 impl Default for ValidityParams {
@@ -100,6 +110,7 @@ impl Default for ValidityParams {
                 ..ReachParams::default()
             },
             max_span: 1.0,
+            stability_margin: 0.0,
         }
     }
 }
@@ -139,6 +150,16 @@ pub enum Invalid {
     Model(String),
     /// `a ∉ A_stable`.
     Unstable,
+    /// `a ∈ A_stable`, but a step of [`ValidityParams::stability_margin`] along a normalised
+    /// axis leaves it.
+    NearBoundary {
+        /// The margin (normalised).
+        margin: f64,
+        /// The axis (0–5: torque first) and direction (`±1`) of the first unstable step.
+        axis: usize,
+        /// `+1.0` or `-1.0`.
+        sign: f64,
+    },
     /// The wire touches itself.
     SelfIntersecting,
     /// The grippers are farther apart than [`ValidityParams::max_span`] allows.
@@ -182,6 +203,12 @@ impl fmt::Display for Invalid {
         match self {
             Self::Model(m) => write!(f, "the wire model refused it: {m}"),
             Self::Unstable => write!(f, "a is not in A_stable (det J changes sign)"),
+            Self::NearBoundary { margin, axis, sign } => write!(
+                f,
+                "a is within {margin} (normalised) of A_stable's boundary: a step of {} along \
+                 normalised axis {axis} leaves it (stability_margin)",
+                sign * margin
+            ),
             Self::SelfIntersecting => write!(f, "the wire intersects itself"),
             Self::Taut { span, limit } => write!(
                 f,
@@ -282,6 +309,13 @@ impl Checker {
                 allowed: "a fraction of the wire's length in (0, 1]",
             });
         }
+        if !(params.stability_margin.is_finite() && params.stability_margin >= 0.0) {
+            return Err(PlanError::InvalidParameter {
+                name: "stability_margin",
+                value: params.stability_margin,
+                allowed: "a finite value >= 0 (normalised; 0: none)",
+            });
+        }
         if params.min_step > params.max_step {
             return Err(PlanError::InvalidParameter {
                 name: "min_step",
@@ -378,6 +412,7 @@ impl Checker {
         if !solution.jacobian.stability.stable {
             return Err(Invalid::Unstable);
         }
+        self.keeps_stability_margin(&config.a)?;
         if solution.self_intersecting {
             return Err(Invalid::SelfIntersecting);
         }
@@ -405,6 +440,27 @@ impl Checker {
             clearance,
             centreline,
         })
+    }
+
+    /// Whether every step of [`ValidityParams::stability_margin`] along a normalised axis from
+    /// the stable `a` stays stable (always, with the margin 0).
+    fn keeps_stability_margin(&self, a: &Vector6<f64>) -> Result<(), Invalid> {
+        let margin = self.params.stability_margin;
+        if margin <= 0.0 {
+            return Ok(());
+        }
+        let wire = self.rod.wire();
+        let scale = from_normalised(wire, &Vector6::repeat(1.0));
+        for axis in 0..6 {
+            for sign in [1.0, -1.0] {
+                let mut moved = *a;
+                moved[axis] += sign * margin * scale[axis];
+                if !self.rod.is_stable(&moved).unwrap_or(false) {
+                    return Err(Invalid::NearBoundary { margin, axis, sign });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The robot's checks on a wire found valid, the IK seeded from `seed`.

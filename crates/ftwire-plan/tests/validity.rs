@@ -165,3 +165,56 @@ fn max_span_keeps_the_grippers_closer_than_the_limit() {
         }
     }
 }
+
+#[test]
+fn stability_margin_rejects_a_stable_configuration_next_to_the_boundary() {
+    let scene = common::passage();
+    let rod = common::rod();
+    let at = |t: f64| from_normalised(rod.wire(), &Vector6::new(0.0, 0.0, 0.5, -t, 0.0, 0.0));
+    let stable = |t: f64| rod.is_stable(&at(t)).unwrap_or(false);
+    // The boundary along growing compression, by bisection.
+    let (mut lo, mut hi) = (0.0, 80.0);
+    assert!(stable(lo) && !stable(hi));
+    for _ in 0..50 {
+        let mid = 0.5 * (lo + hi);
+        if stable(mid) { lo = mid } else { hi = mid }
+    }
+    // Half a unit inside: stable, and one more unit of compression is not.
+    let t = lo - 0.5;
+    assert!(stable(t) && !stable(t + 1.0), "boundary at {lo}");
+    let config = Config {
+        a: at(t),
+        base: scene.base,
+    };
+    let with = |stability_margin: f64| {
+        ftwire_plan::Checker::new(
+            rod,
+            ftwire_robot::Robot::sda10f().expect("robot"),
+            &scene,
+            ftwire_plan::ValidityParams {
+                stability_margin,
+                ..ftwire_plan::ValidityParams::default()
+            },
+        )
+    };
+    let near = |r: &Result<_, Invalid>| matches!(r, Err(Invalid::NearBoundary { .. }));
+    // Without a margin, and with one smaller than the distance, the stability checks pass.
+    for margin in [0.0, 0.25] {
+        let r = with(margin).expect("valid").endpoint(&config);
+        assert!(!near(&r) && r != Err(Invalid::Unstable), "{margin}: {r:?}");
+    }
+    let r = with(1.0).expect("valid").endpoint(&config);
+    match &r {
+        Err(e @ Invalid::NearBoundary { margin, .. }) => {
+            assert_eq!(*margin, 1.0);
+            assert!(e.to_string().contains("stability_margin"), "{e}");
+        }
+        other => panic!("expected NearBoundary, got {other:?}"),
+    }
+    for bad in [-0.5, f64::NAN, f64::INFINITY] {
+        match with(bad) {
+            Err(PlanError::InvalidParameter { name, .. }) => assert_eq!(name, "stability_margin"),
+            other => panic!("stability_margin {bad}: expected InvalidParameter, got {other:?}"),
+        }
+    }
+}
