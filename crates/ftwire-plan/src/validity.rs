@@ -7,6 +7,8 @@
 //! - with a [`ValidityParams::stability_margin`] `m > 0` (none by default), a step of `m` along
 //!   each normalised axis of `a`, both ways, stays in `A_stable` too: 12 more stability tests,
 //!   which keep a plan tracked under gripper noise away from the folds where the wire snaps;
+//!   with a [`ValidityParams::stability_model`] (the tracking model, when it is not the
+//!   planner's), `a` and those steps are stable under that model;
 //! - the grippers are at most [`ValidityParams::max_span`] of the wire's length apart (no limit
 //!   by default; a plan to be tracked under large execution noise keeps the wire slack);
 //! - the centreline, a polyline of [`ValidityParams::nodes`] nodes in the world frame, keeps a
@@ -91,6 +93,12 @@ pub struct ValidityParams {
     /// from being pushed over a fold onto another equilibrium (`ftwire experiment track` under
     /// the paper's noise). Each checked configuration then costs 12 stability tests more.
     pub stability_margin: f64,
+    /// The model whose `A_stable` [`ValidityParams::stability_margin`] is measured in, and
+    /// which must hold every configuration stable too, when it is not the planner's (default
+    /// `None`: the planner's). A plan made with the weightless model and tracked with the
+    /// wire's loaded one keeps its margin on the loaded model's folds, where the true, heavy
+    /// wire snaps.
+    pub stability_model: Option<Rod>,
 }
 
 impl Default for ValidityParams {
@@ -111,6 +119,7 @@ impl Default for ValidityParams {
             },
             max_span: 1.0,
             stability_margin: 0.0,
+            stability_model: None,
         }
     }
 }
@@ -148,7 +157,7 @@ impl Config {
 pub enum Invalid {
     /// The model refused `a` (outside `A`, not finite, or the integration diverged).
     Model(String),
-    /// `a ∉ A_stable`.
+    /// `a ∉ A_stable` (of the planner's model, or of [`ValidityParams::stability_model`]).
     Unstable,
     /// `a ∈ A_stable`, but a step of [`ValidityParams::stability_margin`] along a normalised
     /// axis leaves it.
@@ -442,20 +451,31 @@ impl Checker {
         })
     }
 
-    /// Whether every step of [`ValidityParams::stability_margin`] along a normalised axis from
-    /// the stable `a` stays stable (always, with the margin 0).
+    /// Whether `a` (stable under the planner's model) is stable under
+    /// [`ValidityParams::stability_model`] too, and every step of
+    /// [`ValidityParams::stability_margin`] along a normalised axis from it stays stable under
+    /// that model (the planner's when none is set; no steps with the margin 0).
     fn keeps_stability_margin(&self, a: &Vector6<f64>) -> Result<(), Invalid> {
+        let model = match &self.params.stability_model {
+            Some(model) => {
+                if !model.is_stable(a).unwrap_or(false) {
+                    return Err(Invalid::Unstable);
+                }
+                model
+            }
+            None => &self.rod,
+        };
         let margin = self.params.stability_margin;
         if margin <= 0.0 {
             return Ok(());
         }
-        let wire = self.rod.wire();
+        let wire = model.wire();
         let scale = from_normalised(wire, &Vector6::repeat(1.0));
         for axis in 0..6 {
             for sign in [1.0, -1.0] {
                 let mut moved = *a;
                 moved[axis] += sign * margin * scale[axis];
-                if !self.rod.is_stable(&moved).unwrap_or(false) {
+                if !model.is_stable(&moved).unwrap_or(false) {
                     return Err(Invalid::NearBoundary { margin, axis, sign });
                 }
             }

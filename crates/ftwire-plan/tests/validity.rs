@@ -166,19 +166,47 @@ fn max_span_keeps_the_grippers_closer_than_the_limit() {
     }
 }
 
-#[test]
-fn stability_margin_rejects_a_stable_configuration_next_to_the_boundary() {
-    let scene = common::passage();
-    let rod = common::rod();
-    let at = |t: f64| from_normalised(rod.wire(), &Vector6::new(0.0, 0.0, 0.5, -t, 0.0, 0.0));
-    let stable = |t: f64| rod.is_stable(&at(t)).unwrap_or(false);
-    // The boundary along growing compression, by bisection.
+/// The configuration `t` normalised units along growing compression (with a little twist).
+fn compressed(rod: &ftwire_rod::Rod, t: f64) -> Vector6<f64> {
+    from_normalised(rod.wire(), &Vector6::new(0.0, 0.0, 0.5, -t, 0.0, 0.0))
+}
+
+/// Where [`compressed`] leaves `A_stable` of `model` (bisection on `[0, 80]`).
+fn compression_boundary(rod: &ftwire_rod::Rod, model: &ftwire_rod::Rod) -> f64 {
+    let stable = |t: f64| model.is_stable(&compressed(rod, t)).unwrap_or(false);
     let (mut lo, mut hi) = (0.0, 80.0);
     assert!(stable(lo) && !stable(hi));
     for _ in 0..50 {
         let mid = 0.5 * (lo + hi);
-        if stable(mid) { lo = mid } else { hi = mid }
+        if stable(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
     }
+    lo
+}
+
+/// A checker of `scene` for the passage's wire with `params`.
+fn checker_with(
+    scene: &Scene,
+    params: ftwire_plan::ValidityParams,
+) -> Result<ftwire_plan::Checker, PlanError> {
+    ftwire_plan::Checker::new(
+        common::rod(),
+        ftwire_robot::Robot::sda10f().expect("robot"),
+        scene,
+        params,
+    )
+}
+
+#[test]
+fn stability_margin_rejects_a_stable_configuration_next_to_the_boundary() {
+    let scene = common::passage();
+    let rod = common::rod();
+    let at = |t: f64| compressed(&rod, t);
+    let stable = |t: f64| rod.is_stable(&at(t)).unwrap_or(false);
+    let lo = compression_boundary(&rod, &rod);
     // Half a unit inside: stable, and one more unit of compression is not.
     let t = lo - 0.5;
     assert!(stable(t) && !stable(t + 1.0), "boundary at {lo}");
@@ -187,9 +215,7 @@ fn stability_margin_rejects_a_stable_configuration_next_to_the_boundary() {
         base: scene.base,
     };
     let with = |stability_margin: f64| {
-        ftwire_plan::Checker::new(
-            rod,
-            ftwire_robot::Robot::sda10f().expect("robot"),
+        checker_with(
             &scene,
             ftwire_plan::ValidityParams {
                 stability_margin,
@@ -217,4 +243,50 @@ fn stability_margin_rejects_a_stable_configuration_next_to_the_boundary() {
             other => panic!("stability_margin {bad}: expected InvalidParameter, got {other:?}"),
         }
     }
+}
+
+#[test]
+fn a_stability_model_holds_configurations_to_its_own_folds() {
+    let scene = common::passage();
+    let rod = common::rod();
+    let weightless = compression_boundary(&rod, &rod);
+    // A heavy wire (ten times nitinol's density) with its weight along one of the clamp's
+    // axes: some direction moves the compression boundary below the weightless one.
+    let (loaded, t_loaded) = [1.0, -1.0]
+        .into_iter()
+        .flat_map(|s| {
+            [
+                nalgebra::Vector3::new(s * 9.81, 0.0, 0.0),
+                nalgebra::Vector3::new(0.0, 0.0, s * 9.81),
+            ]
+        })
+        .map(|g| {
+            let load = ftwire_rod::Load::from_gravity(64_500.0, 0.0015, g).expect("valid load");
+            let loaded = rod.with_load(load);
+            (loaded, compression_boundary(&rod, &loaded))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("some direction");
+    assert!(
+        t_loaded < weightless - 0.5,
+        "{t_loaded} against {weightless}"
+    );
+    // Stable for the planner's model, not for the loaded one.
+    let config = Config {
+        a: compressed(&rod, 0.5 * (t_loaded + weightless)),
+        base: scene.base,
+    };
+    let with = |stability_model| {
+        checker_with(
+            &scene,
+            ftwire_plan::ValidityParams {
+                stability_model,
+                ..ftwire_plan::ValidityParams::default()
+            },
+        )
+        .expect("valid settings")
+    };
+    let r = with(None).endpoint(&config);
+    assert!(r != Err(Invalid::Unstable), "{r:?}");
+    assert_eq!(with(Some(loaded)).endpoint(&config), Err(Invalid::Unstable));
 }

@@ -552,6 +552,18 @@ pub fn validity(noise: NoiseModel) -> ValidityParams {
     }
 }
 
+/// [`validity`] for a plan tracked with the model `tracker`: where the plan keeps a
+/// [`stability_margin`], it keeps it on `tracker`'s folds (`ValidityParams::stability_model`),
+/// and every configuration is stable under `tracker` too. The planner's weightless model and
+/// the loaded one the wire is tracked with differ most for a heavy wire, such as the cable.
+pub fn validity_tracked(noise: NoiseModel, tracker: &Rod) -> ValidityParams {
+    let params = validity(noise);
+    ValidityParams {
+        stability_model: (params.stability_margin > 0.0).then_some(*tracker),
+        ..params
+    }
+}
+
 /// Plans from the scene's `start` to its `goal` for the wire model `rod` (fixed base; with a
 /// [`Load`], the loaded model's shapes and stability) under the validity settings `validity`
 /// ([`validity`] for a plan that is to be tracked under a noise model).
@@ -1415,5 +1427,20 @@ mod tests {
         assert_eq!(validity(NoiseModel::Increment).max_span, MAX_SPAN_NOISY);
         assert_eq!(validity(NoiseModel::Absolute).margin, MARGIN_NOISY);
         assert_eq!(validity(NoiseModel::Offset), ValidityParams::default());
+        // The stability margin, on the tracking model's folds, only under the paper's noise.
+        let tracker = Rod::new(
+            ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("wire"),
+        )
+        .with_load(
+            ftwire_rod::Load::from_gravity(6450.0, 0.0015, Vector3::new(0.0, 0.0, -9.81))
+                .expect("load"),
+        );
+        let noisy = validity_tracked(NoiseModel::Increment, &tracker);
+        assert_eq!(noisy.stability_margin, STABILITY_MARGIN_NOISY);
+        assert_eq!(noisy.stability_model, Some(tracker));
+        assert_eq!(
+            validity_tracked(NoiseModel::Offset, &tracker),
+            ValidityParams::default()
+        );
     }
 }

@@ -59,7 +59,7 @@ use std::time::Instant;
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
     Attempt, Tracking, WAYPOINTS, Waypoint, near_obstacles, near_shape_stop, plan_in_scene,
-    scene_model, success_epsilon, success_rule, validity, waypoints_along,
+    scene_model, success_epsilon, success_rule, validity_tracked, waypoints_along,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -283,7 +283,12 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo).
     let noise = args.rollout.noise_model.model();
     let planner_rod = Rod::new(*model.wire());
-    let (planned, _) = plan_in_scene(&scene, &planner_rod, validity(noise), seed)?;
+    let (planned, _) = plan_in_scene(
+        &scene,
+        &planner_rod,
+        validity_tracked(noise, model.rod()),
+        seed,
+    )?;
     let plan_ms = 1e3 * planned.seconds;
     // The waypoints' shapes and gripper poses of the tracking model (the loaded one with
     // gravity on): the open loop rolls out the poses that give `γ_A` on the true, heavy wire.

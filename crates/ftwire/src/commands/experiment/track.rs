@@ -42,7 +42,7 @@ use std::time::Instant;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::track::{
     Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
-    validity, waypoints_along,
+    validity_tracked, waypoints_along,
 };
 use ftwire::results::ResultsFolder;
 use ftwire_core::Pose;
@@ -202,7 +202,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         model.rod(),
         args.pairs,
         seed,
-        validity(noise),
+        validity_tracked(noise, model.rod()),
         &mut draws,
     )?;
     eprintln!("{} pairs planned ({draws:?})", planned.len());
@@ -491,6 +491,7 @@ fn figures(
 
 #[cfg(test)]
 mod tests {
+    use ftwire::experiment::track::validity;
     use ftwire::experiment::{Gravity, ModelKind};
     use ftwire::wire::WireSpec;
     use ftwire_control::NoiseModel;
