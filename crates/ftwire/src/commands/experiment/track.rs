@@ -365,6 +365,13 @@ fn draw_and_plan(
                     plan_ms: 1e3 * plan.seconds,
                     waypoints,
                 });
+                // Planning a heavy wire's pairs can take minutes: say how far it is.
+                eprintln!(
+                    "pair {} / {count} planned ({} draws, {:.1} s)",
+                    out.len(),
+                    draws.drawn,
+                    plan.seconds
+                );
             }
             Err(_) => draws.no_plan += 1,
         }
