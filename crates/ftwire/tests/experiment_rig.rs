@@ -61,7 +61,8 @@ fn check(
 /// equilibria from that start in 14 of 30 pairs).
 #[test]
 fn the_loaded_placement_puts_the_heavy_cable_at_a0() -> Result<(), Box<dyn std::error::Error>> {
-    use ftwire::experiment::rig::{place_loaded_among, place_wire_among, true_rod};
+    use ftwire::experiment::ModelKind;
+    use ftwire::experiment::rig::{place_among, true_rod};
     use ftwire_rod::sampling::Sampler;
     use ftwire_rod::{Rod, to_normalised};
     use rand::SeedableRng;
@@ -85,13 +86,20 @@ fn the_loaded_placement_puts_the_heavy_cable_at_a0() -> Result<(), Box<dyn std::
             continue;
         }
         let config = RigConfig::default();
-        let Ok(rig) = place_loaded_among(&wire, Gravity::On, &a0, config.clone(), &[]) else {
+        let Ok(rig) = place_among(
+            &wire,
+            Gravity::On,
+            ModelKind::Loaded,
+            &a0,
+            config.clone(),
+            &[],
+        ) else {
             continue;
         };
         let true_a = rig.equilibrium().base_wrench.to_vector();
         let error = (to_normalised(&params, &(true_a - a0))).norm();
         let scale = to_normalised(&params, &a0).norm();
-        let sagged = place_wire_among(&wire, Gravity::On, &a0, config, &[])?;
+        let sagged = place_among(&wire, Gravity::On, ModelKind::Kirchhoff, &a0, config, &[])?;
         let sag = (to_normalised(
             &params,
             &(sagged.equilibrium().base_wrench.to_vector() - a0),

@@ -8,7 +8,7 @@ use ftwire_rod::{Load, Rod};
 use ftwire_sim::{BoxObstacle, RigConfig, SimRig, Simulator, World};
 use nalgebra::{Vector3, Vector6};
 
-use super::{Gravity, SIM_EDGES};
+use super::{Gravity, ModelKind, SIM_EDGES};
 use crate::bridge::kirchhoff_guess;
 use crate::error::{CliError, from_rod, from_sim};
 use crate::setup::SimSetup;
@@ -35,46 +35,37 @@ pub fn place_wire(
     a0: &Vector6<f64>,
     config: RigConfig,
 ) -> Result<SimRig, CliError> {
-    place_wire_among(wire, gravity, a0, config, &[])
+    place_among(wire, gravity, ModelKind::Kirchhoff, a0, config, &[])
 }
 
-/// As [`place_wire`], in a world with box `obstacles` (world frame = base clamp frame).
+/// As [`place_wire`], in a world with box `obstacles` (world frame = base clamp frame), with
+/// the second gripper at `Γ(a0)` of the true wire's `model`:
+/// - [`ModelKind::Kirchhoff`]: the weightless rod's `Γ(a0)`, the paper's placement; with
+///   gravity on the wire then sags from it, away from `a0`;
+/// - [`ModelKind::Loaded`]: the loaded model's ([`true_rod`]: its weight under `gravity` and
+///   its rest curvature), so that the true wire's base wrench is `a0` (up to the simulator's
+///   discretisation), with gravity on too. What a configuration means to an experiment that
+///   steers the wire by the loaded model, from `a0` to a goal.
 ///
 /// # Errors
 /// As [`place_wire`].
-pub fn place_wire_among(
+pub fn place_among(
     wire: &WireSpec,
     gravity: Gravity,
+    model: ModelKind,
     a0: &Vector6<f64>,
     config: RigConfig,
     obstacles: &[BoxObstacle],
 ) -> Result<SimRig, CliError> {
     let world = world_among(wire, gravity, obstacles)?;
-    let model = Rod::new(
-        wire.wire_params()
-            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
-    );
-    place_in_world(world, &model, &Pose::identity(), a0, config)
-}
-
-/// As [`place_wire_among`], with the second gripper at `Γ(a0)` of the true wire's loaded
-/// model ([`true_rod`]: its weight under `gravity` and its rest curvature) instead of the
-/// weightless one: the true wire's base wrench is then `a0` (up to the simulator's
-/// discretisation), with gravity on too. What a configuration means to an experiment that
-/// steers the wire by the loaded model, from `a0` to a goal.
-///
-/// # Errors
-/// As [`place_wire`].
-pub fn place_loaded_among(
-    wire: &WireSpec,
-    gravity: Gravity,
-    a0: &Vector6<f64>,
-    config: RigConfig,
-    obstacles: &[BoxObstacle],
-) -> Result<SimRig, CliError> {
-    let world = world_among(wire, gravity, obstacles)?;
-    let model = true_rod(wire, gravity.vector())?;
-    place_in_world(world, &model, &Pose::identity(), a0, config)
+    let rod = match model {
+        ModelKind::Kirchhoff => Rod::new(
+            wire.wire_params()
+                .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
+        ),
+        ModelKind::Loaded => true_rod(wire, gravity.vector())?,
+    };
+    place_in_world(world, &rod, &Pose::identity(), a0, config)
 }
 
 /// The simulated `wire` under `gravity` among box `obstacles`.
@@ -108,7 +99,7 @@ pub fn true_rod(wire: &WireSpec, g_clamp: Vector3<f64>) -> Result<Rod, CliError>
 
 /// A simulated rig in `world` with the base clamp at `base` (world frame) and the second
 /// gripper at `base · Γ(a0)` of `model`, the simulator starting from `model`'s shape of `a0`:
-/// what [`place_wire`], [`place_wire_among`] and the scenes' placement share.
+/// what [`place_wire`], [`place_among`] and the scenes' placement share.
 ///
 /// # Errors
 /// No answer when the model or the simulator cannot place the wire there.

@@ -68,9 +68,7 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::calibration::rig_seed;
-use ftwire::experiment::rig::{
-    SAMPLES_PER_REST, bias_observer, pipeline, place_loaded_among, place_wire_among, tare,
-};
+use ftwire::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_among, tare};
 use ftwire::experiment::{Gravity, ModelKind, known_model};
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
@@ -448,14 +446,14 @@ impl Context<'_> {
             .rig_config(rig_seed(self.seed.wrapping_add(0x60A1), k as usize));
         // The start is `a_s` of the steering model: under the loaded model the true wire's
         // base wrench is then `a_s`, as the pair was drawn (under the weightless one it sags).
-        let placed = match self.kind {
-            ModelKind::Loaded => {
-                place_loaded_among(self.wire, self.gravity, &pair.a_s, config, obstacles)
-            }
-            ModelKind::Kirchhoff => {
-                place_wire_among(self.wire, self.gravity, &pair.a_s, config, obstacles)
-            }
-        };
+        let placed = place_among(
+            self.wire,
+            self.gravity,
+            self.kind,
+            &pair.a_s,
+            config,
+            obstacles,
+        );
         let Ok(mut sim) = placed else {
             return Ok(None);
         };
