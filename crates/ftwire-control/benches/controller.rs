@@ -2,7 +2,8 @@
 //! Jacobian at `ã`, the step limits and the stability guard on the predicted configuration,
 //! for the weightless model and for the loaded one (the 3 mm / 820 mm nitinol under gravity);
 //! and one update of the bias observer at a rest (three Gauss–Newton iterations, each a
-//! solve of `J(L)`), which the loop adds when it steers by the drift-corrected `ã`; and the
+//! solve of `J(L)`), which the loop adds when it steers by the drift-corrected `ã` (and, fused
+//! with the pose, `BiasObserverSettings::fuse_rest`, up to six, stopping once converged); and the
 //! shape stop's check at a rest (`Controller::shape_distance`: one shape solve of 50 nodes and
 //! the mean distance to the goal's), which the loop adds when it stops on the shape.
 
@@ -44,13 +45,19 @@ fn bench(c: &mut Criterion) {
         let tip = model.tip(&a).expect("solves");
         let reading = a + from_normalised(&wire, &Vector6::new(0.0, 0.0, 0.0, 0.01, 0.0, 0.0));
         let std = from_normalised(&wire, &Vector6::repeat(0.01));
-        c.bench_function(&format!("bias observer update ({name})"), |b| {
-            b.iter_batched(
-                || BiasObserver::new(model, BiasObserverSettings::default()).expect("valid"),
-                |mut observer| observer.update(black_box(&reading), &std, &tip, 0.0),
-                criterion::BatchSize::SmallInput,
-            );
-        });
+        for (kind, fuse_rest) in [("", false), (", fused", true)] {
+            let settings = BiasObserverSettings {
+                fuse_rest,
+                ..BiasObserverSettings::default()
+            };
+            c.bench_function(&format!("bias observer update ({name}{kind})"), |b| {
+                b.iter_batched(
+                    || BiasObserver::new(model, settings).expect("valid"),
+                    |mut observer| observer.update(black_box(&reading), &std, &tip, 0.0),
+                    criterion::BatchSize::SmallInput,
+                );
+            });
+        }
     }
 }
 

@@ -34,9 +34,28 @@
 //! used: a contact, or a model far off, must not be explained away as drift. The collision
 //! detector watches the raw `ã`, not the corrected one.
 //!
-//! The corrected configuration is `ã − β̂`. It is only as good as the model: the observer trusts
-//! `Γ` to the [`BiasObserverSettings::model_std`] floor, so on a real rig with a worse model that
-//! floor must be raised, or the observer left out.
+//! **Fusing each rest** ([`BiasObserverSettings::fuse_rest`]). The same equation says more
+//! than `β`: the rest's own noise `w` (its standard errors `W`) enters `z` through `J_n`, and a
+//! robot that knows its gripper's pose to its repeatability sees it. Adding `w` to the state
+//! for this rest only (prior `N(0, W)`, dropped afterwards) changes nothing in `β̂`, `Δ̂₀` and
+//! their covariance, and gives
+//!
+//! ```text
+//! ŵ = W J_nᵀ (H P Hᵀ + J_n W J_nᵀ + F)⁻¹ z
+//! ```
+//!
+//! (`F` the floor of `r`). The returned configuration is then `ã − β̂ − ŵ`: where the pose is
+//! far more precise than the rest (a light wire, whose wrench is a few mN), it is close to
+//! `Γ⁻¹(b_i Δ̂₀)` on the branch of `ã`; where the rest is far more precise, `ŵ` vanishes. The
+//! iterations relinearise at `ã − β̂ − ŵ`, and a fused rest is gated there, at its last
+//! linearisation (the first, at `ã`, can be far from where a noisy rest of a light wire ends).
+//! A rest beyond the gate (a contact, or `ã` on another branch than the pose's) is returned as
+//! `ã − β̂`, unfused. Under a calibration error that the robot does not know (`Δ₀` still
+//! uncertain), `ŵ` is shrunk by it through `H P Hᵀ`.
+//!
+//! The corrected configuration is `ã − β̂` (`− ŵ` when fusing). It is only as good as the
+//! model: the observer trusts `Γ` to the [`BiasObserverSettings::model_std`] floor, so on a
+//! real rig with a worse model that floor must be raised, or the observer left out.
 
 use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
@@ -53,6 +72,15 @@ type Matrix12x6 = SMatrix<f64, 12, 6>;
 
 /// Gauss–Newton iterations of one update.
 const UPDATE_ITERATIONS: usize = 3;
+
+/// Gauss–Newton iterations of one update that also fuses the rest
+/// ([`BiasObserverSettings::fuse_rest`]): the rest's noise can be tenths of a normalised unit,
+/// where `Γ` is not linear. They stop early once converged ([`CONVERGED`]).
+const FUSED_ITERATIONS: usize = 6;
+
+/// A fused update has converged when an iteration moves `β̂` and `ŵ` by less than this
+/// (normalised; a hundredth of the model floor's default).
+const CONVERGED: f64 = 2e-6;
 
 /// One rest, linearised at an estimate.
 struct Linearised {
@@ -90,6 +118,11 @@ pub struct BiasObserverSettings {
     /// Largest squared Mahalanobis distance of an innovation that is used (default `36`; the
     /// χ² of six degrees of freedom exceeds it with probability 3e-6).
     pub gate: f64,
+    /// Also estimate each rest's own noise `w` from the pose, and take it out of the returned
+    /// configuration (default `false`: only the drift `β̂` is taken out). See the module docs,
+    /// "Fusing each rest". Worth it where the robot knows its gripper's pose better than the
+    /// sensor knows the wire's wrench: a light wire, or short rests.
+    pub fuse_rest: bool,
 }
 
 impl Default for BiasObserverSettings {
@@ -105,6 +138,7 @@ impl Default for BiasObserverSettings {
             repeat_rotation_std: 0.05f64.to_radians(),
             model_std: 2e-4,
             gate: 36.0,
+            fuse_rest: false,
         }
     }
 }
@@ -176,6 +210,8 @@ pub struct BiasObserver<M> {
     /// `Δ̂₀`.
     offset: Pose,
     covariance: Matrix12,
+    /// `ŵ` of the last rest used, normalised (zero unless `fuse_rest`).
+    rest_noise: Vector6<f64>,
     last_time: Option<f64>,
     updates: usize,
     rejected: usize,
@@ -203,6 +239,7 @@ impl<M: WireModel> BiasObserver<M> {
             bias: Vector6::zeros(),
             offset: Pose::identity(),
             covariance: Matrix12::from_diagonal(&diagonal.into()),
+            rest_noise: Vector6::zeros(),
             last_time: None,
             updates: 0,
             rejected: 0,
@@ -258,10 +295,24 @@ impl<M: WireModel> BiasObserver<M> {
         // degrees, where one linearisation leaves an error above the model's floor.
         let (bias0, offset0) = (self.bias, self.offset);
         let (mut bias, mut offset) = (bias0, offset0);
+        // This rest's own noise, the third block of the augmented state (prior `N(0, W)`):
+        // iterated with the others, so that the fused rest is linearised where it ends.
+        let fuse = self.settings.fuse_rest;
+        let w = Matrix6::from_diagonal(&noise.component_mul(&noise));
+        let mut rest_noise = Vector6::zeros();
+        let iterations = if fuse {
+            FUSED_ITERATIONS
+        } else {
+            UPDATE_ITERATIONS
+        };
         let mut last = None;
-        for iteration in 0..UPDATE_ITERATIONS {
-            let Some(rest) = self.linearise(a, &noise, tip, &bias, &offset) else {
-                if iteration == 0 {
+        let mut distance = f64::NAN;
+        for iteration in 0..iterations {
+            let at = a - from_normalised(self.model.wire(), &rest_noise);
+            let Some(rest) = self.linearise(&at, &noise, tip, &bias, &offset) else {
+                // A fused rest is gated where it converged: one that cannot be solved on the
+                // way is not used.
+                if iteration == 0 || fuse {
                     self.rejected += 1;
                     return self.correct(a);
                 }
@@ -272,7 +323,7 @@ impl<M: WireModel> BiasObserver<M> {
                 self.rejected += 1;
                 return self.correct(a);
             };
-            if iteration == 0 {
+            if iteration == 0 && !fuse {
                 let distance = (rest.z.transpose() * inverse * rest.z)[0];
                 if !(distance.is_finite() && distance <= self.settings.gate) {
                     self.rejected += 1;
@@ -285,12 +336,33 @@ impl<M: WireModel> BiasObserver<M> {
             moved
                 .fixed_rows_mut::<6>(6)
                 .copy_from(&self.scale_twist(se3::log(&(offset0.inverse() * offset))));
+            let jn = rest.h.fixed_view::<6, 6>(0, 0).into_owned();
             let gain: Matrix12x6 = self.covariance * rest.h.transpose() * inverse;
-            let step = gain * (rest.z + rest.h * moved);
+            let innovation = rest.z + rest.h * moved + jn * rest_noise;
+            distance = (innovation.transpose() * inverse * innovation)[0];
+            let step = gain * innovation;
+            let previous = (bias, rest_noise);
             bias = bias0 + step.fixed_rows::<6>(0);
             offset = offset0 * se3::exp(&self.unscale_twist(step.fixed_rows::<6>(6).into()));
             offset.rotation.renormalize();
+            if fuse {
+                // Its gain: `W J_nᵀ S⁻¹`.
+                rest_noise = w * jn.transpose() * inverse * innovation;
+            }
             last = Some((gain, rest));
+            // Converged: the iterate moved less than the model's floor.
+            let change = (bias - previous.0)
+                .amax()
+                .max((rest_noise - previous.1).amax());
+            if fuse && change < CONVERGED {
+                break;
+            }
+        }
+        // A fused rest is gated at its last linearisation: the first, at `ã`, can be far from
+        // where a light wire's noisy rest ends, and `Γ` is not linear over that distance.
+        if fuse && !(distance.is_finite() && distance <= self.settings.gate) {
+            self.rejected += 1;
+            return self.correct(a);
         }
         let Some((gain, rest)) = last else {
             self.rejected += 1;
@@ -303,7 +375,19 @@ impl<M: WireModel> BiasObserver<M> {
         self.bias = bias;
         self.offset = offset;
         self.updates += 1;
-        self.correct(a)
+        if fuse && rest_noise.iter().all(|v| v.is_finite()) {
+            self.rest_noise = rest_noise;
+            self.correct(a) - from_normalised(self.model.wire(), &rest_noise)
+        } else {
+            self.correct(a)
+        }
+    }
+
+    /// The last used rest's own noise `ŵ` (SI units, as `a`), taken out of what
+    /// [`BiasObserver::update`] returned when [`BiasObserverSettings::fuse_rest`] is on; zero
+    /// otherwise.
+    pub fn rest_noise(&self) -> Vector6<f64> {
+        from_normalised(self.model.wire(), &self.rest_noise)
     }
 
     /// A twist `(ω, v)` as `(ω, v / L)`.

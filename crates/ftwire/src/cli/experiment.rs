@@ -227,9 +227,11 @@ pub struct GoalExperimentArgs {
     /// calibration is first run on the default known wire and cached in the results folder.
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
-    /// Steer the closed loop without noise and under `offset` by `ã` corrected for the F/T
-    /// sensor's bias drift (`ftwire_control::BiasObserver`, from the model and the reported
-    /// poses); `off` steers by the tared `ã` alone.
+    /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
+    /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, from the model and the
+    /// reported poses), and without noise and under `increment`, where the robot knows where
+    /// its gripper is, by each rest fused with that pose (`fuse_rest`); `off` steers by the
+    /// tared `ã` alone.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub bias_observer: OnOff,
     /// The closed loop's shape stop in mm for the `noise` runs: a run ends once the model's
@@ -282,9 +284,10 @@ pub struct RolloutArgs {
     /// 25 mm of a box stops at no less than 10 mm (`passage`: fewer landings beside a box).
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub shape_stop: Option<f64>,
-    /// Steer the closed loop without noise and under `offset` by `ã` corrected for the F/T
-    /// sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole path); `off`
-    /// steers by the tared `ã` alone.
+    /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
+    /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole
+    /// path), and without noise and under `increment`, where the robot knows where its gripper
+    /// is, by each rest fused with that pose (`fuse_rest`); `off` steers by the tared `ã` alone.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub bias_observer: OnOff,
 }

@@ -147,10 +147,14 @@ pub fn tare(rig: &mut SimRig) -> Result<Tare, CliError> {
 /// intensity; a force drift also drifts the torque at the clamp, `clamp_position_in_sensor`
 /// away) and knows of the tare
 /// ([`TARE_SAMPLES`] of its noise, with a margin of two) and of the robot's calibration (the
-/// `offset` model's spread; the repeatability for a robot that goes where it is told). `None`
-/// under `increment` and `absolute`: their stop tolerances (0.3–1 normalised) are ten times the
-/// drift of a run, and under `absolute` the reported pose is off by a new 10 mm / 3° at every
-/// rest, which the observer would read as drift.
+/// `offset` model's spread; the repeatability for a robot that goes where it is told, or that
+/// reports where it went).
+/// - Without noise and under `increment` the robot reports where its gripper is (under
+///   `increment` the encoders see each move's error), so the observer also fuses each rest with
+///   that pose ([`fuse_rest`]): a light wire's few mN are then no longer the limit, and under
+///   `increment` the shape stop picks a landing by the fused estimate.
+/// - `None` under `absolute`: the reported pose is off by a new 10 mm / 3° at every rest, which
+///   the observer would read as drift.
 pub fn bias_observer(
     setup: &SimSetup,
     noise: NoiseModel,
@@ -161,12 +165,12 @@ pub fn bias_observer(
     }
     let execution = NoiseSettings::default();
     let (offset_position_std, offset_rotation_std) = match noise {
-        NoiseModel::None => (
+        NoiseModel::None | NoiseModel::Increment => (
             execution.repeat_position_std,
             execution.repeat_orientation_std,
         ),
         NoiseModel::Offset => (execution.position_std, execution.orientation_std),
-        NoiseModel::Increment | NoiseModel::Absolute => return None,
+        NoiseModel::Absolute => return None,
     };
     let sensor = &setup.rig_config(0).sensor;
     let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
@@ -183,8 +187,17 @@ pub fn bias_observer(
         offset_rotation_std,
         repeat_position_std: execution.repeat_position_std,
         repeat_rotation_std: execution.repeat_orientation_std,
+        fuse_rest: fuse_rest(noise),
         ..BiasObserverSettings::default()
     })
+}
+
+/// Whether the bias observer also fuses each rest with the reported pose under `noise`
+/// (`BiasObserverSettings::fuse_rest`): where the robot knows where its gripper is to its
+/// repeatability (no noise; `increment`, whose error the encoders see). Under `offset` the
+/// pose is off by the unknown calibration error, which the observer estimates slowly.
+pub fn fuse_rest(noise: NoiseModel) -> bool {
+    matches!(noise, NoiseModel::None | NoiseModel::Increment)
 }
 
 /// The mounting the robot knows from its drawings: the simulated sensor's `sensor_from_clamp`.

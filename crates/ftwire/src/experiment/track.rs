@@ -820,7 +820,7 @@ impl Tracking<'_> {
     }
 
     /// The bias observer's settings of the closed loop; `None` where it steers by the tared
-    /// `ã` alone (switched off, or under `increment`/`absolute`).
+    /// `ã` alone (switched off, or under `absolute`).
     pub fn observer_settings(&self) -> Option<BiasObserverSettings> {
         bias_observer(self.setup, self.noise, self.bias_observer)
     }

@@ -336,7 +336,8 @@ struct GoalSummary {
     model: ModelKind,
     noise_model: NoiseModel,
     /// The bias observer's settings of the closed loops without noise and with noise (`null`
-    /// where it is off: `--bias-observer off`, or under `increment`/`absolute`).
+    /// where it is off: `--bias-observer off`, or under `absolute`; `fuse_rest` where each rest is
+    /// also fused with the reported pose: without noise and under `increment`).
     bias_observer: BiasObservers,
     gain: f64,
     epsilon: Epsilons,

@@ -15,6 +15,10 @@
 //! the same `ã` (`kirchhoff_mean_mm`, `loaded_mean_mm`), the relative error of `ã`'s torque
 //! and force against the true base wrench (`torque_rel`, `force_rel`: how well the
 //! calibration, trained on another wire, carries over), and the time of one shape estimate.
+//! Beside them, `fused_mean_mm`: the shape of the same model at `ã` fused with the gripper's
+//! reported pose (`ftwire_control::BiasObserver` with `fuse_rest`, one rest after the tare,
+//! the robot's repeatability as the pose's prior): what a robot that knows where its gripper
+//! is gets from the same rest. `mean_mm` stays the F/T sensor's alone, as in Table II.
 //!
 //! Writes `summary.json`, `configs.csv`, `timings.json`, `calibration.json` (when it ran one),
 //! figures `shape_<wire>` (the first configuration, estimate against truth and markers, 3-D)
@@ -29,13 +33,14 @@ use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::calibration::{load_or_run_into, rig_seed};
 use ftwire::experiment::rig::{
-    believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
-    true_centreline,
+    believed_tip, bias_observer, check_rest_samples, measure_over, mounting, pipeline, place_wire,
+    tare, true_centreline,
 };
 use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
 use ftwire::wire::{PRESETS, WireSpec};
+use ftwire_control::{BiasObserver, BiasObserverSettings, NoiseModel};
 use ftwire_core::Rig;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
@@ -87,6 +92,8 @@ struct WireResult {
     kirchhoff_mean_mm: f64,
     /// As `kirchhoff_mean_mm`, the loaded model (the wire's weight and rest curvature).
     loaded_mean_mm: f64,
+    /// `--model`'s shape at `ã` fused with the reported gripper pose (module docs).
+    fused_mean_mm: f64,
     /// Mean of `‖τ̃ − τ‖ / ‖τ‖` of the measured `ã` against the simulator's true base wrench:
     /// the calibration's error on this wire (it was trained on another one).
     torque_rel: f64,
@@ -115,6 +122,8 @@ struct ConfigResult {
     /// Relative errors of `ã`'s torque and force against the true base wrench.
     wrench_rel: (f64, f64),
     mounting_mean: f64,
+    /// The shape error at `ã` fused with the reported pose.
+    fused_mean: f64,
     marker_mean: f64,
     estimate_us: f64,
     confident: bool,
@@ -128,11 +137,18 @@ fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
+/// What the robot reads a rest through: the learnt calibration, and the bias observer's
+/// settings that fuse the rest with the gripper's reported pose.
+struct Readout<'a> {
+    calibration: &'a Calibration,
+    fusion: BiasObserverSettings,
+}
+
 /// Runs one configuration `k` of `wire` at `placed`.
 fn run_config(
     wire: &WireSpec,
     args: &ShapeExperimentArgs,
-    calibration: &Calibration,
+    readout: &Readout<'_>,
     estimator: &mut ShapeEstimator<KirchhoffModel>,
     other: &KirchhoffModel,
     placed: &Vector6<f64>,
@@ -141,7 +157,7 @@ fn run_config(
     let Ok(mut rig) = place_wire(wire, args.common.gravity, placed, config.clone()) else {
         return Ok(None);
     };
-    let tared = pipeline(tare(&mut rig)?, calibration.clone())?;
+    let tared = pipeline(tare(&mut rig)?, readout.calibration.clone())?;
     let Ok(measured) = measure_over(&mut rig, &tared, args.rest_samples) else {
         return Ok(None);
     };
@@ -186,6 +202,19 @@ fn run_config(
         Ok(shape) => distance(&shape.positions)?,
         Err(_) => f64::NAN,
     };
+    // One rest after the tare, fused with where the robot reports its gripper.
+    let mut fusion = BiasObserver::new(*estimator.model(), readout.fusion)
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+    let fused = fusion.update(
+        &a_tilde,
+        &measured.a_std_error,
+        &believed_tip(&rig)?,
+        rig.time(),
+    );
+    let fused_mean = match estimator.model().shape(&fused, positions.len()) {
+        Ok(shape) => distance(&shape.positions)?,
+        Err(_) => f64::NAN,
+    };
     let seen: Vec<Point3<f64>> = frame.positions.iter().flatten().copied().collect();
     let marker_mean =
         mean(&marker_distances(&seen, &positions).map_err(|e| from_estimate(e, "marker errors"))?);
@@ -208,6 +237,7 @@ fn run_config(
         other_mean,
         wrench_rel,
         mounting_mean,
+        fused_mean,
         marker_mean,
         estimate_us,
         confident: estimate.confidence.is_confident(),
@@ -224,6 +254,8 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     let seed = common.seed.seed;
     check_rest_samples(args.rest_samples)?;
     let setup = common.setup.load()?;
+    let fusion = bias_observer(&setup, NoiseModel::None, true)
+        .ok_or_else(|| CliError::bad_input("no bias observer for a robot that knows its pose"))?;
     let wires: Vec<WireSpec> = match &common.wire {
         Some(given) => vec![WireSpec::load(given).map_err(|e| CliError::bad_input(e.to_string()))?],
         None => PRESETS
@@ -245,8 +277,12 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         &setup,
         seed,
     )?;
+    let readout = Readout {
+        calibration: &calibration,
+        fusion,
+    };
     let mut csv = String::from(
-        "wire,config,mean_mm,mounting_mean_mm,marker_mean_mm,confident,estimate_us,a1,a2,a3,a4,a5,a6\n",
+        "wire,config,mean_mm,mounting_mean_mm,marker_mean_mm,confident,estimate_us,a1,a2,a3,a4,a5,a6,fused_mm\n",
     );
     let mut results = Vec::new();
     let mut logs: Vec<(String, String)> = Vec::new();
@@ -278,7 +314,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             match run_config(
                 wire,
                 &args,
-                &calibration,
+                &readout,
                 &mut estimator,
                 &other,
                 &placed,
@@ -307,7 +343,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             for v in &row.a_tilde {
                 let _ = write!(csv, ",{v}");
             }
-            csv.push('\n');
+            let _ = writeln!(csv, ",{}", 1e3 * row.fused_mean);
             log.push_str(&to_line(&row.record).map_err(|e| from_estimate(e, "the log"))?);
             log.push('\n');
         }
@@ -345,6 +381,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             } else {
                 other_m
             },
+            fused_mean_mm: mean(&rows.iter().map(|r| 1e3 * r.fused_mean).collect::<Vec<_>>()),
         });
         if let Some(first) = rows.into_iter().next() {
             first_shapes.push((wire.name.clone(), first));
@@ -418,12 +455,13 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         summary.model.other().name()
     );
     println!(
-        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>9}",
+        "{:<18} {:>7} {:>8} {:>7} {:>10} {:>8} {:>10} {:>10} {:>8} {:>9} {:>9} {:>9}",
         "wire",
         "configs",
         "mean_mm",
         "std_mm",
         summary.model.other().name(),
+        "fused",
         "marker_mm",
         "mounting",
         "est_us",
@@ -441,12 +479,13 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             ModelKind::Loaded => r.kirchhoff_mean_mm,
         };
         println!(
-            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>10.2} {:>10.2} {:>8.1} {:>9} {:>9.3} {:>9.3}",
+            "{:<18} {:>7} {:>8.2} {:>7.2} {:>10.2} {:>8.2} {:>10.2} {:>10.2} {:>8.1} {:>9} {:>9.3} {:>9.3}",
             r.name,
             r.configs,
             r.mean_mm,
             r.std_mm,
             other,
+            r.fused_mean_mm,
             r.marker_mean_mm,
             r.mounting_mean_mm,
             r.estimate_us_median,
