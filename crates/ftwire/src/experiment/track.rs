@@ -15,9 +15,9 @@
 use std::time::Instant;
 
 use ftwire_control::{
-    AnyPose, BiasObserver, BiasObserverSettings, CollisionDetector, ControlSettings, Controller,
-    FtFeedback, NoiseModel, NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck, RobotReach, Run,
-    configuration_at,
+    AnyPose, BiasObserver, BiasObserverSettings, CollisionDetector, ControlError, ControlSettings,
+    Controller, FtFeedback, NoiseModel, NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck,
+    RobotReach, Run, configuration_at,
 };
 use ftwire_core::{Command, GripperPoses, Pose, Rig};
 use ftwire_estimate::KirchhoffModel;
@@ -289,7 +289,8 @@ pub const MAX_UNDOS: usize = 4;
 
 /// A base gripper pose from which the arms reach the goal again, when the controller has
 /// found the goal out of their reach (under `offset` noise the run's grasp offset moves the
-/// pose the robot must command by up to a few centimetres): the current base `poses.base`
+/// pose the robot must command by up to a few centimetres), or the leg's start (under
+/// `increment` the accumulated noise can carry the gripper there): the current base `poses.base`
 /// moved by one translation of 1–4 cm along a world axis ([`RELOCATION_STEPS`], shortest
 /// first), which leaves the wire's configuration and the sensor's gravity direction unchanged.
 /// A candidate must keep the goal `a_goal` valid in `scene` with the margins of a plan tracked
@@ -964,6 +965,8 @@ impl Tracking<'_> {
             a_true: Vec::new(),
         };
         let mut residuals = Vec::new();
+        // The measured configuration where the last leg ended (the relocation's `a_now`).
+        let mut estimate = first.a;
         let start = truth_of(rig.inner());
         let mut touched = start.touched;
         attempt.a_true.push(start.a.into());
@@ -992,14 +995,38 @@ impl Tracking<'_> {
                 },
             );
             // The controller refuses a waypoint it cannot steer to (outside its model's
-            // A_stable, or from a pose the robot cannot hold): the attempt ends there.
+            // A_stable, or from a pose the robot cannot hold): the attempt ends there, unless
+            // the start is out of the arms' reach (the accumulated noise carried the gripper
+            // there) and one translation of both grippers brings it, and the waypoint, back.
             let run = match run {
                 Ok(run) => run,
+                Err(ControlError::UnreachableStart { .. }) if self.arms && !attempt.relocated => {
+                    match self.relocate(&mut rig, model, &estimate, &waypoint.a)? {
+                        Relocated::Moved(base) => {
+                            reach = robot_reach(base)?;
+                            attempt.relocated = true;
+                            touched |= extra_move(&mut attempt, rig.inner());
+                            continue;
+                        }
+                        Relocated::NoneFound => {
+                            attempt.outcome = format!(
+                                "refused at waypoint {i}: its start is out of the arms' reach, \
+                                 and no translation of both grippers brings it back"
+                            );
+                            break;
+                        }
+                        Relocated::Refused(why) => {
+                            attempt.outcome = why;
+                            break;
+                        }
+                    }
+                }
                 Err(e) => {
                     attempt.outcome = format!("refused at waypoint {i}: {e}");
                     break;
                 }
             };
+            estimate = run.steps.last().map_or(run.start_estimate, |s| s.estimate);
             attempt.steps += run.steps.len();
             residuals.extend(run.steps.iter().map(|s| s.residual));
             for (centreline, a) in &centrelines {
@@ -1047,31 +1074,20 @@ impl Tracking<'_> {
                 // The goal out of the arms' reach: one translation of both grippers (the
                 // wire's configuration unchanged) that brings it back, then the leg again.
                 Outcome::Unreachable { .. } if final_leg && self.arms && !attempt.relocated => {
-                    let poses = rig
-                        .gripper_poses()
-                        .map_err(|e| CliError::no_answer(e.to_string()))?;
-                    let a_now = run.steps.last().map_or(run.start_estimate, |s| s.estimate);
-                    let Some(base) =
-                        relocation(self.scene, self.noise, model, &poses, &a_now, &last.a)?
-                    else {
-                        break;
-                    };
-                    let command = Command {
-                        base,
-                        tip: base * poses.relative(),
-                    };
-                    if let Err(e) = rig.command(&command) {
-                        attempt.outcome = format!("relocation failed: {e}");
-                        break;
+                    match self.relocate(&mut rig, model, &estimate, &last.a)? {
+                        Relocated::Moved(base) => {
+                            reach = robot_reach(base)?;
+                            attempt.relocated = true;
+                            touched |= extra_move(&mut attempt, rig.inner());
+                            continue;
+                        }
+                        // No translation found: the outcome stays the controller's.
+                        Relocated::NoneFound => break,
+                        Relocated::Refused(why) => {
+                            attempt.outcome = why;
+                            break;
+                        }
                     }
-                    reach = TrackReach::Robot(Box::new(RobotReach::new(
-                        Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?,
-                        Pose::identity(),
-                        base,
-                    )));
-                    attempt.relocated = true;
-                    touched |= extra_move(&mut attempt, rig.inner());
-                    continue;
                 }
                 // An intermediate waypoint the arms cannot reach (the run's grasp offset or
                 // the accumulated noise moved its pose beyond them) is passed over once: the
@@ -1089,6 +1105,34 @@ impl Tracking<'_> {
         attempt.touched = touched;
         self.finish(&mut attempt, rig.inner(), &last.a, model);
         Ok((attempt, residuals))
+    }
+
+    /// Moves both grippers by the [`relocation`] from the wire measured at `a_now` toward
+    /// `a_goal`.
+    ///
+    /// # Errors
+    /// As [`relocation`]; no answer when the rig cannot report its poses.
+    fn relocate(
+        &self,
+        rig: &mut NoisyRig<SimRig>,
+        model: &KirchhoffModel,
+        a_now: &Vector6<f64>,
+        a_goal: &Vector6<f64>,
+    ) -> Result<Relocated, CliError> {
+        let poses = rig
+            .gripper_poses()
+            .map_err(|e| CliError::no_answer(e.to_string()))?;
+        let Some(base) = relocation(self.scene, self.noise, model, &poses, a_now, a_goal)? else {
+            return Ok(Relocated::NoneFound);
+        };
+        let command = Command {
+            base,
+            tip: base * poses.relative(),
+        };
+        Ok(match rig.command(&command) {
+            Ok(()) => Relocated::Moved(base),
+            Err(e) => Relocated::Refused(format!("relocation failed: {e}")),
+        })
     }
 
     /// Rolls the planned gripper poses out with no feedback.
@@ -1173,6 +1217,28 @@ impl Tracking<'_> {
 /// Moves the second gripper back to where it was before the last move of `run` (the one the
 /// collision detector flagged): the pose the robot reported after the move before it, or the
 /// run's start.
+/// What [`Tracking::relocate`] did.
+enum Relocated {
+    /// Both grippers moved; the new base pose (world frame).
+    Moved(Pose),
+    /// No translation brings the poses back into the arms' reach; nothing moved.
+    NoneFound,
+    /// The rig refused the move: the attempt's outcome.
+    Refused(String),
+}
+
+/// The arms' reach with the base gripper at `base` (world frame).
+///
+/// # Errors
+/// Bad input when the robot's description cannot be loaded.
+fn robot_reach(base: Pose) -> Result<TrackReach, CliError> {
+    Ok(TrackReach::Robot(Box::new(RobotReach::new(
+        Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?,
+        Pose::identity(),
+        base,
+    ))))
+}
+
 fn step_back<R: Rig>(rig: &mut R, run: &Run) -> Result<(), CliError> {
     let Some((_, before)) = run.steps.split_last() else {
         return Ok(());

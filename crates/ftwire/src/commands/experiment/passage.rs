@@ -27,7 +27,8 @@
 //! every commanded pose: an intermediate waypoint they cannot reach is passed over, the leg to
 //! the next one starting from where the wire is (`skipped`; a second in a row, or the goal,
 //! ends the attempt as `unreachable`). A goal out of their reach (under `offset`, the run's
-//! grasp offset moves the pose to command) is brought back once by translating both grippers
+//! grasp offset moves the pose to command), or a leg's start (under `increment`, the
+//! accumulated noise carries the gripper), is brought back once by translating both grippers
 //! 1–4 cm along a world axis where the model's wire stays clear (`relocated`; `track::relocation`).
 //!
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
@@ -117,8 +118,8 @@ pub struct Rates {
     /// Intermediate waypoints passed over over all attempts because the arms could not reach
     /// them (at most one in a row per attempt).
     pub skipped: usize,
-    /// Attempts that moved both grippers by one translation to bring a goal out of the arms'
-    /// reach back into it (`track::relocation`).
+    /// Attempts that moved both grippers by one translation to bring a goal, or a leg's start,
+    /// out of the arms' reach back into it (`track::relocation`).
     pub relocated: usize,
     /// Attempts that ended early for another reason than a detection (a waypoint the
     /// controller refused, a failed move, a sensor fault).
