@@ -284,6 +284,11 @@ pub struct RolloutArgs {
     /// 25 mm of a box stops at no less than 10 mm (`passage`: fewer landings beside a box).
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub shape_stop: Option<f64>,
+    /// Most moves of the closed loop toward each waypoint before the last [default: 20]. A
+    /// tighter `--shape-stop` under `increment` needs more: every move lands the wire about
+    /// 12 mm from where it was sent, and the stop waits for a landing within it.
+    #[arg(long, value_name = "N")]
+    pub waypoint_moves: Option<usize>,
     /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
     /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole
     /// path), and without noise and under `increment`, where the robot knows where its gripper
@@ -315,6 +320,24 @@ impl RolloutArgs {
     /// Bad input for a negative distance.
     pub fn shape_stop(&self) -> Result<f64, CliError> {
         shape_stop(self.shape_stop, self.noise_model)
+    }
+
+    /// `--waypoint-moves`, checked, or the default for the noise model
+    /// (`ftwire::experiment::track::through_settings`).
+    ///
+    /// # Errors
+    /// Bad input for 0.
+    pub fn waypoint_moves(&self) -> Result<usize, CliError> {
+        match self.waypoint_moves {
+            None => Ok(
+                ftwire::experiment::track::through_settings(self.noise_model.model())
+                    .max_iterations,
+            ),
+            Some(0) => Err(CliError::bad_input(
+                "--waypoint-moves 0: give at least 1 move toward each waypoint",
+            )),
+            Some(n) => Ok(n),
+        }
     }
 }
 

@@ -360,6 +360,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         seed,
         gain: ftwire_control::ControlSettings::default().gain,
         shape_stop: track::default_shape_stop(noise),
+        waypoint_moves: track::through_settings(noise).max_iterations,
         arms: true,
         bias_observer: true,
     };

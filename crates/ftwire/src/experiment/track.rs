@@ -744,14 +744,19 @@ pub struct Tracking<'a> {
     /// The closed loop's shape stop \[m\] on every leg (`ControlSettings::shape_tolerance`;
     /// 0: the `ε` stops of [`through_settings`] and [`goal_settings`]).
     pub shape_stop: f64,
+    /// Most moves toward each waypoint before the last (`ControlSettings::max_iterations` of
+    /// the legs between waypoints; [`through_settings`]'s by default, 20). Under `increment`
+    /// a tighter shape stop needs more: every move lands the wire about 12 mm from where it
+    /// was sent, and the stop waits for a landing within it.
+    pub waypoint_moves: usize,
     /// Whether the closed loop checks each commanded pose against the SDA10F's arms (IK
     /// within joint limits, no arm collision) and stops at one they cannot reach; `false`
     /// ignores the arms' kinematics, as the paper's noise experiments do (eq. 13–14 do not
     /// see them).
     pub arms: bool,
     /// Whether the closed loop steers by `ã` corrected for the sensor's bias drift (one
-    /// [`BiasObserver`] over the whole path; only without noise and under `offset`, see
-    /// [`bias_observer`]).
+    /// [`BiasObserver`] over the whole path; not under `absolute`, and each rest fused with
+    /// the pose without noise and under `increment`, see [`bias_observer`]).
     pub bias_observer: bool,
 }
 
@@ -911,6 +916,7 @@ impl Tracking<'_> {
         let through = ControlSettings {
             gain: self.gain,
             shape_tolerance: self.shape_stop,
+            max_iterations: self.waypoint_moves,
             ..through_settings(self.noise)
         };
         let end = ControlSettings {

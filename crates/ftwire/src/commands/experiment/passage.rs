@@ -208,8 +208,9 @@ struct Summary {
     /// The shape stop \[mm\] of the legs from or to a waypoint near a box
     /// (`track::near_shape_stop`; the same as `shape_stop_mm` where it is not looser).
     shape_stop_near_mm: f64,
-    /// The bias observer's settings of the closed loop (`null`: off, or under
-    /// `increment`/`absolute`).
+    /// Most moves toward each waypoint before the last (`--waypoint-moves`).
+    waypoint_moves: usize,
+    /// The bias observer's settings of the closed loop (`null`: off, or under `absolute`).
     bias_observer: Option<ftwire_control::BiasObserverSettings>,
     /// The success tolerance on the true final configuration \[normalised\].
     success_epsilon: f64,
@@ -263,6 +264,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     }
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
+    let waypoint_moves = args.rollout.waypoint_moves()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (scene, scene_name) = load_scene(args.scene.as_deref())?;
     let setup = common.setup.load()?;
@@ -326,6 +328,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         seed,
         gain,
         shape_stop,
+        waypoint_moves,
         arms: true,
         bias_observer: args.rollout.bias_observer.on(),
     };
@@ -381,6 +384,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         gain,
         shape_stop_mm: 1e3 * shape_stop,
         shape_stop_near_mm: 1e3 * near_shape_stop(noise, shape_stop),
+        waypoint_moves,
         bias_observer: tracking.observer_settings(),
         success_epsilon: success_epsilon(noise),
         success_rule: success_rule(noise),

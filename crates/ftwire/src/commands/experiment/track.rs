@@ -123,8 +123,9 @@ struct Summary {
     gain: f64,
     /// The closed loop's shape stop \[mm\] (0: the `ε` stops).
     shape_stop_mm: f64,
-    /// The bias observer's settings of the closed loop (`null`: off, or under
-    /// `increment`/`absolute`).
+    /// Most moves toward each waypoint before the last (`--waypoint-moves`).
+    waypoint_moves: usize,
+    /// The bias observer's settings of the closed loop (`null`: off, or under `absolute`).
     bias_observer: Option<ftwire_control::BiasObserverSettings>,
     /// Whether the closed loop stopped at poses the arms cannot reach.
     reach: ReachArg,
@@ -169,6 +170,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
     }
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
+    let waypoint_moves = args.rollout.waypoint_moves()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (passage_scene, _) = passage::load_scene(None)?;
     let free = Scene {
@@ -222,6 +224,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
                 seed,
                 gain,
                 shape_stop,
+                waypoint_moves,
                 arms: args.reach == ReachArg::Robot,
                 bias_observer: args.rollout.bias_observer.on(),
             };
@@ -281,6 +284,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         noise_model: noise,
         gain,
         shape_stop_mm: 1e3 * shape_stop,
+        waypoint_moves,
         bias_observer: ftwire::experiment::rig::bias_observer(
             &setup,
             noise,
