@@ -1220,9 +1220,6 @@ impl Tracking<'_> {
     }
 }
 
-/// Moves the second gripper back to where it was before the last move of `run` (the one the
-/// collision detector flagged): the pose the robot reported after the move before it, or the
-/// run's start.
 /// What [`Tracking::relocate`] did.
 enum Relocated {
     /// Both grippers moved; the new base pose (world frame).
@@ -1245,6 +1242,9 @@ fn robot_reach(base: Pose) -> Result<TrackReach, CliError> {
     ))))
 }
 
+/// Moves the second gripper back to where it was before the last move of `run` (the one the
+/// collision detector flagged): the pose the robot reported after the move before it, or the
+/// run's start.
 fn step_back<R: Rig>(rig: &mut R, run: &Run) -> Result<(), CliError> {
     let Some((_, before)) = run.steps.split_last() else {
         return Ok(());
