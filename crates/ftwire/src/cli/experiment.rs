@@ -25,7 +25,8 @@ pub enum ExperimentId {
     /// §IV-A: collect F/T and markers on a known wire, label by shape fitting (eq. 15), train
     /// and evaluate the calibration network.
     Calibrate(CalibrateExperimentArgs),
-    /// Table II, Fig. 5: shape error from F/T over configurations of A_free, for the four wires.
+    /// Table II, Fig. 5: shape error from F/T over configurations of A_free, for the four wires
+    /// (and beside it, the same rest fused with the gripper's reported pose).
     Shape(ShapeExperimentArgs),
     /// Table III, Figs. 6–7: steer the wire between A-connected pairs of A_free, closed loop
     /// (eq. 13–14) against open loop, with and without gripper noise; collision detection.
