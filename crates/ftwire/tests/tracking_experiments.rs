@@ -119,6 +119,29 @@ fn a_small_track_experiment_writes_table_iv() {
     for file in ["pairs.csv", "track_path_in_a.png", "track_shape_error.png"] {
         assert!(tmp.join("a").join(file).is_file(), "{file}");
     }
+    // waypoints.csv: its scored legs are exactly Table IV's closed-loop waypoints.
+    let legs = std::fs::read_to_string(tmp.join("a").join("waypoints.csv")).expect("waypoints.csv");
+    let mut lines = legs.lines();
+    assert_eq!(
+        lines.next(),
+        Some("pair,waypoint,moves,outcome,shape_mm,scored")
+    );
+    let scored: Vec<f64> = lines
+        .filter(|l| l.ends_with(",true"))
+        .map(|l| {
+            let fields: Vec<&str> = l.split(',').collect();
+            fields[fields.len() - 2].parse().expect("shape_mm")
+        })
+        .collect();
+    let closed = &summary["results"]["closed_loop"];
+    assert_eq!(
+        Some(scored.len() as u64),
+        closed["waypoints"].as_u64(),
+        "{legs}"
+    );
+    let mean = scored.iter().sum::<f64>() / scored.len() as f64;
+    let reported = closed["mean_mm"].as_f64().expect("mean_mm");
+    assert!((mean - reported).abs() < 1e-3, "{mean} against {reported}");
     let _ = std::fs::remove_dir_all(&tmp);
 }
 

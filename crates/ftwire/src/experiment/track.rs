@@ -707,6 +707,25 @@ pub struct Attempt {
     /// \[N·m, N\], for figures.
     #[serde(skip)]
     pub a_true: Vec<[f64; 6]>,
+    /// Every leg the closed loop ran, in order, reruns included (empty for the open loop).
+    #[serde(skip)]
+    pub legs: Vec<Leg>,
+}
+
+/// One leg of the closed loop as it ran: what `waypoints.csv` lists.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Leg {
+    /// The waypoint it steered to (1: the first after the start).
+    pub waypoint: usize,
+    /// Moves it made.
+    pub moves: usize,
+    /// How it ended: the controller outcome's name.
+    pub outcome: String,
+    /// The true shape against the waypoint's when it ended \[mm\].
+    pub shape_mm: f64,
+    /// Whether [`Attempt::shape_mm`] (Table IV) scores it: not when the leg was run again
+    /// (after a retreat, an undo or a relocation) or its waypoint was passed over.
+    pub scored: bool,
 }
 
 impl Attempt {
@@ -969,6 +988,7 @@ impl Tracking<'_> {
             shape_mm: Vec::new(),
             centrelines: Vec::new(),
             a_true: Vec::new(),
+            legs: Vec::new(),
         };
         let mut residuals = Vec::new();
         // The measured configuration where the last leg ended (the relocation's `a_now`).
@@ -1011,6 +1031,7 @@ impl Tracking<'_> {
                         Relocated::Moved(base) => {
                             reach = robot_reach(base)?;
                             attempt.relocated = true;
+                            // The leg never ran: the last score is the waypoint before's.
                             touched |= extra_move(&mut attempt, rig.inner());
                             continue;
                         }
@@ -1040,10 +1061,16 @@ impl Tracking<'_> {
                 attempt.a_true.push((*a).into());
             }
             let truth = truth_of(rig.inner());
-            attempt
-                .shape_mm
-                .push(shape_mm(&truth.centreline, &waypoint.centreline)?);
+            let error_mm = shape_mm(&truth.centreline, &waypoint.centreline)?;
+            attempt.shape_mm.push(error_mm);
             attempt.outcome = run.outcome.name().to_owned();
+            attempt.legs.push(Leg {
+                waypoint: i,
+                moves: run.steps.len(),
+                outcome: attempt.outcome.clone(),
+                shape_mm: error_mm,
+                scored: true,
+            });
             match run.outcome {
                 Outcome::Reached { .. } | Outcome::IterationLimit { .. } => {
                     attempt.completed = final_leg;
@@ -1060,6 +1087,7 @@ impl Tracking<'_> {
                         break;
                     }
                     attempt.retreats += 1;
+                    unscore_last_leg(&mut attempt);
                     touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
@@ -1074,6 +1102,7 @@ impl Tracking<'_> {
                         break;
                     }
                     attempt.undone += 1;
+                    unscore_last_leg(&mut attempt);
                     touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
@@ -1084,6 +1113,7 @@ impl Tracking<'_> {
                         Relocated::Moved(base) => {
                             reach = robot_reach(base)?;
                             attempt.relocated = true;
+                            unscore_last_leg(&mut attempt);
                             touched |= extra_move(&mut attempt, rig.inner());
                             continue;
                         }
@@ -1100,7 +1130,7 @@ impl Tracking<'_> {
                 // leg to the next waypoint starts from where the wire is. The waypoint is not
                 // scored; a second unreachable waypoint in a row ends the attempt.
                 Outcome::Unreachable { .. } if may_pass_over(i, final_leg, skipped_last) => {
-                    attempt.shape_mm.pop();
+                    unscore_last_leg(&mut attempt);
                     attempt.skipped += 1;
                     skipped_last = Some(i);
                 }
@@ -1174,6 +1204,7 @@ impl Tracking<'_> {
             shape_mm: Vec::new(),
             centrelines: Vec::new(),
             a_true: vec![start.a.into()],
+            legs: Vec::new(),
         };
         let mut truths = Vec::new();
         let rolled = ftwire_control::open_loop::roll_out::<_, Calibration>(
@@ -1261,11 +1292,19 @@ fn rig_base<R: Rig>(rig: &R) -> Result<Pose, CliError> {
         .map_err(|e| CliError::no_answer(e.to_string()))
 }
 
-/// Records a move the closed loop made outside a controller run (a retreat, a relocation)
-/// before it runs the leg again: the leg's waypoint was not reached, so its score is dropped
-/// (Table IV scores the rerun), and the rest's truth is kept. Returns whether the wire touched.
-fn extra_move(attempt: &mut Attempt, rig: &SimRig) -> bool {
+/// Drops the score of the leg that just ran: its waypoint was not reached (Table IV scores the
+/// rerun) or is passed over.
+fn unscore_last_leg(attempt: &mut Attempt) {
     attempt.shape_mm.pop();
+    if let Some(leg) = attempt.legs.last_mut() {
+        leg.scored = false;
+    }
+}
+
+/// Records a move the closed loop made outside a controller run (a retreat, an undo, a
+/// relocation) before it runs a leg again; the rest's truth is kept. Returns whether the wire
+/// touched.
+fn extra_move(attempt: &mut Attempt, rig: &SimRig) -> bool {
     attempt.steps += 1;
     let truth = truth_of(rig);
     attempt.centrelines.push(to_points(&truth.centreline));
@@ -1366,6 +1405,7 @@ mod tests {
             shape_mm: Vec::new(),
             centrelines: Vec::new(),
             a_true: Vec::new(),
+            legs: Vec::new(),
         };
         assert_eq!(attempt(true, true).verdict(), "success");
         assert!(attempt(true, false).verdict().contains("not at the goal"));

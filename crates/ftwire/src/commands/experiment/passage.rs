@@ -555,6 +555,7 @@ mod tests {
             shape_mm: vec![1.0, 3.0],
             centrelines: Vec::new(),
             a_true: Vec::new(),
+            legs: Vec::new(),
         }
     }
 

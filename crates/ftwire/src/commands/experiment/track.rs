@@ -30,7 +30,9 @@
 //! matched arc lengths; `mean_mm`, `std_mm` and `max_mm` over every waypoint of every pair.
 //!
 //! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{mean_mm, std_mm, max_mm, ...}`
-//! and `plan_ms_median`, the one wall-clock figure in it), `pairs.csv`, `timings.json`,
+//! and `plan_ms_median`, the one wall-clock figure in it), `pairs.csv`, `waypoints.csv` (every
+//! closed-loop leg: its waypoint, moves, outcome, true shape error, and whether it is scored),
+//! `timings.json`,
 //! `calibration.json` (when it ran one), and the figures `track_path_in_a` (Fig. 8: the plan
 //! and both roll-outs of the first pair in two components of normalised `A`) and
 //! `track_shape_error` (Fig. 9: the shape error along the path of every pair).
@@ -266,6 +268,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         })
         .collect();
     folder.write("pairs.csv", pairs_csv(&per_pair))?;
+    folder.write("waypoints.csv", waypoints_csv(&closed))?;
     figures(&folder, &wire_params, &planned, &closed, &open)?;
     let plan_ms: Vec<f64> = planned.iter().map(|p| p.plan_ms).collect();
     let plan_ms_median = median(&plan_ms);
@@ -443,6 +446,26 @@ fn pairs_csv(pairs: &[PairOut]) -> String {
     csv
 }
 
+/// Every closed-loop leg of every pair: where each waypoint's score came from (how many moves
+/// it took, how the leg ended), and the legs run again or passed over (`scored` false).
+fn waypoints_csv(closed: &[Attempt]) -> String {
+    let mut csv = String::from("pair,waypoint,moves,outcome,shape_mm,scored\n");
+    for (k, attempt) in closed.iter().enumerate() {
+        for leg in &attempt.legs {
+            let _ = writeln!(
+                csv,
+                "{k},{},{},\"{}\",{:.3},{}",
+                leg.waypoint,
+                leg.moves,
+                leg.outcome.replace('"', "'"),
+                leg.shape_mm,
+                leg.scored,
+            );
+        }
+    }
+    csv
+}
+
 /// Figs. 8–9.
 fn figures(
     folder: &ResultsFolder,
@@ -528,6 +551,7 @@ mod tests {
             shape_mm,
             centrelines: Vec::new(),
             a_true: Vec::new(),
+            legs: Vec::new(),
         };
         let m = metrics(&[run(vec![1.0, 2.0]), run(vec![6.0])]);
         assert_eq!(m.waypoints, 3);
