@@ -68,6 +68,21 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
     );
     assert!(first["plan_ms"].as_f64().is_some_and(|t| t > 0.0));
     assert!(first["plan"]["waypoints"].as_u64().is_some_and(|n| n >= 2));
+    // waypoints.csv: an attempt with a leg that touched a box is counted as a collision.
+    let legs = std::fs::read_to_string(tmp.join("a").join("waypoints.csv")).expect("waypoints.csv");
+    assert!(legs.starts_with("attempt,waypoint,moves,outcome,shape_mm,scored,touched\n"));
+    let mut touching: Vec<&str> = legs
+        .lines()
+        .skip(1)
+        .filter(|l| l.ends_with(",true"))
+        .filter_map(|l| l.split(',').next())
+        .collect();
+    touching.dedup();
+    assert!(legs.lines().count() > 2, "{legs}");
+    assert!(
+        Some(touching.len() as u64) <= closed["collisions"].as_u64(),
+        "{legs}"
+    );
     for file in [
         "attempts.csv",
         "report.md",
@@ -124,14 +139,12 @@ fn a_small_track_experiment_writes_table_iv() {
     let mut lines = legs.lines();
     assert_eq!(
         lines.next(),
-        Some("pair,waypoint,moves,outcome,shape_mm,scored")
+        Some("pair,waypoint,moves,outcome,shape_mm,scored,touched")
     );
     let scored: Vec<f64> = lines
-        .filter(|l| l.ends_with(",true"))
-        .map(|l| {
-            let fields: Vec<&str> = l.split(',').collect();
-            fields[fields.len() - 2].parse().expect("shape_mm")
-        })
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|fields| fields[fields.len() - 2] == "true")
+        .map(|fields| fields[fields.len() - 3].parse().expect("shape_mm"))
         .collect();
     let closed = &summary["results"]["closed_loop"];
     assert_eq!(

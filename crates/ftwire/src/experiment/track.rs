@@ -12,6 +12,7 @@
 //!   truth: whether the true wire touched an obstacle at any rest, and its shape against
 //!   `Φ(γ_A)` at each waypoint.
 
+use std::fmt::Write as _;
 use std::time::Instant;
 
 use ftwire_control::{
@@ -746,6 +747,8 @@ pub struct Leg {
     /// Whether [`Attempt::shape_mm`] (Table IV) scores it: not when the leg was run again
     /// (after a retreat, an undo or a relocation) or its waypoint was passed over.
     pub scored: bool,
+    /// The true wire touched an obstacle at one of its rests.
+    pub touched: bool,
 }
 
 impl Attempt {
@@ -1048,6 +1051,7 @@ impl Tracking<'_> {
                 (false, false, true) => (&through_again, &feedback),
             };
             let mut centrelines = Vec::new();
+            let mut leg_touched = false;
             let run = controller.run_estimated(
                 &mut rig,
                 feedback,
@@ -1056,10 +1060,11 @@ impl Tracking<'_> {
                 observer.as_mut(),
                 |r, _| {
                     let truth = truth_of(r.inner());
-                    touched |= truth.touched;
+                    leg_touched |= truth.touched;
                     centrelines.push((truth.centreline, truth.a));
                 },
             );
+            touched |= leg_touched;
             // The controller refuses a waypoint it cannot steer to (outside its model's
             // A_stable, or from a pose the robot cannot hold): the attempt ends there, unless
             // the start is out of the arms' reach (the accumulated noise carried the gripper
@@ -1110,6 +1115,7 @@ impl Tracking<'_> {
                 outcome: attempt.outcome.clone(),
                 shape_mm: error_mm,
                 scored: true,
+                touched: leg_touched,
             });
             match run.outcome {
                 Outcome::Reached { .. } | Outcome::IterationLimit { .. } => {
@@ -1331,6 +1337,29 @@ fn rig_base<R: Rig>(rig: &R) -> Result<Pose, CliError> {
     rig.gripper_poses()
         .map(|poses| poses.base)
         .map_err(|e| CliError::no_answer(e.to_string()))
+}
+
+/// `waypoints.csv`: every closed-loop leg of every run, numbered by `label` (`pair`,
+/// `attempt`): its waypoint, the moves it made, how it ended, the true shape error then, whether
+/// Table IV scores it (not when it was run again or its waypoint passed over), and whether the
+/// true wire touched an obstacle during it.
+pub fn waypoints_csv(label: &str, closed: &[Attempt]) -> String {
+    let mut csv = format!("{label},waypoint,moves,outcome,shape_mm,scored,touched\n");
+    for (k, attempt) in closed.iter().enumerate() {
+        for leg in &attempt.legs {
+            let _ = writeln!(
+                csv,
+                "{k},{},{},\"{}\",{:.3},{},{}",
+                leg.waypoint,
+                leg.moves,
+                leg.outcome.replace('"', "'"),
+                leg.shape_mm,
+                leg.scored,
+                leg.touched,
+            );
+        }
+    }
+    csv
 }
 
 /// Drops the score of the leg that just ran: its waypoint was not reached (Table IV scores the

@@ -47,7 +47,8 @@
 //!
 //! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{attempts, successes,
 //! collisions, detected, ...}` and `plan_ms`, the one wall-clock figure in it), `attempts.csv`,
-//! `timings.json`, `calibration.json` (when it ran one), and the figures `passage_path_in_a`
+//! `waypoints.csv` (every closed-loop leg, as `experiment track` writes it, with whether the
+//! true wire touched a box during it), `timings.json`, `calibration.json` (when it ran one), and the figures `passage_path_in_a`
 //! (Fig. 11: the plan and the roll-outs in two components of normalised `A`),
 //! `passage_shape_error` (Fig. 12: the shape error against `Φ(γ_A)` at each waypoint) and
 //! `passage_scene` (the boxes, the planned wire at intermediate configurations, and the true
@@ -60,7 +61,7 @@ use std::time::Instant;
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
     Attempt, Tracking, WAYPOINTS, Waypoint, near_obstacles, near_shape_stop, plan_in_scene,
-    scene_model, success_epsilon, success_rule, validity_tracked, waypoints_along,
+    scene_model, success_epsilon, success_rule, validity_tracked, waypoints_along, waypoints_csv,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -366,6 +367,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     }
 
     folder.write("attempts.csv", attempts_csv(&closed, &open))?;
+    folder.write("waypoints.csv", waypoints_csv("attempt", &closed))?;
     figures(&folder, &scene, &model, &waypoints, &closed, &open)?;
     folder.write_json(
         "timings.json",

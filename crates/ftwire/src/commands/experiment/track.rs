@@ -44,7 +44,7 @@ use std::time::Instant;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::track::{
     Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
-    validity_tracked, waypoints_along,
+    validity_tracked, waypoints_along, waypoints_csv,
 };
 use ftwire::results::ResultsFolder;
 use ftwire_core::Pose;
@@ -268,7 +268,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         })
         .collect();
     folder.write("pairs.csv", pairs_csv(&per_pair))?;
-    folder.write("waypoints.csv", waypoints_csv(&closed))?;
+    folder.write("waypoints.csv", waypoints_csv("pair", &closed))?;
     figures(&folder, &wire_params, &planned, &closed, &open)?;
     let plan_ms: Vec<f64> = planned.iter().map(|p| p.plan_ms).collect();
     let plan_ms_median = median(&plan_ms);
@@ -442,26 +442,6 @@ fn pairs_csv(pairs: &[PairOut]) -> String {
             p.closed_loop_outcome.replace('"', "'"),
             p.open_loop_outcome.replace('"', "'"),
         );
-    }
-    csv
-}
-
-/// Every closed-loop leg of every pair: where each waypoint's score came from (how many moves
-/// it took, how the leg ended), and the legs run again or passed over (`scored` false).
-fn waypoints_csv(closed: &[Attempt]) -> String {
-    let mut csv = String::from("pair,waypoint,moves,outcome,shape_mm,scored\n");
-    for (k, attempt) in closed.iter().enumerate() {
-        for leg in &attempt.legs {
-            let _ = writeln!(
-                csv,
-                "{k},{},{},\"{}\",{:.3},{}",
-                leg.waypoint,
-                leg.moves,
-                leg.outcome.replace('"', "'"),
-                leg.shape_mm,
-                leg.scored,
-            );
-        }
     }
     csv
 }
