@@ -168,6 +168,13 @@ fn bad_options_are_refused_before_any_work() {
     assert_exit(&output, 2, "--gain 1.5", "passage --gain 1.5");
     let output = ftwire(&["experiment", "track", "--shape-stop", "-1"]);
     assert_exit(&output, 2, "--shape-stop -1", "track --shape-stop -1");
+    let output = ftwire(&["experiment", "passage", "--near-shape-stop", "-2"]);
+    assert_exit(
+        &output,
+        2,
+        "--near-shape-stop -2",
+        "passage --near-shape-stop -2",
+    );
     for command in ["track", "passage"] {
         let output = ftwire(&["experiment", command, "--waypoint-moves", "0"]);
         assert_exit(&output, 2, "--waypoint-moves 0", "--waypoint-moves 0");

@@ -290,6 +290,11 @@ pub struct RolloutArgs {
     /// 12 mm from where it was sent, and the stop waits for a landing within it.
     #[arg(long, value_name = "N")]
     pub waypoint_moves: Option<usize>,
+    /// The shape stop in mm of the legs from or to a waypoint whose planned wire is within
+    /// 25 mm of a box: every landing there is a chance to touch it [default: the larger of
+    /// `--shape-stop` and 10 under `increment` and `absolute`, `--shape-stop` otherwise].
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
+    pub near_shape_stop: Option<f64>,
     /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
     /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole
     /// path), and without noise and under `increment`, where the robot knows where its gripper
@@ -338,6 +343,24 @@ impl RolloutArgs {
                 "--waypoint-moves 0: give at least 1 move toward each waypoint",
             )),
             Some(n) => Ok(n),
+        }
+    }
+
+    /// `--near-shape-stop` in metres, checked, or the default for the noise model and
+    /// `shape_stop` \[m\] (`ftwire::experiment::track::near_shape_stop`).
+    ///
+    /// # Errors
+    /// Bad input for a negative distance.
+    pub fn near_shape_stop(&self, shape_stop: f64) -> Result<f64, CliError> {
+        match self.near_shape_stop {
+            None => Ok(ftwire::experiment::track::near_shape_stop(
+                self.noise_model.model(),
+                shape_stop,
+            )),
+            Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
+            Some(mm) => Err(CliError::bad_input(format!(
+                "--near-shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
+            ))),
         }
     }
 }

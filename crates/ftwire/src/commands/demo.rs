@@ -361,6 +361,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         gain: ftwire_control::ControlSettings::default().gain,
         shape_stop: track::default_shape_stop(noise),
         waypoint_moves: track::through_settings(noise).max_iterations,
+        near_shape_stop: track::near_shape_stop(noise, track::default_shape_stop(noise)),
         arms: true,
         bias_observer: true,
     };

@@ -791,6 +791,9 @@ pub struct Tracking<'a> {
     /// a tighter shape stop needs more: every move lands the wire about 12 mm from where it
     /// was sent, and the stop waits for a landing within it.
     pub waypoint_moves: usize,
+    /// The shape stop \[m\] of the legs from or to a waypoint near a box
+    /// ([`near_obstacles`]); [`near_shape_stop`] of `shape_stop` by default.
+    pub near_shape_stop: f64,
     /// Whether the closed loop checks each commanded pose against the SDA10F's arms (IK
     /// within joint limits, no arm collision) and stops at one they cannot reach; `false`
     /// ignores the arms' kinematics, as the paper's noise experiments do (eq. 13–14 do not
@@ -975,7 +978,7 @@ impl Tracking<'_> {
             })
         };
         // Legs from or to a waypoint near an obstacle: the looser shape stop there.
-        let near_stop = near_shape_stop(self.noise, self.shape_stop);
+        let near_stop = self.near_shape_stop;
         let near = if near_stop == self.shape_stop {
             vec![false; waypoints.len()]
         } else {

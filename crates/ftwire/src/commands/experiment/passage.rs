@@ -60,8 +60,8 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
-    Attempt, Tracking, WAYPOINTS, Waypoint, near_obstacles, near_shape_stop, plan_in_scene,
-    scene_model, success_epsilon, success_rule, validity_tracked, waypoints_along, waypoints_csv,
+    Attempt, Tracking, WAYPOINTS, Waypoint, near_obstacles, plan_in_scene, scene_model,
+    success_epsilon, success_rule, validity_tracked, waypoints_along, waypoints_csv,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -266,6 +266,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
     let waypoint_moves = args.rollout.waypoint_moves()?;
+    let near_stop = args.rollout.near_shape_stop(shape_stop)?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (scene, scene_name) = load_scene(args.scene.as_deref())?;
     let setup = common.setup.load()?;
@@ -330,6 +331,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         gain,
         shape_stop,
         waypoint_moves,
+        near_shape_stop: near_stop,
         arms: true,
         bias_observer: args.rollout.bias_observer.on(),
     };
@@ -385,7 +387,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         noise_model: noise,
         gain,
         shape_stop_mm: 1e3 * shape_stop,
-        shape_stop_near_mm: 1e3 * near_shape_stop(noise, shape_stop),
+        shape_stop_near_mm: 1e3 * near_stop,
         waypoint_moves,
         bias_observer: tracking.observer_settings(),
         success_epsilon: success_epsilon(noise),

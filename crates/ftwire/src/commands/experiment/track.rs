@@ -173,6 +173,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
     let waypoint_moves = args.rollout.waypoint_moves()?;
+    let near_stop = args.rollout.near_shape_stop(shape_stop)?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (passage_scene, _) = passage::load_scene(None)?;
     let free = Scene {
@@ -227,6 +228,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
                 gain,
                 shape_stop,
                 waypoint_moves,
+                near_shape_stop: near_stop,
                 arms: args.reach == ReachArg::Robot,
                 bias_observer: args.rollout.bias_observer.on(),
             };
