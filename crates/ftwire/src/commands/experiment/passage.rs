@@ -48,11 +48,11 @@
 //! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{attempts, successes,
 //! collisions, detected, ...}` and `plan_ms`, the one wall-clock figure in it), `attempts.csv`,
 //! `waypoints.csv` (every closed-loop leg, as `experiment track` writes it, with whether the
-//! true wire touched a box during it), `timings.json`, `calibration.json` (when it ran one), and the figures `passage_path_in_a`
-//! (Fig. 11: the plan and the roll-outs in two components of normalised `A`),
-//! `passage_shape_error` (Fig. 12: the shape error against `Φ(γ_A)` at each waypoint) and
-//! `passage_scene` (the boxes, the planned wire at intermediate configurations, and the true
-//! wire of the first closed-loop attempt).
+//! true wire touched a box during it), `timings.json`, `calibration.json` (when it ran one),
+//! and the figures `passage_path_in_a` (Fig. 11: the plan and the roll-outs in two components
+//! of normalised `A`), `passage_shape_error` (Fig. 12: the shape error against `Φ(γ_A)` at
+//! each waypoint) and `passage_scene` (the boxes, the planned wire at intermediate
+//! configurations, and the true wire of the first closed-loop attempt).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

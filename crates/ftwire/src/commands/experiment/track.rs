@@ -32,10 +32,9 @@
 //! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{mean_mm, std_mm, max_mm, ...}`
 //! and `plan_ms_median`, the one wall-clock figure in it), `pairs.csv`, `waypoints.csv` (every
 //! closed-loop leg: its waypoint, moves, outcome, true shape error, and whether it is scored),
-//! `timings.json`,
-//! `calibration.json` (when it ran one), and the figures `track_path_in_a` (Fig. 8: the plan
-//! and both roll-outs of the first pair in two components of normalised `A`) and
-//! `track_shape_error` (Fig. 9: the shape error along the path of every pair).
+//! `timings.json`, `calibration.json` (when it ran one), and the figures `track_path_in_a`
+//! (Fig. 8: the plan and both roll-outs of the first pair in two components of normalised `A`)
+//! and `track_shape_error` (Fig. 9: the shape error along the path of every pair).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
