@@ -139,10 +139,14 @@ pub const SHAPE_STOP_NEAR_NOISY: f64 = 0.010;
 /// with the shape stop on; `shape_stop` itself otherwise (without noise and under `offset`
 /// the loop converges, and nearness to a box asks for no looser stop).
 pub fn near_shape_stop(noise: NoiseModel, shape_stop: f64) -> f64 {
+    no_tighter_under_noise(noise, shape_stop, SHAPE_STOP_NEAR_NOISY)
+}
+
+/// `shape_stop`, but no tighter than `floor` under `increment` and `absolute` with the shape
+/// stop on (0, the `ε` stop alone, stays 0).
+fn no_tighter_under_noise(noise: NoiseModel, shape_stop: f64, floor: f64) -> f64 {
     match noise {
-        NoiseModel::Increment | NoiseModel::Absolute if shape_stop > 0.0 => {
-            shape_stop.max(SHAPE_STOP_NEAR_NOISY)
-        }
+        NoiseModel::Increment | NoiseModel::Absolute if shape_stop > 0.0 => shape_stop.max(floor),
         _ => shape_stop,
     }
 }
@@ -159,12 +163,7 @@ pub fn near_shape_stop(noise: NoiseModel, shape_stop: f64) -> f64 {
 /// legs 5–8 diverged after 24–77 moves each, five times in all, and the fifth ended the
 /// attempt 37 mm from waypoint 8.
 pub fn rerun_shape_stop(noise: NoiseModel, shape_stop: f64) -> f64 {
-    match noise {
-        NoiseModel::Increment | NoiseModel::Absolute if shape_stop > 0.0 => {
-            shape_stop.max(default_shape_stop(noise))
-        }
-        _ => shape_stop,
-    }
+    no_tighter_under_noise(noise, shape_stop, default_shape_stop(noise))
 }
 
 /// For each waypoint, whether its planned wire (`Waypoint::centreline`, world frame, the
