@@ -40,6 +40,7 @@
 mod endpoint;
 mod error;
 mod path;
+mod polish;
 mod rrt_star;
 pub mod scene;
 mod space;
@@ -48,6 +49,7 @@ pub mod validity;
 pub use endpoint::{configuration_for_tip, scene_configuration, scene_endpoint};
 pub use error::PlanError;
 pub use path::Path;
+pub use polish::{PolishParams, Polished, polish_clearance};
 pub use rrt_star::{Plan, PlannerParams, plan};
 pub use scene::{ConfigurationSpec, Scene, SceneBox};
 pub use space::{FixedBase, MovingBase, Space};

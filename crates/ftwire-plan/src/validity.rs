@@ -624,6 +624,24 @@ impl Checker {
         None
     }
 
+    /// The wire surface's clearance \[m\] (capped) at `config`, without the other checks: one
+    /// shape solve of the checker's model.
+    ///
+    /// # Errors
+    /// [`Invalid::Model`] when the model refuses `a`.
+    pub fn clearance(&self, config: &Config) -> Result<f64, Invalid> {
+        let shape = self
+            .rod
+            .shape(&config.a, self.params.nodes)
+            .map_err(|e| Invalid::Model(e.to_string()))?;
+        let centreline: Vec<Point3<f64>> = shape
+            .positions
+            .iter()
+            .map(|p| config.base * Point3::from(*p))
+            .collect();
+        Ok(self.wire_clearance(&centreline).0)
+    }
+
     /// The wire surface's clearance (capped) and the index of the nearest obstacle (the
     /// boxes in order, then the floor).
     pub fn wire_clearance(&self, centreline: &[Point3<f64>]) -> (f64, usize) {

@@ -5,35 +5,13 @@
 
 mod common;
 
-use ftwire_plan::{
-    Checker, FixedBase, Plan, PlannerParams, Sample, joint_distance, plan, scene_endpoint,
-};
+use ftwire_plan::{Plan, PlannerParams, joint_distance, plan};
 use proptest::prelude::*;
 
-struct Setup {
-    checker: Checker,
-    space: FixedBase,
-    start: Sample,
-    goal: Sample,
-}
+type Setup = common::ShippedProblem;
 
 fn setup() -> Setup {
-    let scene = common::shipped_passage();
-    let checker = common::checker(&scene);
-    let start = scene_endpoint(&scene, &checker, "start", "start").expect("valid start");
-    let goal = scene_endpoint(&scene, &checker, "goal", "goal").expect("valid goal");
-    let space = FixedBase::around(
-        *checker.rod().wire(),
-        scene.base,
-        &[start.config, goal.config],
-        2.0,
-    );
-    Setup {
-        checker,
-        space,
-        start,
-        goal,
-    }
+    common::shipped_problem()
 }
 
 fn first(s: &Setup, seed: u64) -> Plan {

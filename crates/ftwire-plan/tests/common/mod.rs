@@ -2,7 +2,9 @@
 //! planner tests' passage (`tests/data/passage-taut.toml`: the same boxes, the start taut).
 #![allow(dead_code)]
 
-use ftwire_plan::{Checker, Config, Plan, Scene, ValidityParams};
+use ftwire_plan::{
+    Checker, Config, FixedBase, Plan, Sample, Scene, ValidityParams, scene_endpoint,
+};
 use ftwire_robot::Robot;
 use ftwire_rod::{Rod, WireParams};
 
@@ -42,4 +44,33 @@ pub fn checker(scene: &Scene) -> Checker {
 /// A plan's waypoints' configurations (to compare two plans' paths).
 pub fn configs(plan: &Plan) -> Vec<Config> {
     plan.path.waypoints.iter().map(|w| w.config).collect()
+}
+
+/// The shipped passage's planning problem: its checker, the fixed-base space padded 2
+/// normalised units around start and goal, and the start and goal.
+pub struct ShippedProblem {
+    pub checker: Checker,
+    pub space: FixedBase,
+    pub start: Sample,
+    pub goal: Sample,
+}
+
+/// [`ShippedProblem`] of [`shipped_passage`].
+pub fn shipped_problem() -> ShippedProblem {
+    let scene = shipped_passage();
+    let checker = checker(&scene);
+    let start = scene_endpoint(&scene, &checker, "start", "start").expect("valid start");
+    let goal = scene_endpoint(&scene, &checker, "goal", "goal").expect("valid goal");
+    let space = FixedBase::around(
+        *checker.rod().wire(),
+        scene.base,
+        &[start.config, goal.config],
+        2.0,
+    );
+    ShippedProblem {
+        checker,
+        space,
+        start,
+        goal,
+    }
 }
