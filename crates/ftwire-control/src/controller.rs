@@ -71,6 +71,17 @@ pub struct ControlSettings {
     /// execution noise, the stop picks a move that landed the *wire* near its goal, which `ε`
     /// on the six wrench components does only loosely (README, "The shape stop").
     pub shape_tolerance: f64,
+    /// The shape stop \[m\] once [`ControlSettings::late_after`] steps are spent (default
+    /// `0`: the same as [`ControlSettings::shape_tolerance`]; never tighter than it). A tight
+    /// shape stop waits for a lucky landing of the noisy moves; where landings near the goal
+    /// are rare, the run would end at [`ControlSettings::max_iterations`] on whatever landing
+    /// came last. A looser stop for the last moves of the budget ends it on a landing near the
+    /// goal instead (optimal stopping with a finite budget: the threshold rises as the moves
+    /// left run out).
+    pub late_shape_tolerance: f64,
+    /// Steps after which [`ControlSettings::late_shape_tolerance`] applies (default
+    /// `usize::MAX`: never).
+    pub late_after: usize,
     /// Divergence stop \[normalised\] (default `0`: off). When positive, the run stops with
     /// [`Outcome::Diverged`] once the measured `‖a_g − ã‖` has exceeded its value at the
     /// run's start by more than this at [`DIVERGED_RESTS`] rests in a row. Under the paper's
@@ -101,6 +112,8 @@ impl Default for ControlSettings {
             settle_radius: 0.0,
             settle_samples: 0,
             shape_tolerance: 0.0,
+            late_shape_tolerance: 0.0,
+            late_after: usize::MAX,
             divergence: 0.0,
         }
     }
@@ -149,7 +162,25 @@ impl ControlSettings {
                 "a finite distance ≥ 0 m (0: off)",
             ));
         }
+        if !(self.late_shape_tolerance.is_finite() && self.late_shape_tolerance >= 0.0) {
+            return Err(bad(
+                "late_shape_tolerance",
+                self.late_shape_tolerance,
+                "a finite distance ≥ 0 m (0: the shape stop's)",
+            ));
+        }
         Ok(())
+    }
+
+    /// The shape stop \[m\] at step `step` of a run: [`ControlSettings::shape_tolerance`], or
+    /// the looser [`ControlSettings::late_shape_tolerance`] from step
+    /// [`ControlSettings::late_after`] on.
+    pub fn shape_stop_at(&self, step: usize) -> f64 {
+        if step >= self.late_after {
+            self.shape_tolerance.max(self.late_shape_tolerance)
+        } else {
+            self.shape_tolerance
+        }
     }
 }
 
@@ -631,7 +662,7 @@ impl<M: WireModel> Controller<M> {
             let reached = match &goal_shape {
                 Some(g) => self
                     .shape_distance(&a, g)
-                    .is_ok_and(|d| d < self.settings.shape_tolerance),
+                    .is_ok_and(|d| d < self.settings.shape_stop_at(step)),
                 None => error < self.settings.epsilon,
             };
             if reached {

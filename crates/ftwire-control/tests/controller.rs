@@ -756,23 +756,82 @@ fn the_shape_stop_ends_a_run_at_the_first_shape_within_its_tolerance() {
 #[test]
 fn a_bad_shape_tolerance_is_refused_by_name() {
     for value in [-0.001, f64::NAN, f64::INFINITY] {
-        let err = Controller::new(
-            KirchhoffModel::new(wire()),
-            ControlSettings {
-                shape_tolerance: value,
-                ..ControlSettings::default()
-            },
-        )
-        .expect_err("refused");
-        assert!(
-            matches!(
-                err,
-                ControlError::BadSetting {
-                    name: "shape_tolerance",
-                    ..
-                }
+        for (field, settings) in [
+            (
+                "shape_tolerance",
+                ControlSettings {
+                    shape_tolerance: value,
+                    ..ControlSettings::default()
+                },
             ),
-            "{err:?}"
-        );
+            (
+                "late_shape_tolerance",
+                ControlSettings {
+                    late_shape_tolerance: value,
+                    ..ControlSettings::default()
+                },
+            ),
+        ] {
+            let err = Controller::new(KirchhoffModel::new(wire()), settings).expect_err("refused");
+            assert!(
+                matches!(err, ControlError::BadSetting { name, .. } if name == field),
+                "{field}: {err:?}"
+            );
+        }
     }
+}
+
+#[test]
+fn the_late_shape_stop_applies_from_its_step_on_and_never_before() {
+    let (a_s, a_g) = pair();
+    let model = KirchhoffModel::new(wire());
+    let (tight, late, after) = (1e-12, 0.005, 3);
+    let settings = ControlSettings {
+        epsilon: 1e-12,
+        shape_tolerance: tight,
+        late_shape_tolerance: late,
+        late_after: after,
+        ..ControlSettings::default()
+    };
+    assert_eq!(settings.shape_stop_at(after - 1), tight);
+    assert_eq!(settings.shape_stop_at(after), late);
+    // Never tighter than the shape stop.
+    let looser = ControlSettings {
+        shape_tolerance: 0.01,
+        ..settings
+    };
+    assert_eq!(looser.shape_stop_at(after), 0.01);
+    let controller = Controller::new(model, settings).expect("valid settings");
+    let goal = model.shape(&a_g, 50).expect("solves").positions;
+    let distance = |a: &Vector6<f64>| controller.shape_distance(a, &goal).expect("solves");
+    let run = controller
+        .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
+        .expect("runs");
+    assert!(
+        matches!(run.outcome, Outcome::Reached { .. }),
+        "{:?}",
+        run.outcome
+    );
+    // Stopped at the first estimate from step `after` on within the late stop.
+    let estimates: Vec<Vector6<f64>> = std::iter::once(run.start_estimate)
+        .chain(run.steps.iter().map(|s| s.estimate))
+        .collect();
+    let stop = estimates.len() - 1;
+    assert!(stop >= after, "stopped at step {stop}");
+    assert!(distance(&estimates[stop]) < late);
+    for (k, a) in estimates.iter().enumerate().take(stop).skip(after) {
+        assert!(distance(a) >= late, "step {k}: {}", distance(a));
+    }
+    // The tight stop alone runs on past it.
+    let tight_only = Controller::new(
+        model,
+        ControlSettings {
+            late_shape_tolerance: 0.0,
+            ..settings
+        },
+    )
+    .expect("valid settings")
+    .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
+    .expect("runs");
+    assert!(tight_only.steps.len() > run.steps.len());
 }
