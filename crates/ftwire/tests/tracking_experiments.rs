@@ -68,6 +68,8 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
     );
     assert!(first["plan_ms"].as_f64().is_some_and(|t| t > 0.0));
     assert!(first["plan"]["waypoints"].as_u64().is_some_and(|n| n >= 2));
+    // Under `offset` the loop converges onto the plan: no clearance polish.
+    assert!(first["plan"]["polish"].is_null());
     // waypoints.csv: an attempt with a leg that touched a box is counted as a collision.
     let legs = std::fs::read_to_string(tmp.join("a").join("waypoints.csv")).expect("waypoints.csv");
     assert!(legs.starts_with("attempt,waypoint,moves,outcome,shape_mm,scored,touched\n"));
@@ -100,6 +102,29 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
         s["plan_ms"] = serde_json::Value::Null;
     }
     assert_eq!(first, second, "same seed, same results");
+    // Under the paper's noise the tight waypoints are polished: no waypoint comes closer to a
+    // box, and the closest one moves away (the shipped passage's plans pass at 16–19 mm);
+    // `--no-polish` tracks them as resampled.
+    let noisy = ["experiment", "passage", "--attempts", "1", "--seed", "5"];
+    let polished = run(&noisy, &tmp.join("c"), &calibration);
+    let polish = &polished["plan"]["polish"];
+    assert_eq!(polish["valid"], true, "{polish}");
+    assert!(polish["moved"].as_u64().is_some_and(|n| n >= 1), "{polish}");
+    let (before, after) = (
+        polish["min_clearance_before_mm"]
+            .as_f64()
+            .unwrap_or(f64::NAN),
+        polish["min_clearance_after_mm"]
+            .as_f64()
+            .unwrap_or(f64::NAN),
+    );
+    assert!(after > before, "{polish}");
+    let unpolished = run(
+        &[&noisy[..], &["--no-polish"]].concat(),
+        &tmp.join("d"),
+        &calibration,
+    );
+    assert!(unpolished["plan"]["polish"].is_null());
     let _ = std::fs::remove_dir_all(&tmp);
 }
 

@@ -414,6 +414,11 @@ pub struct PassageExperimentArgs {
     /// Roll-outs of each of open and closed loop (the paper: 10).
     #[arg(long, default_value_t = 50)]
     pub attempts: usize,
+    /// Track the plan's waypoints as resampled, without the clearance polish (by default,
+    /// under `increment` and `absolute` noise, each waypoint closer than 25 mm to a box is
+    /// moved away from it, its legs kept in `Z_free`; `ftwire_plan::polish_clearance`).
+    #[arg(long)]
+    pub no_polish: bool,
     /// Noise, calibration and gain.
     #[command(flatten)]
     pub rollout: RolloutArgs,

@@ -27,8 +27,8 @@ use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::ft::FtPipeline;
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, centreline_distance};
 use ftwire_plan::{
-    Checker, Config, FixedBase, Plan, PlannerParams, Sample, Scene, ValidityParams, plan,
-    scene_endpoint,
+    Checker, Config, FixedBase, Plan, PlannerParams, PolishParams, Sample, Scene, ValidityParams,
+    plan, scene_endpoint,
 };
 use ftwire_robot::{DualArmParams, DualArmTarget, Robot};
 use ftwire_rod::{Rod, to_normalised};
@@ -149,6 +149,12 @@ fn no_tighter_under_noise(noise: NoiseModel, shape_stop: f64, floor: f64) -> f64
         NoiseModel::Increment | NoiseModel::Absolute if shape_stop > 0.0 => shape_stop.max(floor),
         _ => shape_stop,
     }
+}
+
+/// The move after which a leg with a budget of `moves` loosens its shape stop
+/// ([`LATE_FRACTION`]).
+pub fn late_after(moves: usize) -> usize {
+    (LATE_FRACTION * moves as f64).ceil() as usize
 }
 
 /// The shape stop \[m\] of a leg run again after an undo, given the closed loop's `shape_stop`
@@ -304,8 +310,19 @@ pub const DIVERGENCE_NOISY: f64 = 20.0;
 /// (`Outcome::SensorFault`: a wire pulled taut saturates the sensor), is undone: the second
 /// gripper goes back to the pose the leg started from (the robot knows it: under `increment`
 /// noise the encoders report where it went), and the leg runs again. The next such end after
-/// the last undo ends the attempt.
+/// the last undo ends the attempt. A limit per leg instead was tried on the cable
+/// (`experiment track --wire cable-3mm-920 --shape-stop 3.5 --waypoint-moves 500`, seed 0):
+/// its pair 1 diverged on legs 3, 4, 4 and 5, each rerun reaching its waypoint, then on leg 6
+/// five times in a row, so it ended at leg 6 either way.
 pub const MAX_UNDOS: usize = 4;
+
+/// The fraction of a leg's move budget (`--waypoint-moves`) after which its shape stop
+/// loosens to [`rerun_shape_stop`] (`ControlSettings::late_shape_tolerance`). With the tight
+/// stop of `--shape-stop 3.5 --waypoint-moves 500`, two of seed 0's 120 cable legs spent all
+/// 500 moves without a landing within 3.5 mm and ended on the last one, 16–17 mm off; the
+/// other legs took 83 moves on average. At the default stop nothing changes (the rerun stop
+/// is the default's).
+pub const LATE_FRACTION: f64 = 0.75;
 
 /// A base gripper pose from which the arms reach the goal again, when the controller has
 /// found the goal out of their reach (under `offset` noise the run's grasp offset moves the
@@ -430,7 +447,7 @@ pub fn waypoints_along(
     }
     let total = cumulative.last().copied().unwrap_or(0.0);
     let n = n.max(1);
-    (0..=n)
+    let along = (0..=n)
         .map(|i| {
             let target = total * i as f64 / n as f64;
             let k = cumulative
@@ -446,21 +463,118 @@ pub fn waypoints_along(
             } else {
                 0.0
             };
-            let a = from + (to - from) * t;
+            Ok(from + (to - from) * t)
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
+    waypoints_at(rod, base, &along)
+}
+
+/// The waypoints at the configurations `a` (in order), with `Γ` and `Φ` of `rod` (world
+/// frame, base clamp at `base`).
+///
+/// # Errors
+/// No answer when the model cannot solve one of them.
+pub fn waypoints_at(rod: &Rod, base: &Pose, a: &[Vector6<f64>]) -> Result<Vec<Waypoint>, CliError> {
+    a.iter()
+        .map(|a| {
             let tip = rod
-                .tip(&a)
+                .tip(a)
                 .map_err(|e| from_rod(e, "a waypoint of the path"))?;
             let shape = rod
-                .shape(&a, ValidityParams::default().nodes)
+                .shape(a, ValidityParams::default().nodes)
                 .map_err(|e| from_rod(e, "a waypoint of the path"))?;
             let centreline = shape
                 .positions
                 .iter()
                 .map(|p| base * Point3::from(*p))
                 .collect();
-            Ok(Waypoint { a, tip, centreline })
+            Ok(Waypoint {
+                a: *a,
+                tip,
+                centreline,
+            })
         })
         .collect()
+}
+
+/// Whether a plan tracked under `noise` has its waypoints polished for clearance
+/// ([`polish_waypoints`]): under `increment` and `absolute`, where every move lands the wire
+/// about 12 mm from where it was sent, and the landings' tail beside the closest waypoint is
+/// what touches a box. Without noise and under `offset` the loop converges onto the plan
+/// (0.56 mm along the passage), which keeps its 5 mm margin; those runs track the plan as
+/// resampled, as before.
+pub fn polishes(noise: NoiseModel) -> bool {
+    matches!(noise, NoiseModel::Increment | NoiseModel::Absolute)
+}
+
+/// What [`polish_waypoints`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PolishOut {
+    /// Interior waypoints moved.
+    pub moved: usize,
+    /// The smallest waypoint clearance before and after \[mm\] (`NaN` when not polished).
+    pub min_clearance_before_mm: f64,
+    /// As `min_clearance_before_mm`, after.
+    pub min_clearance_after_mm: f64,
+    /// Whether every waypoint was valid under the tracking model's checker (else nothing was
+    /// polished).
+    pub valid: bool,
+}
+
+/// The waypoints of a path tracked with `rod` in `scene` under `noise`, polished for clearance
+/// ([`ftwire_plan::polish_clearance`] with a checker of `rod` and [`validity_tracked`]): each
+/// interior waypoint closer than the default target to a box is moved away from it, its legs
+/// kept in `Z_free`. Each waypoint's joints continue the previous one's along their edge, or
+/// are solved afresh where that edge is refused (the polish then leaves its neighbours
+/// alone); when a waypoint is not valid at all under that checker, the waypoints are
+/// returned as they are.
+///
+/// # Errors
+/// Bad input when the robot or the checker cannot be built; no answer when the model cannot
+/// solve a polished waypoint.
+pub fn polish_waypoints(
+    scene: &Scene,
+    rod: &Rod,
+    noise: NoiseModel,
+    waypoints: &[Waypoint],
+) -> Result<(Vec<Waypoint>, PolishOut), CliError> {
+    let unpolished = PolishOut {
+        moved: 0,
+        min_clearance_before_mm: f64::NAN,
+        min_clearance_after_mm: f64::NAN,
+        valid: false,
+    };
+    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+    let checker = Checker::new(*rod, robot, scene, validity_tracked(noise, rod))
+        .map_err(|e| from_plan(e, "the scene"))?;
+    let configs = waypoints.iter().map(|w| Config {
+        a: w.a,
+        base: scene.base,
+    });
+    let mut chain: Vec<Sample> = Vec::with_capacity(waypoints.len());
+    for config in configs {
+        let next = match chain.last() {
+            None => checker.endpoint(&config),
+            Some(prev) => checker
+                .edge(prev, &config)
+                .map(|e| e.end)
+                .or_else(|_| checker.endpoint(&config)),
+        };
+        match next {
+            Ok(sample) => chain.push(sample),
+            Err(_) => return Ok((waypoints.to_vec(), unpolished)),
+        }
+    }
+    let polished = ftwire_plan::polish_clearance(&checker, &chain, &PolishParams::default())
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+    let a: Vec<Vector6<f64>> = polished.waypoints.iter().map(|s| s.config.a).collect();
+    let out = PolishOut {
+        moved: polished.moved,
+        min_clearance_before_mm: 1e3 * polished.min_clearance.0,
+        min_clearance_after_mm: 1e3 * polished.min_clearance.1,
+        valid: true,
+    };
+    Ok((waypoints_at(rod, &scene.base, &a)?, out))
 }
 
 /// The waypoints of a plan made with one model, re-expressed for `model` (another load, e.g.
@@ -957,10 +1071,15 @@ impl Tracking<'_> {
             TrackReach::Any(AnyPose)
         };
         // Between waypoints the stop of `through_settings`; the goal to the controller's ε.
+        // A leg run again after an undo, and the last quarter of a leg's budget: no tighter
+        // than the default stop.
+        let rerun_stop = rerun_shape_stop(self.noise, self.shape_stop);
         let through = ControlSettings {
             gain: self.gain,
             shape_tolerance: self.shape_stop,
             max_iterations: self.waypoint_moves,
+            late_shape_tolerance: rerun_stop,
+            late_after: late_after(self.waypoint_moves),
             ..through_settings(self.noise)
         };
         let end = ControlSettings {
@@ -987,8 +1106,6 @@ impl Tracking<'_> {
             shape_tolerance: near_stop,
             ..through
         })?;
-        // A leg run again after an undo: no tighter than the default stop.
-        let rerun_stop = rerun_shape_stop(self.noise, self.shape_stop);
         let rerun = |settings: ControlSettings| {
             build(ControlSettings {
                 shape_tolerance: settings.shape_tolerance.max(rerun_stop),
@@ -1551,6 +1668,26 @@ mod tests {
             assert_eq!(rerun_shape_stop(noise, 0.0), 0.0);
             assert_eq!(rerun_shape_stop(noise, 0.002), 0.002);
         }
+    }
+
+    #[test]
+    fn the_last_quarter_of_a_legs_budget_stops_no_tighter_than_the_default() {
+        assert_eq!(late_after(500), 375);
+        assert_eq!(late_after(20), 15);
+        assert_eq!(late_after(1), 1);
+        let noise = NoiseModel::Increment;
+        let settings = |stop: f64| ControlSettings {
+            shape_tolerance: stop,
+            late_shape_tolerance: rerun_shape_stop(noise, stop),
+            late_after: late_after(500),
+            ..through_settings(noise)
+        };
+        let tight = settings(0.0035);
+        assert_eq!(tight.shape_stop_at(374), 0.0035);
+        assert_eq!(tight.shape_stop_at(375), default_shape_stop(noise));
+        // At the default stop nothing changes.
+        let default = settings(default_shape_stop(noise));
+        assert_eq!(default.shape_stop_at(499), default_shape_stop(noise));
     }
 
     #[test]

@@ -60,8 +60,9 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
-    Attempt, Tracking, WAYPOINTS, Waypoint, near_obstacles, plan_in_scene, scene_model,
-    success_epsilon, success_rule, validity_tracked, waypoints_along, waypoints_csv,
+    Attempt, PolishOut, Tracking, WAYPOINTS, Waypoint, near_obstacles, plan_in_scene,
+    polish_waypoints, polishes, scene_model, success_epsilon, success_rule, validity_tracked,
+    waypoints_along, waypoints_csv,
 };
 use ftwire::results::ResultsFolder;
 use ftwire::scene::{PASSAGE, box_outline};
@@ -193,8 +194,12 @@ pub struct PlanOut {
     /// Waypoints tracked (`N + 1`).
     pub waypoints: usize,
     /// Waypoints whose planned wire is within `track::NEAR_CLEARANCE` of a box or the floor
-    /// (the legs from and to them stop at `shape_stop_near_mm`).
+    /// (the legs from and to them stop at `shape_stop_near_mm`), after the polish.
     pub near_waypoints: usize,
+    /// What the clearance polish did (`null` with `--no-polish`, and without noise or under
+    /// `offset`, where it does not run: `track::polishes`): waypoints moved, and the
+    /// smallest waypoint clearance of the tracking model before and after \[mm\].
+    pub polish: Option<PolishOut>,
 }
 
 #[derive(Serialize)]
@@ -303,6 +308,14 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         &planned.plan.path.waypoints,
         WAYPOINTS,
     )?;
+    // Under the noises that scatter every landing, the tight waypoints moved away from the
+    // boxes, unless `--no-polish`.
+    let (waypoints, polish) = if args.no_polish || !polishes(noise) {
+        (waypoints, None)
+    } else {
+        let (waypoints, polish) = polish_waypoints(&scene, model.rod(), noise, &waypoints)?;
+        (waypoints, Some(polish))
+    };
     let plan = PlanOut {
         scene: scene_name,
         iterations: planned.plan.iterations,
@@ -314,11 +327,18 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
             .iter()
             .filter(|&&near| near)
             .count(),
+        polish,
     };
     eprintln!(
         "plan: {} waypoints ({} near a box), length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms",
         plan.waypoints, plan.near_waypoints, plan.cost, plan.min_clearance_mm, plan_ms
     );
+    if let Some(p) = &plan.polish {
+        eprintln!(
+            "polish: {} waypoints moved, closest waypoint {:.1} → {:.1} mm",
+            p.moved, p.min_clearance_before_mm, p.min_clearance_after_mm
+        );
+    }
 
     let tracking = Tracking {
         wire: &wire,
