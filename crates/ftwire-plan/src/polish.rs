@@ -12,14 +12,16 @@
 //! Each ascent step takes the central-difference gradient of the clearance (one shape solve per
 //! difference, no stability tests, no IK), steps along it toward
 //! [`PolishParams::target`], at most [`PolishParams::max_step`], and halves the step until
-//! the moved waypoint is valid ([`Checker::sample`], its IK seeded from the waypoint's joints),
-//! the clearance grew, and both edges to the neighbours are valid ([`Checker::edge`]). The
+//! both edges to the neighbours are valid ([`Checker::edge`]: the moved waypoint's sample is
+//! the end of the edge from the previous one, its IK following along it) and the clearance
+//! grew. The
 //! total move of a waypoint is capped by [`PolishParams::max_shift`], so the polished path
 //! follows the planned one.
 
 use nalgebra::Vector6;
 
-use crate::validity::{Checker, Invalid, Sample};
+use crate::PlanError;
+use crate::validity::{Checker, Sample};
 
 /// Settings of [`polish_clearance`] (public fields + `Default`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,13 +71,13 @@ pub struct Polished {
 /// obstacles, as the module docs describe. The waypoints' bases stay; only `a` moves.
 ///
 /// # Errors
-/// [`Invalid::Model`] for settings that are not finite and positive (`iterations` and
-/// `halvings` may be 0).
+/// [`PlanError::InvalidParameter`] for a setting that is not finite and positive
+/// (`iterations` and `halvings` may be 0).
 pub fn polish_clearance(
     checker: &Checker,
     waypoints: &[Sample],
     params: &PolishParams,
-) -> Result<Polished, Invalid> {
+) -> Result<Polished, PlanError> {
     for (name, value) in [
         ("target", params.target),
         ("max_step", params.max_step),
@@ -83,9 +85,11 @@ pub fn polish_clearance(
         ("difference", params.difference),
     ] {
         if !(value.is_finite() && value > 0.0) {
-            return Err(Invalid::Model(format!(
-                "polish setting {name} = {value}: a finite number > 0 is allowed"
-            )));
+            return Err(PlanError::InvalidParameter {
+                name,
+                value,
+                allowed: "a finite number > 0",
+            });
         }
     }
     let min_of = |w: &[Sample]| w.iter().map(|s| s.clearance).fold(f64::INFINITY, f64::min);

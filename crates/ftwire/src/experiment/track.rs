@@ -512,7 +512,8 @@ pub fn polishes(noise: NoiseModel) -> bool {
 pub struct PolishOut {
     /// Interior waypoints moved.
     pub moved: usize,
-    /// The smallest waypoint clearance before and after \[mm\] (`NaN` when not polished).
+    /// The smallest waypoint clearance before the polish \[mm\] (`null` when nothing was
+    /// polished).
     pub min_clearance_before_mm: f64,
     /// As `min_clearance_before_mm`, after.
     pub min_clearance_after_mm: f64,
@@ -525,9 +526,9 @@ pub struct PolishOut {
 /// ([`ftwire_plan::polish_clearance`] with a checker of `rod` and [`validity_tracked`]): each
 /// interior waypoint closer than the default target to a box is moved away from it, its legs
 /// kept in `Z_free`. Each waypoint's joints continue the previous one's along their edge, or
-/// are solved afresh where that edge is refused (the polish then leaves its neighbours
-/// alone); when a waypoint is not valid at all under that checker, the waypoints are
-/// returned as they are.
+/// are solved afresh where that edge is refused (a waypoint next to such an edge moves only
+/// where both its new edges pass); when a waypoint is not valid at all under that checker,
+/// the waypoints are returned as they are.
 ///
 /// # Errors
 /// Bad input when the robot or the checker cannot be built; no answer when the model cannot
@@ -566,7 +567,7 @@ pub fn polish_waypoints(
         }
     }
     let polished = ftwire_plan::polish_clearance(&checker, &chain, &PolishParams::default())
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| from_plan(e, "the clearance polish"))?;
     let a: Vec<Vector6<f64>> = polished.waypoints.iter().map(|s| s.config.a).collect();
     let out = PolishOut {
         moved: polished.moved,
