@@ -84,3 +84,24 @@ pub enum PlanError {
         seconds: f64,
     },
 }
+
+impl PlanError {
+    /// The first of the named settings that is not finite and positive, as
+    /// [`PlanError::InvalidParameter`].
+    ///
+    /// # Errors
+    /// As above.
+    pub(crate) fn check_positive(settings: &[(&'static str, f64)]) -> Result<(), PlanError> {
+        match settings
+            .iter()
+            .find(|(_, value)| !(value.is_finite() && *value > 0.0))
+        {
+            Some(&(name, value)) => Err(PlanError::InvalidParameter {
+                name,
+                value,
+                allowed: "a finite value > 0",
+            }),
+            None => Ok(()),
+        }
+    }
+}

@@ -78,20 +78,12 @@ pub fn polish_clearance(
     waypoints: &[Sample],
     params: &PolishParams,
 ) -> Result<Polished, PlanError> {
-    for (name, value) in [
+    PlanError::check_positive(&[
         ("target", params.target),
         ("max_step", params.max_step),
         ("max_shift", params.max_shift),
         ("difference", params.difference),
-    ] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(PlanError::InvalidParameter {
-                name,
-                value,
-                allowed: "a finite number > 0",
-            });
-        }
-    }
+    ])?;
     let min_of = |w: &[Sample]| w.iter().map(|s| s.clearance).fold(f64::INFINITY, f64::min);
     let before = min_of(waypoints);
     let mut out = waypoints.to_vec();

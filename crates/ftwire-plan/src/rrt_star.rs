@@ -139,20 +139,11 @@ impl Link {
 }
 
 fn check_params(params: &PlannerParams) -> Result<(), PlanError> {
-    let positive = [
+    PlanError::check_positive(&[
         ("step", params.step),
         ("goal_radius", params.goal_radius),
         ("clearance_reference", params.clearance_reference),
-    ];
-    for (name, value) in positive {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(PlanError::InvalidParameter {
-                name,
-                value,
-                allowed: "a finite value > 0",
-            });
-        }
-    }
+    ])?;
     if !(0.0..=1.0).contains(&params.goal_bias) {
         return Err(PlanError::InvalidParameter {
             name: "goal_bias",

@@ -294,7 +294,7 @@ impl Checker {
         scene: &Scene,
         params: ValidityParams,
     ) -> Result<Self, PlanError> {
-        for (name, value) in [
+        PlanError::check_positive(&[
             ("margin", params.margin),
             ("max_step", params.max_step),
             ("min_step", params.min_step),
@@ -302,15 +302,7 @@ impl Checker {
             ("max_base_turn", params.max_base_turn),
             ("max_joint_step", params.max_joint_step),
             ("clearance_cap", params.clearance_cap),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(PlanError::InvalidParameter {
-                    name,
-                    value,
-                    allowed: "a finite value > 0",
-                });
-            }
-        }
+        ])?;
         if !(params.max_span.is_finite() && params.max_span > 0.0 && params.max_span <= 1.0) {
             return Err(PlanError::InvalidParameter {
                 name: "max_span",
@@ -430,12 +422,7 @@ impl Checker {
         if span > limit {
             return Err(Invalid::Taut { span, limit });
         }
-        let centreline: Vec<Point3<f64>> = solution
-            .shape
-            .positions
-            .iter()
-            .map(|p| config.base * Point3::from(*p))
-            .collect();
+        let centreline = world_centreline(config, &solution.shape.positions);
         let (clearance, nearest) = self.wire_clearance(&centreline);
         if clearance < self.params.margin {
             return Err(Invalid::WireCollision {
@@ -634,12 +621,9 @@ impl Checker {
             .rod
             .shape(&config.a, self.params.nodes)
             .map_err(|e| Invalid::Model(e.to_string()))?;
-        let centreline: Vec<Point3<f64>> = shape
-            .positions
-            .iter()
-            .map(|p| config.base * Point3::from(*p))
-            .collect();
-        Ok(self.wire_clearance(&centreline).0)
+        Ok(self
+            .wire_clearance(&world_centreline(config, &shape.positions))
+            .0)
     }
 
     /// The wire surface's clearance (capped) and the index of the nearest obstacle (the
@@ -759,4 +743,12 @@ struct WireState {
 struct EdgeState {
     samples: usize,
     min_clearance: f64,
+}
+
+/// The model's centreline (base clamp frame) in the world frame of `config`'s base.
+fn world_centreline(config: &Config, positions: &[nalgebra::Vector3<f64>]) -> Vec<Point3<f64>> {
+    positions
+        .iter()
+        .map(|p| config.base * Point3::from(*p))
+        .collect()
 }
