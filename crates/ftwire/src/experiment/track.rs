@@ -523,7 +523,7 @@ pub struct PolishOut {
 }
 
 /// The waypoints of a path tracked with `rod` in `scene` under `noise`, polished for clearance
-/// ([`ftwire_plan::polish_clearance`] with a checker of `rod` and [`validity_tracked`]): each
+/// ([`ftwire_plan::polish_clearance`] with a checker of `rod` and [`validity`]): each
 /// interior waypoint closer than the default target to a box is moved away from it, its legs
 /// kept in `Z_free`. Each waypoint's joints continue the previous one's along their edge, or
 /// are solved afresh where that edge is refused (a waypoint next to such an edge moves only
@@ -546,8 +546,10 @@ pub fn polish_waypoints(
         valid: false,
     };
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
-    let checker = Checker::new(*rod, robot, scene, validity_tracked(noise, rod))
-        .map_err(|e| from_plan(e, "the scene"))?;
+    // The checker's own model is the tracking one: `validity` keeps the margin on its folds
+    // (`validity_tracked` would test the same model's stability twice).
+    let checker =
+        Checker::new(*rod, robot, scene, validity(noise)).map_err(|e| from_plan(e, "the scene"))?;
     let configs = waypoints.iter().map(|w| Config {
         a: w.a,
         base: scene.base,
