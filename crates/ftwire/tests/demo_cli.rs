@@ -59,6 +59,8 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
     // The default noise is a real robot's calibration error: the closed loop removes it, the
     // open loop cannot.
     assert_eq!(tracking["noise_model"], "offset");
+    // There the loop converges onto the plan: its waypoints are tracked as resampled.
+    assert!(summary["plan"]["polish"].is_null(), "{}", summary["plan"]);
     assert!(tracking["closed_loop"]["success"] == true, "{tracking}");
     let final_error = |mode: &str| tracking[mode]["final_error"].as_f64().expect("a number");
     assert!(final_error("closed_loop") < 0.1, "{tracking}");

@@ -307,10 +307,11 @@ pub const DIVERGENCE_NOISY: f64 = 20.0;
 
 /// Most undone legs of one closed-loop attempt. A leg the controller stopped as diverged
 /// (`Outcome::Diverged`), or one that ended on a rest without a usable measurement
-/// (`Outcome::SensorFault`: a wire pulled taut saturates the sensor), is undone: the second
-/// gripper goes back to the pose the leg started from (the robot knows it: under `increment`
-/// noise the encoders report where it went), and the leg runs again. The next such end after
-/// the last undo ends the attempt. A limit per leg instead was tried on the cable
+/// (`Outcome::SensorFault`: a wire pulled taut saturates the sensor), or, under fresh noise per
+/// move, one whose waypoint the arms could not reach ([`reruns_unreachable`]), is undone: the
+/// second gripper goes back to the pose the leg started from (the robot knows it: under
+/// `increment` noise the encoders report where it went), and the leg runs again. The next such
+/// end after the last undo ends the attempt. A limit per leg instead was tried on the cable
 /// (`experiment track --wire cable-3mm-920 --shape-stop 3.5 --waypoint-moves 500`, seed 0):
 /// its pair 1 diverged on legs 3, 4, 4 and 5, each rerun reaching its waypoint, then on leg 6
 /// five times in a row, so it ended at leg 6 either way.
@@ -350,8 +351,13 @@ pub fn relocation(
     a_goal: &Vector6<f64>,
 ) -> Result<Option<Pose>, CliError> {
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
-    let checker = Checker::new(*model.rod(), robot.clone(), scene, validity(noise))
-        .map_err(|e| from_plan(e, "the scene"))?;
+    let checker = Checker::new(
+        *model.rod(),
+        robot.clone(),
+        scene,
+        validity(noise, model.wire().length()),
+    )
+    .map_err(|e| from_plan(e, "the scene"))?;
     let tip = |a: &Vector6<f64>| {
         model
             .tip(a)
@@ -393,6 +399,35 @@ pub fn relocation(
 
 /// Lengths \[m\] of the translations [`relocation`] tries along each world axis.
 pub const RELOCATION_STEPS: [f64; 4] = [0.01, 0.02, 0.03, 0.04];
+
+/// Whether a leg that ended on a waypoint out of the arms' reach is undone and run again
+/// ([`MAX_UNDOS`]): under `increment` and `absolute`, where every move lands with fresh noise,
+/// so the accumulated noise that carried the gripper to the edge of the arms' workspace is
+/// not there on the rerun. The undo comes before a relocation of the goal: the relocating move
+/// lands with the noise too, and can leave the next start out of reach. Under the paper's
+/// noise, passage seeds 2 and 3 had ended 3 and 1 of their 50 attempts so: the goal out of
+/// reach 51–57 mm off it after a throw, where no translation of both grippers brought it
+/// back, or a waypoint passed over and the next leg's start out of reach. Undone, every one of
+/// them completed the path: 46 → 49 and 47 → 48 of 50 (`experiment passage --seed 2|3`).
+/// Seed 6, with the undo only after a relocation, lost 2 attempts whose relocating move left
+/// the goal leg's start out of reach (48 of 50); with the undo first, 50. Under `offset` and
+/// without noise a rerun would meet the same pose again: those runs pass the waypoint over,
+/// or relocate for the goal, as before.
+pub fn reruns_unreachable(noise: NoiseModel) -> bool {
+    matches!(noise, NoiseModel::Increment | NoiseModel::Absolute)
+}
+
+/// Whether a leg that ended with `outcome` under `noise` is undone and run again
+/// ([`MAX_UNDOS`] an attempt): diverged, or on a sensor fault, under any noise; at a waypoint
+/// out of the arms' reach where [`reruns_unreachable`] (before any relocation, which would
+/// land with the noise too).
+pub fn undoes(outcome: &Outcome, noise: NoiseModel) -> bool {
+    match outcome {
+        Outcome::Diverged { .. } | Outcome::SensorFault { .. } => true,
+        Outcome::Unreachable { .. } => reruns_unreachable(noise),
+        _ => false,
+    }
+}
 
 /// Whether the closed loop may pass over waypoint `i` (1-based leg), out of the arms' reach:
 /// not the goal, and not right after passing over the one before.
@@ -548,8 +583,8 @@ pub fn polish_waypoints(
     let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
     // The checker's own model is the tracking one: `validity` keeps the margin on its folds
     // (`validity_tracked` would test the same model's stability twice).
-    let checker =
-        Checker::new(*rod, robot, scene, validity(noise)).map_err(|e| from_plan(e, "the scene"))?;
+    let checker = Checker::new(*rod, robot, scene, validity(noise, rod.wire().length()))
+        .map_err(|e| from_plan(e, "the scene"))?;
     let configs = waypoints.iter().map(|w| Config {
         a: w.a,
         base: scene.base,
@@ -627,12 +662,16 @@ pub fn reexpress(
     Ok(out)
 }
 
-/// The largest distance between the grippers of a plan under `noise`, as a fraction of the
-/// wire's length: [`MAX_SPAN_NOISY`] under `increment` and `absolute`, whose every move lands
-/// the gripper the full noise (17 mm RMS) away, and no limit but the model's otherwise.
-pub fn max_span(noise: NoiseModel) -> f64 {
+/// The largest distance between the grippers of a plan under `noise` for a wire of `length`
+/// \[m\], as a fraction of that length: under `increment` and `absolute`, whose every move
+/// lands the gripper the full noise (17 mm RMS) away, the wire keeps [`MAX_SPAN_NOISY`] of its
+/// length, or [`MAX_SLACK_NOISY`] of slack where that is less (a longer wire); no limit but
+/// the model's otherwise.
+pub fn max_span(noise: NoiseModel, length: f64) -> f64 {
     match noise {
-        NoiseModel::Increment | NoiseModel::Absolute => MAX_SPAN_NOISY,
+        NoiseModel::Increment | NoiseModel::Absolute => {
+            MAX_SPAN_NOISY.max(1.0 - MAX_SLACK_NOISY / length)
+        }
         NoiseModel::None | NoiseModel::Offset => 1.0,
     }
 }
@@ -643,6 +682,16 @@ pub fn max_span(noise: NoiseModel) -> f64 {
 /// 12 open-loop roll-outs tore the wire (3 more found no equilibrium); at 93 %, 4 tore it. At
 /// 92 %, four restarts of 1000 iterations each found no path through the passage.
 pub const MAX_SPAN_NOISY: f64 = 0.93;
+
+/// The most slack \[m\] [`max_span`] keeps under `increment` and `absolute` noise: the
+/// 57.4 mm that [`MAX_SPAN_NOISY`] leaves the 820 mm nitinol wire. The tear it guards against
+/// is a gripper landing the noise's few centimetres beyond a taut wire, whatever the wire's
+/// length. At 93 % of its length the 910 mm wire (64 mm of slack) had no path through the
+/// shipped passage with the 15 mm margin (`ftwire plan --wire nitinol-3mm-910 --margin 0.015
+/// --max-span 0.93`, 8000 iterations), so neither `experiment passage --wire
+/// nitinol-3mm-910` nor `demo --noise-model increment` (whose default wire is that one) could
+/// plan; at 93.5 % it has.
+pub const MAX_SLACK_NOISY: f64 = (1.0 - MAX_SPAN_NOISY) * 0.82;
 
 /// The clearance \[m\] a plan tracked under `noise` keeps from every box and the floor:
 /// [`MARGIN_NOISY`] under `increment` and `absolute`, whose every move scatters the wire by
@@ -679,11 +728,11 @@ pub fn stability_margin(noise: NoiseModel) -> f64 {
 /// unstable (0.25 and 0.5 at their closest); seed 0's ten pairs kept 1.5 or more.
 pub const STABILITY_MARGIN_NOISY: f64 = 1.0;
 
-/// The validity settings of a plan tracked under `noise`: the defaults with [`max_span`],
-/// [`margin`] and [`stability_margin`].
-pub fn validity(noise: NoiseModel) -> ValidityParams {
+/// The validity settings of a plan tracked under `noise` for a wire of `length` \[m\]: the
+/// defaults with [`max_span`], [`margin`] and [`stability_margin`].
+pub fn validity(noise: NoiseModel, length: f64) -> ValidityParams {
     ValidityParams {
-        max_span: max_span(noise),
+        max_span: max_span(noise, length),
         margin: margin(noise),
         stability_margin: stability_margin(noise),
         ..ValidityParams::default()
@@ -695,7 +744,7 @@ pub fn validity(noise: NoiseModel) -> ValidityParams {
 /// and every configuration is stable under `tracker` too. The planner's weightless model and
 /// the loaded one the wire is tracked with differ most for a heavy wire, such as the cable.
 pub fn validity_tracked(noise: NoiseModel, tracker: &Rod) -> ValidityParams {
-    let params = validity(noise);
+    let params = validity(noise, tracker.wire().length());
     ValidityParams {
         stability_model: (params.stability_margin > 0.0).then_some(*tracker),
         ..params
@@ -813,9 +862,10 @@ pub struct Attempt {
     /// Retreats after a detection ([`MAX_RETREATS`] at most): each moved the second gripper
     /// back one move and ran the leg again.
     pub retreats: usize,
-    /// Legs undone after the controller stopped them as diverged or on a sensor fault
-    /// ([`MAX_UNDOS`] at most): each moved the second gripper back to the leg's start and ran
-    /// the leg again.
+    /// Legs undone after the controller stopped them as diverged, on a sensor fault, or (under
+    /// `increment` and `absolute` noise, [`reruns_unreachable`]) at a waypoint out of the arms'
+    /// reach ([`MAX_UNDOS`] at most): each moved the second gripper back to the leg's start
+    /// and ran the leg again.
     pub undone: usize,
     /// Intermediate waypoints passed over because the arms could not reach them (the closed
     /// loop moves on to the next; two in a row end the attempt).
@@ -1259,20 +1309,16 @@ impl Tracking<'_> {
                     touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
-                // A leg thrown far from its waypoint, or a rest with no usable measurement
-                // (the sensor saturated by a wire pulled taut, or dropped out): back to where
-                // the leg started, then again.
-                Outcome::Diverged { .. } | Outcome::SensorFault { .. }
-                    if attempt.undone < MAX_UNDOS =>
-                {
-                    if let Err(e) = rig.move_tip(rig_base(&rig)? * run.start_tip) {
-                        attempt.outcome = format!("undo failed: {e}");
+                // A leg thrown far from its waypoint, a rest with no usable measurement (the
+                // sensor saturated by a wire pulled taut, or dropped out), or, under fresh noise
+                // per move, a waypoint the noise carried out of the arms' reach: back to where
+                // the leg started (a pose the arms held), then again.
+                ref outcome if undoes(outcome, self.noise) && attempt.undone < MAX_UNDOS => {
+                    if let Err(e) = undo_leg(&mut attempt, &mut rig, &run, &mut touched) {
+                        attempt.outcome = e;
                         break;
                     }
-                    attempt.undone += 1;
                     undone_at = Some(i);
-                    unscore_last_leg(&mut attempt);
-                    touched |= extra_move(&mut attempt, rig.inner());
                     continue;
                 }
                 // The goal out of the arms' reach: one translation of both grippers (the
@@ -1493,6 +1539,24 @@ fn unscore_last_leg(attempt: &mut Attempt) {
     }
 }
 
+/// Undoes a leg: the second gripper back to the pose `run` started from (one the arms held),
+/// the leg unscored and counted in [`Attempt::undone`]; `touched` records the move's rest. The
+/// message says why the undo failed.
+fn undo_leg(
+    attempt: &mut Attempt,
+    rig: &mut NoisyRig<SimRig>,
+    run: &Run,
+    touched: &mut bool,
+) -> Result<(), String> {
+    let base = rig_base(rig).map_err(|e| format!("undo failed: {e}"))?;
+    rig.move_tip(base * run.start_tip)
+        .map_err(|e| format!("undo failed: {e}"))?;
+    attempt.undone += 1;
+    unscore_last_leg(attempt);
+    *touched |= extra_move(attempt, rig.inner());
+    Ok(())
+}
+
 /// Records a move the closed loop made outside a controller run (a retreat, an undo, a
 /// relocation) before it runs a leg again; the rest's truth is kept. Returns whether the wire
 /// touched.
@@ -1630,7 +1694,8 @@ mod tests {
                 .any(|s| (t.norm() - s).abs() < 1e-12)
         );
         let robot = Robot::sda10f().expect("robot");
-        let checker = Checker::new(rod, robot, &scene, validity(NoiseModel::Offset)).expect("ok");
+        let checker =
+            Checker::new(rod, robot, &scene, validity(NoiseModel::Offset, 0.82)).expect("ok");
         assert!(checker.endpoint(&Config { a: goal.a, base }).is_ok());
         // A relative pose no base near here reaches (the grippers 3 m apart): none.
         let far = GripperPoses {
@@ -1740,6 +1805,84 @@ mod tests {
     }
 
     #[test]
+    fn a_noisy_plan_keeps_seven_percent_of_its_length_as_slack_up_to_that_of_the_820_mm_wire() {
+        for noise in [NoiseModel::Increment, NoiseModel::Absolute] {
+            // Up to 820 mm: 93 % of the length.
+            assert_eq!(max_span(noise, 0.63), MAX_SPAN_NOISY);
+            assert_eq!(max_span(noise, 0.82), MAX_SPAN_NOISY);
+            // Longer: the same 57.4 mm of slack.
+            for length in [0.91, 0.92, 1.5] {
+                let slack = (1.0 - max_span(noise, length)) * length;
+                assert!((slack - 0.0574).abs() < 1e-12, "{length}: {slack}");
+                assert!(max_span(noise, length) > MAX_SPAN_NOISY);
+            }
+        }
+    }
+
+    #[test]
+    fn the_910_mm_wire_plans_through_the_shipped_passage_under_the_paper_noise() {
+        // The demo's default wire: at 93 % of its length it had no path there.
+        let wire = WireSpec::preset("nitinol-3mm-910").expect("a preset");
+        let scene = Scene::from_toml(crate::scene::PASSAGE, "passage.toml").expect("scene");
+        let loaded = scene_model(&wire, Gravity::On, super::super::ModelKind::Loaded, &scene)
+            .expect("the loaded model");
+        let noise = NoiseModel::Increment;
+        let params = validity_tracked(noise, loaded.rod());
+        assert!(params.max_span > MAX_SPAN_NOISY);
+        let planner = Rod::new(*loaded.wire());
+        let (planned, checker) = plan_in_scene(&scene, &planner, params, 0).expect("a path");
+        let waypoints = &planned.plan.path.waypoints;
+        assert!(waypoints.len() >= 2);
+        // Every waypoint keeps the noisy margins: clear of the boxes by 15 mm, slack.
+        for w in waypoints {
+            assert!(checker.clearance(&w.config).expect("solves") >= MARGIN_NOISY - 1e-9);
+        }
+    }
+
+    #[test]
+    fn an_unreachable_waypoint_is_run_again_only_where_each_move_draws_fresh_noise() {
+        let unreachable = Outcome::Unreachable {
+            step: 3,
+            reason: "no dual-arm solution".to_owned(),
+        };
+        let diverged = Outcome::Diverged {
+            step: 4,
+            error: 30.0,
+        };
+        let fault = Outcome::SensorFault {
+            step: 2,
+            message: "saturated".to_owned(),
+        };
+        let others = [
+            Outcome::Reached { error: 0.01 },
+            Outcome::IterationLimit { error: 0.5 },
+            Outcome::CollisionDetected {
+                step: 1,
+                residual: 100.0,
+            },
+            Outcome::PredictedInstability { step: 0 },
+        ];
+        for noise in [
+            NoiseModel::None,
+            NoiseModel::Offset,
+            NoiseModel::Increment,
+            NoiseModel::Absolute,
+        ] {
+            // Fresh noise per move: the rerun does not meet the same pose again. One offset
+            // per run, or none: it would, so the waypoint is passed over (or the goal
+            // relocated) as before.
+            assert_eq!(undoes(&unreachable, noise), reruns_unreachable(noise));
+            assert!(undoes(&diverged, noise) && undoes(&fault, noise));
+            // A retreat, not an undo, answers a detection; the rest end or finish the leg.
+            assert!(others.iter().all(|o| !undoes(o, noise)), "{noise:?}");
+        }
+        assert!(reruns_unreachable(NoiseModel::Increment));
+        assert!(reruns_unreachable(NoiseModel::Absolute));
+        assert!(!reruns_unreachable(NoiseModel::Offset));
+        assert!(!reruns_unreachable(NoiseModel::None));
+    }
+
+    #[test]
     fn success_needs_the_goal_only_where_the_noise_allows_reaching_it() {
         // Completed, untouched, far from the goal: a success only by the paper's rule.
         assert_eq!(judge(NoiseModel::Offset, true, false, 0.5), (false, false));
@@ -1762,11 +1905,21 @@ mod tests {
                 success_rule(noise).contains("paper"),
                 !success_needs_goal(noise)
             );
-            assert!(max_span(noise) <= 1.0 && max_span(noise) > 0.5);
+            for length in [0.63, 0.82, 0.92, 2.0] {
+                let span = max_span(noise, length);
+                assert!(span <= 1.0 && span > 0.5);
+            }
         }
-        assert_eq!(validity(NoiseModel::Increment).max_span, MAX_SPAN_NOISY);
-        assert_eq!(validity(NoiseModel::Absolute).margin, MARGIN_NOISY);
-        assert_eq!(validity(NoiseModel::Offset), ValidityParams::default());
+        assert_eq!(
+            validity(NoiseModel::Increment, 0.82).max_span,
+            MAX_SPAN_NOISY
+        );
+        assert_eq!(validity(NoiseModel::Absolute, 0.82).margin, MARGIN_NOISY);
+        assert_eq!(
+            validity(NoiseModel::Offset, 0.82),
+            ValidityParams::default()
+        );
+        assert_eq!(max_span(NoiseModel::Offset, 0.91), 1.0);
         // The stability margin, on the tracking model's folds, only under the paper's noise.
         let tracker = Rod::new(
             ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("wire"),

@@ -558,8 +558,13 @@ mod tests {
             scene_model(&wire, Gravity::On, ModelKind::Loaded, &free).expect("the loaded model");
         let planner = Rod::new(*model.wire());
         let robot = Robot::sda10f().expect("the robot");
-        let checker = Checker::new(planner, robot, &free, validity(NoiseModel::Increment))
-            .expect("a checker");
+        let checker = Checker::new(
+            planner,
+            robot,
+            &free,
+            validity(NoiseModel::Increment, planner.wire().length()),
+        )
+        .expect("a checker");
         let sampler = Sampler {
             half_width: PAIR_BOX,
             ..Sampler::default()
