@@ -115,8 +115,8 @@ pub struct Rates {
     /// Legs undone over all attempts (`track::MAX_UNDOS` per attempt at most): a leg the
     /// controller stopped because its measured configuration ran away from the waypoint (under
     /// `increment` and `absolute` noise), that ended on a sensor fault, or (under those noises)
-    /// whose waypoint the arms could not reach; the gripper went back to the leg's start and
-    /// the leg ran again.
+    /// whose waypoint the arms could not reach or that was flagged again after a retreat; the
+    /// gripper went back to the leg's start and the leg ran again.
     pub undone: usize,
     /// Intermediate waypoints passed over over all attempts because the arms could not reach
     /// them (at most one in a row per attempt).
