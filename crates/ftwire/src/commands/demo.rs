@@ -325,11 +325,6 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         ),
     };
     let phase = Phase::start(4, "plan through the passage", 1);
-    // The planner checks shapes with the identified wire's weightless model (the scene's
-    // configurations are the paper model's): with the loaded model's shapes, the same
-    // iteration budget found no path for some identified wires (seeds 0 and 3 with the full
-    // calibration). The wire sags about 2.5 mm from them; the controller tracks the
-    // configurations with the loaded model.
     // The controller's model: the identified one, with gravity in the base clamp frame. Where
     // the plan keeps a distance from the folds (under `increment` and `absolute`), it keeps it
     // on this model's, as `experiment passage` does.
@@ -338,6 +333,11 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let controller_model = model
         .with_weight_per_length(weight)
         .map_err(|e| from_estimate(e, "the identified wire's weight"))?;
+    // The planner checks shapes with the identified wire's weightless model (the scene's
+    // configurations are the paper model's): with the loaded model's shapes, the same
+    // iteration budget found no path for some identified wires (seeds 0 and 3 with the full
+    // calibration). The wire sags about 2.5 mm from them; the controller tracks the
+    // configurations with the loaded model.
     let noise = args.noise_model.model();
     let identified = Rod::new(*model.wire());
     let (planned, _) = plan_in_scene(
