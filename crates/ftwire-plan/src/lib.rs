@@ -49,7 +49,7 @@ pub mod validity;
 pub use endpoint::{configuration_for_tip, scene_configuration, scene_endpoint};
 pub use error::PlanError;
 pub use path::Path;
-pub use polish::{PolishParams, Polished, polish_clearance};
+pub use polish::{Landing, PolishParams, Polished, landing_clearance, polish_clearance};
 pub use rrt_star::{Plan, PlannerParams, plan};
 pub use scene::{ConfigurationSpec, Scene, SceneBox};
 pub use space::{FixedBase, MovingBase, Space};

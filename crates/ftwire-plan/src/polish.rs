@@ -17,6 +17,13 @@
 //! grew. The
 //! total move of a waypoint is capped by [`PolishParams::max_shift`], so the polished path
 //! follows the planned one.
+//!
+//! With [`PolishParams::landing`], what is ascended is the waypoint's *landing clearance*
+//! ([`landing_clearance`]): the smallest clearance over where a move toward it lands when the
+//! gripper lands off by a probe on one axis. Waypoints differ in how far one noisy move
+//! scatters the wire beside a box, so the waypoints with the closest planned wire need not be
+//! those whose landings come closest (`ftwire experiment passage`, seed 8). Each of its
+//! evaluations costs a Jacobian and 13 shape solves instead of one.
 
 use nalgebra::Vector6;
 
@@ -40,6 +47,10 @@ pub struct PolishParams {
     pub iterations: usize,
     /// Halvings of a step that was refused (default `4`).
     pub halvings: usize,
+    /// What is ascended (default `None`: the wire's clearance at the waypoint). With a
+    /// [`Landing`], the smallest clearance over where a noisy move toward the waypoint lands
+    /// ([`landing_clearance`]), and `target` applies to that.
+    pub landing: Option<Landing>,
 }
 
 impl Default for PolishParams {
@@ -51,6 +62,7 @@ impl Default for PolishParams {
             difference: 0.02,
             iterations: 8,
             halvings: 4,
+            landing: None,
         }
     }
 }
@@ -64,6 +76,10 @@ pub struct Polished {
     pub moved: usize,
     /// The smallest waypoint clearance \[m\] before and after.
     pub min_clearance: (f64, f64),
+    /// The smallest of what was ascended \[m\] over the interior waypoints, before and
+    /// after: their clearance, or their landing clearance with [`PolishParams::landing`]
+    /// (infinite for a path without interior waypoints).
+    pub min_score: (f64, f64),
 }
 
 /// Moves the interior waypoints of `waypoints` (consecutive samples of a valid path, e.g.
@@ -84,8 +100,19 @@ pub fn polish_clearance(
         ("max_shift", params.max_shift),
         ("difference", params.difference),
     ])?;
+    if let Some(landing) = &params.landing {
+        landing.check()?;
+    }
     let min_of = |w: &[Sample]| w.iter().map(|s| s.clearance).fold(f64::INFINITY, f64::min);
+    let min_score = |w: &[Sample]| {
+        let interior = w.get(1..w.len().saturating_sub(1)).unwrap_or(&[]);
+        interior
+            .iter()
+            .map(|s| score(checker, &s.config, params).unwrap_or(f64::NEG_INFINITY))
+            .fold(f64::INFINITY, f64::min)
+    };
     let before = min_of(waypoints);
+    let score_before = min_score(waypoints);
     let mut out = waypoints.to_vec();
     let mut moved = 0;
     for i in 1..out.len().saturating_sub(1) {
@@ -94,11 +121,22 @@ pub fn polish_clearance(
         }
     }
     let after = min_of(&out);
+    let score_after = min_score(&out);
     Ok(Polished {
         waypoints: out,
         moved,
         min_clearance: (before, after),
+        min_score: (score_before, score_after),
     })
+}
+
+/// What the polish ascends at `config`: its clearance, or its landing clearance with
+/// [`PolishParams::landing`]; `None` where the model refuses it.
+fn score(checker: &Checker, config: &crate::Config, params: &PolishParams) -> Option<f64> {
+    match &params.landing {
+        None => checker.clearance(config).ok(),
+        Some(landing) => landing_clearance(checker, config, landing).ok(),
+    }
 }
 
 /// The ascent of waypoint `i` (interior); whether it moved.
@@ -106,18 +144,21 @@ fn polish_one(checker: &Checker, path: &mut [Sample], i: usize, params: &PolishP
     let wire = *checker.rod().wire();
     let origin = ftwire_rod::to_normalised(&wire, &path[i].config.a);
     let mut moved = false;
+    let Some(mut current) = score(checker, &path[i].config, params) else {
+        return false;
+    };
     for _ in 0..params.iterations {
-        let here = &path[i];
-        if here.clearance >= params.target {
+        if current >= params.target {
             break;
         }
+        let here = &path[i];
         let x = ftwire_rod::to_normalised(&wire, &here.config.a);
-        let clearance_at = |x: &Vector6<f64>| {
+        let score_at = |x: &Vector6<f64>| {
             let config = crate::Config {
                 a: ftwire_rod::from_normalised(&wire, x),
                 ..here.config
             };
-            checker.clearance(&config).ok()
+            score(checker, &config, params)
         };
         let mut gradient = Vector6::zeros();
         let h = params.difference;
@@ -127,7 +168,7 @@ fn polish_one(checker: &Checker, path: &mut [Sample], i: usize, params: &PolishP
             let mut down = x;
             up[k] += h;
             down[k] -= h;
-            match (clearance_at(&up), clearance_at(&down)) {
+            match (score_at(&up), score_at(&down)) {
                 (Some(u), Some(d)) => gradient[k] = (u - d) / (2.0 * h),
                 _ => ok = false,
             }
@@ -137,7 +178,7 @@ fn polish_one(checker: &Checker, path: &mut [Sample], i: usize, params: &PolishP
             break;
         }
         let direction = gradient / slope;
-        let mut length = ((params.target - here.clearance) / slope).min(params.max_step);
+        let mut length = ((params.target - current) / slope).min(params.max_step);
         let mut accepted = None;
         for _ in 0..=params.halvings {
             let mut next = x + length * direction;
@@ -150,16 +191,18 @@ fn polish_one(checker: &Checker, path: &mut [Sample], i: usize, params: &PolishP
                 ..here.config
             };
             if let Some(sample) = valid_between(checker, path, i, &config)
-                && sample.clearance > here.clearance
+                && let Some(value) = score(checker, &sample.config, params)
+                && value > current
             {
-                accepted = Some(sample);
+                accepted = Some((sample, value));
                 break;
             }
             length *= 0.5;
         }
         match accepted {
-            Some(sample) => {
+            Some((sample, value)) => {
                 path[i] = sample;
+                current = value;
                 moved = true;
             }
             None => break,
@@ -180,4 +223,85 @@ fn valid_between(
     let sample = edge.end;
     checker.edge(&sample, &path[i + 1].config).ok()?;
     Some(sample)
+}
+
+/// One gripper move's landing error, as the probes of [`landing_clearance`]: a body twist
+/// at the second gripper's clamp of `rotation` about, or `position` along, one of its axes,
+/// either way (12 probes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Landing {
+    /// Translation of a probe \[m\].
+    pub position: f64,
+    /// Rotation of a probe \[rad\].
+    pub rotation: f64,
+}
+
+/// The wire's smallest clearance \[m\] over where a move toward `config` lands when the
+/// second gripper lands off by one of `landing`'s probes, and where it lands as sent. Each
+/// probe's `a` is `a + J⁻¹ ξ` (`J` the checker's model's at `a`: the body twist `ξ` of the
+/// probe to first order), its shape solved by the checker's model. A probe the model refuses,
+/// and every probe where `J` is singular (a fold), counts as clearance 0.
+///
+/// A landing that pierces a box counts as `−radius` (a centreline inside it is at distance
+/// 0), whatever its depth: [`polish_clearance`] raises landings beside a box, not out of one.
+///
+/// Probes on one axis at a time, not a clearance's gradient: in a gap between two boxes a
+/// landing either way along an axis comes closer to one of them, and the two central
+/// differences cancel.
+///
+/// # Errors
+/// [`PlanError::InvalidParameter`] for a probe size that is not finite and non-negative;
+/// [`PlanError::Rod`] when the model refuses `config.a`.
+pub fn landing_clearance(
+    checker: &Checker,
+    config: &crate::Config,
+    landing: &Landing,
+) -> Result<f64, PlanError> {
+    landing.check()?;
+    let nodes = checker.params().nodes;
+    let clearance_at = |a: &Vector6<f64>| -> Result<f64, ftwire_rod::RodError> {
+        let shape = checker.rod().shape(a, nodes)?;
+        let centreline = crate::validity::world_centreline(config, &shape.positions);
+        Ok(checker.wire_clearance(&centreline).0)
+    };
+    let mut least = clearance_at(&config.a)?;
+    let lu = checker.rod().jacobian(&config.a)?.jacobian.lu();
+    for axis in 0..6 {
+        let size = if axis < 3 {
+            landing.rotation
+        } else {
+            landing.position
+        };
+        for sign in [1.0, -1.0] {
+            let mut xi = Vector6::zeros();
+            xi[axis] = sign * size;
+            let probe = lu
+                .solve(&xi)
+                .and_then(|da| clearance_at(&(config.a + da)).ok());
+            least = least.min(probe.unwrap_or(0.0));
+        }
+    }
+    Ok(least)
+}
+
+impl Landing {
+    /// Both probe sizes finite and non-negative.
+    ///
+    /// # Errors
+    /// [`PlanError::InvalidParameter`] naming the first that is not.
+    pub fn check(&self) -> Result<(), PlanError> {
+        for (name, value) in [
+            ("landing.position", self.position),
+            ("landing.rotation", self.rotation),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(PlanError::InvalidParameter {
+                    name,
+                    value,
+                    allowed: "a finite value >= 0",
+                });
+            }
+        }
+        Ok(())
+    }
 }

@@ -746,7 +746,10 @@ struct EdgeState {
 }
 
 /// The model's centreline (base clamp frame) in the world frame of `config`'s base.
-fn world_centreline(config: &Config, positions: &[nalgebra::Vector3<f64>]) -> Vec<Point3<f64>> {
+pub(crate) fn world_centreline(
+    config: &Config,
+    positions: &[nalgebra::Vector3<f64>],
+) -> Vec<Point3<f64>> {
     positions
         .iter()
         .map(|p| config.base * Point3::from(*p))

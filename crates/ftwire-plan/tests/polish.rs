@@ -1,12 +1,15 @@
 //! The clearance polish on the shipped passage scene: a first path of RRT*, resampled into the
 //! tracking experiments' 13 waypoints, comes out with the same ends, no waypoint closer to a
 //! box than before, the tight ones moved (each within its shift cap), the others untouched,
-//! and every edge next to a moved waypoint valid.
+//! and every edge next to a moved waypoint valid. The landing clearance against the exact
+//! landings (Newton on the probe's pose), and its polish.
 
 mod common;
 
-use ftwire_plan::{PlannerParams, PolishParams, Sample, plan, polish_clearance};
-use ftwire_rod::to_normalised;
+use ftwire_plan::{
+    Config, Landing, PlannerParams, PolishParams, Sample, landing_clearance, plan, polish_clearance,
+};
+use ftwire_rod::{se3, to_normalised};
 
 fn resampled(seed: u64) -> (ftwire_plan::Checker, Vec<Sample>) {
     let common::ShippedProblem {
@@ -128,6 +131,187 @@ fn bad_polish_settings_are_refused_by_name() {
         ),
     ] {
         let err = polish_clearance(&checker, &waypoints, &params).expect_err("refused");
+        assert!(err.to_string().contains(name), "{name}: {err}");
+    }
+}
+
+/// The paper's noise, two standard deviations (10 mm and 3° per component).
+const TWO_SIGMA: Landing = Landing {
+    position: 0.020,
+    rotation: 6.0 * std::f64::consts::PI / 180.0,
+};
+
+/// The exact landing of `config` when the second gripper lands off by the body twist `xi`:
+/// the `a` whose tip is `Γ(a)·exp(ξ)`, by Newton's method from `config.a` (the same branch).
+fn exact_landing(checker: &ftwire_plan::Checker, config: &Config, xi: &Vector6<f64>) -> Config {
+    let rod = checker.rod();
+    let start = rod.tip(&config.a).expect("tip");
+    let mut a = config.a;
+    // Continuation in four steps along the twist, Newton at each, so that it stays on the
+    // branch.
+    let mut target = start;
+    for step in 1..=4 {
+        target = start * se3::exp(&(xi * (f64::from(step) / 4.0)));
+        for _ in 0..20 {
+            let solution = rod.jacobian(&a).expect("J");
+            let error = se3::log(&(solution.tip.inverse() * target));
+            if error.norm() < 1e-10 {
+                break;
+            }
+            a += solution.jacobian.lu().solve(&error).expect("J regular");
+        }
+    }
+    let tip = rod.tip(&a).expect("tip");
+    assert!(
+        se3::log(&(tip.inverse() * target)).norm() < 1e-6,
+        "Newton converged: {}",
+        se3::log(&(tip.inverse() * target)).norm()
+    );
+    Config { a, ..*config }
+}
+
+use nalgebra::Vector6;
+
+#[test]
+fn the_landing_clearance_is_the_closest_of_the_probes_landings() {
+    let (checker, waypoints) = resampled(1);
+    let mut below = 0;
+    for (i, w) in waypoints.iter().enumerate() {
+        let nominal = checker.clearance(&w.config).expect("clearance");
+        // Probes of size 0 land where the move was sent.
+        let still = Landing {
+            position: 0.0,
+            rotation: 0.0,
+        };
+        assert_eq!(
+            landing_clearance(&checker, &w.config, &still).expect("valid"),
+            nominal,
+            "waypoint {i}"
+        );
+        let landed = landing_clearance(&checker, &w.config, &TWO_SIGMA).expect("valid");
+        assert!(landed <= nominal, "waypoint {i}: {landed} > {nominal}");
+        // Against the exact landings of the 12 probes: first order, so within a few mm.
+        let mut exact = nominal;
+        for k in 0..12 {
+            let mut xi = Vector6::zeros();
+            let size = if k % 6 < 3 {
+                TWO_SIGMA.rotation
+            } else {
+                TWO_SIGMA.position
+            };
+            xi[k % 6] = if k < 6 { size } else { -size };
+            let landing = exact_landing(&checker, &w.config, &xi);
+            exact = exact.min(checker.clearance(&landing).expect("clearance"));
+        }
+        assert!(
+            (landed - exact).abs() < 0.003,
+            "waypoint {i}: linearised {landed}, exact {exact}"
+        );
+        if landed < nominal - 0.003 {
+            below += 1;
+        }
+    }
+    // The passage's wire is clamped 1.5 mm thick between boxes 50 mm apart: a 20 mm landing
+    // error brings it markedly closer at most waypoints.
+    assert!(
+        below >= waypoints.len() / 2,
+        "{below} of {}",
+        waypoints.len()
+    );
+}
+
+#[test]
+fn the_landing_polish_raises_the_smallest_landing_clearance() {
+    let params = PolishParams {
+        target: 0.015,
+        landing: Some(TWO_SIGMA),
+        ..PolishParams::default()
+    };
+    let mut raised = 0;
+    for seed in [1, 2, 3] {
+        let (checker, before) = resampled(seed);
+        let polished = polish_clearance(&checker, &before, &params).expect("valid settings");
+        let after = &polished.waypoints;
+        assert_eq!(after[0].config, before[0].config, "seed {seed}");
+        assert_eq!(
+            after.last().map(|s| s.config),
+            before.last().map(|s| s.config)
+        );
+        for (i, (b, a)) in before.iter().zip(after).enumerate() {
+            let land =
+                |s: &Sample| landing_clearance(&checker, &s.config, &TWO_SIGMA).expect("valid");
+            if a.config != b.config {
+                if land(a) > land(b) + 1e-3 {
+                    raised += 1;
+                }
+                assert!(
+                    land(a) > land(b),
+                    "seed {seed}: waypoint {i} moved but not up"
+                );
+                assert!(
+                    land(b) < params.target,
+                    "seed {seed}: waypoint {i} was clear"
+                );
+            }
+        }
+        for (i, pair) in after.windows(2).enumerate() {
+            if pair[0].config != before[i].config || pair[1].config != before[i + 1].config {
+                checker
+                    .edge(&pair[0], &pair[1].config)
+                    .unwrap_or_else(|e| panic!("seed {seed}: edge {i} is invalid: {e}"));
+            }
+        }
+        let (min_before, min_after) = polished.min_score;
+
+        assert!(min_after >= min_before, "seed {seed}");
+        // Without a landing the score is the clearance.
+        let plain = polish_clearance(&checker, &before, &PolishParams::default()).expect("valid");
+        let expected = [interior_min(&before), interior_min(&plain.waypoints)];
+        for (got, want) in [plain.min_score.0, plain.min_score.1].iter().zip(expected) {
+            assert!(
+                (got - want).abs() < 1e-9,
+                "seed {seed}: {got} against {want}"
+            );
+        }
+    }
+    // The first paths' tight waypoints (landings 1.2–3.1 mm from a box) gain 4.5–9.9 mm.
+    assert!(raised >= 3, "raised {raised}");
+}
+
+/// The smallest clearance of the interior waypoints.
+fn interior_min(w: &[Sample]) -> f64 {
+    w[1..w.len() - 1]
+        .iter()
+        .map(|s| s.clearance)
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn bad_landing_probes_are_refused_by_name() {
+    let (checker, waypoints) = resampled(1);
+    for (name, landing) in [
+        (
+            "landing.position",
+            Landing {
+                position: f64::NAN,
+                ..TWO_SIGMA
+            },
+        ),
+        (
+            "landing.rotation",
+            Landing {
+                rotation: -0.1,
+                ..TWO_SIGMA
+            },
+        ),
+    ] {
+        let params = PolishParams {
+            landing: Some(landing),
+            ..PolishParams::default()
+        };
+        let err = polish_clearance(&checker, &waypoints, &params).expect_err("refused");
+        assert!(err.to_string().contains(name), "{name}: {err}");
+        let err = landing_clearance(&checker, &waypoints[1].config, &landing).expect_err("refused");
         assert!(err.to_string().contains(name), "{name}: {err}");
     }
 }

@@ -102,23 +102,20 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
         s["plan_ms"] = serde_json::Value::Null;
     }
     assert_eq!(first, second, "same seed, same results");
-    // Under the paper's noise the tight waypoints are polished: no waypoint comes closer to a
-    // box, and the closest one moves away (the shipped passage's plans pass at 16–19 mm);
+    // Under the paper's noise the waypoints whose landings come close to a box are polished:
+    // the closest landing moves away, and every waypoint keeps the plan's 15 mm margin;
     // `--no-polish` tracks them as resampled.
     let noisy = ["experiment", "passage", "--attempts", "1", "--seed", "5"];
     let polished = run(&noisy, &tmp.join("c"), &calibration);
     let polish = &polished["plan"]["polish"];
     assert_eq!(polish["valid"], true, "{polish}");
     assert!(polish["moved"].as_u64().is_some_and(|n| n >= 1), "{polish}");
-    let (before, after) = (
-        polish["min_clearance_before_mm"]
-            .as_f64()
-            .unwrap_or(f64::NAN),
-        polish["min_clearance_after_mm"]
-            .as_f64()
-            .unwrap_or(f64::NAN),
+    let mm = |key: &str| polish[key].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        mm("min_landing_clearance_after_mm") > mm("min_landing_clearance_before_mm"),
+        "{polish}"
     );
-    assert!(after > before, "{polish}");
+    assert!(mm("min_clearance_after_mm") >= 15.0, "{polish}");
     let unpolished = run(
         &[&noisy[..], &["--no-polish"]].concat(),
         &tmp.join("d"),

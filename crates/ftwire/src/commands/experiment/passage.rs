@@ -336,8 +336,12 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     );
     if let Some(p) = &plan.polish {
         eprintln!(
-            "polish: {} waypoints moved, closest waypoint {:.1} → {:.1} mm",
-            p.moved, p.min_clearance_before_mm, p.min_clearance_after_mm
+            "polish: {} waypoints moved, closest landing {:.1} → {:.1} mm, closest waypoint {:.1} → {:.1} mm",
+            p.moved,
+            p.min_landing_clearance_before_mm,
+            p.min_landing_clearance_after_mm,
+            p.min_clearance_before_mm,
+            p.min_clearance_after_mm
         );
     }
 
