@@ -418,6 +418,26 @@ pub fn reruns_unreachable(noise: NoiseModel) -> bool {
     matches!(noise, NoiseModel::Increment | NoiseModel::Absolute)
 }
 
+/// Whether, under `noise`, a leg to waypoint `waypoint` whose *start* is out of the arms'
+/// reach goes back to the pose where the last leg run (`ran`: the leg in progress, see
+/// [`undo_leg`]) first started, and runs that leg again, instead of ending the attempt. That
+/// leg is the one before, whose last landing carried the second gripper there, or this one,
+/// when it ran already and its undo landed there. Where [`reruns_unreachable`] and
+/// [`MAX_UNDOS`] allows (`undone` so far), after the relocation an attempt may make once:
+/// where that finds no translation, or was spent. On the 910 mm wire's passage attempt 35
+/// ended so at waypoint 12, and on seed 3 of the 820 mm one attempt 48, each after an undo of
+/// leg 12 whose move landed out of reach.
+pub fn undoes_to_last_start(
+    noise: NoiseModel,
+    ran: Option<usize>,
+    waypoint: usize,
+    undone: usize,
+) -> bool {
+    reruns_unreachable(noise)
+        && ran.is_some_and(|leg| leg + 1 == waypoint || leg == waypoint)
+        && undone < MAX_UNDOS
+}
+
 /// Whether a leg that ended with `outcome` under `noise` is undone and run again
 /// ([`MAX_UNDOS`] an attempt): diverged, or on a sensor fault, under any noise; at a waypoint
 /// out of the arms' reach where [`reruns_unreachable`] (before any relocation, which would
@@ -610,9 +630,9 @@ pub struct PolishOut {
 }
 
 /// The waypoints of a path tracked with `rod` in `scene` under `noise`, polished for clearance
-/// ([`ftwire_plan::polish_clearance`] with a checker of `rod` and [`validity`]): each
-/// interior waypoint closer than the default target to a box is moved away from it, its legs
-/// kept in `Z_free`. Each waypoint's joints continue the previous one's along their edge, or
+/// ([`ftwire_plan::polish_clearance`] with [`polish_params`] and a checker of `rod` and
+/// [`validity`]): each interior waypoint whose landings come closer than the target to a box
+/// is moved away from it, its legs kept in `Z_free`. Each waypoint's joints continue the previous one's along their edge, or
 /// are solved afresh where that edge is refused (a waypoint next to such an edge moves only
 /// where both its new edges pass); when a waypoint is not valid at all under that checker,
 /// the waypoints are returned as they are.
@@ -1301,29 +1321,47 @@ impl Tracking<'_> {
             // A_stable, or from a pose the robot cannot hold): the attempt ends there, unless
             // the start is out of the arms' reach (the accumulated noise carried the gripper
             // there) and one translation of both grippers brings it, and the waypoint, back.
+            // Else, under fresh noise, back to where the last leg run first started
+            // ([`undoes_to_last_start`]).
+            let previous = leg_start
+                .filter(|(leg, _)| undoes_to_last_start(self.noise, Some(*leg), i, attempt.undone));
             let run = match run {
                 Ok(run) => run,
-                Err(ControlError::UnreachableStart { .. }) if self.arms && !attempt.relocated => {
-                    match self.relocate(&mut rig, model, &estimate, &waypoint.a)? {
-                        Relocated::Moved(base) => {
-                            reach = robot_reach(base)?;
-                            attempt.relocated = true;
-                            // The leg never ran: the last score is the waypoint before's.
-                            touched |= extra_move(&mut attempt, rig.inner());
-                            continue;
-                        }
-                        Relocated::NoneFound => {
-                            attempt.outcome = format!(
-                                "refused at waypoint {i}: its start is out of the arms' reach, \
-                                 and no translation of both grippers brings it back"
-                            );
-                            break;
-                        }
-                        Relocated::Refused(why) => {
-                            attempt.outcome = why;
-                            break;
+                Err(e @ ControlError::UnreachableStart { .. }) => {
+                    if self.arms && !attempt.relocated {
+                        match self.relocate(&mut rig, model, &estimate, &waypoint.a)? {
+                            Relocated::Moved(base) => {
+                                reach = robot_reach(base)?;
+                                attempt.relocated = true;
+                                // The leg never ran: the last score is the waypoint before's.
+                                touched |= extra_move(&mut attempt, rig.inner());
+                                continue;
+                            }
+                            Relocated::NoneFound if previous.is_none() => {
+                                attempt.outcome = format!(
+                                    "refused at waypoint {i}: its start is out of the arms' \
+                                     reach, and no translation of both grippers brings it back"
+                                );
+                                break;
+                            }
+                            Relocated::NoneFound => {}
+                            Relocated::Refused(why) => {
+                                attempt.outcome = why;
+                                break;
+                            }
                         }
                     }
+                    let Some((leg, pose)) = previous else {
+                        attempt.outcome = format!("refused at waypoint {i}: {e}");
+                        break;
+                    };
+                    if let Err(e) = undo_leg(&mut attempt, &mut rig, pose, &mut touched) {
+                        attempt.outcome = e;
+                        break;
+                    }
+                    i = leg;
+                    undone_at = Some(leg);
+                    continue;
                 }
                 Err(e) => {
                     attempt.outcome = format!("refused at waypoint {i}: {e}");
@@ -1935,6 +1973,34 @@ mod tests {
         // Every waypoint keeps the noisy margins: clear of the boxes by 15 mm, slack.
         for w in waypoints {
             assert!(checker.clearance(&w.config).expect("solves") >= MARGIN_NOISY - 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_start_out_of_reach_goes_back_to_the_last_legs_start_only_under_fresh_noise() {
+        for noise in [
+            NoiseModel::None,
+            NoiseModel::Offset,
+            NoiseModel::Increment,
+            NoiseModel::Absolute,
+        ] {
+            let fresh = reruns_unreachable(noise);
+            // The leg before the refused waypoint 5 ran: undone where the rerun lands afresh.
+            assert_eq!(
+                undoes_to_last_start(noise, Some(4), 5, 0),
+                fresh,
+                "{noise:?}"
+            );
+            assert_eq!(
+                undoes_to_last_start(noise, Some(4), 5, MAX_UNDOS - 1),
+                fresh
+            );
+            // Leg 5 ran, and its undo landed out of reach: back to where it first started.
+            assert_eq!(undoes_to_last_start(noise, Some(5), 5, 1), fresh);
+            // No undo left, no leg run yet, or the leg before was passed over.
+            assert!(!undoes_to_last_start(noise, Some(4), 5, MAX_UNDOS));
+            assert!(!undoes_to_last_start(noise, None, 1, 0));
+            assert!(!undoes_to_last_start(noise, Some(3), 5, 0));
         }
     }
 

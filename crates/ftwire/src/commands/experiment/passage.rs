@@ -199,7 +199,8 @@ pub struct PlanOut {
     pub near_waypoints: usize,
     /// What the clearance polish did (`null` with `--no-polish`, and without noise or under
     /// `offset`, where it does not run: `track::polishes`): waypoints moved, and the
-    /// smallest waypoint clearance of the tracking model before and after \[mm\].
+    /// smallest waypoint clearance and landing clearance (`track::polish_params`) of the
+    /// tracking model before and after \[mm\].
     pub polish: Option<PolishOut>,
 }
 
