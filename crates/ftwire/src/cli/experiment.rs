@@ -415,8 +415,9 @@ pub struct PassageExperimentArgs {
     #[arg(long, default_value_t = 50)]
     pub attempts: usize,
     /// Track the plan's waypoints as resampled, without the clearance polish (by default,
-    /// under `increment` and `absolute` noise, each waypoint closer than 25 mm to a box is
-    /// moved away from it, its legs kept in `Z_free`; `ftwire_plan::polish_clearance`).
+    /// under `increment` and `absolute` noise, each waypoint whose landings, a move there
+    /// landing 2 σ of the noise off on one axis, come closer than 15 mm to a box is moved away
+    /// from it, its legs kept in `Z_free`; `track::polish_params`).
     #[arg(long)]
     pub no_polish: bool,
     /// Noise, calibration and gain.

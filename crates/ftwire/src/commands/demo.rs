@@ -12,8 +12,8 @@
 //! 4. **Plan** through the scene (`--scene`, default the shipped 50 mm passage,
 //!    `scenes/passage.toml`) with RRT* in `A_free` for the identified wire, a fixed iteration
 //!    budget (the same path on any machine), resampled into waypoints; under `increment` and
-//!    `absolute` noise the waypoints closer than 25 mm to a box are first moved away from it
-//!    (`plan.polish`, as `ftwire experiment passage`).
+//!    `absolute` noise the waypoints whose landings come closer than 15 mm to a box are first
+//!    moved away from it (`plan.polish`, as `ftwire experiment passage`).
 //! 5. **Track** the plan in the simulator with the scene's obstacles (execution noise of
 //!    `--noise-model`, `offset` by default: a real robot's calibration error): closed loop with the identified loaded model and the
 //!    collision detector armed (calibrated on a rehearsal away from the obstacles), then once
