@@ -49,7 +49,9 @@ pub mod validity;
 pub use endpoint::{configuration_for_tip, scene_configuration, scene_endpoint};
 pub use error::PlanError;
 pub use path::Path;
-pub use polish::{Landing, PolishParams, Polished, landing_clearance, polish_clearance};
+pub use polish::{
+    Landing, PolishParams, Polished, Scatter, landing_clearance, polish_clearance, touch_rate,
+};
 pub use rrt_star::{Plan, PlannerParams, plan};
 pub use scene::{ConfigurationSpec, Scene, SceneBox};
 pub use space::{FixedBase, MovingBase, Space};

@@ -26,6 +26,9 @@
 //! evaluations costs a Jacobian and 13 shape solves instead of one.
 
 use nalgebra::Vector6;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
 
 use crate::PlanError;
 use crate::validity::{Checker, Sample};
@@ -258,12 +261,7 @@ pub fn landing_clearance(
     landing: &Landing,
 ) -> Result<f64, PlanError> {
     landing.check()?;
-    let nodes = checker.params().nodes;
-    let clearance_at = |a: &Vector6<f64>| -> Result<f64, ftwire_rod::RodError> {
-        let shape = checker.rod().shape(a, nodes)?;
-        let centreline = crate::validity::world_centreline(config, &shape.positions);
-        Ok(checker.wire_clearance(&centreline).0)
-    };
+    let clearance_at = |a: &Vector6<f64>| clearance_at(checker, config, a);
     let mut least = clearance_at(&config.a)?;
     let lu = checker.rod().jacobian(&config.a)?.jacobian.lu();
     for axis in 0..6 {
@@ -282,6 +280,106 @@ pub fn landing_clearance(
         }
     }
     Ok(least)
+}
+
+/// The wire's clearance \[m\] (`Checker::wire_clearance`) at `a`, with `config`'s base.
+fn clearance_at(
+    checker: &Checker,
+    config: &crate::Config,
+    a: &Vector6<f64>,
+) -> Result<f64, ftwire_rod::RodError> {
+    let shape = checker.rod().shape(a, checker.params().nodes)?;
+    let centreline = crate::validity::world_centreline(config, &shape.positions);
+    Ok(checker.wire_clearance(&centreline).0)
+}
+
+/// The scatter of a noisy move's landing for [`touch_rate`]: the second gripper's body twist at
+/// its clamp, with independent normal components of `position_std` per axis \[m\] and
+/// `orientation_std` per rotation-vector component \[rad\] (the paper's noise), and
+/// `samples` landings drawn from a ChaCha8 stream seeded by `seed`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scatter {
+    /// σ of the landing's translation per axis \[m\].
+    pub position_std: f64,
+    /// σ of the landing's rotation per rotation-vector component \[rad\].
+    pub orientation_std: f64,
+    /// Landings drawn (at least 1).
+    pub samples: usize,
+    /// Seed of the landings' random stream: the same seed draws the same landings, so that
+    /// the rates of two configurations are compared on the same landings.
+    pub seed: u64,
+}
+
+/// The fraction of a noisy move's landings toward `config` at which the wire touches an
+/// obstacle (its clearance below 0): `scatter.samples` body twists `ξ` drawn from `scatter`,
+/// each landing's `a` taken to first order as `a + J⁻¹ ξ` (as [`landing_clearance`]'s probes)
+/// and its shape solved by the checker's model. A landing the model refuses counts as a
+/// touch, and so does every landing where `J` is singular (a fold).
+///
+/// Why a rate, not the closest landing: a run of the passage touches where many of its rests
+/// land beside a box, and a path with one tight waypoint passed once can touch less than one
+/// that keeps the wire a little closer over many. The sum of the rates over a path's waypoints
+/// is the expected number of touching landings when each is reached by one move.
+///
+/// # Errors
+/// [`PlanError::InvalidParameter`] for a σ that is not finite and non-negative, or no
+/// samples; [`PlanError::Rod`] when the model refuses `config.a`.
+pub fn touch_rate(
+    checker: &Checker,
+    config: &crate::Config,
+    scatter: &Scatter,
+) -> Result<f64, PlanError> {
+    scatter.check()?;
+    // Refuses a configuration the model cannot solve, as `landing_clearance` does.
+    clearance_at(checker, config, &config.a)?;
+    let Some(inverse) = checker.rod().jacobian(&config.a)?.jacobian.try_inverse() else {
+        return Ok(1.0);
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(scatter.seed);
+    let mut touches = 0usize;
+    for _ in 0..scatter.samples {
+        let xi = Vector6::from_fn(|i, _| {
+            let std = if i < 3 {
+                scatter.orientation_std
+            } else {
+                scatter.position_std
+            };
+            std * rng.sample::<f64, _>(StandardNormal)
+        });
+        let touched =
+            clearance_at(checker, config, &(config.a + inverse * xi)).map_or(true, |c| c < 0.0);
+        touches += usize::from(touched);
+    }
+    Ok(touches as f64 / scatter.samples as f64)
+}
+
+impl Scatter {
+    /// Both σ finite and non-negative, and at least one sample.
+    ///
+    /// # Errors
+    /// [`PlanError::InvalidParameter`] naming the first that is not.
+    pub fn check(&self) -> Result<(), PlanError> {
+        for (name, value) in [
+            ("scatter.position_std", self.position_std),
+            ("scatter.orientation_std", self.orientation_std),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(PlanError::InvalidParameter {
+                    name,
+                    value,
+                    allowed: "a finite value >= 0",
+                });
+            }
+        }
+        if self.samples == 0 {
+            return Err(PlanError::InvalidParameter {
+                name: "scatter.samples",
+                value: 0.0,
+                allowed: "at least 1",
+            });
+        }
+        Ok(())
+    }
 }
 
 impl Landing {

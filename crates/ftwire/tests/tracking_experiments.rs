@@ -106,7 +106,34 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
     // the closest landing moves away, and every waypoint keeps the plan's 15 mm margin;
     // `--no-polish` tracks them as resampled.
     let noisy = ["experiment", "passage", "--attempts", "1", "--seed", "5"];
-    let polished = run(&noisy, &tmp.join("c"), &calibration);
+    let polished = run(
+        &[&noisy[..], &["--plan-candidates", "2"]].concat(),
+        &tmp.join("c"),
+        &calibration,
+    );
+    // Of two plans, the one expecting fewer touching landings is tracked.
+    let choice = &polished["plan"]["choice"];
+    assert_eq!(choice["candidates"], 2, "{choice}");
+    let touches: Vec<f64> = choice["expected_touches"]
+        .as_array()
+        .expect("plan.choice.expected_touches")
+        .iter()
+        .map(|t| t.as_f64().unwrap_or(f64::INFINITY))
+        .collect();
+    assert_eq!(touches.len(), 2, "{choice}");
+    let chosen = choice["chosen"].as_u64().expect("plan.choice.chosen") as usize;
+    assert!(touches.iter().all(|&t| touches[chosen] <= t), "{choice}");
+    assert!(
+        touches[..chosen].iter().all(|&t| t > touches[chosen]),
+        "{choice}"
+    );
+    assert_eq!(
+        choice["plan_ms"].as_array().map(Vec::len),
+        Some(2),
+        "{choice}"
+    );
+    // Under `offset` one plan is made, without a choice.
+    assert!(first["plan"]["choice"].is_null());
     let polish = &polished["plan"]["polish"];
     assert_eq!(polish["valid"], true, "{polish}");
     assert!(polish["moved"].as_u64().is_some_and(|n| n >= 1), "{polish}");

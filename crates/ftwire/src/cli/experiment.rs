@@ -420,6 +420,11 @@ pub struct PassageExperimentArgs {
     /// from it, its legs kept in `Z_free`; `track::polish_params`).
     #[arg(long)]
     pub no_polish: bool,
+    /// Plans made, each from its own seed, of which the one whose tracked waypoints expect
+    /// the fewest touching landings under the paper's noise is tracked (`track::choose_plan`;
+    /// under `increment` and `absolute` only: one plan otherwise). 1 tracks the first plan.
+    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::track::PLAN_CANDIDATES)]
+    pub plan_candidates: usize,
     /// Noise, calibration and gain.
     #[command(flatten)]
     pub rollout: RolloutArgs,

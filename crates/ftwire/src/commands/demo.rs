@@ -34,7 +34,7 @@ use std::time::{Duration, Instant};
 use ftwire::error::{CliError, from_estimate, from_plan, from_rod};
 use ftwire::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
 use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
-use ftwire::experiment::track::{self, Attempt, PolishOut, Tracking, plan_in_scene};
+use ftwire::experiment::track::{self, Attempt, ChoiceOut, PolishOut, Tracking};
 use ftwire::experiment::{Gravity, ModelKind};
 use ftwire::output::RunHeader;
 use ftwire::results::ResultsFolder;
@@ -108,6 +108,9 @@ struct PlanOut {
     /// noises that scatter every landing (`increment`, `absolute`); `null` otherwise, where
     /// the loop converges onto the plan.
     polish: Option<PolishOut>,
+    /// How the plan was chosen among `track::PLAN_CANDIDATES` under the same noises
+    /// (`track::choose_plan`); `null` otherwise.
+    choice: Option<ChoiceOut>,
 }
 
 #[derive(Debug, Serialize)]
@@ -340,23 +343,42 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     // configurations with the loaded model.
     let noise = args.noise_model.model();
     let identified = Rod::new(*model.wire());
-    let (planned, _) = plan_in_scene(
+    // Under the noises that scatter every landing, the best of `track::PLAN_CANDIDATES`
+    // plans by their expected touches, each with its tight waypoints polished away from the
+    // boxes (as `experiment passage` does). The plan's poses take the loaded model's
+    // configurations and shapes: the controller steers to where the plan puts the grippers,
+    // and the shape error is against the wire that sags.
+    let chosen = track::choose_plan(
         &scene,
         &identified,
+        controller_model.rod(),
         track::validity_tracked(noise, controller_model.rod()),
+        noise,
         seed,
+        track::PLAN_CANDIDATES,
+        track::polishes(noise),
+        |planned| track::reexpress(&planned.waypoints, &controller_model, &scene.base),
     )?;
-    let mut plan_out = PlanOut {
+    let planned = &chosen.planned;
+    let plan_out = PlanOut {
         scene: scene_name,
         iterations: planned.plan.iterations,
         nodes: planned.plan.nodes,
         cost: planned.plan.path.cost,
         min_clearance: planned.plan.path.min_clearance(),
         waypoints: planned.waypoints.len(),
-        polish: None,
+        polish: chosen.polish,
+        choice: chosen.choice.clone(),
     };
+    let chosen_of = plan_out.choice.as_ref().map_or(String::new(), |c| {
+        format!(
+            ", plan {} of {} by expected touches",
+            c.chosen + 1,
+            c.candidates
+        )
+    });
     let plan_s = phase.finish(&format!(
-        "path of length {:.2} (normalised A), {} waypoints, closest approach {:.1} mm",
+        "path of length {:.2} (normalised A), {} waypoints, closest approach {:.1} mm{chosen_of}",
         plan_out.cost,
         plan_out.waypoints,
         1e3 * plan_out.min_clearance
@@ -379,19 +401,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         arms: true,
         bias_observer: true,
     };
-    // The plan's poses with the loaded model's configurations and shapes: the controller steers
-    // to where the plan puts the grippers, and the shape error is against the wire that sags.
-    let waypoints = track::reexpress(&planned.waypoints, &controller_model, &scene.base)?;
-    // Under the noises that scatter every landing, the tight waypoints moved away from the
-    // boxes first (as `experiment passage` does).
-    let (waypoints, polish) = if track::polishes(noise) {
-        let (waypoints, polish) =
-            track::polish_waypoints(&scene, controller_model.rod(), noise, &waypoints)?;
-        (waypoints, Some(polish))
-    } else {
-        (waypoints, None)
-    };
-    plan_out.polish = polish;
+    let waypoints = chosen.waypoints;
     let detector = tracking.detector(&controller_model, &waypoints)?;
     phase.set(1);
     let closed = tracking.closed_loop(&controller_model, &waypoints, detector, 2)?;

@@ -5,11 +5,15 @@
 //! **Scene.** `--scene FILE`, or the shipped 50 mm passage (`scenes/passage.toml`, made for the
 //! default wire `nitinol-3mm-820`). The simulator builds its boxes from the same file.
 //!
-//! **Plan.** One RRT* plan in `A_free` of the scene from its `start` to its `goal`
+//! **Plan.** An RRT* plan in `A_free` of the scene from its `start` to its `goal`
 //! ([`plan_in_scene`]: a fixed iteration budget and seeded restarts, so the same seed gives the
 //! same path on any machine), with the wire's weightless model (the scene's configurations are
 //! the paper model's), resampled into waypoints `γ_A(i/N)` whose shapes `Φ` and gripper poses
-//! `Γ` are those of the model of `--model`. `plan_ms` is its wall time.
+//! `Γ` are those of the model of `--model`. Under `increment` and `absolute`, whose every move
+//! scatters the wire's landing, `--plan-candidates N` (default 4) such plans are made from
+//! seeds of their own, each polished for clearance, and the one whose waypoints expect the
+//! fewest touching landings of one noisy move is tracked ([`choose_plan`]; `plan.choice`).
+//! `plan_ms` is the wall time of all of it.
 //!
 //! **Roll-outs.** `--attempts N` (default 50) of each of closed and open loop, attempt `k` of both
 //! under the same noise seed. Each places the true wire at the start anew, tares the sensor and
@@ -60,8 +64,8 @@ use std::time::Instant;
 
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
-    Attempt, PolishOut, Tracking, WAYPOINTS, Waypoint, near_obstacles, plan_in_scene,
-    polish_waypoints, polishes, scene_model, success_epsilon, success_rule, validity_tracked,
+    Attempt, ChoiceOut, Chosen, PolishOut, Tracking, WAYPOINTS, Waypoint, choose_plan,
+    near_obstacles, polishes, scene_model, success_epsilon, success_rule, validity_tracked,
     waypoints_along, waypoints_csv,
 };
 use ftwire::results::ResultsFolder;
@@ -202,6 +206,10 @@ pub struct PlanOut {
     /// smallest waypoint clearance and landing clearance (`track::polish_params`) of the
     /// tracking model before and after \[mm\].
     pub polish: Option<PolishOut>,
+    /// How the plan was chosen among `--plan-candidates` (`null` without noise and under
+    /// `offset`, where one plan is made): each candidate's expected touching landings and
+    /// planning time, and the one tracked (`track::choose_plan`).
+    pub choice: Option<ChoiceOut>,
 }
 
 #[derive(Serialize)]
@@ -227,7 +235,8 @@ struct Summary {
     /// The collision detector's jump-ratio threshold.
     detector_threshold: f64,
     results: Results,
-    /// Wall time of the plan \[ms\] (also in `timings.json`).
+    /// Wall time of the plan \[ms\] (also in `timings.json`): every candidate's planning,
+    /// polish and scoring (`plan.choice.plan_ms` has each candidate's planning alone).
     plan_ms: f64,
     plan: PlanOut,
 }
@@ -292,32 +301,39 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         &setup,
     )?;
 
-    // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo).
+    // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo); under
+    // the noises that scatter every landing, the best of `--plan-candidates` plans by their
+    // expected touches, each polished for clearance (unless `--no-polish`).
     let noise = args.rollout.noise_model.model();
     let planner_rod = Rod::new(*model.wire());
-    let (planned, _) = plan_in_scene(
+    let Chosen {
+        planned,
+        waypoints,
+        polish,
+        choice,
+        seconds,
+    } = choose_plan(
         &scene,
         &planner_rod,
-        validity_tracked(noise, model.rod()),
-        seed,
-    )?;
-    let plan_ms = 1e3 * planned.seconds;
-    // The waypoints' shapes and gripper poses of the tracking model (the loaded one with
-    // gravity on): the open loop rolls out the poses that give `γ_A` on the true, heavy wire.
-    let waypoints = waypoints_along(
         model.rod(),
-        &scene.base,
-        &planned.plan.path.waypoints,
-        WAYPOINTS,
+        validity_tracked(noise, model.rod()),
+        noise,
+        seed,
+        args.plan_candidates,
+        !args.no_polish && polishes(noise),
+        // The waypoints' shapes and gripper poses of the tracking model (the loaded one with
+        // gravity on): the open loop rolls out the poses that give `γ_A` on the true, heavy
+        // wire.
+        |planned| {
+            waypoints_along(
+                model.rod(),
+                &scene.base,
+                &planned.plan.path.waypoints,
+                WAYPOINTS,
+            )
+        },
     )?;
-    // Under the noises that scatter every landing, the tight waypoints moved away from the
-    // boxes, unless `--no-polish`.
-    let (waypoints, polish) = if args.no_polish || !polishes(noise) {
-        (waypoints, None)
-    } else {
-        let (waypoints, polish) = polish_waypoints(&scene, model.rod(), noise, &waypoints)?;
-        (waypoints, Some(polish))
-    };
+    let plan_ms = 1e3 * seconds;
     let plan = PlanOut {
         scene: scene_name,
         iterations: planned.plan.iterations,
@@ -330,11 +346,25 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
             .filter(|&&near| near)
             .count(),
         polish,
+        choice,
     };
     eprintln!(
         "plan: {} waypoints ({} near a box), length {:.2} (normalised A), closest approach {:.1} mm, {:.0} ms",
         plan.waypoints, plan.near_waypoints, plan.cost, plan.min_clearance_mm, plan_ms
     );
+    if let Some(c) = &plan.choice {
+        let touches: Vec<String> = c
+            .expected_touches
+            .iter()
+            .map(|t| t.map_or("none".into(), |t| format!("{t:.4}")))
+            .collect();
+        eprintln!(
+            "choice: plan {} of {} (expected touching landings per pass: {})",
+            c.chosen + 1,
+            c.candidates,
+            touches.join(" / ")
+        );
+    }
     if let Some(p) = &plan.polish {
         eprintln!(
             "polish: {} waypoints moved, closest landing {:.1} → {:.1} mm, closest waypoint {:.1} → {:.1} mm",
