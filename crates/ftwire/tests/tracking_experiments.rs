@@ -213,6 +213,13 @@ fn bad_options_are_refused_before_any_work() {
     assert_exit(&output, 2, "--attempts 0", "passage --attempts 0");
     let output = ftwire(&["experiment", "track", "--pairs", "0"]);
     assert_exit(&output, 2, "--pairs 0", "track --pairs 0");
+    let output = ftwire(&["experiment", "passage", "--plan-candidates", "0"]);
+    assert_exit(
+        &output,
+        2,
+        "--plan-candidates 0",
+        "passage --plan-candidates 0",
+    );
     let output = ftwire(&["experiment", "passage", "--gain", "1.5"]);
     assert_exit(&output, 2, "--gain 1.5", "passage --gain 1.5");
     let output = ftwire(&["experiment", "track", "--shape-stop", "-1"]);

@@ -746,8 +746,8 @@ pub struct ChoiceOut {
     /// Plans made, each from its own seed ([`candidate_seed`]).
     pub candidates: usize,
     /// Each candidate's expected touching landings ([`expected_touches`] of its tracked,
-    /// polished waypoints); `null` for a candidate that found no path or that the model
-    /// refused.
+    /// polished waypoints); `null` for a candidate that found no path, or whose waypoints the
+    /// tracking model refused.
     pub expected_touches: Vec<Option<f64>>,
     /// Each candidate's planning wall time \[ms\] (`null` when it found no path).
     pub plan_ms: Vec<Option<f64>>,
@@ -787,8 +787,8 @@ pub struct Chosen {
 /// otherwise one plan is made, as before, and `choice` is `None`.
 ///
 /// # Errors
-/// The first candidate's error when no candidate found a path; `prepare`'s and the polish's
-/// errors.
+/// The first error (planning, `prepare` or the polish) when no candidate gave waypoints to
+/// track; bad input for no candidates.
 #[allow(clippy::too_many_arguments)]
 pub fn choose_plan(
     scene: &Scene,
@@ -825,12 +825,23 @@ pub fn choose_plan(
             }
         };
         plan_ms.push(Some(1e3 * planned.seconds));
-        let waypoints = prepare(&planned)?;
-        let (waypoints, polished) = if polish {
-            let (waypoints, out) = polish_waypoints(scene, tracker, noise, &waypoints)?;
-            (waypoints, Some(out))
-        } else {
-            (waypoints, None)
+        // A plan whose waypoints cannot be prepared or polished (the tracking model has no
+        // configuration at one of them) is passed over like one not found.
+        let prepared = prepare(&planned).and_then(|waypoints| {
+            if polish {
+                polish_waypoints(scene, tracker, noise, &waypoints)
+                    .map(|(waypoints, out)| (waypoints, Some(out)))
+            } else {
+                Ok((waypoints, None))
+            }
+        });
+        let (waypoints, polished) = match prepared {
+            Ok(prepared) => prepared,
+            Err(e) => {
+                first_error.get_or_insert(e);
+                touches.push(None);
+                continue;
+            }
         };
         let expected = if chooses {
             expected_touches(scene, tracker, noise, &waypoints).ok()

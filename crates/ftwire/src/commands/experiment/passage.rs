@@ -279,6 +279,11 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     if args.attempts == 0 {
         return Err(CliError::bad_input("--attempts 0: give at least 1"));
     }
+    if args.plan_candidates == 0 {
+        return Err(CliError::bad_input(
+            "--plan-candidates 0: make at least 1 plan",
+        ));
+    }
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
     let waypoint_moves = args.rollout.waypoint_moves()?;
