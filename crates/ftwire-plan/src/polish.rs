@@ -330,8 +330,7 @@ pub fn touch_rate(
     scatter: &Scatter,
 ) -> Result<f64, PlanError> {
     scatter.check()?;
-    // Refuses a configuration the model cannot solve, as `landing_clearance` does.
-    clearance_at(checker, config, &config.a)?;
+    // `J` refuses a configuration the model cannot solve.
     let Some(inverse) = checker.rod().jacobian(&config.a)?.jacobian.try_inverse() else {
         return Ok(1.0);
     };

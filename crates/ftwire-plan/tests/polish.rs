@@ -430,4 +430,8 @@ fn bad_scatters_are_refused_by_name() {
         let err = touch_rate(&checker, &waypoints[1].config, &scatter).expect_err("refused");
         assert!(err.to_string().contains(name), "{name}: {err}");
     }
+    // A configuration the model cannot solve is refused, not scored.
+    let mut config = waypoints[1].config;
+    config.a[0] = f64::NAN;
+    assert!(touch_rate(&checker, &config, &WIDE).is_err());
 }
