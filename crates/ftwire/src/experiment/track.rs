@@ -316,7 +316,9 @@ pub const DIVERGENCE_NOISY: f64 = 20.0;
 /// end after the last undo ends the attempt. A limit per leg instead was tried on the cable
 /// (`experiment track --wire cable-3mm-920 --shape-stop 3.5 --waypoint-moves 500`, seed 0):
 /// its pair 1 diverged on legs 3, 4, 4 and 5, each rerun reaching its waypoint, then on leg 6
-/// five times in a row, so it ended at leg 6 either way.
+/// five times in a row, so it ended at leg 6 either way. (Those divergences were steered by
+/// rests the bias observer could not fuse; since it tries them again on the last estimate's
+/// branch, `BiasObserver::recovered`, that pair reaches its goal with three legs undone.)
 pub const MAX_UNDOS: usize = 4;
 
 /// The fraction of a leg's move budget (`--waypoint-moves`) after which its shape stop
