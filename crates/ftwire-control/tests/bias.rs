@@ -371,7 +371,7 @@ fn a_rest_whose_noise_folds_it_off_its_branch_is_fused_on_the_last_estimates_bra
                 nearest_raw = nearest_raw.min(to_normalised(&w, &noise).norm());
             }
         }
-        // Measured: 15–24 of 60 recovered, each within 0.016 of the wire (its `ã` 1.6–2.0
+        // Measured: 15–24 of 60 recovered, each within 0.016 of the wire (its `ã` 1.56–2.02
         // or more off), 1–7 left beyond the gate.
         assert!(recovered >= 5, "seed {seed}: {recovered} recovered");
         assert!(
