@@ -263,13 +263,37 @@ pub struct JsonArgs {
     pub json: bool,
 }
 
-/// Where an experiment writes its results folder (see [`crate::results::ResultsFolder`]).
-#[derive(Debug, Clone, Args, Serialize)]
-pub struct OutArgs {
-    /// Results folder; written whole into a temporary sibling and renamed into place at the
-    /// end, so an existing folder is never left half-overwritten. Its parent must exist.
+/// Where a run writes its results folder (see [`crate::results::ResultsFolder`]): `--out` and
+/// `--force`.
+#[derive(Debug, Clone, Default, Args, Serialize)]
+pub struct ResultsArgs {
+    /// Results folder [default: results/<run>, e.g. results/demo]. Written whole into a
+    /// temporary sibling and renamed into place at the end. An existing folder is replaced
+    /// only when an earlier ftwire run wrote it (it holds `.ftwire-results`) or it is empty;
+    /// its parent must exist.
     #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
+    /// Replace `--out` even when it is a folder ftwire did not write, with everything in it.
+    /// A folder that holds one of the run's inputs or the working folder is never replaced.
+    #[arg(long)]
+    #[serde(skip)]
+    pub force: bool,
+}
+
+impl ResultsArgs {
+    /// Opens the results folder: `--out`, or `results/<id>`, guarded by `--force` and the
+    /// run's `inputs` (see [`crate::results::OutGuard`]).
+    ///
+    /// # Errors
+    /// As [`crate::results::ResultsFolder::create_or_default`].
+    pub fn open(
+        &self,
+        id: &str,
+        inputs: crate::results::OutGuard,
+    ) -> Result<crate::results::ResultsFolder, CliError> {
+        let guard = inputs.with_force(self.force);
+        crate::results::ResultsFolder::create_or_default(self.out.as_deref(), id, &guard)
+    }
 }
 
 /// The simulated rig: `--sensor PRESET|FILE.toml` and `--rig FILE.toml` (see

@@ -12,7 +12,54 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+/// The environment variable through which `ftwire reproduce` tells the experiments it starts
+/// its process id: each one ends (removing its temporary results folder) once that process is
+/// gone, so that killing `reproduce` leaves none of them running.
+pub const PARENT_PID_VAR: &str = "FTWIRE_PARENT_PID";
+
+/// Ends the process cleanly on SIGINT, SIGTERM or SIGHUP (exit 128 + the signal's number):
+/// the temporary results folders it is writing are removed, and a folder moving into place
+/// finishes its move first ([`ftwire::results::abandon_all_and_exit`]).
+#[cfg(unix)]
+fn end_cleanly_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+        std::thread::spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                ftwire::results::abandon_all_and_exit(128 + signal);
+            }
+        });
+    }
+}
+
+/// Under `ftwire reproduce` ([`PARENT_PID_VAR`] set), ends the process cleanly once its parent
+/// is gone: the parent was killed (even by SIGKILL, which it cannot catch) and this process
+/// was handed to another. Checked every 100 ms.
+#[cfg(unix)]
+fn end_with_parent() {
+    let Some(parent) = std::env::var(PARENT_PID_VAR)
+        .ok()
+        .and_then(|v| v.parse::<u32>().ok())
+    else {
+        return;
+    };
+    std::thread::spawn(move || {
+        loop {
+            if std::os::unix::process::parent_id() != parent {
+                eprintln!("error: the ftwire process that started this one has ended");
+                ftwire::results::abandon_all_and_exit(129);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+    });
+}
+
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    {
+        end_cleanly_on_signals();
+        end_with_parent();
+    }
     let cli = cli::Cli::parse();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

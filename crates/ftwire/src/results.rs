@@ -1,16 +1,219 @@
 //! The results folder of an experiment: `summary.json` (with the [`RunHeader`]), the default
 //! `report.md` and `report.html` ([`crate::report`]) unless the run wrote its own, and other
 //! files, written whole into a temporary sibling folder and renamed into place at the end, so
-//! that an existing results folder is never left half-overwritten.
+//! that an existing results folder is replaced whole or not at all.
+//!
+//! A results folder carries the mark [`MARK`] (a file holding its run header). A run replaces
+//! an existing `--out` folder only when it carries the mark or is empty; any other folder is
+//! the user's, and is replaced only with `--force` ([`OutGuard`]). A folder that holds one of
+//! the run's own inputs, or the working folder, is never replaced, `--force` or not.
+//!
+//! The temporary folders (`.NAME.partial-PID-NS` while a run writes, `.NAME.old-PID-NS` while
+//! the old results make way) are removed when the run ends, is interrupted (SIGINT, SIGTERM,
+//! SIGHUP: [`abandon_all_and_exit`]) or loses its parent process; after a SIGKILL the next run
+//! into the same `--out` removes those of a process that is gone. Guarded by
+//! `crates/ftwire/tests/out_safety_cli.rs`.
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::process::{Child, Command, ExitStatus};
+use std::sync::{Mutex, MutexGuard};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use serde::Serialize;
 
 use crate::error::CliError;
 use crate::output::RunHeader;
+
+/// The file that marks a folder as written by ftwire: a run may replace a folder that holds
+/// it. It holds the run header of the run that wrote the folder (JSON).
+pub const MARK: &str = ".ftwire-results";
+
+/// The temporary folders this process is writing: removed by [`abandon_all_and_exit`].
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The list of live temporary folders, held while a results folder moves into place so that
+/// an interrupt waits for the move to end.
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// The child processes writing into this process's results folders ([`run_child`]).
+static CHILDREN: Mutex<Vec<Child>> = Mutex::new(Vec::new());
+
+fn children() -> MutexGuard<'static, Vec<Child>> {
+    CHILDREN
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Runs `command` to its end as a child process that writes into this run's results folder
+/// (`ftwire reproduce`'s experiments): an interrupt of this process ends the child first
+/// ([`abandon_all_and_exit`]), so that none is left running.
+///
+/// # Errors
+/// The child cannot be started or waited for.
+pub fn run_child(command: &mut Command) -> std::io::Result<ExitStatus> {
+    let child = command.spawn()?;
+    let id = child.id();
+    children().push(child);
+    loop {
+        {
+            let mut list = children();
+            let Some(i) = list.iter().position(|c| c.id() == id) else {
+                return Err(std::io::Error::other("ended by an interrupt"));
+            };
+            if list[i].try_wait()?.is_some() {
+                // Ended: `wait` returns the status `try_wait` saw.
+                return list.swap_remove(i).wait();
+            }
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// Ends the child processes ([`run_child`]), removes every temporary results folder this
+/// process is writing, then ends the process with `code`: what an interrupt (SIGINT, SIGTERM,
+/// SIGHUP) or the loss of the parent process does. A results folder that is moving into place
+/// finishes its move first, so the `--out` folder holds either the old results or the new
+/// ones.
+pub fn abandon_all_and_exit(code: i32) -> ! {
+    let mut running = children();
+    for child in running.iter_mut() {
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    let live = live();
+    for dir in live.iter() {
+        let _ = fs::remove_dir_all(dir);
+    }
+    std::process::exit(code)
+}
+
+/// What a run may do with an existing `--out` folder: whether `--force` was given, and the
+/// files the run reads (which must not be inside the folder it replaces).
+#[derive(Debug, Clone, Default)]
+pub struct OutGuard {
+    force: bool,
+    inputs: Vec<(String, PathBuf)>,
+}
+
+impl OutGuard {
+    /// The same guard with `--force` as given: replace a folder ftwire did not write.
+    #[must_use]
+    pub fn with_force(mut self, force: bool) -> Self {
+        self.force = force;
+        self
+    }
+
+    /// Adds an input file of the run, given with `option` (e.g. `"--wire"`). A value that
+    /// names no existing file (a preset name) is not a file, and is left out.
+    #[must_use]
+    pub fn input(mut self, option: &str, path: impl AsRef<Path>) -> Self {
+        let path = path.as_ref();
+        if fs::symlink_metadata(path).is_ok() {
+            self.inputs.push((option.to_owned(), path.to_path_buf()));
+        }
+        self
+    }
+
+    /// Adds an optional input (see [`OutGuard::input`]).
+    #[must_use]
+    pub fn input_opt(self, option: &str, path: Option<impl AsRef<Path>>) -> Self {
+        match path {
+            Some(path) => self.input(option, path),
+            None => self,
+        }
+    }
+
+    /// Checks that `target`, an existing folder, may be replaced.
+    fn check(&self, target: &Path) -> Result<(), CliError> {
+        let shown = target.display();
+        let Ok(inside) = target.canonicalize() else {
+            return Err(CliError::bad_input(format!(
+                "--out {shown}: cannot resolve the folder"
+            )));
+        };
+        let holds = |path: &Path| {
+            path.canonicalize()
+                .or_else(|_| std::path::absolute(path))
+                .is_ok_and(|p| p.starts_with(&inside))
+        };
+        for (option, path) in &self.inputs {
+            if holds(path) {
+                return Err(CliError::bad_input(format!(
+                    "--out {shown} holds the run's input {option} {}; a run replaces its \
+                     results folder whole, so write the results to another folder",
+                    path.display()
+                )));
+            }
+        }
+        if std::env::current_dir().is_ok_and(|cwd| holds(&cwd)) {
+            return Err(CliError::bad_input(format!(
+                "--out {shown} holds the working folder; a run replaces its results folder \
+                 whole, so write the results to another folder"
+            )));
+        }
+        if self.force || target.join(MARK).is_file() {
+            return Ok(());
+        }
+        let empty = fs::read_dir(target)
+            .map_err(|e| CliError::bad_input(format!("--out {shown}: cannot read it: {e}")))?
+            .next()
+            .is_none();
+        if empty {
+            return Ok(());
+        }
+        Err(CliError::bad_input(format!(
+            "--out {shown} exists and is not a results folder of ftwire (it has no {MARK}); a \
+             run replaces its results folder whole, so it leaves this one alone: name a new \
+             or empty folder, or give --force to replace {shown} and everything in it"
+        )))
+    }
+}
+
+/// Removes the temporary folders `.NAME.partial-PID-NS` and `.NAME.old-PID-NS` beside
+/// `target` that a process now gone left behind (a SIGKILL), where they are ftwire's: marked
+/// with [`MARK`], or empty. Only where the process table can be read (`/proc`).
+fn remove_stale(parent: &Path, name: &str) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = fs::read_dir(parent) else {
+        return;
+    };
+    let prefixes = [format!(".{name}.partial-"), format!(".{name}.old-")];
+    for entry in entries.flatten() {
+        let file_name = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = prefixes
+            .iter()
+            .find_map(|p| file_name.strip_prefix(p.as_str()))
+        else {
+            continue;
+        };
+        let Some((pid, nanos)) = rest.split_once('-') else {
+            continue;
+        };
+        let (Ok(pid), true) = (
+            pid.parse::<u32>(),
+            nanos.bytes().all(|b| b.is_ascii_digit()),
+        ) else {
+            continue;
+        };
+        let path = entry.path();
+        let is_dir = fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir());
+        if !is_dir || pid == std::process::id() || proc.join(pid.to_string()).exists() {
+            continue;
+        }
+        let ours =
+            path.join(MARK).is_file() || fs::read_dir(&path).is_ok_and(|mut d| d.next().is_none());
+        if ours {
+            let _ = fs::remove_dir_all(&path);
+        }
+    }
+}
 
 /// A results folder being written. Files go to a temporary sibling of the target; [`finish`]
 /// writes `summary.json` and renames the folder into place. Dropped unfinished, the temporary
@@ -45,25 +248,28 @@ impl ResultsFolder {
     /// (creating `results/` when it is missing); see [`ResultsFolder::create`].
     ///
     /// # Errors
-    /// As [`ResultsFolder::create`]; [`CliError::Io`] when `results/` cannot be created.
-    pub fn create_or_default(out: Option<&Path>, id: &str) -> Result<Self, CliError> {
+    /// As [`ResultsFolder::create`]; bad input when `results` is a file, [`CliError::Io`] when
+    /// `results/` cannot be created.
+    pub fn create_or_default(
+        out: Option<&Path>,
+        id: &str,
+        guard: &OutGuard,
+    ) -> Result<Self, CliError> {
         match out {
-            Some(out) => Self::create(out),
-            None => {
-                fs::create_dir_all("results")
-                    .map_err(|e| CliError::io("creating the folder results", e))?;
-                Self::create(&PathBuf::from("results").join(id))
-            }
+            Some(out) => Self::create(out, guard),
+            None => Self::create(&default_folder(id)?, guard),
         }
     }
 
     /// Starts writing the results folder `target` (`--out DIR`). Its parent must exist and be
-    /// writable; `target` itself may exist (it is replaced by [`ResultsFolder::finish`]).
+    /// writable; `target` itself may exist where `guard` allows it to be replaced (see the
+    /// module docs); it is replaced by [`ResultsFolder::finish`].
     ///
     /// # Errors
-    /// Bad input (exit 2): a missing parent folder, a `target` that is a file, or a parent
-    /// that cannot be written.
-    pub fn create(target: &Path) -> Result<Self, CliError> {
+    /// Bad input (exit 2): a missing parent folder, a parent or `target` that is a file or a
+    /// symbolic link, a `target` that `guard` refuses to replace, or a parent that cannot be
+    /// written.
+    pub fn create(target: &Path, guard: &OutGuard) -> Result<Self, CliError> {
         let name = target
             .file_name()
             .ok_or_else(|| {
@@ -76,31 +282,57 @@ impl ResultsFolder {
             _ => PathBuf::from("."),
         };
         if !parent.is_dir() {
+            let why = if parent.exists() {
+                "is a file, not a folder"
+            } else {
+                "does not exist; create it first"
+            };
             return Err(CliError::bad_input(format!(
-                "--out {}: the folder {} does not exist; create it first",
+                "--out {}: {} {why}",
                 target.display(),
                 parent.display()
             )));
         }
-        if target.exists() && !target.is_dir() {
-            return Err(CliError::bad_input(format!(
-                "--out {} is a file, not a folder",
-                target.display()
-            )));
+        match fs::symlink_metadata(target) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                return Err(CliError::bad_input(format!(
+                    "--out {} is a symbolic link; name the folder itself",
+                    target.display()
+                )));
+            }
+            Ok(meta) if !meta.is_dir() => {
+                return Err(CliError::bad_input(format!(
+                    "--out {} is a file, not a folder",
+                    target.display()
+                )));
+            }
+            Ok(_) => guard.check(target)?,
+            Err(_) => {}
         }
+        remove_stale(&parent, &name);
         let staging = parent.join(format!(".{name}.partial-{}", unique_suffix()));
-        fs::create_dir(&staging).map_err(|e| {
+        let cannot_write = |e: std::io::Error| {
             CliError::bad_input(format!(
                 "--out {}: cannot write in {}: {e}",
                 target.display(),
                 parent.display()
             ))
-        })?;
-        Ok(Self {
+        };
+        let mut live = live();
+        fs::create_dir(&staging).map_err(cannot_write)?;
+        live.push(staging.clone());
+        drop(live);
+        let folder = Self {
             target: target.to_path_buf(),
             staging,
             finished: false,
-        })
+        };
+        fs::write(
+            folder.staging.join(MARK),
+            "a results folder being written by ftwire\n",
+        )
+        .map_err(cannot_write)?;
+        Ok(folder)
     }
 
     /// The folder the results will end up in.
@@ -128,7 +360,8 @@ impl ResultsFolder {
         }
         let file = self.staging.join(path);
         let context = || format!("writing {name} for {}", self.target.display());
-        if let Some(parent) = file.parent() {
+        // Sub-folders only: a temporary folder removed by an interrupt is not made again.
+        if let Some(parent) = file.parent().filter(|_| self.staging.is_dir()) {
             fs::create_dir_all(parent).map_err(|e| CliError::io(context(), e))?;
         }
         fs::write(file, contents).map_err(|e| CliError::io(context(), e))
@@ -208,7 +441,13 @@ impl ResultsFolder {
         fs::write(self.staging.join("summary.json"), text)
             .map_err(|e| CliError::io(context("writing summary.json of"), e))?;
         self.write_default_reports(header, summary)?;
-        let old = if self.target.exists() {
+        let mark = serde_json::to_vec_pretty(header)
+            .map_err(|e| CliError::bad_input(format!("cannot serialise {MARK}: {e}")))?;
+        fs::write(self.staging.join(MARK), mark)
+            .map_err(|e| CliError::io(context(&format!("writing {MARK} of")), e))?;
+        // An interrupt waits for the moves below: `--out` ends with the old results or the new.
+        let mut live = live();
+        let old = if fs::symlink_metadata(&self.target).is_ok() {
             let name = self
                 .target
                 .file_name()
@@ -232,6 +471,7 @@ impl ResultsFolder {
             return Err(CliError::io(context("moving the new results into"), e));
         }
         self.finished = true;
+        live.retain(|dir| dir != &self.staging);
         if let Some(aside) = old {
             fs::remove_dir_all(&aside)
                 .map_err(|e| CliError::io(format!("removing {}", aside.display()), e))?;
@@ -240,10 +480,28 @@ impl ResultsFolder {
     }
 }
 
+/// `results/<id>` in the working folder, creating `results/` when it is missing.
+///
+/// # Errors
+/// Bad input when `results` is a file; [`CliError::Io`] when it cannot be created.
+pub fn default_folder(id: &str) -> Result<PathBuf, CliError> {
+    let results = Path::new("results");
+    if fs::symlink_metadata(results).is_ok() && !results.is_dir() {
+        return Err(CliError::bad_input(
+            "results is a file, not a folder: the default results folder is results/<run>; \
+             move the file or give --out DIR",
+        ));
+    }
+    fs::create_dir_all(results).map_err(|e| CliError::io("creating the folder results", e))?;
+    Ok(results.join(id))
+}
+
 impl Drop for ResultsFolder {
     fn drop(&mut self) {
         if !self.finished {
+            let mut live = live();
             let _ = fs::remove_dir_all(&self.staging);
+            live.retain(|dir| dir != &self.staging);
         }
     }
 }
@@ -284,7 +542,7 @@ mod tests {
         let tmp = TempDir::new("replace");
         let target = tmp.0.join("run");
         let header = RunHeader::new("test", Some(3), &serde_json::json!({"k": 1})).expect("header");
-        let folder = ResultsFolder::create(&target).expect("creates");
+        let folder = ResultsFolder::create(&target, &OutGuard::default()).expect("creates");
         folder.write("samples.csv", "a,b\n1,2\n").expect("writes");
         folder
             .write("logs/trial0.jsonl", "{}\n")
@@ -295,6 +553,7 @@ mod tests {
             .finish(&header, &serde_json::json!({"ok": true}))
             .expect("finishes");
         let finished = [
+            MARK,
             "figure.svg",
             "logs",
             "report.html",
@@ -315,20 +574,32 @@ mod tests {
         assert_eq!(summary["summary"]["ok"], true);
 
         // A second run replaces the folder; an unfinished third leaves it as it was.
-        let folder = ResultsFolder::create(&target).expect("creates");
+        let folder = ResultsFolder::create(&target, &OutGuard::default()).expect("creates");
         folder.write_json("other.json", &[1, 2]).expect("writes");
         assert_eq!(entries(&target), finished);
         folder.finish(&header, &2).expect("finishes");
         assert_eq!(
             entries(&target),
-            ["other.json", "report.html", "report.md", "summary.json"]
+            [
+                MARK,
+                "other.json",
+                "report.html",
+                "report.md",
+                "summary.json"
+            ]
         );
-        let unfinished = ResultsFolder::create(&target).expect("creates");
+        let unfinished = ResultsFolder::create(&target, &OutGuard::default()).expect("creates");
         unfinished.write("x.csv", "1").expect("writes");
         drop(unfinished);
         assert_eq!(
             entries(&target),
-            ["other.json", "report.html", "report.md", "summary.json"]
+            [
+                MARK,
+                "other.json",
+                "report.html",
+                "report.md",
+                "summary.json"
+            ]
         );
         assert_eq!(
             entries(&tmp.0),
@@ -341,16 +612,18 @@ mod tests {
     fn a_missing_or_unusable_out_is_bad_input() {
         let tmp = TempDir::new("bad");
         let missing = tmp.0.join("no").join("such").join("run");
-        let e = ResultsFolder::create(&missing).expect_err("missing parent");
+        let e = ResultsFolder::create(&missing, &OutGuard::default()).expect_err("missing parent");
         assert_eq!(e.exit_code(), 2);
         assert!(e.to_string().contains("does not exist"), "{e}");
         let file = tmp.0.join("file");
         fs::write(&file, "x").expect("writes");
-        let e = ResultsFolder::create(&file).expect_err("a file");
+        let e = ResultsFolder::create(&file, &OutGuard::default()).expect_err("a file");
         assert_eq!(e.exit_code(), 2);
-        let e = ResultsFolder::create(&file.join("run")).expect_err("parent is a file");
+        let e = ResultsFolder::create(&file.join("run"), &OutGuard::default())
+            .expect_err("parent is a file");
         assert_eq!(e.exit_code(), 2);
-        let folder = ResultsFolder::create(&tmp.0.join("ok")).expect("creates");
+        let folder =
+            ResultsFolder::create(&tmp.0.join("ok"), &OutGuard::default()).expect("creates");
         for bad in [
             "../escape.csv",
             "summary.json",

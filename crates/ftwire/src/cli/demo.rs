@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use ftwire::args::{SeedArgs, SimSetupArgs};
+use ftwire::args::{ResultsArgs, SeedArgs, SimSetupArgs};
 
 /// `ftwire demo`: the whole system at work in the simulator.
 #[derive(Debug, Clone, Args, Serialize)]
@@ -34,9 +34,10 @@ pub struct DemoArgs {
     /// step; `absolute`.
     #[arg(long, value_enum, value_name = "MODEL", default_value_t = crate::cli::experiment::NoiseModelArg::Offset)]
     pub noise_model: crate::cli::experiment::NoiseModelArg,
-    /// Results folder [default: results/demo].
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    /// The results folder (`--out`, `--force`) [default: results/demo].
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub results: ResultsArgs,
     /// The simulated F/T sensor and rig (`--sensor`, `--rig`).
     #[command(flatten)]
     #[serde(flatten)]

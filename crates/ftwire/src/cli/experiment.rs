@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 
 use ftwire::error::CliError;
+use ftwire::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{SeedArgs, SimSetupArgs};
+use ftwire::args::{ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire::experiment::Gravity;
 use serde::Serialize;
 
@@ -53,9 +54,10 @@ pub struct CommonExperimentArgs {
     /// default, the paper's where it gives one).
     #[arg(long)]
     pub trials: Option<usize>,
-    /// Results folder [default: results/<id>].
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    /// The results folder (`--out`, `--force`) [default: results/<id>].
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub results: ResultsArgs,
     /// Gravity in the simulated world.
     #[arg(long, value_enum, default_value_t = Gravity::On)]
     pub gravity: Gravity,
@@ -80,20 +82,18 @@ impl CommonExperimentArgs {
 }
 
 impl CommonExperimentArgs {
-    /// The results folder: `--out`, or `results/<id>` (creating `results/` in the working
-    /// folder when it is missing; a given `--out` must have an existing parent).
+    /// Opens the results folder: `--out`, or `results/<id>` (creating `results/` in the
+    /// working folder when it is missing; a given `--out` must have an existing parent). The
+    /// folder must not hold `--wire`, `--sensor`, `--rig` nor the `other` inputs.
     ///
     /// # Errors
-    /// [`CliError::Io`] when `results/` cannot be created.
-    pub fn out_dir(&self, id: &str) -> Result<PathBuf, CliError> {
-        match &self.out {
-            Some(out) => Ok(out.clone()),
-            None => {
-                std::fs::create_dir_all("results")
-                    .map_err(|e| CliError::io("creating the folder results", e))?;
-                Ok(PathBuf::from("results").join(id))
-            }
-        }
+    /// As [`ResultsArgs::open`].
+    pub fn open_results(&self, id: &str, other: OutGuard) -> Result<ResultsFolder, CliError> {
+        let inputs = other
+            .input_opt("--wire", self.wire.as_deref())
+            .input_opt("--sensor", self.setup.sensor.as_deref())
+            .input_opt("--rig", self.setup.rig.as_deref());
+        self.results.open(id, inputs)
     }
 }
 

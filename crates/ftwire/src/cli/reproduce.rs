@@ -1,9 +1,7 @@
 //! `ftwire reproduce`.
 
-use std::path::PathBuf;
-
 use clap::Args;
-use ftwire::args::{SeedArgs, SimSetupArgs};
+use ftwire::args::{ResultsArgs, SeedArgs, SimSetupArgs};
 use serde::Serialize;
 
 /// `ftwire reproduce`: every experiment of the paper's §IV, one report beside the paper.
@@ -25,9 +23,10 @@ pub struct ReproduceArgs {
     /// it: every experiment is seeded on its own.
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
-    /// Results folder [default: results/reproduce].
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    /// The results folder (`--out`, `--force`) [default: results/reproduce].
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub results: ResultsArgs,
     /// The simulated sensor and rig, passed on to every experiment (checked before any runs).
     #[command(flatten)]
     pub setup: SimSetupArgs,

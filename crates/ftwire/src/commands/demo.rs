@@ -37,7 +37,7 @@ use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreli
 use ftwire::experiment::track::{self, Attempt, ChoiceOut, PolishOut, Tracking};
 use ftwire::experiment::{Gravity, ModelKind};
 use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
+use ftwire::results::OutGuard;
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_core::WireParams;
@@ -235,7 +235,12 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let setup = args.setup.load()?;
     let known = WireSpec::preset(KNOWN_WIRE)
         .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
-    let folder = ResultsFolder::create_or_default(args.out.as_deref(), "demo")?;
+    let inputs = OutGuard::default()
+        .input("--wire", &args.wire)
+        .input_opt("--scene", args.scene.as_deref())
+        .input_opt("--sensor", args.setup.sensor.as_deref())
+        .input_opt("--rig", args.setup.rig.as_deref());
+    let folder = args.results.open("demo", inputs)?;
     let gravity = Gravity::On;
 
     // 1. Calibration on the known wire.

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use ftwire::error::CliError;
 use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
+use ftwire::results::OutGuard;
 use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::Value;
@@ -158,17 +158,19 @@ fn run_job(job: &Job, dir: &Path, seed: u64) -> (Status, f64) {
         let err = file
             .try_clone()
             .map_err(|e| format!("cannot write {}: {e}", log.display()))?;
-        let exit = Command::new(exe)
-            .args(&job.args)
-            .arg("--seed")
-            .arg(seed.to_string())
-            .arg("--out")
-            .arg(&out)
-            .stdin(Stdio::null())
-            .stdout(file)
-            .stderr(err)
-            .status()
-            .map_err(|e| format!("cannot start: {e}"))?;
+        let exit = ftwire::results::run_child(
+            Command::new(exe)
+                .args(&job.args)
+                .arg("--seed")
+                .arg(seed.to_string())
+                .arg("--out")
+                .arg(&out)
+                .env(crate::PARENT_PID_VAR, std::process::id().to_string())
+                .stdin(Stdio::null())
+                .stdout(file)
+                .stderr(err),
+        )
+        .map_err(|e| format!("cannot start: {e}"))?;
         if exit.success() {
             Ok(())
         } else {
@@ -217,7 +219,10 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
     if let Some(rig) = &args.setup.rig {
         passed_on.extend(["--rig".to_owned(), rig.to_string_lossy().into_owned()]);
     }
-    let folder = ResultsFolder::create_or_default(args.out.as_deref(), "reproduce")?;
+    let inputs = OutGuard::default()
+        .input_opt("--sensor", args.setup.sensor.as_deref())
+        .input_opt("--rig", args.setup.rig.as_deref());
+    let folder = args.results.open("reproduce", inputs)?;
     let dir = folder.dir().to_path_buf();
     let mut calibration = calibration_job(args.quick);
     let calibration_file = dir.join(calibration.id).join("calibration.json");

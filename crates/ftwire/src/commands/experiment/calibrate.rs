@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 use ftwire::error::{CliError, from_estimate};
 use ftwire::experiment::calibration::{DEFAULT_SAMPLES, KNOWN_WIRE, run as calibrate};
 use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
+use ftwire::results::OutGuard;
 use ftwire::wire::WireSpec;
 
 use crate::cli::experiment::CalibrateExperimentArgs;
@@ -24,8 +24,7 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
     let wire = WireSpec::load(&wire_name).map_err(|e| CliError::bad_input(e.to_string()))?;
     let count = common.trials.unwrap_or(DEFAULT_SAMPLES);
     let setup = common.setup.load()?;
-    let out = common.out_dir("calibrate")?;
-    let folder = ResultsFolder::create(&out)?;
+    let folder = common.open_results("calibrate", OutGuard::default())?;
     let header = RunHeader::new("experiment calibrate", Some(common.seed.seed), &args)?;
     eprintln!(
         "calibrating on {} ({count} configurations, gravity {:?})",

@@ -70,6 +70,7 @@ use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::calibration::rig_seed;
 use ftwire::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_among, tare};
 use ftwire::experiment::{Gravity, ModelKind, known_model};
+use ftwire::results::OutGuard;
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_control::open_loop::{
@@ -760,7 +761,14 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         header,
         calibration,
         calibration_s,
-    } = super::CalibratedRun::start("goal", common, &args, args.calibration.as_deref(), &setup)?;
+    } = super::CalibratedRun::start(
+        "goal",
+        common,
+        &args,
+        args.calibration.as_deref(),
+        &setup,
+        OutGuard::default(),
+    )?;
     let noise = args.noise_model.model();
     let ctx = Context {
         wire: &wire,

@@ -63,7 +63,7 @@ use ftwire::experiment::rig::{
     believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
 };
 use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
+use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_core::{Pose, Rig};
@@ -280,8 +280,10 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
             (model.other(), settings(model.other())),
         ],
     };
-    let out = args.common.out_dir("identify")?;
-    let folder = ResultsFolder::create(&out)?;
+    let folder = args.common.open_results(
+        "identify",
+        OutGuard::default().input_opt("--calibration", args.calibration.as_deref()),
+    )?;
     let seed = args.common.seed.seed;
     let recorded = counts.last().copied().unwrap_or(2);
     // The start pose and `recorded − 1` moves.

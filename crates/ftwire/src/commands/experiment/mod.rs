@@ -11,7 +11,7 @@ pub mod track;
 use ftwire::error::CliError;
 use ftwire::experiment::calibration::load_or_run_into;
 use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
+use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire::setup::SimSetup;
 use ftwire::wire::WireSpec;
 use ftwire_estimate::calibration::Calibration;
@@ -55,19 +55,21 @@ pub struct CalibratedRun {
 }
 
 impl CalibratedRun {
-    /// Opens the results folder of experiment `id` (`--out`, default `results/<id>`) and loads
-    /// the calibration, or runs one on the sensor and rig of `setup`.
+    /// Opens the results folder of experiment `id` (`--out`, default `results/<id>`; it must
+    /// not hold `--calibration` nor the `other` inputs) and loads the calibration, or runs one
+    /// on the sensor and rig of `setup`.
     ///
     /// # Errors
-    /// As [`ResultsFolder::create`] and `load_or_run_into`.
+    /// As [`CommonExperimentArgs::open_results`] and `load_or_run_into`.
     pub fn start(
         id: &str,
         common: &CommonExperimentArgs,
         args: &impl Serialize,
         calibration: Option<&std::path::Path>,
         setup: &SimSetup,
+        other: OutGuard,
     ) -> Result<Self, CliError> {
-        let folder = ResultsFolder::create(&common.out_dir(id)?)?;
+        let folder = common.open_results(id, other.input_opt("--calibration", calibration))?;
         let seed = common.seed.seed;
         let header = RunHeader::new(&format!("experiment {id}"), Some(seed), args)?;
         let (calibration, calibration_s) = load_or_run_into(

@@ -68,7 +68,7 @@ use ftwire::experiment::track::{
     near_obstacles, polishes, scene_model, success_epsilon, success_rule, validity_tracked,
     waypoints_along, waypoints_csv,
 };
-use ftwire::results::ResultsFolder;
+use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire::scene::{PASSAGE, box_outline};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_plan::Scene;
@@ -304,6 +304,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         &args,
         args.rollout.calibration.as_deref(),
         &setup,
+        OutGuard::default().input_opt("--scene", args.scene.as_deref()),
     )?;
 
     // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo); under

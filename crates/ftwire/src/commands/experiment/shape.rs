@@ -38,7 +38,7 @@ use ftwire::experiment::rig::{
 };
 use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
-use ftwire::results::ResultsFolder;
+use ftwire::results::OutGuard;
 use ftwire::wire::{PRESETS, WireSpec};
 use ftwire_control::{BiasObserver, BiasObserverSettings, NoiseModel};
 use ftwire_core::Rig;
@@ -267,8 +267,10 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     if configs == 0 {
         return Err(CliError::bad_input("--configs 0: give at least 1"));
     }
-    let out = common.out_dir("shape")?;
-    let folder = ResultsFolder::create(&out)?;
+    let folder = common.open_results(
+        "shape",
+        OutGuard::default().input_opt("--calibration", args.calibration.as_deref()),
+    )?;
     let header = RunHeader::new("experiment shape", Some(seed), &args)?;
     let (calibration, calibration_s) = load_or_run_into(
         &folder,

@@ -45,7 +45,7 @@ use ftwire::experiment::track::{
     Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
     validity_tracked, waypoints_along, waypoints_csv,
 };
-use ftwire::results::ResultsFolder;
+use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
 use ftwire_plan::{Checker, Config, ConfigurationSpec, Scene, ValidityParams};
@@ -195,6 +195,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         &args,
         args.rollout.calibration.as_deref(),
         &setup,
+        OutGuard::default(),
     )?;
 
     let planner_rod = Rod::new(*model.wire());
