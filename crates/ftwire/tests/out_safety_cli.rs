@@ -42,6 +42,18 @@ fn identify_into(out: &Path, extra: &[&str]) -> Output {
     ftwire(&args)
 }
 
+/// The same cheap run with the working folder `cwd` and `out_args` (`--out` given there or
+/// not).
+fn identify_in(cwd: &Path, out_args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ftwire"))
+        .args(["experiment", "identify", "--pipeline", "mounting"])
+        .args(["--trials", "1", "--samples", "2", "--gravity", "off"])
+        .args(out_args)
+        .current_dir(cwd)
+        .output()
+        .expect("runs")
+}
+
 /// A user's project folder: a file and a sub-folder with a file.
 fn users_folder(dir: &Path) {
     fs::create_dir_all(dir.join("src")).expect("creates src");
@@ -162,23 +174,7 @@ fn the_working_folder_and_links_are_never_replaced() {
     let tmp = TempDir::new("out-cwd");
     let proj = tmp.0.join("proj");
     users_folder(&proj);
-    let output = Command::new(env!("CARGO_BIN_EXE_ftwire"))
-        .args([
-            "experiment",
-            "identify",
-            "--pipeline",
-            "mounting",
-            "--trials",
-            "1",
-            "--samples",
-            "2",
-            "--out",
-            "../../proj",
-            "--force",
-        ])
-        .current_dir(proj.join("src"))
-        .output()
-        .expect("runs");
+    let output = identify_in(&proj.join("src"), &["--out", "../../proj", "--force"]);
     assert_exit(&output, 2, "holds the working folder", "the working folder");
     assert_users_folder_intact(&proj);
     #[cfg(unix)]
@@ -200,20 +196,7 @@ fn a_file_in_the_way_is_named_as_a_file() {
     assert_exit(&output, 2, "is a file, not a folder", "--out afile/res");
     // The default `results/` is a file.
     fs::write(tmp.0.join("results"), "x").expect("writes");
-    let output = Command::new(env!("CARGO_BIN_EXE_ftwire"))
-        .args([
-            "experiment",
-            "identify",
-            "--pipeline",
-            "mounting",
-            "--trials",
-            "1",
-            "--samples",
-            "2",
-        ])
-        .current_dir(&tmp.0)
-        .output()
-        .expect("runs");
+    let output = identify_in(&tmp.0, &[]);
     assert_exit(&output, 2, "results is a file", "a file named results");
     assert_eq!(
         fs::read_to_string(tmp.0.join("results")).expect("kept"),
