@@ -30,3 +30,8 @@ pub mod results;
 pub mod scene;
 pub mod setup;
 pub mod wire;
+
+// The README's library example, compiled and run as a doctest (`cargo test -p ftwire --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;
