@@ -4,7 +4,7 @@
 //! simulated default: a random walk of 2 mN/√s per force channel). Over a run of a hundred
 //! moves that is a few hundredths in normalised units, an error of `ã` that the closed loop
 //! cannot see and steers into the wire: it is the largest error left in goal reaching once the
-//! noise of each rest is averaged out (README, Control: "Settled rests and the drift floor").
+//! noise of each rest is averaged out (`docs/drift.md`).
 //!
 //! **What tells the bias apart.** The model gives a second, bias-free view of the same wire:
 //! the pose `Γ(a)` of the second clamp. At every rest the robot reports `b_i`, and
@@ -62,7 +62,7 @@
 //! unfused, and counted in [`BiasObserver::rejected`]. On the cable's seed-0 pair whose path
 //! used to end after a fifth divergence (33 of 97 rests beyond the gate, each steering by an
 //! `ã − β̂` 0.4–4.3 normalised units off), 154 of 583 rests were used this way, 17 rejected, and
-//! it reached its goal (README, "Tracking the cable").
+//! it reached its goal (`docs/cable.md`).
 //!
 //! The corrected configuration is `ã − β̂` (`− ŵ` when fusing). It is only as good as the
 //! model: the observer trusts `Γ` to the [`BiasObserverSettings::model_std`] floor, so on a

@@ -69,7 +69,7 @@ pub struct ControlSettings {
     /// mean distance of the goal's, `Φ(a_g)` (at [`SHAPE_STOP_SAMPLES`] matched arc lengths:
     /// the distance Tables III–IV score). Where every move scatters the wire by the full
     /// execution noise, the stop picks a move that landed the *wire* near its goal, which `ε`
-    /// on the six wrench components does only loosely (README, "The shape stop").
+    /// on the six wrench components does only loosely (`docs/control-noise.md`).
     pub shape_tolerance: f64,
     /// The shape stop \[m\] once [`ControlSettings::late_after`] steps are spent (default
     /// `0`: the same as [`ControlSettings::shape_tolerance`]; never tighter than it). A tight

@@ -63,8 +63,8 @@ pub const SUCCESS_EPSILON: f64 = 0.1;
 
 /// The controller's stop `ε` on the last leg without noise and under `offset` \[normalised\],
 /// well inside [`SUCCESS_EPSILON`]: the stop is on the measured `ã`, and after a passage's
-/// hundred moves the sensor's bias has drifted a few hundredths from its tare (README,
-/// "Tracking and the passage").
+/// hundred moves the sensor's bias has drifted a few hundredths from its tare
+/// (`docs/design/tracking.md`).
 pub const EPSILON_GOAL: f64 = 0.02;
 
 /// The controller's stop `ε` on the last leg under `increment` or `absolute` noise
@@ -206,7 +206,7 @@ pub fn default_shape_stop(noise: NoiseModel) -> f64 {
 /// The controller's gain `K` by default for tracking under `noise`: 1 under `increment` and
 /// `absolute`, where each move's error is independent and the wire's stationary spread about
 /// the path, `1/√(K(2 − K))` times one move's, is least at `K = 1` (1.67 times at the paper's
-/// 0.2); 0.5 without noise and under `offset` (README, "Tracking and the passage").
+/// 0.2); 0.5 without noise and under `offset` (`docs/design/tracking.md`).
 pub fn default_gain(noise: NoiseModel) -> f64 {
     match noise {
         NoiseModel::Increment | NoiseModel::Absolute => 1.0,

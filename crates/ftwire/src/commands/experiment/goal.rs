@@ -29,8 +29,8 @@
 //! [`EPSILON_NOISE`]. Without noise and with `offset`, rests within [`SETTLE_RADIUS`] of the
 //! goal average [`SETTLE_SAMPLES`] samples, so the reading the stop rule trusts is four times
 //! the usual rest. What remains at a small ε is the sensor's bias drift since the tare: a
-//! random walk of a few mN over a run's 10–20 s, a few hundredths in normalised force (the
-//! README's Table III section has the measurement with the drift switched off).
+//! random walk of a few mN over a run's 10–20 s, a few hundredths in normalised force (`docs/drift.md`
+//! has the measurement with the drift switched off).
 //!
 //! **Shape stop.** Under `increment` and `absolute` noise the noise runs stop instead on the
 //! shape (`--shape-stop`, default 6 mm, `ftwire::experiment::track::SHAPE_STOP_NOISY`): once the
