@@ -250,7 +250,10 @@ mod tests {
             )
         );
         let escaped = escape_markdown(name);
-        assert!(!escaped.contains('\n') && !escaped.contains("<script>"), "{escaped}");
+        assert!(
+            !escaped.contains('\n') && !escaped.contains("<script>"),
+            "{escaped}"
+        );
     }
 
     #[test]
