@@ -11,6 +11,7 @@
 //! - [`output`]: JSON / text / JSON Lines output and the run header;
 //! - [`results`]: the results folder of an experiment, replaced whole or not at all;
 //! - [`report`]: the default `report.md` and `report.html` of a results folder;
+//! - [`csv_table`]: the one CSV writer of the results folders (quoting, formula guard);
 //! - [`wire`]: wires by preset name or TOML file;
 //! - [`setup`]: the simulated F/T sensor and rig, by preset or TOML file;
 //! - [`scene`]: a planning scene's obstacles for the simulator (the same file the planner
@@ -21,6 +22,7 @@
 
 pub mod args;
 pub mod bridge;
+pub mod csv_table;
 pub mod error;
 pub mod experiment;
 pub mod init;

@@ -4,11 +4,18 @@
 //!
 //! The default report is the run header, the summary as a table of its values (nested keys
 //! joined with dots; long lists shortened), and the folder's figures: linked from
-//! `report.md`, embedded in `report.html`, which therefore works alone and offline.
+//! `report.md`, embedded in `report.html`, which therefore works alone and offline. Like the
+//! summary, both are the same for the same seed: the figures of wall-clock time
+//! ([`TIMING_FIGURES`]) stay out of them.
+//!
+//! Text that can come from the user (a wire's name, a file's path, an error message) goes in
+//! as literal text ([`escape_markdown`]): it cannot break a table row, open a heading or a
+//! link, or put raw HTML into the page.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use ftwire_report::html::{code_span, escape_markdown};
 use ftwire_report::{HtmlReport, ReportError};
 use serde_json::Value;
 
@@ -20,7 +27,11 @@ pub const MAX_ROWS: usize = 400;
 /// Longest list of numbers shown whole in a cell.
 const MAX_LIST: usize = 8;
 
-/// The PNG files of `dir`, sorted by name.
+/// The stems of the figures that plot wall-clock time (`experiment identify`'s Fig. 4), drawn
+/// from `timings.json`: they differ from run to run, so the reports leave them out.
+pub const TIMING_FIGURES: [&str; 1] = ["time_vs_samples"];
+
+/// The PNG files of `dir` but the [`TIMING_FIGURES`], sorted by name.
 pub fn pngs(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .into_iter()
@@ -28,12 +39,17 @@ pub fn pngs(dir: &Path) -> Vec<PathBuf> {
         .filter_map(Result::ok)
         .map(|entry| entry.path())
         .filter(|path| path.extension().is_some_and(|e| e == "png"))
+        .filter(|path| {
+            path.file_stem()
+                .is_none_or(|stem| !TIMING_FIGURES.iter().any(|t| stem == *t))
+        })
         .collect();
     files.sort();
     files
 }
 
-/// A cell's text for a scalar or a short list; `None` for what is flattened further.
+/// A cell's Markdown for a scalar or a short list (strings as literal text); `None` for what is
+/// flattened further.
 fn cell(value: &Value) -> Option<String> {
     match value {
         Value::Null => Some("–".to_owned()),
@@ -45,7 +61,7 @@ fn cell(value: &Value) -> Option<String> {
                 .to_owned(),
             _ => n.to_string(),
         }),
-        Value::String(s) => Some(s.replace('|', "/")),
+        Value::String(s) => Some(escape_markdown(s)),
         Value::Array(items) if items.iter().all(|v| !v.is_object() && !v.is_array()) => {
             if items.len() <= MAX_LIST {
                 let parts: Vec<String> = items.iter().filter_map(cell).collect();
@@ -58,7 +74,8 @@ fn cell(value: &Value) -> Option<String> {
     }
 }
 
-/// `(key, value)` rows of `value`, nested keys joined with dots, at most [`MAX_ROWS`].
+/// `(key, value)` rows of `value`, nested keys joined with dots, at most [`MAX_ROWS`]; each value
+/// is Markdown (see `cell`), each key as it is.
 pub fn rows(value: &Value) -> Vec<(String, String)> {
     fn walk(prefix: &str, value: &Value, out: &mut Vec<(String, String)>) {
         if out.len() >= MAX_ROWS {
@@ -94,6 +111,29 @@ pub fn rows(value: &Value) -> Vec<(String, String)> {
     out
 }
 
+/// Whether `byte` is kept as it is in a figure's link: an ASCII letter or digit, `-_.~`.
+fn plain(byte: u8) -> bool {
+    byte.is_ascii_alphanumeric() || matches!(byte, b'-' | b'_' | b'.' | b'~')
+}
+
+/// The Markdown image of the figure file `name`: `![name](name)`, with a name that holds more
+/// than [`plain`] bytes escaped in the text and percent-encoded in the link, so that no space,
+/// parenthesis or bracket can end either early.
+fn image(name: &str) -> String {
+    if name.bytes().all(plain) {
+        return format!("![{name}]({name})");
+    }
+    let mut link = String::with_capacity(name.len());
+    for byte in name.bytes() {
+        if plain(byte) {
+            link.push(char::from(byte));
+        } else {
+            let _ = write!(link, "%{byte:02X}");
+        }
+    }
+    format!("![{}]({link})", escape_markdown(name))
+}
+
 /// `report.md`: the header, the summary's values, and links to `figures` (file names).
 pub fn markdown(header: &RunHeader, summary: &Value, figures: &[String]) -> String {
     let mut md = format!(
@@ -109,7 +149,7 @@ pub fn markdown(header: &RunHeader, summary: &Value, figures: &[String]) -> Stri
     let table = rows(summary);
     md.push_str("## Summary\n\n| key | value |\n| --- | --- |\n");
     for (key, value) in &table {
-        let _ = writeln!(md, "| `{key}` | {value} |");
+        let _ = writeln!(md, "| {} | {value} |", code_span(key));
     }
     if table.len() >= MAX_ROWS {
         let _ = writeln!(
@@ -120,7 +160,7 @@ pub fn markdown(header: &RunHeader, summary: &Value, figures: &[String]) -> Stri
     if !figures.is_empty() {
         md.push_str("\n## Figures\n\n");
         for name in figures {
-            let _ = writeln!(md, "![{name}]({name})\n");
+            let _ = writeln!(md, "{}\n", image(name));
         }
     }
     md
@@ -165,7 +205,7 @@ mod tests {
             "few": [1, 2, 3],
             "many": (0..20).collect::<Vec<_>>(),
             "pairs": [{"a": 1}, {"a": 2}],
-            "name": "a|b",
+            "name": "a|b\n<b>",
         });
         let rows = rows(&summary);
         let get = |k: &str| {
@@ -178,7 +218,11 @@ mod tests {
         assert_eq!(get("few").as_deref(), Some("[1, 2, 3]"));
         assert_eq!(get("many").as_deref(), Some("20 values (see summary.json)"));
         assert_eq!(get("pairs.1.a").as_deref(), Some("2"));
-        assert_eq!(get("name").as_deref(), Some("a/b"), "no stray table column");
+        assert_eq!(
+            get("name").as_deref(),
+            Some("a\\|b \\<b\\>"),
+            "no stray table column, line or HTML"
+        );
     }
 
     #[test]
@@ -200,9 +244,31 @@ mod tests {
         assert!(md.contains("seed 3"));
         assert!(md.contains("| `x` | 1 |"));
         assert!(md.contains("![a.png](a.png)"));
+        let md = markdown(
+            &header(),
+            &serde_json::json!({"outcomes": {"a|b`c": 1}}),
+            &[],
+        );
+        assert!(md.contains("| outcomes.a\\|b\\`c | 1 |"), "{md}");
+        assert_eq!(
+            image("shape_a b(1)[x].png"),
+            "![shape\\_a b(1)\\[x\\].png](shape_a%20b%281%29%5Bx%5D.png)"
+        );
         let page = html(&header(), &serde_json::json!({"x": 1}), &[]).expect("a page");
         assert!(page.contains("experiment passage"));
         assert_eq!(page.matches("<h1").count(), 1, "one title");
         assert!(!page.contains("src=\"http"));
+    }
+
+    #[test]
+    fn timing_figures_are_left_out() {
+        let dir = std::env::temp_dir().join(format!("ftwire-report-pngs-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a folder");
+        for name in ["time_vs_samples.png", "error.png", "time_vs_samples.svg"] {
+            std::fs::write(dir.join(name), "x").expect("writes");
+        }
+        let names: Vec<PathBuf> = pngs(&dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(names, [dir.join("error.png")]);
     }
 }

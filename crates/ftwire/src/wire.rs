@@ -30,6 +30,28 @@ pub const PRESETS: [&str; 4] = [
     "cable-3mm-920",
 ];
 
+/// A wire's name as a file name's stem (figures, logs): characters other than ASCII letters,
+/// digits, `-`, `_` and `.` replaced by `_`, so that any name (a wire file's may hold anything)
+/// gives one file inside the results folder.
+///
+/// # Example
+/// ```
+/// use ftwire::wire::file_stem;
+/// assert_eq!(file_stem("nitinol-2mm-630"), "nitinol-2mm-630");
+/// assert_eq!(file_stem("../a b/c"), ".._a_b_c");
+/// ```
+pub fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
 /// A wire: its name and physical properties.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

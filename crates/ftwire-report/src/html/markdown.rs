@@ -1,10 +1,66 @@
 //! The small subset of Markdown that ftwire's reports are written in, as HTML: `#` headings,
-//! paragraphs, pipe tables (a header row, a `---` row, body rows), and inline `` `code` `` and
-//! `**bold**`. Everything else is text, escaped.
+//! paragraphs, pipe tables (a header row, a `---` row, body rows), inline `` `code` `` and
+//! `**bold**`, and CommonMark's backslash escapes (`\*` is a literal `*`; `\|` a literal `|`
+//! in a table cell, code included). Everything else is text, escaped.
+//!
+//! [`escape_markdown`] and [`code_span`] put text that came from a user (a wire's name, a file's
+//! path) into that Markdown as literal text: no row break, heading, link, emphasis or raw HTML.
 
 use std::fmt::Write as _;
 
 use super::escape;
+
+/// The characters [`escape_markdown`] puts a backslash before: those that open markup inline in
+/// CommonMark and GitHub Markdown (escapes, code, emphasis, strikethrough, links and images,
+/// raw HTML and autolinks, character references), a heading's `#`, and a table's `|`.
+const SPECIAL: &[char] = &['\\', '`', '*', '_', '~', '[', ']', '<', '>', '&', '#', '|'];
+
+/// `text` as literal Markdown text: `` \ ` * _ ~ [ ] < > & # | `` backslash-escaped (what can
+/// open inline markup, a heading or a table cell) and line breaks (`\n`, `\r`) turned into spaces, so that it stays inside its line, paragraph or table cell
+/// and renders as itself (here and in CommonMark and GitHub Markdown).
+///
+/// # Example
+/// ```
+/// use ftwire_report::html::escape_markdown;
+/// assert_eq!(escape_markdown("a|b\n<i>"), "a\\|b \\<i\\>");
+/// assert_eq!(escape_markdown("nitinol-2mm-630"), "nitinol-2mm-630");
+/// ```
+pub fn escape_markdown(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\n' | '\r' => out.push(' '),
+            c if SPECIAL.contains(&c) => {
+                out.push('\\');
+                out.push(c);
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `text` as an inline code span: `` `text` `` with `|` escaped (GitHub tables split on it
+/// even inside code) and line breaks as spaces; text with a backtick, which no single-backtick
+/// span can hold, is [`escape_markdown`]d instead.
+///
+/// # Example
+/// ```
+/// use ftwire_report::html::code_span;
+/// assert_eq!(code_span("plan.choice"), "`plan.choice`");
+/// assert_eq!(code_span("a|b"), "`a\\|b`");
+/// assert_eq!(code_span("a`b"), "a\\`b");
+/// ```
+pub fn code_span(text: &str) -> String {
+    if text.contains('`') {
+        return escape_markdown(text);
+    }
+    let inner: String = text
+        .chars()
+        .map(|c| if matches!(c, '\n' | '\r') { ' ' } else { c })
+        .collect();
+    format!("`{}`", inner.replace('|', "\\|"))
+}
 
 /// `markdown` (the subset above) as HTML.
 pub(crate) fn to_html(markdown: &str) -> String {
@@ -50,12 +106,39 @@ fn flush_paragraph(html: &mut String, lines: &mut Vec<&str>) {
     }
 }
 
-/// The cells of a table row `| a | b |`.
-fn cells(row: &str) -> Vec<&str> {
+/// The cells of a table row `| a | b |`, split at the pipes not escaped as `\|`; an escaped
+/// pipe is a literal `|` in its cell (as in GitHub's tables, code spans included).
+fn cells(row: &str) -> Vec<String> {
     let row = row.trim();
     let row = row.strip_prefix('|').unwrap_or(row);
-    let row = row.strip_suffix('|').unwrap_or(row);
-    row.split('|').map(str::trim).collect()
+    let row = match row.strip_suffix('|') {
+        Some(rest) if !ends_escaped(rest) => rest,
+        _ => row,
+    };
+    let mut cells = Vec::new();
+    let mut cell = String::new();
+    let mut chars = row.chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' => match chars.next() {
+                Some('|') => cell.push('|'),
+                Some(next) => {
+                    cell.push('\\');
+                    cell.push(next);
+                }
+                None => cell.push('\\'),
+            },
+            '|' => cells.push(std::mem::take(&mut cell).trim().to_owned()),
+            c => cell.push(c),
+        }
+    }
+    cells.push(cell.trim().to_owned());
+    cells
+}
+
+/// Whether `text` ends in an odd run of backslashes (its next character is escaped).
+fn ends_escaped(text: &str) -> bool {
+    text.chars().rev().take_while(|&c| c == '\\').count() % 2 == 1
 }
 
 /// A row of dashes (and alignment colons) between the header and the body.
@@ -78,7 +161,7 @@ fn flush_table(html: &mut String, rows: &mut Vec<&str>) {
         let tag = if has_header && i == 0 { "th" } else { "td" };
         html.push_str("<tr>");
         for cell in cells(row) {
-            let _ = write!(html, "<{tag}>{}</{tag}>", inline(cell));
+            let _ = write!(html, "<{tag}>{}</{tag}>", inline(&cell));
         }
         html.push_str("</tr>\n");
     }
@@ -86,27 +169,44 @@ fn flush_table(html: &mut String, rows: &mut Vec<&str>) {
     rows.clear();
 }
 
-/// Inline markup: `` `code` `` (verbatim inside), `**bold**`; the rest escaped.
+/// Inline markup: `` `code` `` (verbatim inside; a backtick without its closing one is text),
+/// `**bold**`, and `\` before ASCII punctuation for the character itself; the rest escaped.
 fn inline(text: &str) -> String {
     let mut out = String::new();
-    for (k, part) in text.split('`').enumerate() {
-        if k % 2 == 1 {
-            let _ = write!(out, "<code>{}</code>", escape(part));
-        } else {
-            for (j, piece) in escape(part).split("**").enumerate() {
-                if j > 0 {
-                    out.push_str(if j % 2 == 1 { "<strong>" } else { "</strong>" });
-                }
-                out.push_str(piece);
+    let mut bold = false;
+    let mut rest = text;
+    while let Some(c) = rest.chars().next() {
+        let after = &rest[c.len_utf8()..];
+        if c == '\\' {
+            if let Some(next) = after.chars().next().filter(char::is_ascii_punctuation) {
+                out.push_str(&escape(&next.to_string()));
+                rest = &after[next.len_utf8()..];
+                continue;
             }
+        } else if c == '`' {
+            if let Some(end) = after.find('`') {
+                let _ = write!(out, "<code>{}</code>", escape(&after[..end]));
+                rest = &after[end + 1..];
+                continue;
+            }
+        } else if let Some(tail) = rest.strip_prefix("**") {
+            out.push_str(if bold { "</strong>" } else { "<strong>" });
+            bold = !bold;
+            rest = tail;
+            continue;
         }
+        out.push_str(&escape(&c.to_string()));
+        rest = after;
+    }
+    if bold {
+        out.push_str("</strong>");
     }
     out
 }
 
 #[cfg(test)]
 mod tests {
-    use super::to_html;
+    use super::{code_span, escape_markdown, to_html};
 
     #[test]
     fn headings_paragraphs_and_inline_markup() {
@@ -125,6 +225,43 @@ mod tests {
             html,
             "<table>\n<tr><th>a</th><th>b</th></tr>\n<tr><td>1</td><td>&lt;2&gt;</td></tr>\n\
              </table>\n<p>after</p>\n"
+        );
+    }
+
+    #[test]
+    fn escaped_text_renders_as_itself_in_a_paragraph_and_a_cell() {
+        let name = "=1+2,\"evil\" | **x** _y_ [l](u) `c` \\ # <script>x</script>\nnext";
+        let shown = "=1+2,&quot;evil&quot; | **x** _y_ [l](u) `c` \\ # \
+                     &lt;script&gt;x&lt;/script&gt; next";
+        assert_eq!(
+            to_html(&format!("Wire {}.", escape_markdown(name))),
+            format!("<p>Wire {shown}.</p>\n")
+        );
+        let html = to_html(&format!(
+            "| key | value |\n| --- | --- |\n| {} | {} |\n",
+            code_span("a|b"),
+            escape_markdown(name)
+        ));
+        assert_eq!(
+            html,
+            format!(
+                "<table>\n<tr><th>key</th><th>value</th></tr>\n\
+                 <tr><td><code>a|b</code></td><td>{shown}</td></tr>\n</table>\n"
+            )
+        );
+        let escaped = escape_markdown(name);
+        assert!(
+            !escaped.contains('\n') && !escaped.contains("<script>"),
+            "{escaped}"
+        );
+    }
+
+    #[test]
+    fn a_lone_backtick_and_a_trailing_escaped_pipe_are_text() {
+        assert_eq!(to_html("a ` b"), "<p>a ` b</p>\n");
+        assert_eq!(
+            to_html("| a | b\\|\n"),
+            "<table>\n<tr><td>a</td><td>b|</td></tr>\n</table>\n"
         );
     }
 }

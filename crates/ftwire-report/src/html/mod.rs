@@ -34,6 +34,7 @@ mod scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
+pub use markdown::{code_span, escape_markdown};
 pub use scene::{Box3, Gripper3, IDENTITY, Polyline3, RESOLUTION, Rotation, Scene3d, Step3};
 
 use crate::ReportError;

@@ -22,7 +22,8 @@
 //!
 //! Results folder (`--out`, default `results/demo`, written whole or not at all):
 //! `summary.json` (run header, then `wire`, `calibration`, `identification`, `shape`, `plan`,
-//! `tracking`; the same for the same seed), `timings.json` (each phase's wall time),
+//! `tracking`; the same for the same seed), `timings.json` (each phase's wall time, and each
+//! plan candidate's when the plan was chosen among them),
 //! `calibration.json` (the weights), `shape.{png,svg}` (the estimated and the true wire of the
 //! first configuration), `tracking.{png,svg}` (the scene's boxes and the true wire at each
 //! rest of the closed-loop run), `report.html` (the numbers, those figures and 3-D views of
@@ -176,6 +177,9 @@ struct Timings {
     identify_s: f64,
     shape_s: f64,
     plan_s: f64,
+    /// Each plan candidate's planning alone \[ms\] when the plan was chosen among
+    /// candidates (`plan.choice` in the summary), `null` otherwise.
+    candidate_plan_ms: Option<Vec<Option<f64>>>,
     track_s: f64,
     total_s: f64,
 }
@@ -407,6 +411,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         bias_observer: true,
     };
     let waypoints = chosen.waypoints;
+    let candidate_plan_ms = chosen.choice.as_ref().map(|_| chosen.candidate_plan_ms);
     let detector = tracking.detector(&controller_model, &waypoints)?;
     phase.set(1);
     let closed = tracking.closed_loop(&controller_model, &waypoints, detector, 2)?;
@@ -462,6 +467,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         identify_s,
         shape_s,
         plan_s,
+        candidate_plan_ms,
         track_s,
         total_s: total.elapsed().as_secs_f64(),
     };

@@ -22,6 +22,7 @@ use std::time::Instant;
 use ftwire::error::CliError;
 use ftwire::output::RunHeader;
 use ftwire::results::OutGuard;
+use ftwire_report::html::{code_span, escape_markdown};
 use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::Value;
@@ -268,10 +269,12 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
     let sensor = match (&args.setup.sensor, &args.setup.rig) {
         (None, None) => "the default F/T sensor".to_owned(),
         (sensor, rig) => format!(
-            "the F/T sensor `{}` and the rig `{}`",
-            sensor.as_deref().unwrap_or("distorted"),
-            rig.as_ref()
-                .map_or_else(|| "default".to_owned(), |r| r.display().to_string()),
+            "the F/T sensor {} and the rig {}",
+            code_span(sensor.as_deref().unwrap_or("distorted")),
+            code_span(
+                &rig.as_ref()
+                    .map_or_else(|| "default".to_owned(), |r| r.display().to_string())
+            ),
         ),
     };
     let markdown = report(&dir, &statuses, args.quick, &sensor);
@@ -328,7 +331,8 @@ fn number(v: &Value, digits: usize) -> String {
         .map_or_else(|| "–".to_owned(), |x| format!("{x:.digits$}"))
 }
 
-/// `report.md`: the paper's tables beside ours.
+/// `report.md`: the paper's tables beside ours. `sensor` is Markdown; every text read from the
+/// experiments' summaries and statuses goes in as literal text.
 fn report(dir: &Path, statuses: &[Status], quick: bool, sensor: &str) -> String {
     let mut md = String::new();
     let _ = writeln!(
@@ -344,7 +348,12 @@ fn report(dir: &Path, statuses: &[Status], quick: bool, sensor: &str) -> String 
     );
     let _ = writeln!(md, "| experiment | status |\n| --- | --- |");
     for s in statuses {
-        let _ = writeln!(md, "| `{}` | {} |", s.id, s.status);
+        let _ = writeln!(
+            md,
+            "| {} | {} |",
+            code_span(s.id),
+            escape_markdown(&s.status)
+        );
     }
     md.push('\n');
     if let Some(s) = summary_of(dir, "identify") {
@@ -357,7 +366,7 @@ fn report(dir: &Path, statuses: &[Status], quick: bool, sensor: &str) -> String 
              ({}): relative error of `ã` against the true wrench, and the shape error of \
              Φ(ã).\n\n| map | torque % | force % | shape mm |\n| --- | --- | --- | --- |\n\
              | raw (mounting only) | {} | {} | {} |\n| calibrated | {} | {} | {} |\n",
-            s["wire"]["name"].as_str().unwrap_or("?"),
+            escape_markdown(s["wire"]["name"].as_str().unwrap_or("?")),
             percent(&s["raw"]["torque_rel"]),
             percent(&s["raw"]["force_rel"]),
             number(&s["raw"]["shape_mm"], 2),
@@ -381,7 +390,8 @@ fn report(dir: &Path, statuses: &[Status], quick: bool, sensor: &str) -> String 
                 .map_or_else(|| "–".to_owned(), |(_, mm)| format!("{mm:.2}"));
             let _ = writeln!(
                 md,
-                "| {name} | {} | {} | {paper} |",
+                "| {} | {} | {} | {paper} |",
+                escape_markdown(name),
                 number(&wire["loaded_mean_mm"], 2),
                 number(&wire["kirchhoff_mean_mm"], 2),
             );
@@ -412,12 +422,12 @@ const TABLE_IV: (f64, f64, f64) = (11.01, 6.22, 1.83);
 fn track_table(md: &mut String, s: &Value) {
     let _ = writeln!(
         md,
-        "## Table IV: tracking a path planned with RRT* ({} pairs, noise model `{}`, gain {})\n\n\
+        "## Table IV: tracking a path planned with RRT* ({} pairs, noise model {}, gain {})\n\n\
          Distance [mm] between the true wire and Φ(γ_A) at each waypoint reached, over every \
-         waypoint of every pair (the planning times are in the experiment's summary).\n\n\
+         waypoint of every pair (the planning times are in the experiment's `timings.json`).\n\n\
          | | mean ± std | max | waypoints | paper, mean ± std |\n| --- | --- | --- | --- | --- |",
         number(&s["pairs"], 0),
-        s["noise_model"].as_str().unwrap_or("?"),
+        code_span(s["noise_model"].as_str().unwrap_or("?")),
         number(&s["gain"], 2),
     );
     let (open, closed, closed_std) = TABLE_IV;
@@ -465,7 +475,8 @@ fn passage_table(md: &mut String, runs: &[Value]) {
             let r = &s["results"][key];
             let _ = writeln!(
                 md,
-                "| `{noise}` | {label} | {}/{} | {} | {} | {} | {} | {} |",
+                "| {} | {label} | {}/{} | {} | {} | {} | {} | {} |",
+                code_span(noise),
                 number(&r["successes"], 0),
                 number(&r["attempts"], 0),
                 number(&r["at_goal"], 0),
@@ -524,8 +535,9 @@ fn identification_table(md: &mut String, s: &Value) {
             );
             let _ = writeln!(
                 md,
-                "| {name} | {parameter} | {} | {} ± {} | {} | {} | {} | {paper_value} | \
+                "| {} | {parameter} | {} | {} ± {} | {} | {} | {} | {paper_value} | \
                  {paper_error} |",
+                escape_markdown(name),
                 number(truth, 3),
                 number(&row["mean"][j], 4),
                 number(&row["std"][j], 4),
@@ -552,14 +564,14 @@ const TABLE_III: [(&str, Option<f64>, Option<f64>); 2] = [
 fn goal_table(md: &mut String, s: &Value) {
     let _ = writeln!(
         md,
-        "## Table III: reaching a goal in A ({} pairs, noise model `{}`)\n\nMean distance \
+        "## Table III: reaching a goal in A ({} pairs, noise model {})\n\nMean distance \
          [mm] between the true final shape and Φ(a_g) (± std), the trials counted (failed runs \
          and simulator failures are left out and listed in the experiment's summary), and the \
          mean over the trials in which the simulated wire did not snap to another shape.\n\n\
          | | ours, open loop | ours, closed loop | paper, open loop | paper, closed loop |\n\
          | --- | --- | --- | --- | --- |",
         number(&s["pairs"], 0),
-        s["noise_model"].as_str().unwrap_or("?"),
+        code_span(s["noise_model"].as_str().unwrap_or("?")),
     );
     let cell = |v: &Value| {
         format!(

@@ -12,7 +12,6 @@
 //!   truth: whether the true wire touched an obstacle at any rest, and its shape against
 //!   `Φ(γ_A)` at each waypoint.
 
-use std::fmt::Write as _;
 use std::time::Instant;
 
 use ftwire_control::{
@@ -39,6 +38,7 @@ use serde::Serialize;
 
 use super::Gravity;
 use super::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare, true_rod};
+use crate::csv_table::{CsvTable, fixed, text, value};
 use crate::error::{CliError, from_plan, from_rod, from_sim};
 use crate::scene::with_scene;
 use crate::setup::SimSetup;
@@ -752,8 +752,6 @@ pub struct ChoiceOut {
     /// polished waypoints); `null` for a candidate that found no path, or whose waypoints the
     /// tracking model refused.
     pub expected_touches: Vec<Option<f64>>,
-    /// Each candidate's planning wall time \[ms\] (`null` when it found no path).
-    pub plan_ms: Vec<Option<f64>>,
     /// The candidate tracked (0-based): the fewest expected touches, the first among equals.
     pub chosen: usize,
 }
@@ -772,6 +770,9 @@ pub struct Chosen {
     pub choice: Option<ChoiceOut>,
     /// Wall time of all the candidates' planning, preparing, polishing and scoring \[s\].
     pub seconds: f64,
+    /// Each candidate's planning wall time \[ms\] (`None` when it found no path), for the
+    /// timings (not [`ChoiceOut`], so that the summaries are the same for the same seed).
+    pub candidate_plan_ms: Vec<Option<f64>>,
 }
 
 /// Plans `candidates` times from the scene's `start` to its `goal` ([`plan_in_scene`] with
@@ -848,6 +849,7 @@ pub fn choose_plan(
                     polish: polished,
                     choice: None,
                     seconds: 0.0,
+                    candidate_plan_ms: Vec::new(),
                 };
                 (expected, candidate)
             });
@@ -884,10 +886,10 @@ pub fn choose_plan(
         choice: chooses.then_some(ChoiceOut {
             candidates,
             expected_touches: touches,
-            plan_ms,
             chosen,
         }),
         seconds: began.elapsed().as_secs_f64(),
+        candidate_plan_ms: plan_ms,
         ..candidate
     })
 }
@@ -1829,23 +1831,30 @@ fn rig_base<R: Rig>(rig: &R) -> Result<Pose, CliError> {
 /// `attempt`): its waypoint, the moves it made, how it ended, the true shape error then, whether
 /// Table IV scores it (not when it was run again or its waypoint passed over), and whether the
 /// true wire touched an obstacle during it.
-pub fn waypoints_csv(label: &str, closed: &[Attempt]) -> String {
-    let mut csv = format!("{label},waypoint,moves,outcome,shape_mm,scored,touched\n");
+///
+/// # Errors
+/// As [`CsvTable::row`].
+pub fn waypoints_csv(label: &str, closed: &[Attempt]) -> Result<Vec<u8>, CliError> {
+    let mut csv = CsvTable::new(
+        "waypoints.csv",
+        &[
+            label, "waypoint", "moves", "outcome", "shape_mm", "scored", "touched",
+        ],
+    )?;
     for (k, attempt) in closed.iter().enumerate() {
         for leg in &attempt.legs {
-            let _ = writeln!(
-                csv,
-                "{k},{},{},\"{}\",{:.3},{},{}",
-                leg.waypoint,
-                leg.moves,
-                leg.outcome.replace('"', "'"),
-                leg.shape_mm,
-                leg.scored,
-                leg.touched,
-            );
+            csv.row([
+                value(k),
+                value(leg.waypoint),
+                value(leg.moves),
+                text(&leg.outcome),
+                fixed(leg.shape_mm, 3),
+                value(leg.scored),
+                value(leg.touched),
+            ])?;
         }
     }
-    csv
+    csv.into_bytes()
 }
 
 /// Drops the score of the leg that just ran: its waypoint was not reached (Table IV scores the

@@ -10,6 +10,7 @@ use ftwire::experiment::track::{Attempt, Waypoint};
 use ftwire::results::ResultsFolder;
 use ftwire_core::Pose;
 use ftwire_plan::Scene;
+use ftwire_report::html::{code_span, escape_markdown};
 use ftwire_report::{HtmlReport, Rotation, Scene3d, Step3};
 use nalgebra::Point3;
 
@@ -121,12 +122,12 @@ fn numbers(summary: &Summary) -> String {
         100.0 * summary.calibration.raw_torque_rel,
         100.0 * summary.calibration.raw_force_rel,
         summary.calibration.configurations,
-        summary.calibration.wire,
+        escape_markdown(&summary.calibration.wire),
     );
     let _ = writeln!(
         md,
-        "| identify `{}` | errors c1 {:.2} %, c2 {:.2} %, c3 {:.2} %, L {:.2} % from {} samples{} |",
-        summary.wire.name,
+        "| identify {} | errors c1 {:.2} %, c2 {:.2} %, c3 {:.2} %, L {:.2} % from {} samples{} |",
+        code_span(&summary.wire.name),
         100.0 * id.relative_error[0],
         100.0 * id.relative_error[1],
         100.0 * id.relative_error[2],
@@ -150,11 +151,11 @@ fn numbers(summary: &Summary) -> String {
     for a in [&summary.tracking.closed_loop, &summary.tracking.open_loop] {
         let _ = writeln!(
             md,
-            "| track, {} | {} after {} moves (`{}`){}, final error {:.3} |",
+            "| track, {} | {} after {} moves ({}){}, final error {:.3} |",
             a.mode.replace('_', " "),
             a.verdict(),
             a.steps,
-            a.outcome,
+            code_span(&a.outcome),
             if a.touched {
                 ", touched an obstacle"
             } else {

@@ -7,8 +7,7 @@
 //! [`DEFAULT_SAMPLES`]). Writes `summary.json`, `calibration.json` (the weights, in the format
 //! `--calibration` loads), `samples.csv` (one row per configuration) and `timings.json`.
 
-use std::fmt::Write as _;
-
+use ftwire::csv_table::{CsvTable, text, value};
 use ftwire::error::{CliError, from_estimate};
 use ftwire::experiment::calibration::{DEFAULT_SAMPLES, KNOWN_WIRE, run as calibrate};
 use ftwire::output::RunHeader;
@@ -47,9 +46,26 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
         .to_json()
         .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
     folder.write("calibration.json", json)?;
-    let mut csv = String::from(
-        "sample,split,label_rms_mm,t1,t2,t3,f1,f2,f3,label_t1,label_t2,label_t3,label_f1,label_f2,label_f3\n",
-    );
+    let mut csv = CsvTable::new(
+        "samples.csv",
+        &[
+            "sample",
+            "split",
+            "label_rms_mm",
+            "t1",
+            "t2",
+            "t3",
+            "f1",
+            "f2",
+            "f3",
+            "label_t1",
+            "label_t2",
+            "label_t3",
+            "label_f1",
+            "label_f2",
+            "label_f3",
+        ],
+    )?;
     for (i, sample) in result.samples.iter().enumerate() {
         let split = if result.split.train.contains(&i) {
             "train"
@@ -58,13 +74,17 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
         } else {
             "test"
         };
-        let _ = write!(csv, "{i},{split},{}", 1e3 * sample.label_rms);
-        for v in sample.true_wrench.iter().chain(sample.label.iter()) {
-            let _ = write!(csv, ",{v}");
-        }
-        csv.push('\n');
+        let mut cells = vec![value(i), text(split), value(1e3 * sample.label_rms)];
+        cells.extend(
+            sample
+                .true_wrench
+                .iter()
+                .chain(sample.label.iter())
+                .map(|&v| value(v)),
+        );
+        csv.row(cells)?;
     }
-    folder.write("samples.csv", csv)?;
+    folder.write("samples.csv", csv.into_bytes()?)?;
     folder.write_json("timings.json", &result.timings)?;
     let s = &result.summary;
     let target = folder.finish(&header, s)?;

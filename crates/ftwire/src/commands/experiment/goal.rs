@@ -60,12 +60,15 @@
 //! contact force in the simulator (`delays`, with the force at detection in
 //! `detection_force_n`). After each detection the robot retreats (`ftwire_control::retreat`).
 //!
-//! Writes `summary.json`, `trials.csv`, `timings.json`, `calibration.json` (when it ran one),
-//! and the figures `motion_in_a` (Fig. 6) and `shape_error_along_motion` (Fig. 7).
+//! Writes `summary.json` (the same for the same seed), `trials.csv`, `timings.json`
+//! (`calibration_s`, `experiment_s`, and the medians `controller_step_us_median` and
+//! `reach_check_us_median` of one controller step and one reach check), `calibration.json`
+//! (when it ran one), and the figures `motion_in_a` (Fig. 6) and `shape_error_along_motion`
+//! (Fig. 7).
 
-use std::fmt::Write as _;
 use std::time::Instant;
 
+use ftwire::csv_table::{Cell, CsvTable, text, value};
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::calibration::rig_seed;
 use ftwire::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_among, tare};
@@ -352,7 +355,6 @@ struct GoalSummary {
     steps_median: f64,
     /// Median steps of the closed loop without noise.
     steps_median_no_noise: f64,
-    controller_step_us_median: f64,
     epsilon_tradeoff: Tradeoff,
     collision: Collision,
     pair_draws: PairDraws,
@@ -856,8 +858,13 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         free_moves.iter().map(|m| m.len()).sum::<usize>()
     );
 
-    let mut csv =
-        String::from("pair,variant,epsilon,steps,mean_mm,a_error,snapped,outcome,failure\n");
+    let mut csv = CsvTable::new(
+        "trials.csv",
+        &[
+            "pair", "variant", "epsilon", "steps", "mean_mm", "a_error", "snapped", "outcome",
+            "failure",
+        ],
+    )?;
     let mut failures = Vec::new();
     let mut closed_free = Vec::new();
     let mut closed_noise = Vec::new();
@@ -918,16 +925,18 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
                 }
             }
             let outcome = closed.run.as_ref().map_or("not_run", |r| r.outcome.name());
-            for (eps, stop) in table.iter().zip(&closed.stops) {
-                let _ = writeln!(
-                    csv,
-                    "{i},closed_{variant},{eps},{},{},{},{},{outcome},{}",
-                    stop.steps,
-                    stop.truth.shape_mm,
-                    stop.truth.a_error,
-                    stop.snapped,
-                    stop.failure.clone().unwrap_or_default().replace(',', ";")
-                );
+            for (&eps, stop) in table.iter().zip(&closed.stops) {
+                csv.row([
+                    value(i),
+                    text(&format!("closed_{variant}")),
+                    value(eps),
+                    value(stop.steps),
+                    value(stop.truth.shape_mm),
+                    value(stop.truth.a_error),
+                    value(stop.snapped),
+                    text(outcome),
+                    failure_cell(stop.failure.as_deref()),
+                ])?;
             }
             let stop = &closed.stops[h];
             if let Some(message) = &stop.failure {
@@ -941,14 +950,17 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
             let poses = straight_line_in_a(&ctx.model, &pair.a_s, &pair.a_g, steps)
                 .map_err(|e| CliError::no_answer(format!("the straight line in A: {e}")))?;
             let open = ctx.open(pair, k, model_noise, &poses)?;
-            let _ = writeln!(
-                csv,
-                "{i},open_{variant},,{steps},{},{},{},open_loop,{}",
-                open.truth.shape_mm,
-                open.truth.a_error,
-                open.truths.iter().any(|t| t.snapped),
-                open.failure.clone().unwrap_or_default().replace(',', ";")
-            );
+            csv.row([
+                value(i),
+                text(&format!("open_{variant}")),
+                Cell::empty(),
+                value(steps),
+                value(open.truth.shape_mm),
+                value(open.truth.a_error),
+                value(open.truths.iter().any(|t| t.snapped)),
+                text("open_loop"),
+                failure_cell(open.failure.as_deref()),
+            ])?;
             if let Some(message) = &open.failure {
                 failures.push(Failure {
                     pair: i,
@@ -1092,7 +1104,6 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         },
         steps_median: steps_of(&closed_noise, h_noise),
         steps_median_no_noise: steps_of(&closed_free, h_free),
-        controller_step_us_median: median(&plan_us),
         epsilon_tradeoff: Tradeoff {
             no_noise: tradeoff(&closed_free, &EPSILONS_NO_NOISE),
             noise: tradeoff(&closed_noise, &noise_epsilons),
@@ -1203,18 +1214,19 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         })?;
     }
 
-    folder.write("trials.csv", csv)?;
+    folder.write("trials.csv", csv.into_bytes()?)?;
+    let controller_step_us_median = median(&plan_us);
     folder.write_json(
         "timings.json",
         &serde_json::json!({
             "calibration_s": calibration_s,
             "experiment_s": experiment_s,
-            "controller_step_us_median": summary.controller_step_us_median,
+            "controller_step_us_median": controller_step_us_median,
             "reach_check_us_median": median(&reach_us),
         }),
     )?;
     let target = folder.finish(&header, &summary)?;
-    print_summary(&summary);
+    print_summary(&summary, controller_step_us_median);
     println!(
         "calibration {calibration_s:.1} s, experiment {experiment_s:.1} s; results in {}",
         target.display()
@@ -1222,7 +1234,14 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn print_summary(s: &GoalSummary) {
+/// A failure's message as a `trials.csv` cell, its commas as `;` (as the file has always had
+/// them, for readers that split lines at commas).
+fn failure_cell(failure: Option<&str>) -> Cell {
+    text(&failure.unwrap_or_default().replace(',', ";"))
+}
+
+/// Prints the summary's tables, and the controller step's median time \[µs\].
+fn print_summary(s: &GoalSummary, controller_step_us_median: f64) {
     println!(
         "goal: {} ({} model), {} pairs, K = {}, noise model {}",
         s.wire,
@@ -1272,7 +1291,7 @@ fn print_summary(s: &GoalSummary) {
     }
     println!(
         "steps median {} (noise), {} (no noise); controller step {:.1} µs (median)",
-        s.steps_median, s.steps_median_no_noise, s.controller_step_us_median
+        s.steps_median, s.steps_median_no_noise, controller_step_us_median
     );
     let c = &s.collision;
     println!(

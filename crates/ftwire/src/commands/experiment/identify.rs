@@ -32,20 +32,22 @@
 //!   contract); and `by_model`, a list of `{model, wires}` for every model run, `--model`
 //!   first. Each `by_samples` row is `{samples, estimated, identified, mean[4], std[4],
 //!   relative_error[4], mean_abs_relative_error[4], mean_abs_relative_error_identified[4],
-//!   compute_ms_median, evaluations_median, linear_density}` over `(c1, c2, c3, L)`, with
+//!   evaluations_median, linear_density}` over `(c1, c2, c3, L)`, with
 //!   `linear_density` `{mean, std, mean_abs_relative_error}` for the loaded model (`null`
 //!   otherwise):
 //!   `relative_error` is that of the mean over trials (Table I), `mean_abs_relative_error` the
 //!   mean of each trial's absolute relative error, both as fractions (0.005 is 0.5 %), over
 //!   the trials that returned an estimate (`estimated`), flagged ones included; `identified`
 //!   counts the trials whose estimate was not flagged, and `mean_abs_relative_error_identified`
-//!   is the mean over those only (`null` if none): what a user who heeds the flags gets. `compute_ms_median` is the one timing
-//!   in the summary (the contract asks for it there): it varies from run to run, every other
-//!   value is the same for the same seed. All timings are in `timings.json`.
+//!   is the mean over those only (`null` if none): what a user who heeds the flags gets.
+//!   Every value is the same for the same seed: the wall-clock times are in `timings.json`.
+//! - `timings.json`: `calibration_s`, every identification's `compute_ms`, and
+//!   `compute_ms_median`, a list of `{model, wire, samples, compute_ms_median}` over the trials.
 //! - `identify.csv`: one row per model, wire, trial and sample count (estimate, relative
 //!   errors, `χ²/dof`, flags, `model`, `linear_density`).
 //! - `error_vs_samples_<wire>.{png,svg}` (Fig. 3, log y, one per wire) and
-//!   `time_vs_samples.{png,svg}` (Fig. 4).
+//!   `time_vs_samples.{png,svg}` (Fig. 4, from `timings.json`; a timing figure, left out of
+//!   `report.md` and `report.html`, [`ftwire::report::TIMING_FIGURES`]).
 //! - with `--save-log`, `logs/<wire>-trial<k>.jsonl`: each trial's records
 //!   `{time, a, b}` in the format of `ftwire_estimate::log`, with `a` the configuration as
 //!   identified from (tared, through `--pipeline`), `time` the rig's clock.
@@ -56,6 +58,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use ftwire::csv_table::{Cell, CsvTable, text, value};
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::Gravity;
 use ftwire::experiment::calibration::load_or_run;
@@ -65,7 +68,7 @@ use ftwire::experiment::rig::{
 use ftwire::output::RunHeader;
 use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire::setup::SimSetup;
-use ftwire::wire::WireSpec;
+use ftwire::wire::{WireSpec, file_stem};
 use ftwire_core::{Pose, Rig};
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::ft::{FtCalibration, FtPipeline};
@@ -184,7 +187,6 @@ struct BySamples {
     relative_error: [f64; 4],
     mean_abs_relative_error: [f64; 4],
     mean_abs_relative_error_identified: [f64; 4],
-    compute_ms_median: f64,
     evaluations_median: f64,
     /// The identified linear density over the trials (the loaded model only).
     linear_density: Option<DensityStats>,
@@ -240,6 +242,17 @@ struct Timings<'a> {
     calibration_s: f64,
     /// Every identification.
     identifications: Vec<Timing<'a>>,
+    /// The median over the trials of each model, wire and sample count (Fig. 4).
+    compute_ms_median: Vec<MedianTiming<'a>>,
+}
+
+/// The median identification time of a model, wire and sample count in `timings.json`.
+#[derive(Debug, Serialize)]
+struct MedianTiming<'a> {
+    model: ModelArg,
+    wire: &'a str,
+    samples: usize,
+    compute_ms_median: f64,
 }
 
 /// One identification's timing in `timings.json`.
@@ -408,8 +421,22 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         wires: results,
         by_model: &by_model,
     };
+    let mut medians = Vec::new();
+    for &(model, _) in &models {
+        for (w, wire) in wires.iter().enumerate() {
+            for &samples in &counts {
+                medians.push(MedianTiming {
+                    model,
+                    wire: &wire.name,
+                    samples,
+                    compute_ms_median: compute_ms_median(&rows, model, w, samples),
+                });
+            }
+        }
+    }
     let timings = Timings {
         calibration_s,
+        compute_ms_median: medians,
         identifications: rows
             .iter()
             .map(|r| Timing {
@@ -421,12 +448,13 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
             })
             .collect(),
     };
-    folder.write("identify.csv", csv(&wires, &rows))?;
+    folder.write("identify.csv", csv(&wires, &rows)?)?;
     folder.write_json("timings.json", &timings)?;
-    write_figures(&folder, results)?;
+    let median_ms = |w: usize, n: usize| compute_ms_median(&rows, model, w, n);
+    write_figures(&folder, results, &median_ms)?;
     let header = RunHeader::new("experiment identify", Some(seed), &args)?;
     let target = folder.finish(&header, &summary)?;
-    print!("{}", table(&summary, &target));
+    print!("{}", table(&summary, &target, &median_ms));
     Ok(())
 }
 
@@ -745,7 +773,6 @@ fn aggregate<'a>(wire: &WireSpec, rows: impl Iterator<Item = &'a Row>, n: usize)
         relative_error,
         mean_abs_relative_error,
         mean_abs_relative_error_identified,
-        compute_ms_median: median(&rows.iter().map(|r| r.compute_ms).collect::<Vec<_>>()),
         evaluations_median: median(
             &rows
                 .iter()
@@ -756,48 +783,80 @@ fn aggregate<'a>(wire: &WireSpec, rows: impl Iterator<Item = &'a Row>, n: usize)
 }
 
 /// `identify.csv`.
-fn csv(wires: &[WireSpec], rows: &[Row]) -> String {
-    let mut text = String::from(
-        "wire,trial,samples,c1,c2,c3,L,rel_err_c1,rel_err_c2,rel_err_c3,rel_err_L,\
-         chi2_per_dof,evaluations,identified,flag,model,linear_density\n",
-    );
+fn csv(wires: &[WireSpec], rows: &[Row]) -> Result<Vec<u8>, CliError> {
+    let mut table = CsvTable::new(
+        "identify.csv",
+        &[
+            "wire",
+            "trial",
+            "samples",
+            "c1",
+            "c2",
+            "c3",
+            "L",
+            "rel_err_c1",
+            "rel_err_c2",
+            "rel_err_c3",
+            "rel_err_L",
+            "chi2_per_dof",
+            "evaluations",
+            "identified",
+            "flag",
+            "model",
+            "linear_density",
+        ],
+    )?;
     for row in rows {
         let Some(wire) = wires.get(row.wire) else {
             continue;
         };
         let truth = truth(wire);
         let eta = row.eta.unwrap_or([f64::NAN; 4]);
-        let _ = write!(text, "{},{},{}", wire.name, row.trial, row.samples);
-        for value in eta {
-            let _ = write!(text, ",{value}");
-        }
-        for (value, true_value) in eta.iter().zip(truth) {
-            let _ = write!(text, ",{}", (value - true_value) / true_value);
-        }
-        let _ = writeln!(
-            text,
-            ",{},{},{},{},{},{}",
-            row.chi2_per_dof,
-            row.evaluations,
-            row.flag.is_none(),
-            row.flag.unwrap_or(""),
-            row.model.name(),
-            row.linear_density
-                .map_or_else(String::new, |d| d.to_string())
+        let mut cells = vec![text(&wire.name), value(row.trial), value(row.samples)];
+        cells.extend(eta.iter().map(|&v| value(v)));
+        cells.extend(
+            eta.iter()
+                .zip(truth)
+                .map(|(v, true_value)| value((v - true_value) / true_value)),
         );
+        cells.extend([
+            value(row.chi2_per_dof),
+            value(row.evaluations),
+            value(row.flag.is_none()),
+            text(row.flag.unwrap_or("")),
+            text(row.model.name()),
+            row.linear_density.map_or_else(Cell::empty, value),
+        ]);
+        table.row(cells)?;
     }
-    text
+    table.into_bytes()
 }
 
-/// Figs. 3 and 4 into the results folder.
-fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), CliError> {
+/// The median wall time \[ms\] of `model`'s identifications of wire `wire` (its index) from
+/// `samples` samples, over the trials (NaN for none).
+fn compute_ms_median(rows: &[Row], model: ModelArg, wire: usize, samples: usize) -> f64 {
+    let times: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.model == model && r.wire == wire && r.samples == samples)
+        .map(|r| r.compute_ms)
+        .collect();
+    median(&times)
+}
+
+/// Figs. 3 and 4 into the results folder: the errors of `results`, and the time of each wire
+/// (its index) and sample count from `median_ms`.
+fn write_figures(
+    folder: &ResultsFolder,
+    results: &[WireResults],
+    median_ms: &dyn Fn(usize, usize) -> f64,
+) -> Result<(), CliError> {
     let mut charts = Vec::new();
     let mut time = LineChart::new(
         "identification time against samples (Fig. 4)",
         "samples",
         "compute time, median over trials [ms]",
     );
-    for result in results {
+    for (w, result) in results.iter().enumerate() {
         let mut error = LineChart::new(
             format!(
                 "{}: identification error against samples (Fig. 3)",
@@ -817,16 +876,16 @@ fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), 
         }
         charts.push((
             error,
-            format!("error_vs_samples_{}", safe_name(&result.wire.name)),
+            format!("error_vs_samples_{}", file_stem(&result.wire.name)),
         ));
         let points = result
             .by_samples
             .iter()
-            .map(|r| (r.samples as f64, r.compute_ms_median))
+            .map(|r| (r.samples as f64, median_ms(w, r.samples)))
             .collect();
         time = time.with_series(Series::line_points(result.wire.name.clone(), points));
     }
-    charts.push((time, "time_vs_samples".to_owned()));
+    charts.push((time, ftwire::report::TIMING_FIGURES[0].to_owned()));
     for (chart, stem) in &charts {
         match chart.write(folder.dir(), stem) {
             // A figure without a drawable point (every estimate failed) is left out.
@@ -837,23 +896,9 @@ fn write_figures(folder: &ResultsFolder, results: &[WireResults]) -> Result<(), 
     Ok(())
 }
 
-/// A wire's name for file names: characters other than letters, digits, `-`, `_` and `.`
-/// replaced by `_` (a wire file's name may hold anything).
-fn safe_name(wire: &str) -> String {
-    wire.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
-}
-
-/// `<wire>-trial<k>.jsonl` (see [`safe_name`]).
+/// `<wire>-trial<k>.jsonl` (see [`file_stem`]).
 fn log_name(wire: &str, trial: usize) -> String {
-    format!("{}-trial{trial}.jsonl", safe_name(wire))
+    format!("{}-trial{trial}.jsonl", file_stem(wire))
 }
 
 /// A trial's JSON Lines log.
@@ -875,8 +920,9 @@ fn log_text(samples: &[Recorded]) -> Result<String, CliError> {
 }
 
 /// The printed table: per wire, the 3-sample row (or the smallest count) beside Table I, and
-/// one line per sample count.
-fn table(summary: &Summary<'_>, target: &Path) -> String {
+/// one line per sample count with its median time from `median_ms` (of the wire's index and
+/// the count).
+fn table(summary: &Summary<'_>, target: &Path, median_ms: &dyn Fn(usize, usize) -> f64) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
@@ -894,7 +940,7 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
         summary.trials,
         target.display()
     );
-    for result in summary.wires {
+    for (w, result) in summary.wires.iter().enumerate() {
         let paper = TABLE_I
             .iter()
             .find(|(name, _)| *name == result.wire.name)
@@ -964,7 +1010,7 @@ fn table(summary: &Summary<'_>, target: &Path) -> String {
                 t[3],
                 r.identified,
                 summary.trials,
-                r.compute_ms_median
+                median_ms(w, r.samples)
             );
         }
         if let Some(density) = row.linear_density.as_ref() {
@@ -1057,7 +1103,8 @@ mod tests {
         assert_eq!(out.identified, 2);
         assert!((out.mean_abs_relative_error_identified[3] - 0.005).abs() < 1e-12);
         assert!((out.mean_abs_relative_error[3] - 0.02 / 3.0).abs() < 1e-12);
-        assert!((out.compute_ms_median - 1.0).abs() < 1e-12);
+        assert!((compute_ms_median(&rows, ModelArg::Kirchhoff, 0, 3) - 1.0).abs() < 1e-12);
+        assert!(compute_ms_median(&rows, ModelArg::Loaded, 0, 3).is_nan());
         assert_eq!(log_name("a b/c", 4), "a_b_c-trial4.jsonl");
     }
 }

@@ -13,7 +13,8 @@
 //! scatters the wire's landing, `--plan-candidates N` (default 4) such plans are made from
 //! seeds of their own, each polished for clearance, and the one whose waypoints expect the
 //! fewest touching landings of one noisy move is tracked ([`choose_plan`]; `plan.choice`).
-//! `plan_ms` is the wall time of all of it.
+//! `plan_ms` in `timings.json` is the wall time of all of it, `candidate_plan_ms` each
+//! candidate's planning.
 //!
 //! **Roll-outs.** `--attempts N` (default 50) of each of closed and open loop, attempt `k` of both
 //! under the same noise seed. Each places the true wire at the start anew, tares the sensor and
@@ -50,18 +51,19 @@
 //! before a retreat still fails the attempt).
 //!
 //! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{attempts, successes,
-//! collisions, detected, ...}` and `plan_ms`, the one wall-clock figure in it), `attempts.csv`,
+//! collisions, detected, ...}`; the same for the same seed), `attempts.csv`,
 //! `waypoints.csv` (every closed-loop leg, as `experiment track` writes it, with whether the
-//! true wire touched a box during it), `timings.json`, `calibration.json` (when it ran one),
+//! true wire touched a box during it), `timings.json` (`calibration_s`, `plan_ms`,
+//! `candidate_plan_ms`, `detector_s`, `attempts_s`, `total_s`), `calibration.json` (when it ran one),
 //! and the figures `passage_path_in_a` (Fig. 11: the plan and the roll-outs in two components
 //! of normalised `A`), `passage_shape_error` (Fig. 12: the shape error against `Φ(γ_A)` at
 //! each waypoint) and `passage_scene` (the boxes, the planned wire at intermediate
 //! configurations, and the true wire of the first closed-loop attempt).
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 use std::time::Instant;
 
+use ftwire::csv_table::{CsvTable, fixed, text, value};
 use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
     Attempt, ChoiceOut, Chosen, PolishOut, Tracking, WAYPOINTS, Waypoint, choose_plan,
@@ -207,8 +209,8 @@ pub struct PlanOut {
     /// tracking model before and after \[mm\].
     pub polish: Option<PolishOut>,
     /// How the plan was chosen among `--plan-candidates` (`null` without noise and under
-    /// `offset`, where one plan is made): each candidate's expected touching landings and
-    /// planning time, and the one tracked (`track::choose_plan`).
+    /// `offset`, where one plan is made): each candidate's expected touching landings and the
+    /// one tracked (`track::choose_plan`; their planning times are in `timings.json`).
     pub choice: Option<ChoiceOut>,
 }
 
@@ -235,16 +237,18 @@ struct Summary {
     /// The collision detector's jump-ratio threshold.
     detector_threshold: f64,
     results: Results,
-    /// Wall time of the plan \[ms\] (also in `timings.json`): every candidate's planning,
-    /// polish and scoring (`plan.choice.plan_ms` has each candidate's planning alone).
-    plan_ms: f64,
     plan: PlanOut,
 }
 
+/// `timings.json`: wall times, apart from the summary.
 #[derive(Serialize)]
 struct Timings {
     calibration_s: f64,
+    /// The plan \[ms\]: every candidate's planning, polish and scoring.
     plan_ms: f64,
+    /// Each candidate's planning alone \[ms\] (`null` for one that found no path), when the
+    /// plan was chosen among candidates (`plan.choice` in the summary); `null` otherwise.
+    candidate_plan_ms: Option<Vec<Option<f64>>>,
     detector_s: f64,
     attempts_s: f64,
     total_s: f64,
@@ -318,6 +322,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         polish,
         choice,
         seconds,
+        candidate_plan_ms,
     } = choose_plan(
         &scene,
         &planner_rod,
@@ -430,14 +435,15 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         );
     }
 
-    folder.write("attempts.csv", attempts_csv(&closed, &open))?;
-    folder.write("waypoints.csv", waypoints_csv("attempt", &closed))?;
+    folder.write("attempts.csv", attempts_csv(&closed, &open)?)?;
+    folder.write("waypoints.csv", waypoints_csv("attempt", &closed)?)?;
     figures(&folder, &scene, &model, &waypoints, &closed, &open)?;
     folder.write_json(
         "timings.json",
         &Timings {
             calibration_s,
             plan_ms,
+            candidate_plan_ms: plan.choice.as_ref().map(|_| candidate_plan_ms),
             detector_s,
             attempts_s,
             total_s: total.elapsed().as_secs_f64(),
@@ -456,7 +462,6 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
         success_rule: success_rule(noise),
         detector_threshold: detector.threshold(),
         results,
-        plan_ms,
         plan,
     };
     let target = folder.finish(&header, &summary)?;
@@ -464,33 +469,51 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// One row per attempt and mode.
-pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> String {
-    let mut csv = String::from(
-        "mode,attempt,outcome,steps,touched,detected,success,final_error,shape_mean_mm,shape_max_mm,retreats,skipped,relocated,undone\n",
-    );
+/// `attempts.csv`: one row per attempt and mode.
+///
+/// # Errors
+/// As [`CsvTable::row`].
+pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> Result<Vec<u8>, CliError> {
+    let mut csv = CsvTable::new(
+        "attempts.csv",
+        &[
+            "mode",
+            "attempt",
+            "outcome",
+            "steps",
+            "touched",
+            "detected",
+            "success",
+            "final_error",
+            "shape_mean_mm",
+            "shape_max_mm",
+            "retreats",
+            "skipped",
+            "relocated",
+            "undone",
+        ],
+    )?;
     for (k, a) in closed.iter().enumerate().chain(open.iter().enumerate()) {
         let (mean, _) = mean_std(&a.shape_mm);
         let max = a.shape_mm.iter().copied().fold(f64::NAN, f64::max);
-        let _ = writeln!(
-            csv,
-            "{},{k},\"{}\",{},{},{},{},{:.6},{:.3},{:.3},{},{},{},{}",
-            a.mode,
-            a.outcome.replace('"', "'"),
-            a.steps,
-            a.touched,
-            a.detected,
-            a.success,
-            a.final_error,
-            mean,
-            max,
-            a.retreats,
-            a.skipped,
-            a.relocated,
-            a.undone
-        );
+        csv.row([
+            text(a.mode),
+            value(k),
+            text(&a.outcome),
+            value(a.steps),
+            value(a.touched),
+            value(a.detected),
+            value(a.success),
+            fixed(a.final_error, 6),
+            fixed(mean, 3),
+            fixed(max, 3),
+            value(a.retreats),
+            value(a.skipped),
+            value(a.relocated),
+            value(a.undone),
+        ])?;
     }
-    csv
+    csv.into_bytes()
 }
 
 /// The two components of normalised `A` along which the plan moves most.
@@ -678,7 +701,8 @@ mod tests {
     #[test]
     fn the_attempts_table_has_one_row_per_attempt_and_mode() {
         let a = attempt("reached", false, false, true);
-        let csv = attempts_csv(std::slice::from_ref(&a), &[a.clone(), a.clone()]);
+        let csv = attempts_csv(std::slice::from_ref(&a), &[a.clone(), a.clone()]).expect("a table");
+        let csv = String::from_utf8(csv).expect("UTF-8");
         assert_eq!(csv.lines().count(), 4);
         assert!(
             csv.lines()

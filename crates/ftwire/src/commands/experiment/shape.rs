@@ -14,21 +14,24 @@
 //! mean for the tared mounting-only pipeline (`mounting_mean_mm`), both models' `mean_mm` from
 //! the same `ã` (`kirchhoff_mean_mm`, `loaded_mean_mm`), the relative error of `ã`'s torque
 //! and force against the true base wrench (`torque_rel`, `force_rel`: how well the
-//! calibration, trained on another wire, carries over), and the time of one shape estimate.
+//! calibration, trained on another wire, carries over); the time of one shape estimate is in
+//! `timings.json` (`estimate_us_median`, per wire) and `configs.csv` (`estimate_us`).
 //! Beside them, `fused_mean_mm`: the shape of the same model at `ã` fused with the gripper's
 //! reported pose (`ftwire_control::BiasObserver` with `fuse_rest`, one rest after the tare,
 //! the robot's repeatability as the pose's prior): what a robot that knows where its gripper
 //! is gets from the same rest. `mean_mm` stays the F/T sensor's alone, as in Table II.
 //!
-//! Writes `summary.json`, `configs.csv`, `timings.json`, `calibration.json` (when it ran one),
-//! figures `shape_<wire>` (the first configuration, estimate against truth and markers, 3-D)
+//! Writes `summary.json` (the same for the same seed), `configs.csv`, `timings.json`
+//! (`calibration_s`, `experiment_s`, and `estimate_us_median`: `[wire, µs]` pairs),
+//! `calibration.json` (when it ran one), figures `shape_<wire>` (the first configuration,
+//! estimate against truth and markers, 3-D; `<wire>` as [`ftwire::wire::file_stem`] makes it)
 //! and `error_per_wire`, and with `--save-log` the JSON Lines log `logs/<wire>.jsonl` that
 //! `ftwire shape --log` reads: `raw` is the **tared** reading averaged at rest (the
 //! calibration's input), `b` the believed tip pose, `markers` the frame in the base clamp frame.
 
-use std::fmt::Write as _;
 use std::time::Instant;
 
+use ftwire::csv_table::{CsvTable, text, value};
 use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::calibration::{load_or_run_into, rig_seed};
@@ -39,7 +42,7 @@ use ftwire::experiment::rig::{
 use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
 use ftwire::results::OutGuard;
-use ftwire::wire::{PRESETS, WireSpec};
+use ftwire::wire::{PRESETS, WireSpec, file_stem};
 use ftwire_control::{BiasObserver, BiasObserverSettings, NoiseModel};
 use ftwire_core::Rig;
 use ftwire_estimate::calibration::Calibration;
@@ -85,7 +88,6 @@ struct WireResult {
     mean_mm: f64,
     std_mm: f64,
     marker_mean_mm: f64,
-    estimate_us_median: f64,
     /// The tared mounting-only pipeline's `mean_mm`, for comparison.
     mounting_mean_mm: f64,
     /// `mean_mm` of each model from the same `ã` (`--model`'s is `mean_mm`).
@@ -283,10 +285,28 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         calibration: &calibration,
         fusion,
     };
-    let mut csv = String::from(
-        "wire,config,mean_mm,mounting_mean_mm,marker_mean_mm,confident,estimate_us,a1,a2,a3,a4,a5,a6,fused_mm\n",
-    );
+    let mut csv = CsvTable::new(
+        "configs.csv",
+        &[
+            "wire",
+            "config",
+            "mean_mm",
+            "mounting_mean_mm",
+            "marker_mean_mm",
+            "confident",
+            "estimate_us",
+            "a1",
+            "a2",
+            "a3",
+            "a4",
+            "a5",
+            "a6",
+            "fused_mm",
+        ],
+    )?;
     let mut results = Vec::new();
+    // The median time of one estimate per wire \[µs\], for `timings.json`.
+    let mut estimate_us_median: Vec<(String, f64)> = Vec::new();
     let mut logs: Vec<(String, String)> = Vec::new();
     let mut first_shapes = Vec::new();
     let start = Instant::now();
@@ -332,20 +352,18 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         }
         let mut log = String::new();
         for (k, row) in rows.iter().enumerate() {
-            let _ = write!(
-                csv,
-                "{},{k},{},{},{},{},{}",
-                wire.name,
-                1e3 * row.mean,
-                1e3 * row.mounting_mean,
-                1e3 * row.marker_mean,
-                row.confident,
-                row.estimate_us
-            );
-            for v in &row.a_tilde {
-                let _ = write!(csv, ",{v}");
-            }
-            let _ = writeln!(csv, ",{}", 1e3 * row.fused_mean);
+            let mut cells = vec![
+                text(&wire.name),
+                value(k),
+                value(1e3 * row.mean),
+                value(1e3 * row.mounting_mean),
+                value(1e3 * row.marker_mean),
+                value(row.confident),
+                value(row.estimate_us),
+            ];
+            cells.extend(row.a_tilde.iter().map(|&v| value(v)));
+            cells.push(value(1e3 * row.fused_mean));
+            csv.row(cells)?;
             log.push_str(&to_line(&row.record).map_err(|e| from_estimate(e, "the log"))?);
             log.push('\n');
         }
@@ -356,13 +374,13 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>()
             / (means.len().saturating_sub(1).max(1)) as f64;
         let times: Vec<f64> = rows.iter().map(|r| r.estimate_us).collect();
+        estimate_us_median.push((wire.name.clone(), median(&times)));
         results.push(WireResult {
             name: wire.name.clone(),
             configs: rows.len(),
             mean_mm: m,
             std_mm: var.sqrt(),
             marker_mean_mm: mean(&rows.iter().map(|r| 1e3 * r.marker_mean).collect::<Vec<_>>()),
-            estimate_us_median: median(&times),
             mounting_mean_mm: mean(
                 &rows
                     .iter()
@@ -390,13 +408,13 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         }
     }
     let experiment_s = start.elapsed().as_secs_f64();
-    folder.write("configs.csv", csv)?;
+    folder.write("configs.csv", csv.into_bytes()?)?;
     folder.write_json(
         "timings.json",
         &serde_json::json!({
             "calibration_s": calibration_s,
             "experiment_s": experiment_s,
-            "estimate_us_median": results.iter().map(|r| (r.name.clone(), r.estimate_us_median)).collect::<Vec<_>>(),
+            "estimate_us_median": estimate_us_median,
         }),
     )?;
     let to_points = |v: &[Vector3<f64>]| v.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>();
@@ -415,9 +433,8 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
                 SeriesKind::Line,
             )
             .with_curve("markers", markers, SeriesKind::Points);
-        folder.write_figure(&format!("shape_{name}"), |dir| {
-            chart.write(dir, &format!("shape_{name}"))
-        })?;
+        let stem = format!("shape_{}", file_stem(name));
+        folder.write_figure(&stem, |dir| chart.write(dir, &stem))?;
     }
     let points: Vec<(f64, f64)> = results
         .iter()
@@ -447,7 +464,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     };
     if args.save_log {
         for (name, log) in &logs {
-            folder.write(&format!("logs/{name}.jsonl"), log)?;
+            folder.write(&format!("logs/{}.jsonl", file_stem(name)), log)?;
         }
     }
     let target = folder.finish(&header, &summary)?;
@@ -471,7 +488,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
         "torque_%",
         "force_%"
     );
-    for r in &summary.wires {
+    for (r, (_, estimate_us)) in summary.wires.iter().zip(&estimate_us_median) {
         let paper = TABLE_II
             .iter()
             .find(|(n, _)| *n == r.name)
@@ -490,7 +507,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             r.fused_mean_mm,
             r.marker_mean_mm,
             r.mounting_mean_mm,
-            r.estimate_us_median,
+            estimate_us,
             paper,
             100.0 * r.torque_rel,
             100.0 * r.force_rel

@@ -29,17 +29,18 @@
 //! roll-out passed), the mean distance between the true centreline and `Φ(γ_A(i/N))` at 100
 //! matched arc lengths; `mean_mm`, `std_mm` and `max_mm` over every waypoint of every pair.
 //!
-//! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{mean_mm, std_mm, max_mm, ...}`
-//! and `plan_ms_median`, the one wall-clock figure in it), `pairs.csv`, `waypoints.csv` (every
-//! closed-loop leg: its waypoint, moves, outcome, true shape error, and whether it is scored),
-//! `timings.json`, `calibration.json` (when it ran one), and the figures `track_path_in_a`
+//! Writes `summary.json` (`results.{open_loop,closed_loop}` = `{mean_mm, std_mm, max_mm, ...}`;
+//! the same for the same seed), `pairs.csv`, `waypoints.csv` (every closed-loop leg: its
+//! waypoint, moves, outcome, true shape error, and whether it is scored), `timings.json`
+//! (`calibration_s`, each pair's `plan_ms` and their `plan_ms_median`, `tracking_s`,
+//! `total_s`), `calibration.json` (when it ran one), and the figures `track_path_in_a`
 //! (Fig. 8: the plan and both roll-outs of the first pair in two components of normalised `A`)
 //! and `track_shape_error` (Fig. 9: the shape error along the path of every pair).
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 use std::time::Instant;
 
+use ftwire::csv_table::{CsvTable, fixed, text, value};
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::track::{
     Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
@@ -134,16 +135,18 @@ struct Summary {
     success_rule: &'static str,
     pairs: usize,
     results: Results,
-    /// Median wall time of the plans \[ms\] (also in `timings.json`).
-    plan_ms_median: f64,
     pair_draws: PairDraws,
     per_pair: Vec<PairOut>,
 }
 
+/// `timings.json`: wall times, apart from the summary.
 #[derive(Serialize)]
 struct Timings {
     calibration_s: f64,
+    /// Each pair's plan \[ms\].
     plan_ms: Vec<f64>,
+    /// Their median \[ms\].
+    plan_ms_median: f64,
     tracking_s: f64,
     total_s: f64,
 }
@@ -269,8 +272,8 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
             open_loop_outcome: o.outcome.clone(),
         })
         .collect();
-    folder.write("pairs.csv", pairs_csv(&per_pair))?;
-    folder.write("waypoints.csv", waypoints_csv("pair", &closed))?;
+    folder.write("pairs.csv", pairs_csv(&per_pair)?)?;
+    folder.write("waypoints.csv", waypoints_csv("pair", &closed)?)?;
     figures(&folder, &wire_params, &planned, &closed, &open)?;
     let plan_ms: Vec<f64> = planned.iter().map(|p| p.plan_ms).collect();
     let plan_ms_median = median(&plan_ms);
@@ -279,6 +282,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         &Timings {
             calibration_s,
             plan_ms,
+            plan_ms_median,
             tracking_s,
             total_s: total.elapsed().as_secs_f64(),
         },
@@ -299,7 +303,6 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         reach: args.reach,
         pairs: planned.len(),
         results,
-        plan_ms_median,
         pair_draws: draws,
         per_pair,
     };
@@ -429,23 +432,32 @@ fn metrics(attempts: &[Attempt]) -> Metrics {
     }
 }
 
-fn pairs_csv(pairs: &[PairOut]) -> String {
-    let mut csv = String::from(
-        "pair,path_length,waypoints,closed_loop_mean_mm,open_loop_mean_mm,closed_loop_outcome,open_loop_outcome\n",
-    );
+/// `pairs.csv`: one row per pair.
+fn pairs_csv(pairs: &[PairOut]) -> Result<Vec<u8>, CliError> {
+    let mut csv = CsvTable::new(
+        "pairs.csv",
+        &[
+            "pair",
+            "path_length",
+            "waypoints",
+            "closed_loop_mean_mm",
+            "open_loop_mean_mm",
+            "closed_loop_outcome",
+            "open_loop_outcome",
+        ],
+    )?;
     for (k, p) in pairs.iter().enumerate() {
-        let _ = writeln!(
-            csv,
-            "{k},{:.4},{},{:.3},{:.3},\"{}\",\"{}\"",
-            p.path_length,
-            p.waypoints,
-            p.closed_loop_mean_mm,
-            p.open_loop_mean_mm,
-            p.closed_loop_outcome.replace('"', "'"),
-            p.open_loop_outcome.replace('"', "'"),
-        );
+        csv.row([
+            value(k),
+            fixed(p.path_length, 4),
+            value(p.waypoints),
+            fixed(p.closed_loop_mean_mm, 3),
+            fixed(p.open_loop_mean_mm, 3),
+            text(&p.closed_loop_outcome),
+            text(&p.open_loop_outcome),
+        ])?;
     }
-    csv
+    csv.into_bytes()
 }
 
 /// Figs. 8–9.
