@@ -24,10 +24,13 @@
 mod error;
 pub mod geometry;
 mod rig;
+pub mod text;
 mod wire;
 mod wrench;
 
-pub use error::{CoreError, ensure_finite, ensure_positive};
+pub use error::{
+    CoreError, MAX_ROTATION_ANGLE, ensure_finite, ensure_positive, ensure_rotation_vector,
+};
 pub use rig::{Command, FtSample, GripperPoses, Rig};
 pub use wire::WireParams;
 pub use wrench::Wrench;

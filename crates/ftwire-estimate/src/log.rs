@@ -16,11 +16,13 @@
 //! | `markers` | motion-capture markers in the base clamp frame, m, in the order of the marker arc lengths; `null` for a missing marker | no |
 //!
 //! Unknown keys are errors (a typo never passes silently). Blank lines and lines starting with
-//! `#` are skipped. Every error names the line and the offending value.
+//! `#` are skipped. A rotation vector's angle is at most `ftwire_core::MAX_ROTATION_ANGLE`. The
+//! log is UTF-8 text; a leading byte-order mark is dropped. Every error names the line and the
+//! offending value (or, for a byte that is not UTF-8, its column).
 
 use std::io::BufRead;
 
-use ftwire_core::Pose;
+use ftwire_core::{CoreError, Pose, ensure_rotation_vector, text};
 use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
@@ -139,6 +141,12 @@ impl LogRecord {
                 return Err(bad(format!("{key}[{i}]"), values[i], "a finite number"));
             }
         }
+        ensure_rotation_vector("b.rotation", &self.b.rotation).map_err(|e| {
+            EstimateError::BadLogLine {
+                line,
+                message: e.to_string(),
+            }
+        })?;
         for (k, marker) in self.markers.iter().flatten().enumerate() {
             if let Some(p) = marker
                 && let Some(i) = p.iter().position(|v| !v.is_finite())
@@ -154,8 +162,9 @@ impl LogRecord {
 ///
 /// # Errors
 /// [`EstimateError::BadLogLine`] naming the line (1-based) and the value for a line that is not
-/// valid JSON, has an unknown or missing key, a non-finite number, or a time earlier than the
-/// line before; [`EstimateError::EmptyLog`] when no record is found; [`EstimateError::Io`] when
+/// UTF-8 or not valid JSON, has an unknown or missing key, a non-finite number, a rotation
+/// vector of angle beyond `ftwire_core::MAX_ROTATION_ANGLE`, or a time earlier than the line
+/// before; [`EstimateError::EmptyLog`] when no record is found; [`EstimateError::Io`] when
 /// reading fails.
 ///
 /// # Example
@@ -166,13 +175,33 @@ impl LogRecord {
 /// assert!(ftwire_estimate::log::read_log("{\"time\": 0}".as_bytes()).is_err());
 /// # Ok::<(), ftwire_estimate::EstimateError>(())
 /// ```
-pub fn read_log(reader: impl BufRead) -> Result<Vec<LogRecord>, EstimateError> {
+pub fn read_log(mut reader: impl BufRead) -> Result<Vec<LogRecord>, EstimateError> {
     let mut records: Vec<LogRecord> = Vec::new();
-    for (index, line) in reader.lines().enumerate() {
-        let line_number = index + 1;
-        let text = line.map_err(|e| EstimateError::Io {
-            what: format!("line {line_number} of the log"),
-            message: e.to_string(),
+    let mut bytes = Vec::new();
+    for line_number in 1.. {
+        bytes.clear();
+        let read = reader
+            .read_until(b'\n', &mut bytes)
+            .map_err(|e| EstimateError::Io {
+                what: format!("line {line_number} of the log"),
+                message: e.to_string(),
+            })?;
+        if read == 0 {
+            break;
+        }
+        let line = if line_number == 1 {
+            text::strip_bom(&bytes)
+        } else {
+            &bytes
+        };
+        let text = text::utf8(line).map_err(|e| EstimateError::BadLogLine {
+            line: line_number,
+            message: match e {
+                CoreError::NotUtf8 { column, byte, .. } => format!(
+                    "column {column}: byte 0x{byte:02X} is not valid UTF-8; a log is UTF-8 text"
+                ),
+                e => e.to_string(),
+            },
         })?;
         let trimmed = text.trim();
         if trimmed.is_empty() || trimmed.starts_with('#') {
@@ -271,6 +300,49 @@ mod tests {
                 }
                 other => panic!("{text}: expected BadLogLine, got {other:?}"),
             }
+        }
+    }
+
+    #[test]
+    fn a_leading_bom_is_dropped_and_invalid_utf8_is_located() -> Result<(), EstimateError> {
+        let a = line(r#", "a": [0, 0, 0.01, 0, 0, 0]"#);
+        let plain = read_log(format!("{a}\n").as_bytes())?;
+        let with_bom = [b"\xEF\xBB\xBF".as_slice(), a.as_bytes(), b"\n"].concat();
+        assert_eq!(read_log(with_bom.as_slice())?, plain);
+        // Only at the start: a BOM on a later line is not JSON.
+        let late = [a.as_bytes(), b"\n\xEF\xBB\xBF", a.as_bytes()].concat();
+        assert!(matches!(
+            read_log(late.as_slice()),
+            Err(EstimateError::BadLogLine { line: 2, .. })
+        ));
+        let latin1 = [a.as_bytes(), b"\n# caf\xE9\n"].concat();
+        match read_log(latin1.as_slice()) {
+            Err(EstimateError::BadLogLine { line, message }) => {
+                assert_eq!(line, 2);
+                assert!(
+                    message.contains("column 6") && message.contains("0xE9"),
+                    "{message}"
+                );
+            }
+            other => panic!("expected BadLogLine, got {other:?}"),
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn an_over_large_rotation_vector_is_named_with_its_value() {
+        let input = line(r#", "a": [0, 0, 0.01, 0, 0, 0]"#).replace("0.4]", "1e300]");
+        match read_log(input.as_bytes()) {
+            Err(EstimateError::BadLogLine { line, message }) => {
+                assert_eq!(line, 1);
+                assert!(
+                    message.contains("b.rotation")
+                        && message.contains("1e300")
+                        && message.contains("at most 1e6 rad"),
+                    "{message}"
+                );
+            }
+            other => panic!("expected BadLogLine, got {other:?}"),
         }
     }
 

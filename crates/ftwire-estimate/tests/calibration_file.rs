@@ -64,6 +64,40 @@ fn save_and_load_through_a_file() {
 }
 
 #[test]
+fn a_file_with_a_bom_loads_and_invalid_utf8_is_located() {
+    let calibration = trained(false);
+    let json = calibration.to_json().expect("serialises");
+    let dir = std::env::temp_dir().join(format!("ftwire-calibration-bom-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let with_bom = dir.join("bom.json");
+    std::fs::write(
+        &with_bom,
+        [b"\xEF\xBB\xBF".as_slice(), json.as_bytes()].concat(),
+    )
+    .expect("writes");
+    let loaded = Calibration::load(&with_bom);
+    // A key "é" in Latin-1 (the single byte 0xE9, not UTF-8's two) opening line 2.
+    let latin1 = dir.join("latin1.json");
+    let rest = json.strip_prefix('{').expect("a JSON object");
+    std::fs::write(
+        &latin1,
+        [b"{\n\"\xE9\": 1,".as_slice(), rest.as_bytes()].concat(),
+    )
+    .expect("writes");
+    let bad = Calibration::load(&latin1);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(loaded.expect("a BOM is allowed"), calibration);
+    match bad {
+        Err(EstimateError::CalibrationSyntax {
+            line: 2,
+            column: 2,
+            message,
+        }) => assert!(message.contains("0xE9"), "{message}"),
+        other => panic!("expected a syntax error on line 2, column 2, got {other:?}"),
+    }
+}
+
+#[test]
 fn an_anchored_map_reads_zero_at_zero_and_older_files_stay_unanchored() {
     let calibration = trained(true);
     assert!(

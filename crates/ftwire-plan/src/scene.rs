@@ -26,13 +26,15 @@
 //! tip = { position = [1.2, 0.2, 0.95], rotation = [0.0, 0.0, 3.14] }  # second gripper, world
 //! ```
 //!
-//! Unknown keys, non-finite numbers and non-positive half extents are errors that name the
-//! file, the line and the key or item ([`Scene::from_toml`]).
+//! Unknown keys, non-finite numbers, rotation vectors of angle beyond
+//! `ftwire_core::MAX_ROTATION_ANGLE` and non-positive half extents are errors that name the file,
+//! the line and the key or item ([`Scene::from_toml`]). The file is UTF-8 text, a leading
+//! byte-order mark allowed (`ftwire_core::text::read_text`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use ftwire_core::Pose;
+use ftwire_core::{Pose, ensure_rotation_vector};
 use ftwire_robot::OrientedBox;
 use nalgebra::{Translation3, UnitQuaternion, Vector3, Vector6};
 use serde::Deserialize;
@@ -136,13 +138,20 @@ impl Scene {
     /// Reads a scene file.
     ///
     /// # Errors
-    /// [`PlanError::Read`] if the file cannot be read, else as [`Scene::from_toml`].
+    /// [`PlanError::Read`] if the file cannot be read, [`PlanError::Scene`] with the line and
+    /// column if it is not UTF-8, else as [`Scene::from_toml`].
     pub fn load(path: impl AsRef<Path>) -> Result<Self, PlanError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| PlanError::Read {
-            file: file.clone(),
-            message: e.to_string(),
+        let text = ftwire_core::text::read_text(path).map_err(|e| match e {
+            ftwire_core::CoreError::Unreadable { message } => PlanError::Read {
+                file: file.clone(),
+                message,
+            },
+            e => PlanError::Scene {
+                file: file.clone(),
+                message: e.to_string(),
+            },
         })?;
         Self::from_toml(&text, &file)
     }
@@ -151,7 +160,8 @@ impl Scene {
     ///
     /// # Errors
     /// [`PlanError::Scene`] naming the file, the line and the key or item for malformed TOML,
-    /// an unknown key, a missing key, a non-finite number, a non-positive half extent, or a
+    /// an unknown key, a missing key, a non-finite number, a rotation vector whose angle exceeds
+    /// `ftwire_core::MAX_ROTATION_ANGLE`, a non-positive half extent, or a
     /// configuration that does not give exactly one of `a`, `a_normalised`, `tip`.
     ///
     /// # Example
@@ -189,10 +199,17 @@ impl Scene {
             None => Ok(()),
         };
 
+        // A rotation vector's angle is bounded too (`ftwire_core::MAX_ROTATION_ANGLE`).
+        let rotation = |line: usize, item: &str, key: &'static str, values: &[f64; 3]| {
+            finite(line, item, key, values)?;
+            ensure_rotation_vector(key, values)
+                .map_err(|e| bad(format!("line {line}: {item}: {e}")))
+        };
+
         let base_line = line_of(text, raw.base.span().start);
         let base = raw.base.get_ref();
         finite(base_line, "[base]", "position", &base.position)?;
-        finite(base_line, "[base]", "rotation", &base.rotation)?;
+        rotation(base_line, "[base]", "rotation", &base.rotation)?;
         let base = pose_of(base.position, base.rotation);
 
         let floor = match &raw.floor {
@@ -215,7 +232,7 @@ impl Scene {
             let item = format!("obstacle {:?}", name);
             finite(line, &item, "centre", &o.centre)?;
             finite(line, &item, "half_extents", &o.half_extents)?;
-            finite(line, &item, "rotation", &o.rotation)?;
+            rotation(line, &item, "rotation", &o.rotation)?;
             if let Some(k) = o.half_extents.iter().position(|&h| h <= 0.0) {
                 return Err(bad(format!(
                     "line {line}: {item}: half_extents[{k}] = {} m must be positive",
@@ -244,7 +261,7 @@ impl Scene {
                 }
                 (None, None, Some(t)) => {
                     finite(line, &item, "tip.position", &t.position)?;
-                    finite(line, &item, "tip.rotation", &t.rotation)?;
+                    rotation(line, &item, "tip.rotation", &t.rotation)?;
                     ConfigurationSpec::Tip(pose_of(t.position, t.rotation))
                 }
                 _ => {

@@ -90,6 +90,60 @@ fn non_finite_numbers_are_named() {
 }
 
 #[test]
+fn an_over_large_rotation_vector_is_named_with_its_value_and_the_bound() {
+    let m = error(&GOOD.replace("[0.0, 0.0, -1.57]", "[1e300, 0.0, 0.0]"));
+    assert!(
+        m.contains("line 1")
+            && m.contains("[base]")
+            && m.contains("1e300")
+            && m.contains("at most 1e6 rad"),
+        "{m}"
+    );
+    assert!(!m.contains("NaN"), "{m}");
+    let m = error(&GOOD.replace(
+        "half_extents = [0.1, 0.02, 0.1]",
+        "half_extents = [0.1, 0.02, 0.1]\nrotation = [0.0, 2e6, 0.0]",
+    ));
+    assert!(m.contains("\"wall\"") && m.contains("rotation"), "{m}");
+    // Whole turns are still a rotation: 1000 rad is accepted.
+    assert!(
+        Scene::from_toml(
+            &GOOD.replace("[0.0, 0.0, -1.57]", "[0.0, 0.0, 1000.0]"),
+            "t"
+        )
+        .is_ok()
+    );
+}
+
+#[test]
+fn a_file_with_a_bom_reads_and_invalid_utf8_is_located() {
+    let dir = std::env::temp_dir().join(format!("ftwire-plan-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let with_bom = dir.join("bom.toml");
+    std::fs::write(
+        &with_bom,
+        [b"\xEF\xBB\xBF".as_slice(), GOOD.as_bytes()].concat(),
+    )
+    .expect("writes");
+    let plain = Scene::from_toml(GOOD, "good.toml").expect("valid");
+    assert_eq!(Scene::load(&with_bom).expect("a BOM is allowed"), plain);
+    let latin1 = dir.join("latin1.toml");
+    // "métal" in Latin-1: its é is the single byte 0xE9.
+    let text = GOOD.replace("\"wall\"", "\"m@tal\"");
+    let bytes: Vec<u8> = text
+        .bytes()
+        .map(|b| if b == b'@' { 0xE9 } else { b })
+        .collect();
+    std::fs::write(&latin1, bytes).expect("writes");
+    let m = Scene::load(&latin1).expect_err("not UTF-8").to_string();
+    assert!(
+        m.contains("latin1.toml") && m.contains("line 9, column 10") && m.contains("0xE9"),
+        "{m}"
+    );
+    std::fs::remove_dir_all(&dir).expect("cleans up");
+}
+
+#[test]
 fn a_configuration_gives_exactly_one_form() {
     let m = error(&GOOD.replace("a = [0.0,", "a_normalised = [1, 1, 1, 1, 1, 1]\na = [0.0,"));
     assert!(m.contains("exactly one") && m.contains("\"start\""), "{m}");

@@ -66,7 +66,7 @@ pub enum SimError {
     #[error(transparent)]
     Sensing(#[from] crate::sensor::SensingError),
     /// A rig setting is out of its allowed range.
-    #[error("rig setting {field} = {value} is not allowed: {allowed}")]
+    #[error("rig setting {field} = {value:?} is not allowed: {allowed}")]
     RigSetting {
         /// Name of the setting.
         field: &'static str,

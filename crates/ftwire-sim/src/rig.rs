@@ -10,6 +10,8 @@
 //! time the grippers need at [`RigConfig::linear_speed`] and [`RigConfig::angular_speed`],
 //! plus [`RigConfig::settle_time`].
 
+use std::ops::RangeInclusive;
+
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
 
 use crate::equilibrium::Equilibrium;
@@ -21,6 +23,19 @@ use crate::sensor::{FtSensor, FtSensorConfig};
 use crate::simulator::Simulator;
 use crate::world::World;
 
+/// The allowed range of [`RigConfig::linear_speed`] \[m/s\] and [`RigConfig::angular_speed`]
+/// \[rad/s\]: 1 mm/s (or mrad/s) to 10 m/s (or rad/s), beyond any robot arm's either way.
+///
+/// With these bounds and [`SETTLE_TIME_RANGE`], a move of the grippers (at most a few metres
+/// and π rad) takes at most about 10⁴ s on the simulated clock, so a run of 10⁵ moves stays
+/// within 10⁹ s: at the sensor's fastest rate ([`crate::sensor::RATE_RANGE`], 1 MHz) that is 10¹⁵
+/// clock ticks, below the 2⁵³ ≈ 9·10¹⁵ the clock counts exactly.
+pub const SPEED_RANGE: RangeInclusive<f64> = 1e-3..=10.0;
+
+/// The allowed range of [`RigConfig::settle_time`] \[s\]: none up to an hour per move (see
+/// [`SPEED_RANGE`] for why the clock needs a bound).
+pub const SETTLE_TIME_RANGE: RangeInclusive<f64> = 0.0..=3600.0;
+
 /// Settings of a [`SimRig`]: its sensing and acting models, its motion timing and its seed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RigConfig {
@@ -31,11 +46,11 @@ pub struct RigConfig {
     pub markers: MarkerConfig,
     /// Robot execution error (default: none; [`ExecutionErrorConfig::paper`] is 10 mm and 3°).
     pub execution: ExecutionErrorConfig,
-    /// Gripper speed used to time a move \[m/s\] (default `0.05`).
+    /// Gripper speed used to time a move \[m/s\], in [`SPEED_RANGE`] (default `0.05`).
     pub linear_speed: f64,
-    /// Gripper angular speed used to time a move \[rad/s\] (default `0.5`).
+    /// Gripper angular speed used to time a move \[rad/s\], in [`SPEED_RANGE`] (default `0.5`).
     pub angular_speed: f64,
-    /// Time to settle after each move \[s\] (default `0.1`).
+    /// Time to settle after each move \[s\], in [`SETTLE_TIME_RANGE`] (default `0.1`).
     pub settle_time: f64,
     /// Seed of every random choice of the rig: sensor noise, drift and dropouts, marker noise
     /// and dropouts, execution error (default `0`). Same seed, same run.
@@ -84,23 +99,31 @@ impl RigConfig {
         FtSensor::new(self.sensor.clone(), 0)?;
         MotionCapture::new(self.markers.clone(), 0)?;
         ExecutionErrorModel::new(self.execution, 0)?;
-        for (field, value) in [
-            ("linear_speed", self.linear_speed),
-            ("angular_speed", self.angular_speed),
+        for (field, value, allowed) in [
+            (
+                "linear_speed",
+                self.linear_speed,
+                "a speed in [0.001, 10] m/s",
+            ),
+            (
+                "angular_speed",
+                self.angular_speed,
+                "a speed in [0.001, 10] rad/s",
+            ),
         ] {
-            if !(value.is_finite() && value > 0.0) {
+            if !SPEED_RANGE.contains(&value) {
                 return Err(SimError::RigSetting {
                     field,
                     value,
-                    allowed: "a finite speed > 0",
+                    allowed,
                 });
             }
         }
-        if !(self.settle_time.is_finite() && self.settle_time >= 0.0) {
+        if !SETTLE_TIME_RANGE.contains(&self.settle_time) {
             return Err(SimError::RigSetting {
                 field: "settle_time",
                 value: self.settle_time,
-                allowed: "a finite time ≥ 0",
+                allowed: "a time in [0, 3600] s",
             });
         }
         Ok(())

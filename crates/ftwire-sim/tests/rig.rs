@@ -239,6 +239,28 @@ fn bad_rig_settings_are_named() {
             },
             "settle_time",
         ),
+        // Times and speeds that would run the sensor's clock beyond its exact range.
+        (
+            RigConfig {
+                settle_time: 1e300,
+                ..RigConfig::ideal()
+            },
+            "settle_time",
+        ),
+        (
+            RigConfig {
+                linear_speed: 1e-300,
+                ..RigConfig::ideal()
+            },
+            "linear_speed",
+        ),
+        (
+            RigConfig {
+                angular_speed: 1e300,
+                ..RigConfig::ideal()
+            },
+            "angular_speed",
+        ),
     ] {
         match SimRig::new(world(), start(), config) {
             Err(SimError::RigSetting { field: f, .. }) => assert_eq!(f, field),

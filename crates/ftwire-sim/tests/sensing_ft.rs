@@ -344,7 +344,9 @@ fn the_same_seed_gives_the_same_readings_and_another_seed_does_not() {
 fn bad_configurations_are_rejected_with_the_field_named() {
     let field_of = |config: FtSensorConfig| match FtSensor::new(config, 0) {
         Err(SensingError::OutOfRange { field, .. }) => field,
+        Err(SensingError::TimeConstant { field, .. }) => field,
         Err(SensingError::Core(CoreError::NonFinite { field, .. })) => field,
+        Err(SensingError::Core(CoreError::RotationTooLarge { field, .. })) => field,
         Err(SensingError::SingularGain { .. }) => "gain (singular)",
         other => panic!("expected an error, got {other:?}"),
     };
@@ -364,6 +366,13 @@ fn bad_configurations_are_rejected_with_the_field_named() {
         (
             FtSensorConfig {
                 clamp_rotation_in_sensor: [f64::INFINITY, 0.0, 0.0],
+                ..d()
+            },
+            "clamp_rotation_in_sensor",
+        ),
+        (
+            FtSensorConfig {
+                clamp_rotation_in_sensor: [0.0, 1e300, 0.0],
                 ..d()
             },
             "clamp_rotation_in_sensor",
@@ -414,10 +423,32 @@ fn bad_configurations_are_rejected_with_the_field_named() {
         ),
         (
             FtSensorConfig {
+                bias_time_constant: 1e300,
+                ..d()
+            },
+            "bias_time_constant",
+        ),
+        (
+            FtSensorConfig {
                 rate: f64::INFINITY,
                 ..d()
             },
             "rate",
+        ),
+        (FtSensorConfig { rate: 1e300, ..d() }, "rate"),
+        (
+            FtSensorConfig {
+                rate: 1e-300,
+                ..d()
+            },
+            "rate",
+        ),
+        (
+            FtSensorConfig {
+                clock_offset: -1e300,
+                ..d()
+            },
+            "clock_offset",
         ),
         (
             FtSensorConfig {

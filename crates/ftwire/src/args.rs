@@ -7,7 +7,8 @@
 //!
 //! Vectors are comma separated, `X,Y,Z`; a leading minus sign is allowed in both
 //! `--opt -1,2,3` and `--opt=-1,2,3` (the options take hyphen values); every component must be
-//! a finite number, so `nan` and `inf` are bad input (exit 2) naming the option.
+//! a finite number, so `nan` and `inf` are bad input (exit 2) naming the option. A rotation
+//! vector's norm (its angle) is at most `ftwire_core::MAX_ROTATION_ANGLE` ([`parse_rotation`]).
 //!
 //! The options' doc comments are clap's `--help` text, which shows them verbatim: their units
 //! are written `[m]`, not as escaped Markdown, hence the allowed "links" below.
@@ -73,6 +74,26 @@ pub fn parse_numbers<const N: usize>(text: &str) -> Result<Numbers<N>, String> {
         *slot = parse_finite(part).map_err(fail)?;
     }
     Ok(Numbers(out))
+}
+
+/// The value parser of every rotation-vector option (`RX,RY,RZ`, axis × angle \[rad\]): three
+/// finite numbers whose norm, the angle, is at most `ftwire_core::MAX_ROTATION_ANGLE` (10⁶ rad;
+/// its docs say why).
+///
+/// # Errors
+/// As [`parse_numbers`], or an angle beyond the bound, with the value and the bound.
+///
+/// # Example
+/// ```
+/// use ftwire::args::parse_rotation;
+/// assert_eq!(parse_rotation("0,0,-3.1").map(|v| v.0), Ok([0.0, 0.0, -3.1]));
+/// let e = parse_rotation("1e300,0,0").expect_err("too large");
+/// assert!(e.contains("1e300") && e.contains("1e6 rad"), "{e}");
+/// ```
+pub fn parse_rotation(text: &str) -> Result<Vec3, String> {
+    let rotation = parse_numbers::<3>(text)?;
+    ftwire_core::ensure_rotation_vector("RX,RY,RZ", &rotation.0).map_err(|e| e.to_string())?;
+    Ok(rotation)
 }
 
 /// The value parser of every scalar option: one finite number (a leading minus allowed).
@@ -196,12 +217,13 @@ pub struct PoseArgs {
         value_parser = parse_numbers::<3>
     )]
     pub position: Vec3,
-    /// Target rotation as a rotation vector (axis times angle) [rad]: RX,RY,RZ.
+    /// Target rotation as a rotation vector (axis times angle) [rad]: RX,RY,RZ, of norm at most
+    /// 1e6.
     #[arg(
         long,
         value_name = "RX,RY,RZ",
         allow_hyphen_values = true,
-        value_parser = parse_numbers::<3>
+        value_parser = parse_rotation
     )]
     pub rotation: Vec3,
 }
@@ -225,12 +247,12 @@ pub struct TipPoseArgs {
     )]
     pub tip_position: Vec3,
     /// Tip clamp orientation as a rotation vector (axis × angle) [rad] in the base clamp frame:
-    /// RX,RY,RZ.
+    /// RX,RY,RZ, of norm at most 1e6.
     #[arg(
         long,
         value_name = "RX,RY,RZ",
         allow_hyphen_values = true,
-        value_parser = parse_numbers::<3>
+        value_parser = parse_rotation
     )]
     pub tip_rotation: Vec3,
 }

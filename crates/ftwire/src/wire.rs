@@ -75,7 +75,7 @@ pub struct WireSpec {
 /// Why a wire could not be had.
 #[derive(Debug, Error)]
 pub enum WireSpecError {
-    /// Neither a preset nor an existing file.
+    /// Neither a preset nor a name of a file (see [`WireSpec::load`]).
     #[error(
         "unknown wire {given:?}: give a preset ({}) or a path to a .toml wire file",
         PRESETS.join(", ")
@@ -141,7 +141,8 @@ impl WireSpec {
         })
     }
 
-    /// A preset name, or else a path to a wire file.
+    /// A preset name, or else a path to a wire file (a name that looks like a path, or where
+    /// something exists, is read as a file, so that a file that cannot be read says why).
     ///
     /// # Errors
     /// [`WireSpecError`] naming what was wrong.
@@ -149,15 +150,20 @@ impl WireSpec {
         if let Some(wire) = Self::preset(given) {
             return Ok(wire);
         }
-        let path = Path::new(given);
-        if !path.exists() {
+        if !crate::setup::names_a_file(given) {
             return Err(WireSpecError::Unknown {
                 given: given.to_owned(),
             });
         }
-        let text = std::fs::read_to_string(path).map_err(|e| WireSpecError::Read {
-            path: given.to_owned(),
-            message: e.to_string(),
+        let text = ftwire_core::text::read_text(Path::new(given)).map_err(|e| match e {
+            ftwire_core::CoreError::Unreadable { message } => WireSpecError::Read {
+                path: given.to_owned(),
+                message,
+            },
+            e => WireSpecError::Parse {
+                path: given.to_owned(),
+                message: e.to_string(),
+            },
         })?;
         Self::from_toml(&text, given)
     }

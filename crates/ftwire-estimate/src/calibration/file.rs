@@ -141,11 +141,26 @@ impl Calibration {
     /// Reads a calibration written by [`Calibration::save`].
     ///
     /// # Errors
-    /// [`EstimateError::CalibrationIo`] when the file cannot be read; otherwise as
-    /// [`Calibration::from_json`].
+    /// [`EstimateError::CalibrationIo`] when the file cannot be read,
+    /// [`EstimateError::CalibrationSyntax`] with the line and column when it is not UTF-8 (a
+    /// leading byte-order mark is allowed); otherwise as [`Calibration::from_json`].
     pub fn load(path: &Path) -> Result<Self, EstimateError> {
-        let json = std::fs::read_to_string(path).map_err(|e| io_error(path, &e))?;
-        Self::from_json(&json)
+        let bytes = std::fs::read(path).map_err(|e| io_error(path, &e))?;
+        let json = ftwire_core::text::decode(&bytes).map_err(|e| match e {
+            ftwire_core::CoreError::NotUtf8 {
+                line, column, byte, ..
+            } => EstimateError::CalibrationSyntax {
+                line,
+                column,
+                message: format!("byte 0x{byte:02X} is not valid UTF-8; the file must be UTF-8"),
+            },
+            e => EstimateError::CalibrationSyntax {
+                line: 0,
+                column: 0,
+                message: e.to_string(),
+            },
+        })?;
+        Self::from_json(json)
     }
 
     fn to_file(&self) -> CalibrationFile {

@@ -14,7 +14,7 @@ pub enum SensingError {
     Core(#[from] CoreError),
 
     /// A configuration value lies outside its allowed range.
-    #[error("{field}[{index}] = {value} is out of range; allowed is {}", allowed_range(*min, *max))]
+    #[error("{field}[{index}] = {value:?} is out of range; allowed is {}", allowed_range(*min, *max))]
     OutOfRange {
         /// Name of the offending field.
         field: &'static str,
@@ -25,6 +25,19 @@ pub enum SensingError {
         /// Smallest allowed value.
         min: f64,
         /// Largest allowed value.
+        max: f64,
+    },
+
+    /// A time constant that is neither in `(0, max]` nor infinite.
+    #[error(
+        "{field} = {value:?} is out of range; allowed is > 0 and ≤ {max:e} s, or inf (no decay)"
+    )]
+    TimeConstant {
+        /// Name of the offending field.
+        field: &'static str,
+        /// The offending value \[s\].
+        value: f64,
+        /// The largest finite value allowed \[s\].
         max: f64,
     },
 

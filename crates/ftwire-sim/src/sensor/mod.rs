@@ -5,6 +5,9 @@ mod error;
 mod wrench;
 
 pub use error::SensingError;
-pub use wrench::{FtSensor, FtSensorConfig, MAX_CUBIC_NONLINEARITY};
+pub use wrench::{
+    CLOCK_OFFSET_RANGE, FtSensor, FtSensorConfig, MAX_BIAS_TIME_CONSTANT, MAX_CUBIC_NONLINEARITY,
+    RATE_RANGE,
+};
 
 pub(crate) use error::{all_in_range, in_range};

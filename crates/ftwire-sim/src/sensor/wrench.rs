@@ -21,7 +21,9 @@
 //! given a bias: it is the ground-truth calibration that a learnt calibration is compared with.
 //! Algorithms must not use it; like a real robot, they must learn the calibration from data.
 
-use ftwire_core::{FtSample, Pose, Wrench, ensure_finite};
+use std::ops::RangeInclusive;
+
+use ftwire_core::{FtSample, Pose, Wrench, ensure_finite, ensure_rotation_vector};
 use nalgebra::{Matrix6, Translation3, UnitQuaternion, Vector3, Vector6};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -34,6 +36,20 @@ use super::error::{all_in_range, in_range};
 /// Largest magnitude allowed for a cubic nonlinearity coefficient `k_i` (a "mild"
 /// nonlinearity: at most 10 % of full scale at full scale).
 pub const MAX_CUBIC_NONLINEARITY: f64 = 0.1;
+
+/// The allowed range of [`FtSensorConfig::rate`] \[Hz\]: a reading a second to 1 MHz (real F/T
+/// sensors run at 100 Hz–10 kHz). Bounded so that a run's clock counts its ticks exactly: see
+/// `ftwire_sim::rig::SPEED_RANGE` for the run length the rig's bounds allow.
+pub const RATE_RANGE: RangeInclusive<f64> = 1.0..=1e6;
+
+/// The allowed range of [`FtSensorConfig::clock_offset`] \[s\]: within about 11 days of zero
+/// either way, so that the time of a tick (`clock_offset + k / rate`) keeps the clock's
+/// resolution over a run.
+pub const CLOCK_OFFSET_RANGE: RangeInclusive<f64> = -1e6..=1e6;
+
+/// The largest finite [`FtSensorConfig::bias_time_constant`] \[s\] (about 30 years): a longer
+/// one is a random walk over any run; `inf` says so exactly.
+pub const MAX_BIAS_TIME_CONSTANT: f64 = 1e9;
 
 /// Tolerance, in clock periods, below which a time counts as lying on a clock tick.
 const TICK_TOLERANCE: f64 = 1e-9;
@@ -64,9 +80,10 @@ pub struct FtSensorConfig {
     /// `sensor_from_clamp` (default `[0, 0, 0.08]`, the clamp 80 mm out along the sensor's tool
     /// axis z).
     pub clamp_position_in_sensor: [f64; 3],
-    /// Orientation of the clamp frame in the sensor frame, as a rotation vector \[rad\]: the
-    /// rotation of `sensor_from_clamp` (default `−(2π/3)/√3 · (1, 1, 1)`, which maps the clamp
-    /// axes x, y, z — x the wire tangent — onto the sensor axes z, x, y).
+    /// Orientation of the clamp frame in the sensor frame, as a rotation vector \[rad\] of norm
+    /// at most `ftwire_core::MAX_ROTATION_ANGLE`: the rotation of `sensor_from_clamp` (default
+    /// `−(2π/3)/√3 · (1, 1, 1)`, which maps the clamp axes x, y, z — x the wire tangent — onto
+    /// the sensor axes z, x, y).
     pub clamp_rotation_in_sensor: [f64; 3],
     /// Gain and cross-talk matrix `G`, row-major, force first, acting on the sensor-frame wrench:
     /// force rows and columns in \[N\], torque in \[N·m\], so force-to-torque entries are in
@@ -90,17 +107,18 @@ pub struct FtSensorConfig {
     /// 8e-5]`: about 0.3 noise σ per minute, and a stationary spread of about 0.7 σ with the
     /// default time constant).
     pub bias_random_walk: [f64; 6],
-    /// Time constant `T` of the bias drift \[s\], `> 0`: the bias is a first-order Gauss–Markov
-    /// process around the initial bias, with stationary standard deviation `q_i √(T/2)`;
-    /// `f64::INFINITY` (TOML `inf`) gives a pure random walk (default `600`).
+    /// Time constant `T` of the bias drift \[s\], `> 0` and at most [`MAX_BIAS_TIME_CONSTANT`],
+    /// or infinite: the bias is a first-order Gauss–Markov process around the initial bias,
+    /// with stationary standard deviation `q_i √(T/2)`; `f64::INFINITY` (TOML `inf`) gives a
+    /// pure random walk (default `600`).
     pub bias_time_constant: f64,
     /// White-noise standard deviation `σ_i` per channel \[N, N·m\]
     /// (default `[0.05, 0.05, 0.05, 0.002, 0.002, 0.002]`).
     pub noise_std: [f64; 6],
-    /// Sample rate of the sensor clock \[Hz\], `> 0` (default `1000`).
+    /// Sample rate of the sensor clock \[Hz\], in [`RATE_RANGE`] (default `1000`).
     pub rate: f64,
-    /// Time of the clock tick with index 0 \[s\]; ticks fall at `clock_offset + k / rate`
-    /// (default `0`).
+    /// Time of the clock tick with index 0 \[s\], in [`CLOCK_OFFSET_RANGE`]; ticks fall at
+    /// `clock_offset + k / rate` (default `0`).
     pub clock_offset: f64,
     /// Probability that a read fails with [`SensingError::Dropout`], in `[0, 1)`
     /// (default `1e-4`).
@@ -196,7 +214,7 @@ impl FtSensorConfig {
 
     fn validate(&self) -> Result<(), SensingError> {
         ensure_finite("clamp_position_in_sensor", &self.clamp_position_in_sensor)?;
-        ensure_finite("clamp_rotation_in_sensor", &self.clamp_rotation_in_sensor)?;
+        ensure_rotation_vector("clamp_rotation_in_sensor", &self.clamp_rotation_in_sensor)?;
         ensure_finite("gain", self.gain.as_flattened())?;
         all_in_range(
             "cubic_nonlinearity",
@@ -207,18 +225,23 @@ impl FtSensorConfig {
         all_in_range("full_scale", &self.full_scale, f64::MIN_POSITIVE, f64::MAX)?;
         ensure_finite("initial_bias", &self.initial_bias)?;
         all_in_range("bias_random_walk", &self.bias_random_walk, 0.0, f64::MAX)?;
-        if self.bias_time_constant.is_nan() || self.bias_time_constant <= 0.0 {
-            return Err(SensingError::OutOfRange {
+        let t = self.bias_time_constant;
+        if !(t == f64::INFINITY || (t > 0.0 && t <= MAX_BIAS_TIME_CONSTANT)) {
+            return Err(SensingError::TimeConstant {
                 field: "bias_time_constant",
-                index: 0,
-                value: self.bias_time_constant,
-                min: f64::MIN_POSITIVE,
-                max: f64::INFINITY,
+                value: t,
+                max: MAX_BIAS_TIME_CONSTANT,
             });
         }
         all_in_range("noise_std", &self.noise_std, 0.0, f64::MAX)?;
-        in_range("rate", 0, self.rate, f64::MIN_POSITIVE, f64::MAX)?;
-        ensure_finite("clock_offset", &[self.clock_offset])?;
+        in_range("rate", 0, self.rate, *RATE_RANGE.start(), *RATE_RANGE.end())?;
+        in_range(
+            "clock_offset",
+            0,
+            self.clock_offset,
+            *CLOCK_OFFSET_RANGE.start(),
+            *CLOCK_OFFSET_RANGE.end(),
+        )?;
         in_range(
             "dropout_probability",
             0,

@@ -235,8 +235,26 @@ impl Phase {
 pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let total = Instant::now();
     let seed = args.seed.seed;
+    // Every input is read and checked before any work: a bad one is exit 2 at once.
     let wire = WireSpec::load(&args.wire).map_err(|e| CliError::bad_input(e.to_string()))?;
     let setup = args.setup.load()?;
+    let (scene, scene_name) = match &args.scene {
+        Some(path) => (
+            Scene::load(path).map_err(|e| from_plan(e, "--scene"))?,
+            path.display().to_string(),
+        ),
+        None => (
+            Scene::from_toml(PASSAGE, "scenes/passage.toml")
+                .map_err(|e| from_plan(e, "the built-in passage scene"))?,
+            "scenes/passage.toml".to_owned(),
+        ),
+    };
+    // The plan of phase 4 runs from the scene's `start` to its `goal`.
+    for name in ["start", "goal"] {
+        scene
+            .configuration(name)
+            .map_err(|e| from_plan(e, "--scene"))?;
+    }
     let known = WireSpec::preset(KNOWN_WIRE)
         .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
     let inputs = OutGuard::default()
@@ -324,18 +342,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         shape.configurations, shape.mean_mm_overall
     ));
 
-    // 4. Plan through the scene for the identified wire.
-    let (scene, scene_name) = match &args.scene {
-        Some(path) => (
-            Scene::load(path).map_err(|e| from_plan(e, "--scene"))?,
-            path.display().to_string(),
-        ),
-        None => (
-            Scene::from_toml(PASSAGE, "scenes/passage.toml")
-                .map_err(|e| from_plan(e, "the built-in passage scene"))?,
-            "scenes/passage.toml".to_owned(),
-        ),
-    };
+    // 4. Plan through the scene for the identified wire (read before phase 1).
     let phase = Phase::start(4, "plan through the passage", 1);
     // The controller's model: the identified one, with gravity in the base clamp frame. Where
     // the plan keeps a distance from the folds (under `increment` and `absolute`), it keeps it

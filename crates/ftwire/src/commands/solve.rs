@@ -2,7 +2,9 @@
 //!
 //! The batch answers each line as soon as it is read, on one flushed line, so that another
 //! process can drive `ftwire solve --batch -` as a service (one line in, one line out). A bad
-//! line gets an error object `{"error", "kind", "line"}` and the batch goes on. At the end of
+//! line (invalid JSON, or bytes that are not UTF-8) gets an error object
+//! `{"error", "kind", "line"}` and the batch goes on; a byte-order mark before the first line
+//! is dropped. At the end of
 //! the input the exit code sums the batch up: 0 if every line was answered, 2 if any line was
 //! bad input, else 1 if any line had no answer (an integration that diverged).
 
@@ -13,6 +15,7 @@ use std::path::Path;
 use ftwire::args::default_radius;
 use ftwire::error::{CliError, EXIT_BAD_INPUT, from_rod};
 use ftwire::output::{self, ErrorLine, JsonLines, Report};
+use ftwire_core::text;
 use ftwire_rod::{DEFAULT_NODES, Load, Rod, Solution, WireParams};
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
@@ -68,7 +71,7 @@ fn solve(wire: WireParams, load: Load, a: &[f64; 6], nodes: usize) -> Result<Sol
 
 /// A batch always prints JSON Lines, so `--json` changes nothing there.
 fn run_batch(path: &Path) -> Result<(), CliError> {
-    let input: Box<dyn BufRead> = if path.as_os_str() == "-" {
+    let mut input: Box<dyn BufRead> = if path.as_os_str() == "-" {
         Box::new(io::stdin().lock())
     } else {
         let file = File::open(path).map_err(|e| {
@@ -78,14 +81,32 @@ fn run_batch(path: &Path) -> Result<(), CliError> {
     };
     let mut out = JsonLines::new(io::stdout().lock());
     let (mut bad_input, mut no_answer) = (0_usize, 0_usize);
-    for (index, line) in input.lines().enumerate() {
-        let number = index + 1;
-        let line =
-            line.map_err(|e| CliError::io(format!("reading line {number} of the batch"), e))?;
-        if line.trim().is_empty() {
-            continue;
+    let mut bytes = Vec::new();
+    for number in 1.. {
+        bytes.clear();
+        let read = input
+            .read_until(b'\n', &mut bytes)
+            .map_err(|e| CliError::io(format!("reading line {number} of the batch"), e))?;
+        if read == 0 {
+            break;
         }
-        match answer(&line) {
+        // A byte-order mark that an editor put before the first line is not part of it.
+        let line = if number == 1 {
+            text::strip_bom(&bytes)
+        } else {
+            &bytes
+        };
+        let result = match text::utf8(line) {
+            Ok(line) if line.trim().is_empty() => continue,
+            Ok(line) => answer(line),
+            Err(e) => Err(CliError::bad_input(match e {
+                ftwire_core::CoreError::NotUtf8 { column, byte, .. } => format!(
+                    "column {column}: byte 0x{byte:02X} is not valid UTF-8; a batch is UTF-8 text"
+                ),
+                e => e.to_string(),
+            })),
+        };
+        match result {
             Ok(solution) => out.write(&Output::from(&solution))?,
             Err(error) => {
                 if error.exit_code() == EXIT_BAD_INPUT {

@@ -4,7 +4,9 @@
 //! Every key, its unit, default and allowed range is in `docs/config.md`; `ftwire init DIR`
 //! writes a commented example of each file. Missing keys take the library's defaults
 //! (`ftwire_sim::FtSensorConfig::default`, `ftwire_sim::RigConfig::default`), unknown keys are
-//! errors, and every error names the file, and the line and the key where there is one.
+//! errors, and every error names the file, and the line and the key where there is one. Files
+//! are UTF-8 text, a leading byte-order mark allowed (`ftwire_core::text::read_text`); a name
+//! that looks like a path is read as one (`names_a_file`), so that its read error is reported.
 //! With neither file, [`SimSetup::default`] is exactly the rig the experiments have always
 //! run against.
 
@@ -24,7 +26,7 @@ pub use sensor::SensorSpec;
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum SetupError {
-    /// Neither a preset nor an existing file.
+    /// Neither a preset nor a name of a file (a path, a `.toml` name, or an existing entry).
     #[error("unknown {kind} {given:?}: give {allowed}")]
     Unknown {
         /// `"sensor"` or `"rig"`.
@@ -65,13 +67,35 @@ fn read_toml<T: DeserializeOwned>(
     kind: &'static str,
     path: &Path,
 ) -> Result<(T, String), SetupError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SetupError::Read {
-        kind,
-        path: path.display().to_string(),
-        message: e.to_string(),
+    let file = path.display().to_string();
+    let text = ftwire_core::text::read_text(path).map_err(|e| match e {
+        ftwire_core::CoreError::Unreadable { message } => SetupError::Read {
+            kind,
+            path: file.clone(),
+            message,
+        },
+        e => SetupError::Bad {
+            kind,
+            path: file.clone(),
+            message: e.to_string(),
+        },
     })?;
-    let value = parse_toml(kind, &text, &path.display().to_string())?;
+    let value = parse_toml(kind, &text, &file)?;
     Ok((value, text))
+}
+
+/// Whether `given`, which is not a preset's name, is to be read as a file: it looks like a path
+/// (a path separator, or a `.toml` name), or something exists there, a link that leads nowhere
+/// or round in a loop included. Such a name is read, and the system's error is reported when it
+/// cannot be; any other name is a misspelt preset. Used by `--wire` and `--sensor`.
+pub(crate) fn names_a_file(given: &str) -> bool {
+    let path = Path::new(given);
+    given.contains(std::path::MAIN_SEPARATOR)
+        || given.contains('/')
+        || path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+        || std::fs::symlink_metadata(path).is_ok()
 }
 
 /// Parses the text of a TOML file of `kind` (`path` names it in errors).
@@ -187,6 +211,16 @@ impl SimSetup {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_path_or_a_toml_name_is_a_file_and_a_bare_word_a_preset() {
+        assert!(names_a_file("loop.toml"));
+        assert!(names_a_file("loop.TOML"));
+        assert!(names_a_file("configs/wire"));
+        assert!(names_a_file("/nonexistent"));
+        assert!(!names_a_file("nitinol-2mm"));
+        assert!(!names_a_file("copper"));
+    }
 
     #[test]
     fn the_line_of_a_key_is_found_at_its_assignment_only() {

@@ -5,9 +5,9 @@
 //! (`ftwire_sim::RigConfig::default`), unknown keys are errors:
 //!
 //! ```toml
-//! linear_speed = 0.05       # gripper speed that times a move [m/s]
-//! angular_speed = 0.5       # [rad/s]
-//! settle_time = 0.1         # after each move [s]
+//! linear_speed = 0.05       # gripper speed that times a move [m/s], in [0.001, 10]
+//! angular_speed = 0.5       # [rad/s], in [0.001, 10]
+//! settle_time = 0.1         # after each move [s], in [0, 3600]
 //!
 //! [markers]                 # motion capture
 //! noise_std = 0.0003        # σ per axis [m]
@@ -122,7 +122,14 @@ mod tests {
         assert!(message.contains("noise"), "{message}");
         let message = error("linear_speed = 0.0\n");
         assert!(message.contains("line 1, key linear_speed"), "{message}");
-        assert!(message.contains("> 0"), "{message}");
+        assert!(message.contains("[0.001, 10] m/s"), "{message}");
+        let message = error("\nsettle_time = 1e300\n");
+        assert!(
+            message.contains("line 2, key settle_time")
+                && message.contains("1e300")
+                && message.contains("[0, 3600] s"),
+            "{message}"
+        );
         let message = error("[markers]\ndropout_probability = 1.5\n");
         assert!(
             message.contains("line 2, key dropout_probability"),

@@ -73,7 +73,8 @@ impl SensorSpec {
         self.name == "undistorted"
     }
 
-    /// A preset name, or else a path to a sensor file.
+    /// A preset name, or else a path to a sensor file (a name that looks like a path, or where
+    /// something exists, is read as a file).
     ///
     /// # Errors
     /// [`SetupError`] naming what was wrong.
@@ -82,7 +83,7 @@ impl SensorSpec {
             return Ok(sensor);
         }
         let path = Path::new(given);
-        if !path.exists() {
+        if !super::names_a_file(given) {
             return Err(SetupError::Unknown {
                 kind: "sensor",
                 given: given.to_owned(),
