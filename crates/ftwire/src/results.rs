@@ -55,9 +55,15 @@ fn children() -> MutexGuard<'static, Vec<Child>> {
 /// # Errors
 /// The child cannot be started or waited for.
 pub fn run_child(command: &mut Command) -> std::io::Result<ExitStatus> {
-    let child = command.spawn()?;
-    let id = child.id();
-    children().push(child);
+    // Spawned under the lock that an interrupt holds to the end: every child is either
+    // registered, and ended by it, or never started.
+    let id = {
+        let mut list = children();
+        let child = command.spawn()?;
+        let id = child.id();
+        list.push(child);
+        id
+    };
     loop {
         {
             let mut list = children();
@@ -86,7 +92,13 @@ pub fn abandon_all_and_exit(code: i32) -> ! {
     }
     let live = live();
     for dir in live.iter() {
-        let _ = fs::remove_dir_all(dir);
+        // A file being created while the folder is walked can make one pass fail.
+        for _ in 0..5 {
+            if fs::remove_dir_all(dir).is_ok() || !dir.exists() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
     }
     std::process::exit(code)
 }

@@ -291,7 +291,13 @@ fn wait_for_experiment(out: &Path) -> bool {
         .expect("a name")
         .to_string_lossy()
         .into_owned();
-    let needle = format!(".{name}.partial-");
+    // The full path: another test may run reproduce into a folder of the same name.
+    let parent = out
+        .parent()
+        .expect("a parent")
+        .to_string_lossy()
+        .into_owned();
+    let needle = format!("{parent}/.{name}.partial-");
     wait_for(Duration::from_secs(60), || {
         processes_mentioning(&needle)
             .iter()
