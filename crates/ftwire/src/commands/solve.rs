@@ -2,22 +2,24 @@
 //!
 //! The batch answers each line as soon as it is read, on one flushed line, so that another
 //! process can drive `ftwire solve --batch -` as a service (one line in, one line out). A bad
-//! line gets an error object `{"error", "kind", "line"}` and the batch goes on. At the end of
-//! the input the exit code sums the batch up: 0 if every line was answered, 2 if any line was
-//! bad input, else 1 if any line had no answer (an integration that diverged).
+//! line (malformed JSON, bytes that are not UTF-8, a value out of range) gets an error object
+//! `{"error", "kind", "line"}` and the batch goes on; a line obeys the bounds of the flags
+//! (`"nodes"` those of `--nodes`, the radius below half the length). At the end of the input
+//! the exit code sums the batch up: 0 if every line was answered, 2 if any line was bad input,
+//! else 1 if any line had no answer (an integration that diverged).
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::Path;
 
-use ftwire::args::default_radius;
+use ftwire::args::{check_radius, default_radius};
 use ftwire::error::{CliError, EXIT_BAD_INPUT, from_rod};
 use ftwire::output::{self, ErrorLine, JsonLines, Report};
 use ftwire_rod::{DEFAULT_NODES, Load, Rod, Solution, WireParams};
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::solve::SolveArgs;
+use crate::cli::solve::{NODES, SolveArgs};
 
 /// Runs `ftwire solve`.
 pub fn run(args: SolveArgs) -> Result<(), CliError> {
@@ -68,9 +70,15 @@ fn solve(wire: WireParams, load: Load, a: &[f64; 6], nodes: usize) -> Result<Sol
 
 /// A batch always prints JSON Lines, so `--json` changes nothing there.
 fn run_batch(path: &Path) -> Result<(), CliError> {
-    let input: Box<dyn BufRead> = if path.as_os_str() == "-" {
+    let mut input: Box<dyn BufRead> = if path.as_os_str() == "-" {
         Box::new(io::stdin().lock())
     } else {
+        if path.is_dir() {
+            return Err(CliError::bad_input(format!(
+                "--batch {}: a folder, not a file; give a JSON Lines file, or - for stdin",
+                path.display()
+            )));
+        }
         let file = File::open(path).map_err(|e| {
             CliError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
         })?;
@@ -78,14 +86,24 @@ fn run_batch(path: &Path) -> Result<(), CliError> {
     };
     let mut out = JsonLines::new(io::stdout().lock());
     let (mut bad_input, mut no_answer) = (0_usize, 0_usize);
-    for (index, line) in input.lines().enumerate() {
-        let number = index + 1;
-        let line =
-            line.map_err(|e| CliError::io(format!("reading line {number} of the batch"), e))?;
-        if line.trim().is_empty() {
-            continue;
+    let mut bytes = Vec::new();
+    for number in 1.. {
+        bytes.clear();
+        let read = input
+            .read_until(b'\n', &mut bytes)
+            .map_err(|e| CliError::io(format!("reading line {number} of the batch"), e))?;
+        if read == 0 {
+            break;
         }
-        match answer(&line) {
+        let answered = match std::str::from_utf8(&bytes) {
+            Ok(line) if line.trim().is_empty() => continue,
+            Ok(line) => answer(line),
+            Err(e) => Err(CliError::bad_input(format!(
+                "the line is not UTF-8 text: byte {} is not valid UTF-8",
+                e.valid_up_to() + 1
+            ))),
+        };
+        match answered {
             Ok(solution) => out.write(&Output::from(&solution))?,
             Err(error) => {
                 if error.exit_code() == EXIT_BAD_INPUT {
@@ -130,12 +148,14 @@ fn answer(line: &str) -> Result<Solution, CliError> {
     let radius = request.radius.unwrap_or_else(default_radius);
     let wire = WireParams::new(c, request.length, radius)
         .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
-    solve(
-        wire,
-        Load::none(),
-        &a,
-        request.nodes.unwrap_or(DEFAULT_NODES),
-    )
+    check_radius(&wire, "radius", "length").map_err(CliError::bad_input)?;
+    let nodes = match request.nodes {
+        Some(nodes) => NODES
+            .check_value("nodes", nodes)
+            .map_err(CliError::bad_input)?,
+        None => DEFAULT_NODES,
+    };
+    solve(wire, Load::none(), &a, nodes)
 }
 
 /// One batch request.
