@@ -120,11 +120,28 @@ pub struct Scene {
     pub configurations: BTreeMap<String, ConfigurationSpec>,
 }
 
-/// Line number (from 1) of byte `offset` in `text`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text.get(..offset)
-        .map_or(0, |head| head.bytes().filter(|&b| b == b'\n').count())
-        + 1
+/// The line numbers of a text's byte offsets: the offsets of its newlines, found once, so that
+/// each look-up is a binary search (a scene of `n` items is read in `O(n log n)`, not by
+/// counting from the start of the file for every item).
+struct Lines {
+    newlines: Vec<usize>,
+}
+
+impl Lines {
+    fn new(text: &str) -> Self {
+        Self {
+            newlines: text
+                .bytes()
+                .enumerate()
+                .filter_map(|(i, b)| (b == b'\n').then_some(i))
+                .collect(),
+        }
+    }
+
+    /// Line number (from 1) of byte `offset`: one more than the newlines before it.
+    fn of(&self, offset: usize) -> usize {
+        self.newlines.partition_point(|&i| i < offset) + 1
+    }
 }
 
 fn pose_of(position: [f64; 3], rotation: [f64; 3]) -> Pose {
@@ -180,8 +197,10 @@ impl Scene {
             file: file.to_string(),
             message,
         };
+        let lines = Lines::new(text);
+        let line_of = |offset: usize| lines.of(offset);
         let raw: SceneToml = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| line_of(text, s.start));
+            let line = e.span().map(|s| line_of(s.start));
             let what = e.message().trim_end().to_string();
             bad(match line {
                 Some(l) => format!("line {l}: {what}"),
@@ -206,7 +225,7 @@ impl Scene {
                 .map_err(|e| bad(format!("line {line}: {item}: {e}")))
         };
 
-        let base_line = line_of(text, raw.base.span().start);
+        let base_line = line_of(raw.base.span().start);
         let base = raw.base.get_ref();
         finite(base_line, "[base]", "position", &base.position)?;
         rotation(base_line, "[base]", "rotation", &base.rotation)?;
@@ -214,7 +233,7 @@ impl Scene {
 
         let floor = match &raw.floor {
             Some(f) => {
-                let line = line_of(text, f.span().start);
+                let line = line_of(f.span().start);
                 finite(line, "[floor]", "height", &[f.get_ref().height])?;
                 Some(f.get_ref().height)
             }
@@ -223,7 +242,7 @@ impl Scene {
 
         let mut boxes = Vec::with_capacity(raw.obstacle.len());
         for (i, spanned) in raw.obstacle.iter().enumerate() {
-            let line = line_of(text, spanned.span().start);
+            let line = line_of(spanned.span().start);
             let o = spanned.get_ref();
             let name = o
                 .name
@@ -247,7 +266,7 @@ impl Scene {
 
         let mut configurations = BTreeMap::new();
         for (name, spanned) in &raw.configuration {
-            let line = line_of(text, spanned.span().start);
+            let line = line_of(spanned.span().start);
             let c = spanned.get_ref();
             let item = format!("configuration {name:?}");
             let spec = match (&c.a, &c.a_normalised, &c.tip) {
@@ -301,5 +320,47 @@ impl Scene {
     /// The boxes as [`OrientedBox`]es, in file order.
     pub fn oriented_boxes(&self) -> Vec<OrientedBox> {
         self.boxes.iter().map(|b| b.geometry).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_numbers_count_the_newlines_before_the_offset() {
+        let text = "a\nbc\n\n\u{e9}d\ne";
+        let lines = Lines::new(text);
+        for offset in 0..=text.len() {
+            let naive = text.as_bytes()[..offset]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1;
+            assert_eq!(lines.of(offset), naive, "offset {offset}");
+        }
+    }
+
+    /// Many obstacles: the error on the last one names its line.
+    #[test]
+    fn an_error_in_the_last_of_many_obstacles_names_its_line() {
+        let count = 5000;
+        let mut text = String::from("[base]\nposition = [0.4, 0.2, 0.9]\n");
+        for k in 0..count {
+            let half = if k + 1 == count { "0.0" } else { "0.1" };
+            text.push_str(&format!(
+                "[[obstacle]]\ncentre = [{k}, 0, 0]\nhalf_extents = [0.1, {half}, 0.1]\n"
+            ));
+        }
+        let message = Scene::from_toml(&text, "many.toml")
+            .expect_err("a flat box")
+            .to_string();
+        // Two lines of [base], then three lines per obstacle.
+        let line = 2 + 3 * (count - 1) + 1;
+        assert!(
+            message.contains(&format!("line {line}: obstacle \"obstacle {count}\"")),
+            "{message}"
+        );
+        assert!(message.contains("half_extents[1]"), "{message}");
     }
 }

@@ -98,6 +98,22 @@ pub(crate) fn predict(world: &World, from: &Equilibrium, base: &Pose, tip: &Pose
     next
 }
 
+/// The error of a motion that has spent more than its work limit after `iterations` Newton
+/// iterations, if it has.
+fn exhausted(
+    settings: &crate::ContinuationSettings,
+    iterations: usize,
+    world: &World,
+) -> Option<SimError> {
+    let edges = world.rod().edges();
+    let limit = settings.work_limit?;
+    (iterations.saturating_mul(edges) > limit).then_some(SimError::WorkExhausted {
+        iterations,
+        edges,
+        limit,
+    })
+}
+
 /// Runs a motion; returns the furthest equilibrium reached and the error that stopped it, if any.
 pub(crate) fn run(
     world: &World,
@@ -150,6 +166,10 @@ pub(crate) fn run_to(
     let mut step = nominal;
     let mut subdivisions = 0;
     while progress < 1.0 {
+        if let Some(error) = exhausted(&settings, motion.iterations, world) {
+            motion.equilibrium.convergence.iterations = motion.iterations;
+            return (motion, Some(error));
+        }
         let next = (progress + step).min(1.0);
         let (bp, tp) = (interpolate(&b0, base, next), interpolate(&t0, tip, next));
         let current = &motion.equilibrium;

@@ -59,6 +59,20 @@ pub enum SimError {
         /// How many times the motion step was halved before giving up.
         subdivisions: usize,
     },
+    /// A motion spent its work limit ([`crate::ContinuationSettings::work_limit`]) before it
+    /// reached its target.
+    #[error(
+        "no equilibrium found: the motion spent its work limit of {limit} Newton iterations \
+         times edges ({iterations} iterations with {edges} edges) before reaching its target"
+    )]
+    WorkExhausted {
+        /// Newton iterations spent by the motion.
+        iterations: usize,
+        /// Edges of the rod it was solved on.
+        edges: usize,
+        /// The limit, in Newton iterations times edges.
+        limit: usize,
+    },
     /// The operation needs a solved equilibrium but there is none yet.
     #[error("no equilibrium has been solved yet; call a solve method first")]
     NotSolved,

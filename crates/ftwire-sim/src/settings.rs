@@ -41,6 +41,13 @@ pub struct ContinuationSettings {
     /// intermediate steps of a motion (default `1e-3`); the last step is solved to the world's
     /// Newton tolerance. The intermediate equilibria only carry the branch to the next step.
     pub path_tolerance: f64,
+    /// Largest work of one motion, in Newton iterations (converged and failed, over all its
+    /// steps and halvings) times edges, the unit in which an iteration's cost grows; once
+    /// spent, the motion fails with [`crate::SimError::WorkExhausted`] (default `None`: no
+    /// limit). A motion along a branch that keeps ending, its steps halved and doubled again,
+    /// otherwise spends Newton's iteration limit on every failed step for as long as it creeps
+    /// forward.
+    pub work_limit: Option<usize>,
 }
 
 impl Default for ContinuationSettings {
@@ -51,6 +58,7 @@ impl Default for ContinuationSettings {
             max_subdivisions: 12,
             snap_distance_fraction: 0.02,
             path_tolerance: 1e-3,
+            work_limit: None,
         }
     }
 }

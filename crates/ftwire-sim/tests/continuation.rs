@@ -255,3 +255,45 @@ fn a_guess_that_misses_the_clamps_is_carried_to_them() {
     assert!(eq.stable_minimum);
     assert!(diff < 1e-6 * cold.base_wrench.to_vector().norm());
 }
+
+/// A work limit ends a motion once its Newton iterations times edges pass it, and a motion
+/// within the limit is the same as without one.
+#[test]
+fn a_motion_stops_at_its_work_limit() {
+    let edges = 20;
+    let world = World::new(RodParams::default().with_edges(edges)).expect("valid");
+    let base = Isometry3::identity();
+    let tip = pose([0.5, 0.1, 0.0], [0.0, 0.0, 0.5]);
+    let far = pose([0.2, 0.3, 0.1], [1.0, 0.5, 2.0]);
+    let sim = Simulator::new(world.clone(), &base, &tip).expect("solves");
+    let limited = |limit: usize| {
+        world.clone().with_continuation(ContinuationSettings {
+            work_limit: Some(limit),
+            ..ContinuationSettings::default()
+        })
+    };
+    // The move takes many steps of a few iterations each: ten iterations' work is too little.
+    let mut tight = Simulator::from_equilibrium(limited(10 * edges), sim.equilibrium().clone());
+    let result = tight.move_grippers(&base, &far);
+    match result {
+        Err(SimError::WorkExhausted {
+            iterations,
+            edges: e,
+            limit,
+        }) => {
+            assert_eq!(e, edges);
+            assert_eq!(limit, 10 * edges);
+            assert!(iterations * edges > limit, "{iterations} iterations");
+        }
+        other => panic!("expected the work limit, got {other:?}"),
+    }
+    // With room to spare, the limit changes nothing.
+    let mut free = sim.clone();
+    free.move_grippers(&base, &far).expect("moves");
+    let mut roomy =
+        Simulator::from_equilibrium(limited(1_000_000 * edges), sim.equilibrium().clone());
+    roomy
+        .move_grippers(&base, &far)
+        .expect("moves within the limit");
+    assert_eq!(roomy.equilibrium().state, free.equilibrium().state);
+}

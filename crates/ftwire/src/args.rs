@@ -112,6 +112,99 @@ pub fn parse_finite(text: &str) -> Result<f64, String> {
     }
 }
 
+/// The allowed range of a whole-number option (a count: trials, samples, nodes), checked by
+/// its value parser before any work, so that no count can ask for more memory or time than
+/// the range's reasoning allows. Each option states its range in its `--help` text. The error
+/// names the option, the value and the range (clap exits 2):
+/// `--pairs 0: at least 1 and at most 10000`.
+///
+/// # Example
+/// ```
+/// use ftwire::args::CountRange;
+/// const PAIRS: CountRange = CountRange::new(1, 10_000);
+/// assert_eq!(PAIRS.check("--pairs", "30"), Ok(30));
+/// assert_eq!(PAIRS.check("--pairs", "0").unwrap_err(), "--pairs 0: at least 1 and at most 10000");
+/// assert!(PAIRS.check("--pairs", "-1").is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CountRange {
+    /// The smallest value allowed.
+    pub min: usize,
+    /// The largest value allowed.
+    pub max: usize,
+}
+
+impl CountRange {
+    /// The range `min..=max`.
+    pub const fn new(min: usize, max: usize) -> Self {
+        Self { min, max }
+    }
+
+    /// Whether `value` is in the range.
+    pub fn contains(&self, value: usize) -> bool {
+        (self.min..=self.max).contains(&value)
+    }
+
+    /// `value` checked against the range; `name` (e.g. `--pairs`, or `"nodes"` of a batch
+    /// line) names it in the error.
+    ///
+    /// # Errors
+    /// Not a whole number, or outside the range.
+    pub fn check_value(&self, name: &str, value: usize) -> Result<usize, String> {
+        if self.contains(value) {
+            Ok(value)
+        } else {
+            Err(format!(
+                "{name} {value}: at least {} and at most {}",
+                self.min, self.max
+            ))
+        }
+    }
+
+    /// `text` parsed and checked against the range; `name` names it in the error.
+    ///
+    /// # Errors
+    /// Not a whole number, or outside the range.
+    pub fn check(&self, name: &str, text: &str) -> Result<usize, String> {
+        let trimmed = text.trim();
+        match trimmed.parse::<usize>() {
+            Ok(value) => self.check_value(name, value),
+            // All digits but too large for the machine: out of range all the same.
+            Err(_) if !trimmed.is_empty() && trimmed.bytes().all(|b| b.is_ascii_digit()) => {
+                Err(format!(
+                    "{name} {trimmed}: at least {} and at most {}",
+                    self.min, self.max
+                ))
+            }
+            Err(_) => Err(format!(
+                "{name} {text:?}: not a whole number (at least {} and at most {})",
+                self.min, self.max
+            )),
+        }
+    }
+}
+
+/// The value parser of every count option: [`CountRange::check`] with the option's name.
+impl clap::builder::TypedValueParser for CountRange {
+    type Value = usize;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<usize, clap::Error> {
+        let name = arg
+            .and_then(clap::Arg::get_long)
+            .map_or_else(|| "the value".to_owned(), |long| format!("--{long}"));
+        self.check(&name, &value.to_string_lossy())
+            .map_err(|message| {
+                clap::Error::raw(clap::error::ErrorKind::ValueValidation, message)
+                    .format(&mut cmd.clone())
+            })
+    }
+}
+
 /// Default wire radius \[m\]: that of `ftwire_sim::RodParams::default()`.
 pub fn default_radius() -> f64 {
     ftwire_sim::RodParams::default().radius
@@ -171,7 +264,8 @@ impl WireArgs {
     /// The validated wire.
     ///
     /// # Errors
-    /// Bad input: `--c` or `--length` missing, or a value that is not finite and positive.
+    /// Bad input: `--c` or `--length` missing, a value that is not finite and positive, or a
+    /// radius of half the length or more ([`check_radius`]).
     pub fn params(&self) -> Result<ftwire_core::WireParams, CliError> {
         let c = self
             .c
@@ -179,9 +273,43 @@ impl WireArgs {
         let length = self
             .length
             .ok_or_else(|| CliError::bad_input("the wire needs --length L"))?;
-        ftwire_core::WireParams::new(c.0, length, self.radius)
-            .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))
+        let wire = ftwire_core::WireParams::new(c.0, length, self.radius)
+            .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
+        check_radius(&wire, "--radius", "--length").map_err(CliError::bad_input)?;
+        Ok(wire)
     }
+}
+
+/// The rule of wire files (`ftwire::wire`) for a wire given otherwise: a radius below half the
+/// length (a wire, not a disc). `radius` and `length` name the two values in the message, e.g.
+/// `--radius` and `--length`.
+///
+/// # Errors
+/// The message, naming both values and the largest radius allowed.
+///
+/// # Example
+/// ```
+/// use ftwire::args::check_radius;
+/// let disc = ftwire_core::WireParams::new([0.1; 3], 0.63, 1.0)?;
+/// let e = check_radius(&disc, "--radius", "--length").unwrap_err();
+/// assert!(e.starts_with("--radius 1: "));
+/// let wire = ftwire_core::WireParams::new([0.1; 3], 0.63, 0.001)?;
+/// assert!(check_radius(&wire, "--radius", "--length").is_ok());
+/// # Ok::<(), ftwire_core::CoreError>(())
+/// ```
+pub fn check_radius(
+    wire: &ftwire_core::WireParams,
+    radius: &str,
+    length: &str,
+) -> Result<(), String> {
+    if 2.0 * wire.radius() < wire.length() {
+        return Ok(());
+    }
+    Err(format!(
+        "{radius} {}: give less than half the wire's length ({length} {} m), a wire, not a disc",
+        wire.radius(),
+        wire.length()
+    ))
 }
 
 /// The wire's weight: its density (the radius is in [`WireArgs`]).

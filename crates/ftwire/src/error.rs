@@ -108,7 +108,7 @@ impl CliError {
 pub fn from_sim(error: ftwire_sim::SimError, context: &str) -> CliError {
     use ftwire_sim::SimError;
     match error {
-        SimError::NewtonFailed { .. } | SimError::NotSolved => {
+        SimError::NewtonFailed { .. } | SimError::WorkExhausted { .. } | SimError::NotSolved => {
             CliError::no_answer(format!("{context}: {error}"))
         }
         _ => CliError::bad_input(format!("{context}: {error}")),

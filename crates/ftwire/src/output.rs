@@ -82,7 +82,9 @@ impl<W: Write> JsonLines<W> {
 }
 
 /// The error object of one bad JSON Lines request: `{"error": ..., "kind": ..., "line": ...}`
-/// (`kind` is [`CliError::kind`], `line` counts from 1).
+/// (`kind` is [`CliError::kind`], `line` counts from 1). Values the message echoes are cut to
+/// [`ECHO_CHARS`] characters ([`shorten_echoes`]), so that a huge bad value is not sent back
+/// whole.
 #[derive(Debug, Serialize)]
 pub struct ErrorLine {
     /// What was wrong.
@@ -97,11 +99,78 @@ impl ErrorLine {
     /// The error object of input line `line` (from 1).
     pub fn new(error: &CliError, line: usize) -> Self {
         Self {
-            error: error.to_string(),
+            error: shorten_echoes(&error.to_string()),
             kind: error.kind(),
             line,
         }
     }
+}
+
+/// The most characters of an echoed value that an error object keeps.
+pub const ECHO_CHARS: usize = 200;
+
+/// `message` with every quoted value longer than [`ECHO_CHARS`] characters (a `"..."` string
+/// with its escapes, as parsers echo a bad value, or a `` `...` `` name) cut to its first
+/// [`ECHO_CHARS`] characters and `… (N characters)`; a message still longer than
+/// `4 ·` [`ECHO_CHARS`] (an unquoted echo) is cut the same way as a whole.
+///
+/// # Example
+/// ```
+/// use ftwire::output::shorten_echoes;
+/// let long = "x".repeat(10_000);
+/// let message = format!("invalid type: string \"{long}\", expected f64 at line 1 column 10015");
+/// let short = shorten_echoes(&message);
+/// assert!(short.starts_with("invalid type: string \"xxx"));
+/// assert!(short.contains("… (10000 characters)\", expected f64 at line 1 column 10015"));
+/// assert!(short.len() < 300);
+/// assert_eq!(shorten_echoes("c must have 3 values"), "c must have 3 values");
+/// ```
+pub fn shorten_echoes(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(8 * ECHO_CHARS));
+    let mut rest = message;
+    while let Some(open) = rest.find(['"', '`']) {
+        let quote = rest[open..].chars().next().unwrap_or('"');
+        out.push_str(&rest[..=open]);
+        let inner = &rest[open + 1..];
+        let Some(close) = closing_quote(inner, quote) else {
+            rest = inner;
+            break;
+        };
+        out.push_str(&cut(&inner[..close]));
+        out.push(quote);
+        rest = &inner[close + 1..];
+    }
+    out.push_str(rest);
+    if out.chars().count() > 4 * ECHO_CHARS {
+        cut(&out)
+    } else {
+        out
+    }
+}
+
+/// The byte index of the quote that closes a value opened by `quote` (`"` skips escaped
+/// characters), if there is one.
+fn closing_quote(inner: &str, quote: char) -> Option<usize> {
+    let mut escaped = false;
+    for (i, c) in inner.char_indices() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' if quote == '"' => escaped = true,
+            c if c == quote => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// `value` cut to its first [`ECHO_CHARS`] characters and `… (N characters)` if longer.
+fn cut(value: &str) -> String {
+    let count = value.chars().count();
+    if count <= ECHO_CHARS {
+        return value.to_owned();
+    }
+    let head: String = value.chars().take(ECHO_CHARS).collect();
+    format!("{head}… ({count} characters)")
 }
 
 /// What produced a result: the first thing in a results folder's `summary.json`.

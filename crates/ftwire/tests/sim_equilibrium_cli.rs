@@ -179,15 +179,22 @@ fn edges_are_bounded_with_a_clear_message() {
             edges,
         ])
     };
-    for (edges, name) in [("2", "--edges"), ("2001", "--edges"), ("0", "--nodes")] {
+    // The old name `--nodes` is the same option, named by its own name in the message.
+    for (edges, name) in [("11", "--edges"), ("2001", "--edges"), ("0", "--nodes")] {
         let out = run(edges, name);
-        assert_exit(&out, 2, &format!("{edges} is not in 3..=2000"), name);
+        let message = format!("--edges {edges}: at least 12 and at most 2000");
+        assert_exit(&out, 2, &message, name);
     }
-    assert_exit(&run("-5", "--edges"), 2, "'--edges <N>'", "-5");
+    assert_exit(
+        &run("-5", "--edges"),
+        2,
+        "--edges \"-5\": not a whole number",
+        "-5",
+    );
     // The old name still works and means edges: N + 1 shape points.
-    let out = run("3", "--nodes");
-    assert_success(&out, "--nodes 3");
-    assert!(String::from_utf8_lossy(&out.stdout).contains("shape: 4 points"));
+    let out = run("12", "--nodes");
+    assert_success(&out, "--nodes 12");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("shape: 13 points"));
 }
 
 #[test]
@@ -254,7 +261,7 @@ fn no_equilibrium_exits_1() {
         "--edges",
         "30",
         "--initial-a",
-        "0,0,10,0,0,0",
+        "0,0,5,0,0,0",
     ]);
     assert_exit(&out, 1, "Newton failed", "far guess");
 }

@@ -160,8 +160,14 @@ fn bad_arguments_exit_2_with_a_clear_message() {
             ],
             "'--a <A1,..,A6>'",
         ),
-        (base(&["--nodes", "1"]), "nodes = 1 is too few"),
-        (base(&["--nodes", "-1"]), "'--nodes <N>'"),
+        (
+            base(&["--nodes", "1"]),
+            "--nodes 1: at least 2 and at most 1000000",
+        ),
+        (
+            base(&["--nodes", "-1"]),
+            "--nodes \"-1\": not a whole number",
+        ),
         (base(&["--radius", "0"]), "radius"),
         (base(&["--radius", "inf"]), "'--radius <R>'"),
         (base(&["--batch", "-"]), "cannot be used with"),

@@ -6,7 +6,7 @@ use ftwire::error::CliError;
 use ftwire::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire::experiment::Gravity;
 use serde::Serialize;
 
@@ -51,8 +51,8 @@ pub struct CommonExperimentArgs {
     #[command(flatten)]
     pub seed: SeedArgs,
     /// Number of trials; for `calibrate`, the configurations visited (each experiment has its own
-    /// default, the paper's where it gives one).
-    #[arg(long)]
+    /// default, the paper's where it gives one), 1 to 10000.
+    #[arg(long, value_name = "N", value_parser = TRIALS)]
     pub trials: Option<usize>,
     /// The results folder (`--out`, `--force`) [default: results/<id>].
     #[command(flatten)]
@@ -107,8 +107,8 @@ pub struct IdentifyExperimentArgs {
     /// format `ftwire identify --log` reads.
     #[arg(long)]
     pub save_log: bool,
-    /// Sample counts to identify from, each from the first N samples of every trial
-    /// [default: 2,3,4,5,7,10,15,20,30].
+    /// Sample counts to identify from, each from the first N samples of every trial, each 2 to
+    /// 500 [default: 2,3,4,5,7,10,15,20,30].
     #[arg(long, value_name = "N,N,..", value_delimiter = ',')]
     pub samples: Option<Vec<usize>>,
     /// The residual form and the known relations between the parameters.
@@ -123,8 +123,8 @@ pub struct IdentifyExperimentArgs {
     /// is a 0.4 s rest): the white noise of `ã` falls as `1/√N`, while the sensor's bias
     /// drifts on for the time the rests take; the two balance near `σ √f / q ≈ 800` for the
     /// default sensor (noise σ, rate f, drift intensity q), and of 100, 400 and 1000 the
-    /// unseen-wire survey measured 400 best. At least 100.
-    #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES)]
+    /// unseen-wire survey measured 400 best. 100 to 100000.
+    #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES, value_parser = REST_SAMPLES)]
     pub rest_samples: usize,
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
@@ -140,6 +140,29 @@ pub use ftwire::experiment::ModelKind as ModelArg;
 
 /// The default of `experiment identify --rest-samples`.
 pub const IDENTIFY_REST_SAMPLES: usize = 400;
+
+/// `--trials` and `--configs`: each trial is bounded by its own settings, and what the
+/// experiments keep of one (a row of results, a trial's samples) is small, so the count
+/// bounds the time and memory linearly; the cap sits far above the paper's counts.
+pub const TRIALS: CountRange = CountRange::new(1, 10_000);
+
+/// `--rest-samples`: at least [`ftwire::experiment::rig::SAMPLES_PER_REST`], so that the rest
+/// average has the half of them that must survive screening; at most 100 s of readings at the
+/// simulated sensor's 1 kHz, whose buffer of one rest stays a few megabytes.
+pub const REST_SAMPLES: CountRange =
+    CountRange::new(ftwire::experiment::rig::SAMPLES_PER_REST, 100_000);
+
+/// `goal --pairs`, `track --pairs`, `passage --attempts`: every roll-out keeps its record for
+/// the summary and the figures (the true centreline at each rest), so the count bounds the
+/// memory linearly; the cap keeps it well under a gigabyte at the default move limits.
+pub const ROLLOUTS: CountRange = CountRange::new(1, 1000);
+
+/// `passage --plan-candidates`: each candidate is a whole plan, made in turn.
+pub const PLAN_CANDIDATES: CountRange = CountRange::new(1, 100);
+
+/// `--waypoint-moves`: a leg's moves are its rests, each recorded, so the cap bounds a
+/// roll-out's record at 1000 rests per waypoint.
+pub const WAYPOINT_MOVES: CountRange = CountRange::new(1, 1000);
 
 /// The F/T pipeline of `ftwire experiment identify`: how `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
@@ -167,8 +190,8 @@ pub struct ShapeExperimentArgs {
     /// The options every experiment takes.
     #[command(flatten)]
     pub common: CommonExperimentArgs,
-    /// Configurations of A_free per wire (the paper: 50).
-    #[arg(long)]
+    /// Configurations of A_free per wire, 1 to 10000 (the paper: 50).
+    #[arg(long, value_name = "N", value_parser = TRIALS)]
     pub configs: Option<usize>,
     /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
     /// calibration is first run on the default known wire and cached in the results folder.
@@ -180,8 +203,8 @@ pub struct ShapeExperimentArgs {
     pub save_log: bool,
     /// F/T samples averaged at each configuration (at the simulated sensor's 1 kHz, 100 is
     /// the 0.1 s of the paper's protocol): the white noise of `ã` falls as `1/√N`; the wire is
-    /// placed just after taring, so the bias drift adds little here. At least 100.
-    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::rig::SAMPLES_PER_REST)]
+    /// placed just after taring, so the bias drift adds little here. 100 to 100000.
+    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::rig::SAMPLES_PER_REST, value_parser = REST_SAMPLES)]
     pub rest_samples: usize,
 }
 
@@ -218,8 +241,8 @@ pub struct GoalExperimentArgs {
     /// The options every experiment takes (`--wire` defaults to nitinol-3mm-820).
     #[command(flatten)]
     pub common: CommonExperimentArgs,
-    /// Start–goal pairs (the paper: 30).
-    #[arg(long, default_value_t = 30)]
+    /// Start–goal pairs, 1 to 1000 (the paper: 30).
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = ROLLOUTS)]
     pub pairs: usize,
     /// The gripper noise of the `noise` runs.
     #[arg(long, value_enum, default_value_t = NoiseModelArg::Increment)]
@@ -285,10 +308,10 @@ pub struct RolloutArgs {
     /// 25 mm of a box stops at no less than 10 mm (`passage`: fewer landings beside a box).
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub shape_stop: Option<f64>,
-    /// Most moves of the closed loop toward each waypoint before the last [default: 20]. A
-    /// tighter `--shape-stop` under `increment` needs more: every move lands the wire about
-    /// 12 mm from where it was sent, and the stop waits for a landing within it.
-    #[arg(long, value_name = "N")]
+    /// Most moves of the closed loop toward each waypoint before the last, 1 to 1000
+    /// [default: 20]. A tighter `--shape-stop` under `increment` needs more: every move lands
+    /// the wire about 12 mm from where it was sent, and the stop waits for a landing within it.
+    #[arg(long, value_name = "N", value_parser = WAYPOINT_MOVES)]
     pub waypoint_moves: Option<usize>,
     /// The shape stop in mm of the legs from or to a waypoint whose planned wire is within
     /// 25 mm of a box: every landing there is a chance to touch it [default: the larger of
@@ -328,22 +351,12 @@ impl RolloutArgs {
         shape_stop(self.shape_stop, self.noise_model)
     }
 
-    /// `--waypoint-moves`, checked, or the default for the noise model
+    /// `--waypoint-moves` (checked by its parser), or the default for the noise model
     /// (`ftwire::experiment::track::through_settings`).
-    ///
-    /// # Errors
-    /// Bad input for 0.
-    pub fn waypoint_moves(&self) -> Result<usize, CliError> {
-        match self.waypoint_moves {
-            None => Ok(
-                ftwire::experiment::track::through_settings(self.noise_model.model())
-                    .max_iterations,
-            ),
-            Some(0) => Err(CliError::bad_input(
-                "--waypoint-moves 0: give at least 1 move toward each waypoint",
-            )),
-            Some(n) => Ok(n),
-        }
+    pub fn waypoint_moves(&self) -> usize {
+        self.waypoint_moves.unwrap_or_else(|| {
+            ftwire::experiment::track::through_settings(self.noise_model.model()).max_iterations
+        })
     }
 
     /// `--near-shape-stop` in metres, checked, or the default for the noise model and
@@ -386,8 +399,8 @@ pub struct TrackExperimentArgs {
     /// The options every experiment takes (`--wire` defaults to nitinol-3mm-820).
     #[command(flatten)]
     pub common: CommonExperimentArgs,
-    /// Start–goal pairs (the paper: 10).
-    #[arg(long, default_value_t = 10)]
+    /// Start–goal pairs, 1 to 1000 (the paper: 10).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = ROLLOUTS)]
     pub pairs: usize,
     /// What limits the closed loop's commanded poses: `any` ignores the arms' kinematics,
     /// as the paper's noise experiments and `experiment goal` do (under `increment` noise the
@@ -411,8 +424,8 @@ pub struct PassageExperimentArgs {
     /// The scene [default: the shipped 50 mm passage, `scenes/passage.toml`].
     #[arg(long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
-    /// Roll-outs of each of open and closed loop (the paper: 10).
-    #[arg(long, default_value_t = 50)]
+    /// Roll-outs of each of open and closed loop, 1 to 1000 (the paper: 10).
+    #[arg(long, value_name = "N", default_value_t = 50, value_parser = ROLLOUTS)]
     pub attempts: usize,
     /// Track the plan's waypoints as resampled, without the clearance polish (by default,
     /// under `increment` and `absolute` noise, each waypoint whose landings, a move there
@@ -422,8 +435,9 @@ pub struct PassageExperimentArgs {
     pub no_polish: bool,
     /// Plans made, each from its own seed, of which the one whose tracked waypoints expect
     /// the fewest touching landings under the paper's noise is tracked (`track::choose_plan`;
-    /// under `increment` and `absolute` only: one plan otherwise). 1 tracks the first plan.
-    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::track::PLAN_CANDIDATES)]
+    /// under `increment` and `absolute` only: one plan otherwise), 1 to 100; 1 tracks the first
+    /// plan.
+    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::track::PLAN_CANDIDATES, value_parser = PLAN_CANDIDATES)]
     pub plan_candidates: usize,
     /// Noise, calibration and gain.
     #[command(flatten)]

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use ftwire::args::{JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
 use ftwire::error::CliError;
 use ftwire_estimate::identify::{IdentifyConfig, ParameterConstraints, ResidualForm};
 use serde::Serialize;
@@ -80,6 +80,10 @@ impl IdentifySettingsArgs {
     }
 }
 
+/// `identify --samples`: a window of the log, whose records are all read in any case (a
+/// million records of a few hundred bytes each).
+pub const LOG_SAMPLES: CountRange = CountRange::new(1, 1_000_000);
+
 /// `ftwire identify --log FILE.jsonl`: identify `η = (c1, c2, c3, L)` from a recorded log.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:\n  \
@@ -98,8 +102,10 @@ pub struct IdentifyArgs {
     /// into configurations; records with `a` are used as they are.
     #[arg(long, value_name = "W")]
     pub calibration: Option<PathBuf>,
-    /// Use only the first N records (default: all).
-    #[arg(long, value_name = "N")]
+    /// Use only the first N records, 1 to 1000000 (default: all). The identification's time
+    /// grows in proportion to the records it uses: a window of the first few hundred of a long
+    /// log gives an estimate in seconds (on a terminal, progress is shown on stderr).
+    #[arg(long, value_name = "N", value_parser = LOG_SAMPLES)]
     pub samples: Option<usize>,
     /// Gravity in the base clamp frame [m/s²]: identify with the loaded model, the wire's
     /// linear density (its weight) as well as `c` and `L` (default: the paper's weightless

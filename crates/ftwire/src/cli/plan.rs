@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
 
 /// The wire a scene is planned or checked for (a preset or a wire file).
 #[derive(Debug, Clone, Args)]
@@ -93,6 +93,19 @@ pub enum PlannerArg {
     Moving,
 }
 
+/// Largest `--time-budget` \[s\]. The tree keeps every node's sample, its wire's centreline
+/// among it (a few kilobytes), and grows by a few hundred nodes a second at most, so ten
+/// minutes keep it under a gigabyte.
+pub const MAX_TIME_BUDGET: f64 = 600.0;
+
+/// `--iterations`: its default, which `--time-budget` ends first on any machine at the
+/// default budget; both bound the tree.
+pub const ITERATIONS: CountRange = CountRange::new(1, 1_000_000);
+
+/// `--resample`: each resampled waypoint is solved, checked and printed whole (a kilobyte or
+/// two in memory and in the output), so the cap bounds both at a few hundred megabytes.
+pub const RESAMPLE: CountRange = CountRange::new(1, 100_000);
+
 /// `ftwire plan`.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:\n  \
@@ -113,7 +126,8 @@ pub struct PlanArgs {
     #[command(flatten)]
     pub endpoints: EndpointArgs,
 
-    /// Wall-clock budget [s]: the best path found by then is returned (anytime).
+    /// Wall-clock budget [s], more than 0 and at most 600: the best path found by then is
+    /// returned (anytime).
     #[arg(
         long,
         value_name = "S",
@@ -123,9 +137,9 @@ pub struct PlanArgs {
     )]
     pub time_budget: f64,
 
-    /// Most iterations (with --time-budget, whichever ends first); the same seed and
-    /// iteration count give the same path.
-    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    /// Most iterations, 1 to 1000000 (with --time-budget, whichever ends first); the same seed
+    /// and iteration count give the same path.
+    #[arg(long, value_name = "N", default_value_t = 1_000_000, value_parser = ITERATIONS)]
     pub iterations: usize,
 
     /// Stop at the first path found (then shortcut it).
@@ -151,8 +165,9 @@ pub struct PlanArgs {
     #[arg(long, value_name = "M", default_value_t = 0.02, value_parser = parse_finite)]
     pub clearance_reference: f64,
 
-    /// Also print the path resampled into N + 1 equally spaced waypoints γ(i/N).
-    #[arg(long, value_name = "N")]
+    /// Also print the path resampled into N + 1 equally spaced waypoints γ(i/N), N from 1 to
+    /// 100000.
+    #[arg(long, value_name = "N", value_parser = RESAMPLE)]
     pub resample: Option<usize>,
 
     /// The planner's seed.

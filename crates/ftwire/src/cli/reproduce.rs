@@ -1,8 +1,12 @@
 //! `ftwire reproduce`.
 
 use clap::Args;
-use ftwire::args::{ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use serde::Serialize;
+
+/// `--jobs`: each job is an experiment process of its own, and there are fewer experiments
+/// than the cap, so more jobs would only add idle threads.
+pub const JOBS: CountRange = CountRange::new(1, 64);
 
 /// `ftwire reproduce`: every experiment of the paper's §IV, one report beside the paper.
 #[derive(Debug, Clone, Args, Serialize)]
@@ -19,9 +23,9 @@ pub struct ReproduceArgs {
     /// Reduced trial counts: a few minutes instead of the full run.
     #[arg(long)]
     pub quick: bool,
-    /// Experiments run at once [default: the machine's cores]. The results do not depend on
-    /// it: every experiment is seeded on its own.
-    #[arg(long, value_name = "N")]
+    /// Experiments run at once, 1 to 64 [default: the machine's cores]. The results do not
+    /// depend on it: every experiment is seeded on its own.
+    #[arg(long, value_name = "N", value_parser = JOBS)]
     pub jobs: Option<usize>,
     /// The results folder (`--out`, `--force`) [default: results/reproduce].
     #[command(flatten)]

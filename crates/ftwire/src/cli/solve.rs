@@ -3,8 +3,14 @@
 use std::path::PathBuf;
 
 use clap::{ArgGroup, Args};
-use ftwire::args::{DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
+use ftwire::args::{CountRange, DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
 use ftwire_rod::DEFAULT_NODES;
+use ftwire_rod::rod::{MAX_NODES, MIN_NODES};
+
+/// `--nodes` (and a batch line's `"nodes"`): the model's own range. The shape (positions and
+/// rotations), the costates and the self-contact search grow in proportion to the nodes, a
+/// couple of hundred bytes each, so a million stay well under a gigabyte.
+pub const NODES: CountRange = CountRange::new(MIN_NODES, MAX_NODES);
 
 /// Arguments of `ftwire solve`: one configuration from flags, or a JSON Lines batch.
 #[derive(Debug, Args)]
@@ -71,12 +77,13 @@ pub struct SolveArgs {
     )]
     pub natural_curvature: Option<Vec3>,
 
-    /// Number of shape nodes from t = 0 to t = L, both ends included (at least 2).
+    /// Number of shape nodes from t = 0 to t = L, both ends included, 2 to 1000000.
     #[arg(
         long,
         value_name = "N",
         default_value_t = DEFAULT_NODES,
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = NODES
     )]
     pub nodes: usize,
 

@@ -9,16 +9,18 @@
 //! tared raw reading to `a`.
 
 use std::fs::File;
-use std::io::{self, BufReader, Write};
+use std::io::{self, BufReader, IsTerminal, Write};
 use std::path::Path;
+use std::time::Duration;
 
 use ftwire::args::default_radius;
 use ftwire::error::{CliError, from_estimate};
 use ftwire::output::{self, Report};
 use ftwire_core::{Pose, WireParams};
-use ftwire_estimate::identify::{Estimate, IdentifyConfig, Unidentified, identify};
+use ftwire_estimate::identify::{Estimate, Identifier, IdentifyConfig, Unidentified, identify};
 use ftwire_estimate::log::{LogRecord, read_log};
 use ftwire_estimate::{Calibration, KirchhoffModel};
+use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -55,7 +57,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
         }
         samples.truncate(n);
     }
-    let estimate = run_identification(&samples, &config, args.seed.seed)
+    let estimate = identify_with_progress(&samples, &config, args.seed.seed)
         .map_err(|e| e.context(format!("identifying from {}", args.log.display())))?;
     let report = EstimateReport::new(&estimate, args.settings.form);
     output::print(&report, args.output.json)?;
@@ -155,6 +157,69 @@ pub fn run_identification(
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     identify(&model, samples, config, &mut rng)
         .map_err(|e| from_estimate(e, "identifying the wire"))
+}
+
+/// How long the search runs between two updates of the progress line.
+const PROGRESS_TICK: Duration = Duration::from_millis(200);
+
+/// As [`run_identification`], the same estimate for the same samples and seed (the search is
+/// cut into steps, which the library's streaming identifier makes independent of the cut),
+/// with a progress line on stderr while it runs, when stderr is a terminal: the search round,
+/// the swarm iteration, the refinement, and the time so far. The time grows in proportion to
+/// the samples, so the line also says how to take fewer (`--samples`).
+///
+/// # Errors
+/// As [`run_identification`].
+pub fn identify_with_progress(
+    samples: &[(Vector6<f64>, Pose)],
+    config: &IdentifyConfig,
+    seed: u64,
+) -> Result<Estimate, CliError> {
+    let failed = |e| from_estimate(e, "identifying the wire");
+    let rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut identifier = Identifier::new(template_model()?, config.clone(), rng).map_err(failed)?;
+    for (a, b) in samples {
+        identifier.push(*a, *b).map_err(failed)?;
+    }
+    let bar = io::stderr().is_terminal().then(|| {
+        let bar = ProgressBar::new_spinner();
+        let style = ProgressStyle::with_template("{spinner} {prefix}: {msg} ({elapsed})")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner());
+        bar.set_style(style);
+        bar.set_prefix(format!(
+            "identifying from {} samples (--samples N takes the first N)",
+            samples.len()
+        ));
+        bar.enable_steady_tick(Duration::from_millis(200));
+        bar
+    });
+    let estimate = loop {
+        let estimate = identifier.step(PROGRESS_TICK);
+        match &estimate {
+            Ok(Estimate {
+                unidentified:
+                    Some(Unidentified::Unfinished {
+                        iterations,
+                        required,
+                    }),
+                ..
+            }) => {
+                if let Some(bar) = &bar {
+                    let round = required / config.swarm_iterations.max(1);
+                    bar.set_message(if iterations < required {
+                        format!("search round {round}, swarm iteration {iterations}/{required}")
+                    } else {
+                        format!("search round {round}, refining the best fits")
+                    });
+                }
+            }
+            _ => break estimate,
+        }
+    };
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    estimate.map_err(failed)
 }
 
 /// A short machine-readable name of why an estimate is not trusted (`None`: identified).

@@ -17,7 +17,7 @@ use ftwire_rod::{Rod, to_normalised};
 use serde::Serialize;
 
 use crate::cli::plan::{
-    PlanArgs, PlanWireArgs, PlannerArg, SceneArgs, SceneCheckArgs, SceneCommand,
+    MAX_TIME_BUDGET, PlanArgs, PlanWireArgs, PlannerArg, SceneArgs, SceneCheckArgs, SceneCommand,
 };
 
 /// A pose as JSON: position \[m\] and rotation vector \[rad\].
@@ -289,18 +289,13 @@ fn check(args: &SceneCheckArgs) -> Result<(), CliError> {
 pub fn run(args: &PlanArgs) -> Result<(), CliError> {
     let budget = Duration::try_from_secs_f64(args.time_budget)
         .ok()
-        .filter(|b| !b.is_zero())
+        .filter(|b| !b.is_zero() && args.time_budget <= MAX_TIME_BUDGET)
         .ok_or_else(|| {
             CliError::bad_input(format!(
-                "--time-budget {} s: give a positive number of seconds (at most about 1.8e19)",
+                "--time-budget {} s: give more than 0 and at most {MAX_TIME_BUDGET} seconds",
                 args.time_budget
             ))
         })?;
-    if args.resample == Some(0) {
-        return Err(CliError::bad_input(
-            "--resample 0: give at least 1 interval (N + 1 waypoints)",
-        ));
-    }
     let (scene, spec, checker) = setup(&args.scene, &args.wire)?;
     let file = args.scene.display().to_string();
     let endpoint = |name: &str, role: &'static str| {

@@ -208,9 +208,6 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
     let jobs = args.jobs.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
-    if jobs == 0 {
-        return Err(CliError::bad_input("--jobs 0: at least one is needed"));
-    }
     // A bad sensor or rig file is bad input before anything runs or is written.
     args.setup.load()?;
     let mut passed_on = Vec::new();

@@ -15,10 +15,12 @@ use ftwire::bridge::kirchhoff_guess;
 use ftwire::error::{CliError, from_rod, from_sim};
 use ftwire::output::{self, Report};
 use ftwire_core::Pose;
-use ftwire_sim::{Equilibrium, RodParams, World};
+use ftwire_rod::to_normalised;
+use ftwire_sim::{ContinuationSettings, Equilibrium, RodParams, World};
+use nalgebra::Vector6;
 use serde::Serialize;
 
-use crate::cli::sim_equilibrium::SimEquilibriumArgs;
+use crate::cli::sim_equilibrium::{MAX_INITIAL_A_NORMALISED, SimEquilibriumArgs, WORK_LIMIT};
 
 /// Runs `ftwire sim-equilibrium`.
 pub fn run(args: SimEquilibriumArgs) -> Result<(), CliError> {
@@ -34,11 +36,19 @@ fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, CliError> {
         radius: wire.radius(),
         density: args.density.density,
         gravity: args.gravity.to_vector(),
-        // Bounded by clap to MIN_EDGES..=MAX_EDGES, far inside usize.
-        edges: usize::try_from(args.edges).unwrap_or(usize::MAX),
+        edges: args.edges,
         ..RodParams::default()
     };
     let world = World::new(params).map_err(|e| from_sim(e, "invalid wire parameters"))?;
+    let settings = ContinuationSettings {
+        work_limit: Some(WORK_LIMIT),
+        ..*world.continuation_settings()
+    };
+    let world = world.with_continuation(settings);
+    check_clamp_distance(args, &wire)?;
+    if let Some(a) = &args.initial_a {
+        check_initial_a(&wire, &a.to_vector())?;
+    }
     let tip = args.tip.pose();
     let Some(a) = &args.initial_a else {
         let motion = world
@@ -57,6 +67,54 @@ fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, CliError> {
                 "no equilibrium for this tip pose from the Kirchhoff shape of --initial-a",
             )
         })
+}
+
+/// Bad input unless the clamp points are at least the wire's diameter apart (closer, its two
+/// clamped ends would overlap); the simulator refuses them farther apart than the length.
+fn check_clamp_distance(
+    args: &SimEquilibriumArgs,
+    wire: &ftwire_core::WireParams,
+) -> Result<(), CliError> {
+    let distance = args.tip.tip_position.to_vector().norm();
+    let diameter = 2.0 * wire.radius();
+    if distance < diameter {
+        return Err(CliError::bad_input(format!(
+            "--tip-position {}: the clamp points are {distance} m apart; give at least the \
+             wire's diameter 2 · --radius = {diameter} m (closer, the wire's two clamped ends \
+             would overlap) and at most its length {} m",
+            args.tip.tip_position,
+            wire.length()
+        )));
+    }
+    Ok(())
+}
+
+/// Bad input unless every component of `a` is within [`MAX_INITIAL_A_NORMALISED`] in the
+/// wire's normalised units; the message gives the range in N·m and N.
+fn check_initial_a(wire: &ftwire_core::WireParams, a: &Vector6<f64>) -> Result<(), CliError> {
+    let normalised = to_normalised(wire, a);
+    let Some(k) = (0..6).find(|&k| normalised[k].abs() > MAX_INITIAL_A_NORMALISED) else {
+        return Ok(());
+    };
+    let c2 = wire.c()[1];
+    let l = wire.length();
+    let (torque, force) = (
+        MAX_INITIAL_A_NORMALISED * c2 / l,
+        MAX_INITIAL_A_NORMALISED * c2 / (l * l),
+    );
+    let name = ["τ1", "τ2", "τ3", "f1", "f2", "f3"][k];
+    let unit = if k < 3 { "N·m" } else { "N" };
+    // Plain digits for ordinary magnitudes, an exponent for the rest (1e300, not 301 digits).
+    let value = if (1e-4..1e6).contains(&a[k].abs()) {
+        format!("{}", a[k])
+    } else {
+        format!("{:e}", a[k])
+    };
+    Err(CliError::bad_input(format!(
+        "--initial-a: {name} = {value} {unit} is too large for this wire: give each torque \
+         within ±{torque:.4} N·m and each force within ±{force:.4} N \
+         ({MAX_INITIAL_A_NORMALISED} in units of c2/L and c2/L²)"
+    )))
 }
 
 /// The JSON (and text) answer.

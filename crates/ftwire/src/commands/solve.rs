@@ -2,17 +2,18 @@
 //!
 //! The batch answers each line as soon as it is read, on one flushed line, so that another
 //! process can drive `ftwire solve --batch -` as a service (one line in, one line out). A bad
-//! line (invalid JSON, or bytes that are not UTF-8) gets an error object
-//! `{"error", "kind", "line"}` and the batch goes on; a byte-order mark before the first line
-//! is dropped. At the end of
-//! the input the exit code sums the batch up: 0 if every line was answered, 2 if any line was
-//! bad input, else 1 if any line had no answer (an integration that diverged).
+//! line (malformed JSON, bytes that are not UTF-8, a value out of range) gets an error object
+//! `{"error", "kind", "line"}` and the batch goes on; a line obeys the bounds of the flags
+//! (`"nodes"` those of `--nodes`, the radius below half the length), and a byte-order mark
+//! before the first line is dropped. At the end of the input the exit code sums the batch up:
+//! 0 if every line was answered, 2 if any line was bad input, else 1 if any line had no answer
+//! (an integration that diverged).
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::Path;
 
-use ftwire::args::default_radius;
+use ftwire::args::{check_radius, default_radius};
 use ftwire::error::{CliError, EXIT_BAD_INPUT, from_rod};
 use ftwire::output::{self, ErrorLine, JsonLines, Report};
 use ftwire_core::text;
@@ -20,7 +21,7 @@ use ftwire_rod::{DEFAULT_NODES, Load, Rod, Solution, WireParams};
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::solve::SolveArgs;
+use crate::cli::solve::{NODES, SolveArgs};
 
 /// Runs `ftwire solve`.
 pub fn run(args: SolveArgs) -> Result<(), CliError> {
@@ -74,6 +75,12 @@ fn run_batch(path: &Path) -> Result<(), CliError> {
     let mut input: Box<dyn BufRead> = if path.as_os_str() == "-" {
         Box::new(io::stdin().lock())
     } else {
+        if path.is_dir() {
+            return Err(CliError::bad_input(format!(
+                "--batch {}: a folder, not a file; give a JSON Lines file, or - for stdin",
+                path.display()
+            )));
+        }
         let file = File::open(path).map_err(|e| {
             CliError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
         })?;
@@ -151,12 +158,14 @@ fn answer(line: &str) -> Result<Solution, CliError> {
     let radius = request.radius.unwrap_or_else(default_radius);
     let wire = WireParams::new(c, request.length, radius)
         .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
-    solve(
-        wire,
-        Load::none(),
-        &a,
-        request.nodes.unwrap_or(DEFAULT_NODES),
-    )
+    check_radius(&wire, "radius", "length").map_err(CliError::bad_input)?;
+    let nodes = match request.nodes {
+        Some(nodes) => NODES
+            .check_value("nodes", nodes)
+            .map_err(CliError::bad_input)?,
+        None => DEFAULT_NODES,
+    };
+    solve(wire, Load::none(), &a, nodes)
 }
 
 /// One batch request.

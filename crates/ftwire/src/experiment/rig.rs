@@ -232,22 +232,6 @@ pub fn measure<C: FtCalibration>(
     measure_over(rig, pipeline, SAMPLES_PER_REST)
 }
 
-/// Checks a `--rest-samples` count: at least [`SAMPLES_PER_REST`], so that the rest average
-/// has the [`SAMPLES_PER_REST`]` / 2` survivors of screening it asks for.
-///
-/// # Errors
-/// Bad input naming the count.
-pub fn check_rest_samples(count: usize) -> Result<(), CliError> {
-    if count < SAMPLES_PER_REST {
-        return Err(CliError::bad_input(format!(
-            "--rest-samples {count}: at least {SAMPLES_PER_REST} are needed (the rest average \
-             needs {} that survive screening)",
-            SAMPLES_PER_REST / 2
-        )));
-    }
-    Ok(())
-}
-
 /// One measured configuration at the rig's current rest from `count` samples through the
 /// pipeline (a longer rest: the white noise of the mean falls as `1/√count`, while the bias
 /// drift grows with the time the rig spends).

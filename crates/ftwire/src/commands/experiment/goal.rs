@@ -744,9 +744,6 @@ fn first_alarm(detector: &CollisionDetector, run: &Run) -> Option<usize> {
 pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
     let common = &args.common;
     let seed = common.seed.seed;
-    if args.pairs == 0 {
-        return Err(CliError::bad_input("--pairs 0: give at least 1"));
-    }
     let shape_stop = shape_stop(args.shape_stop, args.noise_model)?;
     let wire_name = common
         .wire

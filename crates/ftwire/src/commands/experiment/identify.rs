@@ -62,9 +62,7 @@ use ftwire::csv_table::{Cell, CsvTable, text, value};
 use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
 use ftwire::experiment::Gravity;
 use ftwire::experiment::calibration::load_or_run;
-use ftwire::experiment::rig::{
-    believed_tip, check_rest_samples, measure_over, mounting, pipeline, place_wire, tare,
-};
+use ftwire::experiment::rig::{believed_tip, measure_over, mounting, pipeline, place_wire, tare};
 use ftwire::output::RunHeader;
 use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire::setup::SimSetup;
@@ -269,11 +267,6 @@ struct Timing<'a> {
 pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     let wires = wires(&args)?;
     let trials = args.common.trials.unwrap_or(DEFAULT_TRIALS);
-    if trials == 0 {
-        return Err(CliError::bad_input(
-            "--trials 0: at least one trial is needed",
-        ));
-    }
     let counts = sample_counts(args.samples.as_deref())?;
     let config = args.settings.config()?;
     let setup = args.common.setup.load()?;
@@ -307,7 +300,6 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     };
     plan.validate()
         .map_err(|e| CliError::bad_input(format!("--twist {}: {e}", args.twist)))?;
-    check_rest_samples(args.rest_samples)?;
     let protocol = Protocol {
         plan,
         rest_samples: args.rest_samples,

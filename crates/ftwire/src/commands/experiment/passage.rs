@@ -280,17 +280,9 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
     let total = Instant::now();
     let common = &args.common;
     let seed = common.seed.seed;
-    if args.attempts == 0 {
-        return Err(CliError::bad_input("--attempts 0: give at least 1"));
-    }
-    if args.plan_candidates == 0 {
-        return Err(CliError::bad_input(
-            "--plan-candidates 0: make at least 1 plan",
-        ));
-    }
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
-    let waypoint_moves = args.rollout.waypoint_moves()?;
+    let waypoint_moves = args.rollout.waypoint_moves();
     let near_stop = args.rollout.near_shape_stop(shape_stop)?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (scene, scene_name) = load_scene(args.scene.as_deref())?;

@@ -36,8 +36,8 @@ use ftwire::error::from_estimate;
 use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::calibration::{load_or_run_into, rig_seed};
 use ftwire::experiment::rig::{
-    believed_tip, bias_observer, check_rest_samples, measure_over, mounting, pipeline, place_wire,
-    tare, true_centreline,
+    believed_tip, bias_observer, measure_over, mounting, pipeline, place_wire, tare,
+    true_centreline,
 };
 use ftwire::experiment::{ModelKind, known_model};
 use ftwire::output::RunHeader;
@@ -254,7 +254,6 @@ fn run_config(
 pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     let common = &args.common;
     let seed = common.seed.seed;
-    check_rest_samples(args.rest_samples)?;
     let setup = common.setup.load()?;
     let fusion = bias_observer(&setup, NoiseModel::None, true)
         .ok_or_else(|| CliError::bad_input("no bias observer for a robot that knows its pose"))?;

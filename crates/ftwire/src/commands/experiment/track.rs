@@ -169,12 +169,9 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
     let total = Instant::now();
     let common = &args.common;
     let seed = common.seed.seed;
-    if args.pairs == 0 {
-        return Err(CliError::bad_input("--pairs 0: give at least 1"));
-    }
     let gain = args.rollout.gain()?;
     let shape_stop = args.rollout.shape_stop()?;
-    let waypoint_moves = args.rollout.waypoint_moves()?;
+    let waypoint_moves = args.rollout.waypoint_moves();
     let near_stop = args.rollout.near_shape_stop(shape_stop)?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (passage_scene, _) = passage::load_scene(None)?;
