@@ -103,6 +103,7 @@ fn the_experiment_writes_its_summary_and_weights_the_same_for_the_same_seed()
         let summary: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json"))?)?;
         summaries.push(summary["summary"].clone());
+        cli_support::assert_golden_summary("calibrate-40-gravity-off", &out);
     }
     // The header differs only by --out.
     assert_eq!(summaries[0], summaries[1], "same seed, same summary");

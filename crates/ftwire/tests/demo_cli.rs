@@ -35,6 +35,7 @@ fn the_demo_identifies_the_wire_and_sees_its_shape_the_same_for_the_same_seed() 
     for phase in ["[1/5]", "[2/5]", "[3/5]", "[4/5]", "[5/5]"] {
         assert!(stderr.contains(phase), "{phase} in {stderr}");
     }
+    cli_support::assert_golden_summary("demo-seed0", &dir.join("demo"));
     let summary: serde_json::Value = serde_json::from_slice(&first).expect("JSON");
     let summary = &summary["summary"];
     let errors = numbers(&summary["identification"]["relative_error"]);

@@ -34,6 +34,7 @@ fn a_small_goal_experiment_writes_the_issue_keys_deterministically() {
     std::fs::create_dir_all(&tmp).expect("a temporary folder");
     let calibration = tiny_calibration(&tmp);
     let first = run_goal(&tmp.join("a"), &calibration);
+    cli_support::assert_golden_summary("goal-offset-seed3", &tmp.join("a"));
     for loop_kind in ["open_loop", "closed_loop"] {
         for variant in ["no_noise", "noise"] {
             let m = &first["results"][loop_kind][variant];

@@ -193,6 +193,7 @@ fn the_same_seed_gives_the_same_identify_summary_and_report() {
     for file in ["summary.json", "report.md", "report.html", "identify.csv"] {
         assert_same(&a, &b, file);
     }
+    cli_support::assert_golden_summary("identify-nitinol-2mm-630-seed5", &a);
     assert_no_timing_keys(&a);
     // The timings are kept, apart.
     let timings: serde_json::Value =
@@ -237,6 +238,7 @@ fn the_same_seed_gives_the_same_shape_summary_and_report() {
     for file in ["summary.json", "report.md", "report.html"] {
         assert_same(&a, &b, file);
     }
+    cli_support::assert_golden_summary("shape-nitinol-2mm-630-seed2", &a);
     assert_no_timing_keys(&a);
     let timings: serde_json::Value =
         serde_json::from_slice(&fs::read(a.join("timings.json")).expect("timings.json"))

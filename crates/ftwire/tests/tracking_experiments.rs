@@ -49,6 +49,7 @@ fn a_small_passage_experiment_writes_the_issue_keys_deterministically() {
         "5",
     ];
     let first = run(&args, &tmp.join("a"), &calibration);
+    cli_support::assert_golden_summary("passage-offset-seed5", &tmp.join("a"));
     for mode in ["open_loop", "closed_loop"] {
         let r = &first["results"][mode];
         assert_eq!(r["attempts"], 2, "results.{mode}.attempts");
@@ -180,6 +181,7 @@ fn a_small_track_experiment_writes_table_iv() {
         "2",
     ];
     let summary = run(&args, &tmp.join("a"), &calibration);
+    cli_support::assert_golden_summary("track-offset-seed2", &tmp.join("a"));
     for mode in ["open_loop", "closed_loop"] {
         let r = &summary["results"][mode];
         let (mean, std, max) = (

@@ -114,3 +114,68 @@ impl Drop for TempDir {
         let _ = std::fs::remove_dir_all(&self.0);
     }
 }
+
+/// The recorded summaries: `tests/golden/NAME.json`.
+fn golden_path(name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join("golden")
+        .join(format!("{name}.json"))
+}
+
+/// The first place where `a` and `b` differ, as a JSON path, or `None` where they are equal.
+fn first_difference(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Option<String> {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+            keys.into_iter().find_map(|k| match (x.get(k), y.get(k)) {
+                (Some(p), Some(q)) => first_difference(p, q, &format!("{at}.{k}")),
+                (p, q) => Some(format!("{at}.{k}: {p:?} against {q:?}")),
+            })
+        }
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .find_map(|(i, (p, q))| first_difference(p, q, &format!("{at}[{i}]"))),
+        _ if a == b => None,
+        _ => Some(format!("{at}: {a} against {b}")),
+    }
+}
+
+/// Asserts that the results folder `out` holds the summary recorded as `name`: the run
+/// header's command and seed and the whole `summary` of `summary.json` (the configuration
+/// names temporary paths, and the version and revision change), compared value for value.
+/// The recording guards the move of the experiments between crates: the same seed must give
+/// the same results. `FTWIRE_RECORD_GOLDEN=1` records it anew, for a change that is meant to
+/// change the results (say why in the commit).
+pub fn assert_golden_summary(name: &str, out: &std::path::Path) {
+    let text = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
+    let run: serde_json::Value = serde_json::from_str(&text).expect("summary.json is JSON");
+    let kept = serde_json::json!({
+        "command": run["header"]["command"],
+        "seed": run["header"]["seed"],
+        "summary": run["summary"],
+    });
+    let path = golden_path(name);
+    if std::env::var_os("FTWIRE_RECORD_GOLDEN").is_some() {
+        let text = serde_json::to_string_pretty(&kept).expect("serialises") + "\n";
+        std::fs::create_dir_all(path.parent().expect("a folder")).expect("creates golden/");
+        std::fs::write(&path, text).expect("records the golden summary");
+        return;
+    }
+    let recorded = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (FTWIRE_RECORD_GOLDEN=1 records it)",
+            path.display()
+        )
+    });
+    let recorded: serde_json::Value = serde_json::from_str(&recorded).expect("golden is JSON");
+    if let Some(difference) = first_difference(&kept, &recorded, name) {
+        panic!(
+            "the summary of {name} differs from {} (now against recorded): {difference}",
+            path.display()
+        );
+    }
+}
