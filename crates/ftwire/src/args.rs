@@ -21,7 +21,7 @@ use ftwire_core::Pose;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use serde::Serialize;
 
-use crate::error::CliError;
+use ftwire_lab::error::LabError;
 
 /// `N` finite numbers given as one comma-separated option value.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -266,21 +266,21 @@ impl WireArgs {
     /// # Errors
     /// Bad input: `--c` or `--length` missing, a value that is not finite and positive, or a
     /// radius of half the length or more ([`check_radius`]).
-    pub fn params(&self) -> Result<ftwire_core::WireParams, CliError> {
+    pub fn params(&self) -> Result<ftwire_core::WireParams, LabError> {
         let c = self
             .c
-            .ok_or_else(|| CliError::bad_input("the wire needs --c C1,C2,C3"))?;
+            .ok_or_else(|| LabError::bad_input("the wire needs --c C1,C2,C3"))?;
         let length = self
             .length
-            .ok_or_else(|| CliError::bad_input("the wire needs --length L"))?;
+            .ok_or_else(|| LabError::bad_input("the wire needs --length L"))?;
         let wire = ftwire_core::WireParams::new(c.0, length, self.radius)
-            .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
-        check_radius(&wire, "--radius", "--length").map_err(CliError::bad_input)?;
+            .map_err(|e| LabError::bad_input(format!("invalid wire: {e}")))?;
+        check_radius(&wire, "--radius", "--length").map_err(LabError::bad_input)?;
         Ok(wire)
     }
 }
 
-/// The rule of wire files (`ftwire::wire`) for a wire given otherwise: a radius below half the
+/// The rule of wire files (`ftwire_lab::wire`) for a wire given otherwise: a radius below half the
 /// length (a wire, not a disc). `radius` and `length` name the two values in the message, e.g.
 /// `--radius` and `--length`.
 ///
@@ -413,7 +413,7 @@ pub struct JsonArgs {
     pub json: bool,
 }
 
-/// Where a run writes its results folder (see [`crate::results::ResultsFolder`]): `--out` and
+/// Where a run writes its results folder (see [`ftwire_lab::results::ResultsFolder`]): `--out` and
 /// `--force`.
 #[derive(Debug, Clone, Default, Args, Serialize)]
 pub struct ResultsArgs {
@@ -432,22 +432,22 @@ pub struct ResultsArgs {
 
 impl ResultsArgs {
     /// Opens the results folder: `--out`, or `results/<id>`, guarded by `--force` and the
-    /// run's `inputs` (see [`crate::results::OutGuard`]).
+    /// run's `inputs` (see [`ftwire_lab::results::OutGuard`]).
     ///
     /// # Errors
-    /// As [`crate::results::ResultsFolder::create_or_default`].
+    /// As [`ftwire_lab::results::ResultsFolder::create_or_default`].
     pub fn open(
         &self,
         id: &str,
-        inputs: crate::results::OutGuard,
-    ) -> Result<crate::results::ResultsFolder, CliError> {
+        inputs: ftwire_lab::results::OutGuard,
+    ) -> Result<ftwire_lab::results::ResultsFolder, LabError> {
         let guard = inputs.with_force(self.force);
-        crate::results::ResultsFolder::create_or_default(self.out.as_deref(), id, &guard)
+        ftwire_lab::results::ResultsFolder::create_or_default(self.out.as_deref(), id, &guard)
     }
 }
 
 /// The simulated rig: `--sensor PRESET|FILE.toml` and `--rig FILE.toml` (see
-/// [`crate::setup`]; every key in `docs/config.md`). Left out of a run header when not given, so
+/// [`ftwire_lab::setup`]; every key in `docs/config.md`). Left out of a run header when not given, so
 /// that a run without them writes the same `summary.json` as before they existed.
 #[derive(Debug, Clone, Default, Args, Serialize)]
 pub struct SimSetupArgs {
@@ -470,10 +470,21 @@ impl SimSetupArgs {
     ///
     /// # Errors
     /// Bad input naming the file, the line and the key.
-    pub fn load(&self) -> Result<crate::setup::SimSetup, CliError> {
-        crate::setup::SimSetup::load(self.sensor.as_deref(), self.rig.as_deref())
-            .map_err(|e| CliError::bad_input(e.to_string()))
+    pub fn load(&self) -> Result<ftwire_lab::setup::SimSetup, LabError> {
+        ftwire_lab::setup::SimSetup::load(self.sensor.as_deref(), self.rig.as_deref())
+            .map_err(|e| LabError::bad_input(e.to_string()))
     }
+}
+
+/// The value parser of a library enum named by words (`--gravity on|off`, `--model
+/// kirchhoff|loaded`): `--help` lists the names, and a wrong one is refused by clap with the
+/// allowed ones (exit 2).
+pub fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr<Err = String> + Clone + Send + Sync + 'static,
+{
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(names).try_map(|name| name.parse::<T>())
 }
 
 #[cfg(test)]

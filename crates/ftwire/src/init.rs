@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::CliError;
+use ftwire_lab::error::LabError;
 
 /// The example files, by file name.
 pub const EXAMPLES: [(&str, &str); 4] = [
@@ -24,23 +24,23 @@ pub const EXAMPLES: [(&str, &str); 4] = [
 /// # Errors
 /// Bad input (exit 2) naming the folder or the file: a missing parent, a `dir` that is a file,
 /// an existing example without `force`, a folder that cannot be written.
-pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, CliError> {
+pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, LabError> {
     let shown = dir.display();
     if dir.exists() && !dir.is_dir() {
-        return Err(CliError::bad_input(format!(
+        return Err(LabError::bad_input(format!(
             "{shown} is a file, not a folder"
         )));
     }
     if !dir.exists() {
         let parent = dir.parent().filter(|p| !p.as_os_str().is_empty());
         if let Some(parent) = parent.filter(|p| !p.is_dir()) {
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "cannot create {shown}: its parent {} does not exist",
                 parent.display()
             )));
         }
         std::fs::create_dir(dir)
-            .map_err(|e| CliError::bad_input(format!("cannot create {shown}: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("cannot create {shown}: {e}")))?;
     }
     let targets: Vec<(PathBuf, &str)> = EXAMPLES
         .iter()
@@ -48,7 +48,7 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, CliError>
         .collect();
     let existing = targets.iter().find(|(path, _)| path.exists());
     if let Some((path, _)) = existing.filter(|_| !force) {
-        return Err(CliError::bad_input(format!(
+        return Err(LabError::bad_input(format!(
             "{} exists already; give --force to overwrite it (and the other examples)",
             path.display()
         )));
@@ -59,7 +59,7 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, CliError>
         let partial = path.with_extension("toml.partial");
         std::fs::write(&partial, text)
             .and_then(|()| std::fs::rename(&partial, path))
-            .map_err(|e| CliError::bad_input(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(|e| LabError::bad_input(format!("cannot write {}: {e}", path.display())))?;
     }
     Ok(targets.into_iter().map(|(path, _)| path).collect())
 }
@@ -67,8 +67,8 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, CliError>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::{RigSpec, SensorSpec};
-    use crate::wire::WireSpec;
+    use ftwire_lab::setup::{RigSpec, SensorSpec};
+    use ftwire_lab::wire::WireSpec;
 
     fn example(name: &str) -> &'static str {
         EXAMPLES

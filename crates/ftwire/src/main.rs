@@ -3,7 +3,7 @@
 //! The binary is thin: clap types live in [`cli`], each subcommand's logic in its own module
 //! under [`commands`], the shared argument groups, error type and output writer in the `ftwire`
 //! library, and the libraries do the work. Exit codes are mapped here, in one place
-//! ([`ftwire::error::CliError::exit_code`]): 0 success, 1 valid input but no answer, 2 bad input.
+//! ([`ftwire_lab::error::LabError::exit_code`]): 0 success, 1 valid input but no answer, 2 bad input.
 
 mod cli;
 mod commands;
@@ -19,14 +19,14 @@ pub const PARENT_PID_VAR: &str = "FTWIRE_PARENT_PID";
 
 /// Ends the process cleanly on SIGINT, SIGTERM or SIGHUP (exit 128 + the signal's number):
 /// the temporary results folders it is writing are removed, and a folder moving into place
-/// finishes its move first ([`ftwire::results::abandon_all_and_exit`]).
+/// finishes its move first ([`ftwire_lab::results::abandon_all_and_exit`]).
 #[cfg(unix)]
 fn end_cleanly_on_signals() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
         std::thread::spawn(move || {
             if let Some(signal) = signals.forever().next() {
-                ftwire::results::abandon_all_and_exit(128 + signal);
+                ftwire_lab::results::abandon_all_and_exit(128 + signal);
             }
         });
     }
@@ -47,7 +47,7 @@ fn end_with_parent() {
         loop {
             if std::os::unix::process::parent_id() != parent {
                 eprintln!("error: the ftwire process that started this one has ended");
-                ftwire::results::abandon_all_and_exit(129);
+                ftwire_lab::results::abandon_all_and_exit(129);
             }
             std::thread::sleep(std::time::Duration::from_millis(100));
         }

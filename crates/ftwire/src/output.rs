@@ -5,14 +5,7 @@ use std::io::{self, Write};
 
 use serde::Serialize;
 
-use crate::error::CliError;
-
-/// The `ftwire` version (`Cargo.toml`).
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
-
-/// The git revision the binary was built from (`git rev-parse --short HEAD` at build time), or
-/// `"unknown"` when git or the repository was not available.
-pub const GIT_REVISION: &str = env!("FTWIRE_GIT_REVISION");
+use ftwire_lab::error::LabError;
 
 /// A command's result: serialised for `--json`, written as text otherwise.
 pub trait Report: Serialize {
@@ -26,8 +19,8 @@ pub trait Report: Serialize {
 /// Prints `report` on stdout: one JSON object on one line with `json`, the text otherwise.
 ///
 /// # Errors
-/// [`CliError::Io`] if stdout cannot be written (e.g. a closed pipe).
-pub fn print(report: &impl Report, json: bool) -> Result<(), CliError> {
+/// [`LabError::Io`] if stdout cannot be written (e.g. a closed pipe).
+pub fn print(report: &impl Report, json: bool) -> Result<(), LabError> {
     let stdout = io::stdout();
     let mut out = stdout.lock();
     write(&mut out, report, json)
@@ -36,8 +29,8 @@ pub fn print(report: &impl Report, json: bool) -> Result<(), CliError> {
 /// Writes `report` to `out` as [`print()`] does.
 ///
 /// # Errors
-/// [`CliError::Io`] if `out` cannot be written.
-pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(), CliError> {
+/// [`LabError::Io`] if `out` cannot be written.
+pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(), LabError> {
     let written = if json {
         serde_json::to_writer(&mut *out, report)
             .map_err(io::Error::from)
@@ -47,7 +40,7 @@ pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(
     };
     written
         .and_then(|()| out.flush())
-        .map_err(|e| CliError::io("writing the result", e))
+        .map_err(|e| LabError::io("writing the result", e))
 }
 
 /// JSON Lines: one object per line, each flushed as soon as it is written, so that a process
@@ -66,13 +59,13 @@ impl<W: Write> JsonLines<W> {
     /// Writes one value on one line and flushes.
     ///
     /// # Errors
-    /// [`CliError::Io`] if the writer fails.
-    pub fn write(&mut self, value: &impl Serialize) -> Result<(), CliError> {
+    /// [`LabError::Io`] if the writer fails.
+    pub fn write(&mut self, value: &impl Serialize) -> Result<(), LabError> {
         serde_json::to_writer(&mut self.out, value)
             .map_err(io::Error::from)
             .and_then(|()| self.out.write_all(b"\n"))
             .and_then(|()| self.out.flush())
-            .map_err(|e| CliError::io("writing a JSON line", e))
+            .map_err(|e| LabError::io("writing a JSON line", e))
     }
 
     /// The writer back.
@@ -82,7 +75,7 @@ impl<W: Write> JsonLines<W> {
 }
 
 /// The error object of one bad JSON Lines request: `{"error": ..., "kind": ..., "line": ...}`
-/// (`kind` is [`CliError::kind`], `line` counts from 1). Values the message echoes are cut to
+/// (`kind` is [`LabError::kind`], `line` counts from 1). Values the message echoes are cut to
 /// [`ECHO_CHARS`] characters ([`shorten_echoes`]), so that a huge bad value is not sent back
 /// whole.
 #[derive(Debug, Serialize)]
@@ -97,7 +90,7 @@ pub struct ErrorLine {
 
 impl ErrorLine {
     /// The error object of input line `line` (from 1).
-    pub fn new(error: &CliError, line: usize) -> Self {
+    pub fn new(error: &LabError, line: usize) -> Self {
         Self {
             error: shorten_echoes(&error.to_string()),
             kind: error.kind(),
@@ -173,56 +166,6 @@ fn cut(value: &str) -> String {
     format!("{head}… ({count} characters)")
 }
 
-/// What produced a result: the first thing in a results folder's `summary.json`.
-///
-/// The same version, revision, seed and configuration give the same results (timings are kept
-/// out of `summary.json` for that reason).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RunHeader {
-    /// `ftwire` version ([`VERSION`]).
-    pub ftwire_version: String,
-    /// Git revision of the build ([`GIT_REVISION`], `"unknown"` if not known).
-    pub git_revision: String,
-    /// The command, e.g. `"experiment"`.
-    pub command: String,
-    /// The seed of every random choice, if the command makes any.
-    pub seed: Option<u64>,
-    /// The full configuration: the command's arguments, serialised.
-    pub configuration: serde_json::Value,
-}
-
-impl RunHeader {
-    /// The header of a run of `command` with arguments `configuration`.
-    ///
-    /// # Errors
-    /// Bad input if the configuration cannot be serialised (e.g. a non-string map key).
-    ///
-    /// # Example
-    /// ```
-    /// let h = ftwire::output::RunHeader::new("demo", Some(7), &[1.0, 2.0])?;
-    /// assert_eq!(h.seed, Some(7));
-    /// assert_eq!(h.configuration, serde_json::json!([1.0, 2.0]));
-    /// assert_eq!(h.ftwire_version, env!("CARGO_PKG_VERSION"));
-    /// # Ok::<(), ftwire::error::CliError>(())
-    /// ```
-    pub fn new(
-        command: &str,
-        seed: Option<u64>,
-        configuration: &impl Serialize,
-    ) -> Result<Self, CliError> {
-        let configuration = serde_json::to_value(configuration).map_err(|e| {
-            CliError::bad_input(format!("cannot record the configuration of {command}: {e}"))
-        })?;
-        Ok(Self {
-            ftwire_version: VERSION.to_owned(),
-            git_revision: GIT_REVISION.to_owned(),
-            command: command.to_owned(),
-            seed,
-            configuration,
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -248,23 +191,11 @@ mod tests {
         assert_eq!(text, b"x = 2\n");
         let mut lines = JsonLines::new(Vec::new());
         lines.write(&Answer { x: 1.0 }).expect("writes");
-        let error = CliError::bad_input("c must have 3 values");
+        let error = LabError::bad_input("c must have 3 values");
         lines.write(&ErrorLine::new(&error, 2)).expect("writes");
         assert_eq!(
             String::from_utf8_lossy(&lines.into_inner()),
             "{\"x\":1.0}\n{\"error\":\"c must have 3 values\",\"kind\":\"bad_input\",\"line\":2}\n"
         );
-    }
-
-    #[test]
-    fn the_header_names_the_build() {
-        let h = RunHeader::new("test", None, &serde_json::json!({"a": 1})).expect("serialises");
-        assert_eq!(h.ftwire_version, VERSION);
-        let hex =
-            h.git_revision.len() >= 4 && h.git_revision.chars().all(|c| c.is_ascii_hexdigit());
-        assert!(hex || h.git_revision == "unknown", "{}", h.git_revision);
-        let v = serde_json::to_value(&h).expect("serialises");
-        assert_eq!(v["configuration"]["a"], 1);
-        assert!(v["seed"].is_null());
     }
 }

@@ -5,9 +5,9 @@
 mod cli_support;
 
 use cli_support::{assert_success, ftwire};
-use ftwire::experiment::calibration::run;
-use ftwire::experiment::{Gravity, ModelKind};
-use ftwire::wire::WireSpec;
+use ftwire_lab::experiment::calibration::run;
+use ftwire_lab::experiment::{Gravity, ModelKind};
+use ftwire_lab::wire::WireSpec;
 use ftwire_sim::{FtSensor, RigConfig};
 use nalgebra::Vector6;
 
@@ -28,8 +28,8 @@ fn the_learnt_calibration_comes_close_to_the_exact_inverse()
     let wire = WireSpec::preset("nitinol-3mm-820").ok_or("preset")?;
     let result = run(
         &wire,
-        (Gravity::Off, ModelKind::Kirchhoff),
-        &ftwire::setup::SimSetup::default(),
+        (Gravity::Off, ModelKind::Weightless),
+        &ftwire_lab::setup::SimSetup::default(),
         120,
         5,
         |_| {},

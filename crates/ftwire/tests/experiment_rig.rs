@@ -1,10 +1,10 @@
 //! The experiments' rig support: the wire placed at `a0` reads back as `a0` through the F/T
 //! pipeline once the sensor is tared, and not before.
 
-use ftwire::experiment::Gravity;
-use ftwire::experiment::rig::{measure, mounting, pipeline, place_wire, tare};
-use ftwire::wire::WireSpec;
 use ftwire_estimate::ft::Tare;
+use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::rig::{measure, mounting, pipeline, place_wire, tare};
+use ftwire_lab::wire::WireSpec;
 use ftwire_rod::from_normalised;
 use ftwire_sim::RigConfig;
 use nalgebra::Vector6;
@@ -61,8 +61,8 @@ fn check(
 /// equilibria from that start in 14 of 30 pairs).
 #[test]
 fn the_loaded_placement_puts_the_heavy_cable_at_a0() -> Result<(), Box<dyn std::error::Error>> {
-    use ftwire::experiment::ModelKind;
-    use ftwire::experiment::rig::{place_among, true_rod};
+    use ftwire_lab::experiment::ModelKind;
+    use ftwire_lab::experiment::rig::{place_among, true_rod};
     use ftwire_rod::sampling::Sampler;
     use ftwire_rod::{Rod, to_normalised};
     use rand::SeedableRng;
@@ -99,7 +99,7 @@ fn the_loaded_placement_puts_the_heavy_cable_at_a0() -> Result<(), Box<dyn std::
         let true_a = rig.equilibrium().base_wrench.to_vector();
         let error = (to_normalised(&params, &(true_a - a0))).norm();
         let scale = to_normalised(&params, &a0).norm();
-        let sagged = place_among(&wire, Gravity::On, ModelKind::Kirchhoff, &a0, config, &[])?;
+        let sagged = place_among(&wire, Gravity::On, ModelKind::Weightless, &a0, config, &[])?;
         let sag = (to_normalised(
             &params,
             &(sagged.equilibrium().base_wrench.to_vector() - a0),

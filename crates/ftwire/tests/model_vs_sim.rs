@@ -54,8 +54,8 @@
 mod common;
 
 use common::{samples, setup, wires};
-use ftwire::bridge::kirchhoff_guess;
 use ftwire_core::{Pose, WireParams};
+use ftwire_lab::initial_guess::kirchhoff_guess;
 use ftwire_rod::Load;
 use ftwire_rod::sampling::Sampler;
 use ftwire_sim::{RodParams, World};

@@ -160,7 +160,7 @@ fn no_path_exits_1_with_the_reason() {
 #[test]
 fn the_simulator_gets_the_scenes_boxes() {
     let scene = ftwire_plan::Scene::load(passage()).expect("parses");
-    let obstacles = ftwire::scene::sim_obstacles(&scene).expect("valid boxes");
+    let obstacles = ftwire_lab::scene::sim_obstacles(&scene).expect("valid boxes");
     assert_eq!(obstacles.len(), scene.boxes.len());
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
     for (o, b) in obstacles.iter().zip(&scene.boxes) {
@@ -188,6 +188,6 @@ fn the_simulator_gets_the_scenes_boxes() {
     // A floor comes along too.
     let text = std::fs::read_to_string(passage()).expect("reads") + "\n[floor]\nheight = -0.4\n";
     let scene = ftwire_plan::Scene::from_toml(&text, "floor").expect("parses");
-    let obstacles = ftwire::scene::sim_obstacles(&scene).expect("valid");
+    let obstacles = ftwire_lab::scene::sim_obstacles(&scene).expect("valid");
     assert!(matches!(obstacles.last(), Some(ftwire_sim::Obstacle::Floor(f)) if f.height == -0.4));
 }

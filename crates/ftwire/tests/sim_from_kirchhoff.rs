@@ -33,8 +33,8 @@
 mod common;
 
 use common::{samples, setup, wires};
-use ftwire::bridge::kirchhoff_guess;
 use ftwire_core::Pose;
+use ftwire_lab::initial_guess::kirchhoff_guess;
 use ftwire_sim::{RodParams, World};
 use nalgebra::Vector6;
 

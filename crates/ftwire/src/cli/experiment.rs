@@ -2,12 +2,12 @@
 
 use std::path::PathBuf;
 
-use ftwire::error::CliError;
-use ftwire::results::{OutGuard, ResultsFolder};
+use ftwire_lab::error::LabError;
+use ftwire_lab::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
-use ftwire::experiment::Gravity;
+use ftwire_lab::experiment::Gravity;
 use serde::Serialize;
 
 /// `ftwire experiment <id>`.
@@ -59,14 +59,14 @@ pub struct CommonExperimentArgs {
     #[serde(flatten)]
     pub results: ResultsArgs,
     /// Gravity in the simulated world.
-    #[arg(long, value_enum, default_value_t = Gravity::On)]
+    #[arg(long, value_parser = ftwire::args::named::<Gravity>(&Gravity::NAMES), default_value_t = Gravity::On)]
     pub gravity: Gravity,
     /// The estimators' wire model: `kirchhoff`, the paper's (weightless, straight at rest), or
     /// `loaded`, with the wire's weight under the known gravity and its rest curvature (for a
     /// wire being identified, its linear density is identified too) [default: `loaded` with
     /// `--gravity on`, `kirchhoff` with `--gravity off`]. The summaries report the other model
     /// beside it.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = ftwire::args::named::<ModelArg>(&ModelArg::NAMES))]
     pub model: Option<ModelArg>,
     /// The simulated F/T sensor and rig (`--sensor`, `--rig`).
     #[command(flatten)]
@@ -88,7 +88,7 @@ impl CommonExperimentArgs {
     ///
     /// # Errors
     /// As [`ResultsArgs::open`].
-    pub fn open_results(&self, id: &str, other: OutGuard) -> Result<ResultsFolder, CliError> {
+    pub fn open_results(&self, id: &str, other: OutGuard) -> Result<ResultsFolder, LabError> {
         let inputs = other
             .input_opt("--wire", self.wire.as_deref())
             .input_opt("--sensor", self.setup.sensor.as_deref())
@@ -136,7 +136,7 @@ pub struct IdentifyExperimentArgs {
     pub calibration: Option<PathBuf>,
 }
 
-pub use ftwire::experiment::ModelKind as ModelArg;
+pub use ftwire_lab::experiment::ModelKind as ModelArg;
 
 /// The default of `experiment identify --rest-samples`.
 pub const IDENTIFY_REST_SAMPLES: usize = 400;
@@ -146,11 +146,11 @@ pub const IDENTIFY_REST_SAMPLES: usize = 400;
 /// bounds the time and memory linearly; the cap sits far above the paper's counts.
 pub const TRIALS: CountRange = CountRange::new(1, 10_000);
 
-/// `--rest-samples`: at least [`ftwire::experiment::rig::SAMPLES_PER_REST`], so that the rest
+/// `--rest-samples`: at least [`ftwire_lab::experiment::rig::SAMPLES_PER_REST`], so that the rest
 /// average has the half of them that must survive screening; at most 100 s of readings at the
 /// simulated sensor's 1 kHz, whose buffer of one rest stays a few megabytes.
 pub const REST_SAMPLES: CountRange =
-    CountRange::new(ftwire::experiment::rig::SAMPLES_PER_REST, 100_000);
+    CountRange::new(ftwire_lab::experiment::rig::SAMPLES_PER_REST, 100_000);
 
 /// `goal --pairs`, `track --pairs`, `passage --attempts`: every roll-out keeps its record for
 /// the summary and the figures (the true centreline at each rest), so the count bounds the
@@ -204,7 +204,7 @@ pub struct ShapeExperimentArgs {
     /// F/T samples averaged at each configuration (at the simulated sensor's 1 kHz, 100 is
     /// the 0.1 s of the paper's protocol): the white noise of `ã` falls as `1/√N`; the wire is
     /// placed just after taring, so the bias drift adds little here. 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::rig::SAMPLES_PER_REST, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::SAMPLES_PER_REST, value_parser = REST_SAMPLES)]
     pub rest_samples: usize,
 }
 
@@ -332,12 +332,12 @@ impl RolloutArgs {
     ///
     /// # Errors
     /// Bad input for a gain outside `(0, 1]`.
-    pub fn gain(&self) -> Result<f64, CliError> {
+    pub fn gain(&self) -> Result<f64, LabError> {
         let noise = self.noise_model.model();
         match self.gain {
             None => Ok(ftwire::experiment::track::default_gain(noise)),
             Some(gain) if gain > 0.0 && gain <= 1.0 => Ok(gain),
-            Some(gain) => Err(CliError::bad_input(format!(
+            Some(gain) => Err(LabError::bad_input(format!(
                 "--gain {gain}: give a gain K in (0, 1]"
             ))),
         }
@@ -347,7 +347,7 @@ impl RolloutArgs {
     ///
     /// # Errors
     /// Bad input for a negative distance.
-    pub fn shape_stop(&self) -> Result<f64, CliError> {
+    pub fn shape_stop(&self) -> Result<f64, LabError> {
         shape_stop(self.shape_stop, self.noise_model)
     }
 
@@ -364,14 +364,14 @@ impl RolloutArgs {
     ///
     /// # Errors
     /// Bad input for a negative distance.
-    pub fn near_shape_stop(&self, shape_stop: f64) -> Result<f64, CliError> {
+    pub fn near_shape_stop(&self, shape_stop: f64) -> Result<f64, LabError> {
         match self.near_shape_stop {
             None => Ok(ftwire::experiment::track::near_shape_stop(
                 self.noise_model.model(),
                 shape_stop,
             )),
             Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
-            Some(mm) => Err(CliError::bad_input(format!(
+            Some(mm) => Err(LabError::bad_input(format!(
                 "--near-shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
             ))),
         }
@@ -383,11 +383,11 @@ impl RolloutArgs {
 ///
 /// # Errors
 /// Bad input for a negative distance.
-pub fn shape_stop(mm: Option<f64>, noise: NoiseModelArg) -> Result<f64, CliError> {
+pub fn shape_stop(mm: Option<f64>, noise: NoiseModelArg) -> Result<f64, LabError> {
     match mm {
         None => Ok(ftwire::experiment::track::default_shape_stop(noise.model())),
         Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
-        Some(mm) => Err(CliError::bad_input(format!(
+        Some(mm) => Err(LabError::bad_input(format!(
             "--shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
         ))),
     }

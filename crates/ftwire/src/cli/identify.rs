@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
-use ftwire::error::CliError;
 use ftwire_estimate::identify::{IdentifyConfig, ParameterConstraints, ResidualForm};
+use ftwire_lab::error::LabError;
 use serde::Serialize;
 
 /// The residual identification minimises (`--form`).
@@ -62,7 +62,7 @@ impl IdentifySettingsArgs {
     ///
     /// # Errors
     /// Bad input (exit 2) for a torsion ratio that is not positive.
-    pub fn config(&self) -> Result<IdentifyConfig, CliError> {
+    pub fn config(&self) -> Result<IdentifyConfig, LabError> {
         let config = IdentifyConfig {
             form: self.form.form(),
             constraints: ParameterConstraints {
@@ -75,7 +75,7 @@ impl IdentifySettingsArgs {
         };
         config
             .validate()
-            .map_err(|e| CliError::bad_input(format!("--torsion-ratio: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("--torsion-ratio: {e}")))?;
         Ok(config)
     }
 }

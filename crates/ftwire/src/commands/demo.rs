@@ -32,20 +32,20 @@
 use std::io::IsTerminal as _;
 use std::time::{Duration, Instant};
 
-use ftwire::error::{CliError, from_estimate, from_plan, from_rod};
-use ftwire::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
-use ftwire::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
 use ftwire::experiment::track::{self, Attempt, ChoiceOut, PolishOut, Tracking};
-use ftwire::experiment::{Gravity, ModelKind};
-use ftwire::output::RunHeader;
-use ftwire::results::OutGuard;
-use ftwire::setup::SimSetup;
-use ftwire::wire::WireSpec;
 use ftwire_core::WireParams;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::identify::MotionPlan;
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_lab::error::{LabError, from_estimate, from_plan, from_rod};
+use ftwire_lab::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
+use ftwire_lab::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
+use ftwire_lab::experiment::{Gravity, ModelKind};
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::results::OutGuard;
+use ftwire_lab::setup::SimSetup;
+use ftwire_lab::wire::WireSpec;
 use ftwire_plan::Scene;
 use ftwire_report::{Chart3d, SeriesKind};
 use ftwire_rod::Rod;
@@ -81,7 +81,7 @@ pub const SHAPE_CONFIGS: usize = 5;
 const PHASES: usize = 5;
 
 /// The default scene, shipped in the repository and built into the binary.
-const PASSAGE: &str = ftwire::scene::PASSAGE;
+const PASSAGE: &str = ftwire_lab::scene::PASSAGE;
 
 /// `summary.json`'s body.
 #[derive(Debug, Serialize)]
@@ -232,11 +232,11 @@ impl Phase {
 }
 
 /// Runs the demo.
-pub fn run(args: DemoArgs) -> Result<(), CliError> {
+pub fn run(args: DemoArgs) -> Result<(), LabError> {
     let total = Instant::now();
     let seed = args.seed.seed;
     // Every input is read and checked before any work: a bad one is exit 2 at once.
-    let wire = WireSpec::load(&args.wire).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let wire = WireSpec::load(&args.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
     let setup = args.setup.load()?;
     let (scene, scene_name) = match &args.scene {
         Some(path) => (
@@ -256,7 +256,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
             .map_err(|e| from_plan(e, "--scene"))?;
     }
     let known = WireSpec::preset(KNOWN_WIRE)
-        .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
+        .ok_or_else(|| LabError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
     let inputs = OutGuard::default()
         .input("--wire", &args.wire)
         .input_opt("--scene", args.scene.as_deref())
@@ -335,7 +335,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
             .with_curve("estimate from F/T", estimate.clone(), SeriesKind::Line);
         chart
             .write(folder.dir(), "shape")
-            .map_err(|e| CliError::no_answer(format!("figure shape: {e}")))?;
+            .map_err(|e| LabError::no_answer(format!("figure shape: {e}")))?;
     }
     let shape_s = phase.finish(&format!(
         "{} configurations, mean distance to the true wire {:.2} mm",
@@ -427,7 +427,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let chart = scene_chart(&scene, &closed);
     chart
         .write(folder.dir(), "tracking")
-        .map_err(|e| CliError::no_answer(format!("figure tracking: {e}")))?;
+        .map_err(|e| LabError::no_answer(format!("figure tracking: {e}")))?;
     let verdict = |a: &Attempt| {
         format!(
             "{} ({} moves{}, final error {:.3}, shape {:.1} mm at the goal)",
@@ -502,7 +502,7 @@ fn identify(
     learnt: &Calibration,
     setup: &SimSetup,
     seed: u64,
-) -> Result<(IdentificationOut, KirchhoffModel), CliError> {
+) -> Result<(IdentificationOut, KirchhoffModel), LabError> {
     let protocol = Protocol {
         plan: MotionPlan {
             moves: IDENTIFY_SAMPLES - 1,
@@ -540,7 +540,7 @@ fn identify(
     // The identified model: the wire's radius is measured (calipers), not identified; it only
     // enters the self-contact test.
     let params = WireParams::new(estimate.c, estimate.length, wire.radius)
-        .map_err(|e| CliError::no_answer(format!("the identified wire: {e}")))?;
+        .map_err(|e| LabError::no_answer(format!("the identified wire: {e}")))?;
     let weight = estimate.linear_density.unwrap_or(0.0) * Gravity::On.vector();
     let model = KirchhoffModel::new(params)
         .with_weight_per_length(weight)
@@ -569,10 +569,10 @@ fn shapes(
     model: KirchhoffModel,
     seed: u64,
     mut progress: impl FnMut(usize),
-) -> Result<(ShapeOut, Option<(Points, Points)>), CliError> {
+) -> Result<(ShapeOut, Option<(Points, Points)>), LabError> {
     let params = wire
         .wire_params()
-        .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
+        .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
     let rod = Rod::new(params);
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5ba9e);
     let sampler = Sampler::default();
@@ -608,7 +608,7 @@ fn shapes(
     }
     progress(SHAPE_CONFIGS);
     if mean_mm.is_empty() {
-        return Err(CliError::no_answer(format!(
+        return Err(LabError::no_answer(format!(
             "no configuration of {} could be placed and estimated",
             wire.name
         )));
@@ -639,7 +639,7 @@ fn scene_chart(scene: &Scene, attempt: &Attempt) -> Chart3d {
     for b in &scene.boxes {
         chart = chart.with_curve(
             b.name.clone(),
-            ftwire::scene::box_outline(b),
+            ftwire_lab::scene::box_outline(b),
             SeriesKind::Line,
         );
     }

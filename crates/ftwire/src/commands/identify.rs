@@ -14,12 +14,12 @@ use std::path::Path;
 use std::time::Duration;
 
 use ftwire::args::default_radius;
-use ftwire::error::{CliError, from_estimate};
 use ftwire::output::{self, Report};
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::identify::{Estimate, Identifier, IdentifyConfig, Unidentified, identify};
 use ftwire_estimate::log::{LogRecord, read_log};
 use ftwire_estimate::{Calibration, KirchhoffModel};
+use ftwire_lab::error::{LabError, from_estimate};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{Vector3, Vector6};
 use rand::SeedableRng;
@@ -29,13 +29,13 @@ use serde::Serialize;
 use crate::cli::identify::{FormArg, IdentifyArgs};
 
 /// Runs `ftwire identify`.
-pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
+pub fn run(args: IdentifyArgs) -> Result<(), LabError> {
     let mut config = args.settings.config()?;
     if let Some(g) = args.gravity {
         config.constraints.weight = Some(Vector3::from(g.0));
         config
             .validate()
-            .map_err(|e| CliError::bad_input(format!("--gravity: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("--gravity: {e}")))?;
     }
     let records = read(&args.log)?;
     let calibration = args
@@ -43,13 +43,13 @@ pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
         .as_deref()
         .map(|path| {
             Calibration::load(path)
-                .map_err(|e| CliError::bad_input(format!("--calibration {}: {e}", path.display())))
+                .map_err(|e| LabError::bad_input(format!("--calibration {}: {e}", path.display())))
         })
         .transpose()?;
     let mut samples = samples_of(&records, calibration.as_ref(), &args.log)?;
     if let Some(n) = args.samples {
         if n > samples.len() {
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "--samples {n}: the log {} holds only {} records",
                 args.log.display(),
                 samples.len()
@@ -63,7 +63,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
     output::print(&report, args.output.json)?;
     match estimate.unidentified {
         None => Ok(()),
-        Some(reason) => Err(CliError::no_answer(format!(
+        Some(reason) => Err(LabError::no_answer(format!(
             "the data of {} do not identify the wire: {reason}",
             args.log.display()
         ))),
@@ -72,11 +72,11 @@ pub fn run(args: IdentifyArgs) -> Result<(), CliError> {
 
 /// Reads the log; a bad line or an empty log is bad input naming the file (the library's error
 /// names the line and the value).
-fn read(path: &Path) -> Result<Vec<LogRecord>, CliError> {
+fn read(path: &Path) -> Result<Vec<LogRecord>, LabError> {
     let file = File::open(path)
-        .map_err(|e| CliError::bad_input(format!("cannot open log {}: {e}", path.display())))?;
+        .map_err(|e| LabError::bad_input(format!("cannot open log {}: {e}", path.display())))?;
     read_log(BufReader::new(file))
-        .map_err(|e| CliError::bad_input(format!("log {}: {e}", path.display())))
+        .map_err(|e| LabError::bad_input(format!("log {}: {e}", path.display())))
 }
 
 /// The `(ã, b̃)` pairs of the records, in order.
@@ -84,7 +84,7 @@ fn samples_of(
     records: &[LogRecord],
     calibration: Option<&Calibration>,
     path: &Path,
-) -> Result<Vec<(Vector6<f64>, Pose)>, CliError> {
+) -> Result<Vec<(Vector6<f64>, Pose)>, LabError> {
     records
         .iter()
         .enumerate()
@@ -94,7 +94,7 @@ fn samples_of(
                 (None, Some(raw), Some(calibration)) => {
                     let a = calibration.apply(&raw);
                     if let Some(i) = a.iter().position(|v| !v.is_finite()) {
-                        return Err(CliError::bad_input(format!(
+                        return Err(LabError::bad_input(format!(
                             "log {}: record {} (time {}): the calibration maps raw = {:?} to \
                              a[{i}] = {}, not a finite number",
                             path.display(),
@@ -107,7 +107,7 @@ fn samples_of(
                     a
                 }
                 (None, _, None) => {
-                    return Err(CliError::bad_input(format!(
+                    return Err(LabError::bad_input(format!(
                         "log {}: record {} (time {}) holds `raw`, not `a`: give the learnt \
                          calibration with --calibration W to turn raw readings into \
                          configurations",
@@ -117,7 +117,7 @@ fn samples_of(
                     )));
                 }
                 (None, None, Some(_)) => {
-                    return Err(CliError::bad_input(format!(
+                    return Err(LabError::bad_input(format!(
                         "log {}: record {} has neither `raw` nor `a`",
                         path.display(),
                         index + 1
@@ -136,9 +136,9 @@ fn samples_of(
 ///
 /// # Errors
 /// Never for the constants here; kept fallible for the core type's checks.
-pub fn template_model() -> Result<KirchhoffModel, CliError> {
+pub fn template_model() -> Result<KirchhoffModel, LabError> {
     let wire = WireParams::new([0.1, 0.1, 0.1], 1.0, default_radius())
-        .map_err(|e| CliError::bad_input(format!("the identification template: {e}")))?;
+        .map_err(|e| LabError::bad_input(format!("the identification template: {e}")))?;
     Ok(KirchhoffModel::new(wire))
 }
 
@@ -152,7 +152,7 @@ pub fn run_identification(
     samples: &[(Vector6<f64>, Pose)],
     config: &IdentifyConfig,
     seed: u64,
-) -> Result<Estimate, CliError> {
+) -> Result<Estimate, LabError> {
     let model = template_model()?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     identify(&model, samples, config, &mut rng)
@@ -174,7 +174,7 @@ pub fn identify_with_progress(
     samples: &[(Vector6<f64>, Pose)],
     config: &IdentifyConfig,
     seed: u64,
-) -> Result<Estimate, CliError> {
+) -> Result<Estimate, LabError> {
     let failed = |e| from_estimate(e, "identifying the wire");
     let rng = ChaCha8Rng::seed_from_u64(seed);
     let mut identifier = Identifier::new(template_model()?, config.clone(), rng).map_err(failed)?;

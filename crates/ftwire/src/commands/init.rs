@@ -1,11 +1,11 @@
 //! `ftwire init DIR`: writes the commented example files ([`ftwire::init`]).
 
-use ftwire::error::CliError;
+use ftwire_lab::error::LabError;
 
 use crate::cli::init::InitArgs;
 
 /// Writes the examples and names each file written.
-pub fn run(args: &InitArgs) -> Result<(), CliError> {
+pub fn run(args: &InitArgs) -> Result<(), LabError> {
     for path in ftwire::init::write_examples(&args.dir, args.force)? {
         println!("{}", path.display());
     }

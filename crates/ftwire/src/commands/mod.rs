@@ -1,4 +1,4 @@
-//! One module per subcommand; each exposes `run(args) -> Result<(), CliError>` and `main` maps
+//! One module per subcommand; each exposes `run(args) -> Result<(), LabError>` and `main` maps
 //! the error to the exit code.
 
 pub mod demo;
@@ -12,12 +12,12 @@ pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
 
-use ftwire::error::CliError;
+use ftwire_lab::error::LabError;
 
 use crate::cli::{Cli, Command};
 
 /// Runs the chosen subcommand.
-pub fn run(cli: Cli) -> Result<(), CliError> {
+pub fn run(cli: Cli) -> Result<(), LabError> {
     match cli.command {
         Command::Demo(args) => demo::run(args),
         Command::Reproduce(args) => reproduce::run(args),

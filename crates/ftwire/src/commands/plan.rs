@@ -4,10 +4,10 @@
 use std::io::{self, Write};
 use std::time::Duration;
 
-use ftwire::error::{CliError, from_plan};
 use ftwire::output::{self, Report};
-use ftwire::wire::WireSpec;
 use ftwire_core::Pose;
+use ftwire_lab::error::{LabError, from_plan};
+use ftwire_lab::wire::WireSpec;
 use ftwire_plan::{
     Checker, FixedBase, MovingBase, Plan, PlannerParams, Sample, Scene, ValidityParams, plan,
     scene_configuration,
@@ -198,14 +198,14 @@ impl Report for SceneReport {
 fn setup(
     file: &std::path::Path,
     wire: &PlanWireArgs,
-) -> Result<(Scene, WireSpec, Checker), CliError> {
+) -> Result<(Scene, WireSpec, Checker), LabError> {
     let scene = Scene::load(file).map_err(|e| from_plan(e, "reading the scene"))?;
     let spec =
-        WireSpec::load(&wire.wire).map_err(|e| CliError::bad_input(format!("--wire: {e}")))?;
+        WireSpec::load(&wire.wire).map_err(|e| LabError::bad_input(format!("--wire: {e}")))?;
     let params = spec
         .wire_params()
-        .map_err(|e| CliError::bad_input(format!("--wire: {e}")))?;
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| LabError::bad_input(format!("--wire: {e}")))?;
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let validity = ValidityParams {
         margin: wire.margin,
         max_span: wire.max_span,
@@ -217,13 +217,13 @@ fn setup(
 }
 
 /// Runs `ftwire scene`.
-pub fn run_scene(args: &SceneArgs) -> Result<(), CliError> {
+pub fn run_scene(args: &SceneArgs) -> Result<(), LabError> {
     match &args.command {
         SceneCommand::Check(args) => check(args),
     }
 }
 
-fn check(args: &SceneCheckArgs) -> Result<(), CliError> {
+fn check(args: &SceneCheckArgs) -> Result<(), LabError> {
     let (scene, spec, checker) = setup(&args.file, &args.wire)?;
     let mut configurations = Vec::new();
     for name in scene.configurations.keys() {
@@ -273,7 +273,7 @@ fn check(args: &SceneCheckArgs) -> Result<(), CliError> {
                 ));
             }
             Some(c) if !c.valid => {
-                return Err(CliError::bad_input(format!(
+                return Err(LabError::bad_input(format!(
                     "{}: {role} configuration {name:?} is not in Z_free: {}",
                     report.scene,
                     c.reason.as_deref().unwrap_or("?")
@@ -286,12 +286,12 @@ fn check(args: &SceneCheckArgs) -> Result<(), CliError> {
 }
 
 /// Runs `ftwire plan`.
-pub fn run(args: &PlanArgs) -> Result<(), CliError> {
+pub fn run(args: &PlanArgs) -> Result<(), LabError> {
     let budget = Duration::try_from_secs_f64(args.time_budget)
         .ok()
         .filter(|b| !b.is_zero() && args.time_budget <= MAX_TIME_BUDGET)
         .ok_or_else(|| {
-            CliError::bad_input(format!(
+            LabError::bad_input(format!(
                 "--time-budget {} s: give more than 0 and at most {MAX_TIME_BUDGET} seconds",
                 args.time_budget
             ))
@@ -337,7 +337,7 @@ pub fn run(args: &PlanArgs) -> Result<(), CliError> {
     let resampled = match resampled {
         Some(Ok(r)) => Some(r.iter().map(|s| waypoint(checker.rod(), s)).collect()),
         Some(Err(e)) => {
-            return Err(CliError::no_answer(format!(
+            return Err(LabError::no_answer(format!(
                 "{context}: the path could not be resampled: {e}"
             )));
         }

@@ -19,9 +19,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use ftwire::error::CliError;
-use ftwire::output::RunHeader;
-use ftwire::results::OutGuard;
+use ftwire_lab::error::LabError;
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::results::OutGuard;
 use ftwire_report::html::{code_span, escape_markdown};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -159,7 +159,7 @@ fn run_job(job: &Job, dir: &Path, seed: u64) -> (Status, f64) {
         let err = file
             .try_clone()
             .map_err(|e| format!("cannot write {}: {e}", log.display()))?;
-        let exit = ftwire::results::run_child(
+        let exit = ftwire_lab::results::run_child(
             Command::new(exe)
                 .args(&job.args)
                 .arg("--seed")
@@ -202,7 +202,7 @@ fn run_job(job: &Job, dir: &Path, seed: u64) -> (Status, f64) {
 }
 
 /// Runs every experiment and writes the report.
-pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
+pub fn run(args: ReproduceArgs) -> Result<(), LabError> {
     let total = Instant::now();
     let seed = args.seed.seed;
     let jobs = args.jobs.unwrap_or_else(|| {
@@ -245,7 +245,7 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)
             .build()
-            .map_err(|e| CliError::bad_input(format!("--jobs {jobs}: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("--jobs {jobs}: {e}")))?;
         let results: Vec<(Status, f64)> = pool.install(|| {
             rest.par_iter()
                 .map(|job| run_job(job, &dir, seed))
@@ -303,7 +303,7 @@ pub fn run(args: ReproduceArgs) -> Result<(), CliError> {
     if failed.is_empty() {
         Ok(())
     } else {
-        Err(CliError::no_answer(format!(
+        Err(LabError::no_answer(format!(
             "experiments that failed: {} (their logs are in {})",
             failed.join(", "),
             target.display()

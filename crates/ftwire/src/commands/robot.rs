@@ -2,16 +2,16 @@
 
 use std::io::{self, Write};
 
-use ftwire::error::{CliError, from_robot};
 use ftwire::output::{self, Report};
 use ftwire_core::Pose;
+use ftwire_lab::error::{LabError, from_robot};
 use ftwire_robot::{Arm, ArmJoints, EndFrame, IkParams, IkTarget, Robot};
 use serde::Serialize;
 
 use crate::cli::robot::{ArmArg, CommonArgs, FkArgs, FrameArg, IkArgs, RobotArgs, RobotCommand};
 
 /// Runs `ftwire robot`.
-pub fn run(args: RobotArgs) -> Result<(), CliError> {
+pub fn run(args: RobotArgs) -> Result<(), LabError> {
     match args.command {
         RobotCommand::Fk(args) => fk(&args),
         RobotCommand::Ik(args) => ik(&args),
@@ -33,12 +33,12 @@ fn frame(f: FrameArg) -> EndFrame {
 }
 
 /// Loads the robot; a URDF that cannot be read is bad input.
-fn load(common: &CommonArgs) -> Result<Robot, CliError> {
+fn load(common: &CommonArgs) -> Result<Robot, LabError> {
     let robot = match &common.urdf {
         Some(path) => Robot::from_urdf_file(path, &Default::default()),
         None => Robot::sda10f(),
     };
-    robot.map_err(|e| CliError::bad_input(e.to_string()))
+    robot.map_err(|e| LabError::bad_input(e.to_string()))
 }
 
 /// The FK answer: position and row-major rotation matrix in the robot base frame.
@@ -71,13 +71,13 @@ impl Report for FkReport {
     }
 }
 
-fn fk(args: &FkArgs) -> Result<(), CliError> {
+fn fk(args: &FkArgs) -> Result<(), LabError> {
     let robot = load(&args.common)?;
     let (a, f) = (arm(args.common.arm), frame(args.common.frame));
     let q = ArmJoints::from_column_slice(&args.joints.0);
     let pose = robot
         .fk(a, args.common.torso, &q, f)
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| LabError::bad_input(e.to_string()))?;
     let m = pose.rotation.to_rotation_matrix();
     let report = FkReport {
         position: pose.translation.vector.into(),
@@ -126,7 +126,7 @@ impl Report for NoSolution {
     }
 }
 
-fn ik(args: &IkArgs) -> Result<(), CliError> {
+fn ik(args: &IkArgs) -> Result<(), LabError> {
     let robot = load(&args.common)?;
     let (a, f) = (arm(args.common.arm), frame(args.common.frame));
     let seed = args.seed_joints.map(|j| ArmJoints::from_column_slice(&j.0));
@@ -154,7 +154,7 @@ fn ik(args: &IkArgs) -> Result<(), CliError> {
         }
         Err(e) => {
             let error = from_robot(e, "inverse kinematics");
-            if error.exit_code() == ftwire::error::EXIT_NO_ANSWER {
+            if error.exit_code() == ftwire_lab::error::EXIT_NO_ANSWER {
                 // The answer "there is none" is a result too: say so on stdout as well.
                 output::print(
                     &NoSolution {

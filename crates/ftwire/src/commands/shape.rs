@@ -14,13 +14,13 @@
 
 use std::io::{self, BufReader, Write};
 
-use ftwire::error::{CliError, from_estimate};
 use ftwire::output::JsonLines;
-use ftwire::wire::WireSpec;
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::log::read_log;
 use ftwire_estimate::shape::{Confidence, ShapeEstimator, marker_distances};
+use ftwire_lab::error::{LabError, from_estimate};
+use ftwire_lab::wire::WireSpec;
 use nalgebra::Point3;
 use serde::Serialize;
 
@@ -52,27 +52,27 @@ fn confidence_name(confidence: &Confidence) -> &'static str {
 }
 
 /// Runs the command.
-pub fn run(args: ShapeArgs) -> Result<(), CliError> {
-    let wire = WireSpec::load(&args.wire).map_err(|e| CliError::bad_input(e.to_string()))?;
+pub fn run(args: ShapeArgs) -> Result<(), LabError> {
+    let wire = WireSpec::load(&args.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
     let params = wire
         .wire_params()
-        .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
+        .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
     let file = std::fs::File::open(&args.log).map_err(|e| {
-        CliError::bad_input(format!("--log {}: cannot open it: {e}", args.log.display()))
+        LabError::bad_input(format!("--log {}: cannot open it: {e}", args.log.display()))
     })?;
     let records = read_log(BufReader::new(file))
-        .map_err(|e| CliError::bad_input(format!("--log {}: {e}", args.log.display())))?;
+        .map_err(|e| LabError::bad_input(format!("--log {}: {e}", args.log.display())))?;
     let calibration =
         match &args.calibration {
             Some(path) => Some(Calibration::load(path).map_err(|e| {
-                CliError::bad_input(format!("--calibration {}: {e}", path.display()))
+                LabError::bad_input(format!("--calibration {}: {e}", path.display()))
             })?),
             None => None,
         };
     if calibration.is_none()
         && let Some((i, r)) = records.iter().enumerate().find(|(_, r)| r.raw.is_some())
     {
-        return Err(CliError::bad_input(format!(
+        return Err(LabError::bad_input(format!(
             "--log {}: record {i} (time {}) has a raw F/T reading: give --calibration FILE \
              (the weights from `ftwire experiment calibrate`) to turn it into ã",
             args.log.display(),
@@ -88,7 +88,7 @@ pub fn run(args: ShapeArgs) -> Result<(), CliError> {
             (Some(a), _, _) => a,
             (None, Some(raw), Some(calibration)) => calibration.apply(&raw),
             _ => {
-                return Err(CliError::bad_input(format!(
+                return Err(LabError::bad_input(format!(
                     "record {i} has neither a nor raw"
                 )));
             }
@@ -128,7 +128,7 @@ pub fn run(args: ShapeArgs) -> Result<(), CliError> {
         }
     }
     if failed > 0 {
-        return Err(CliError::no_answer(format!(
+        return Err(LabError::no_answer(format!(
             "no shape for {failed} of {} records (see their `error`)",
             records.len()
         )));
@@ -136,7 +136,7 @@ pub fn run(args: ShapeArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn write_text(out: &mut impl Write, answer: &RecordShape) -> Result<(), CliError> {
+fn write_text(out: &mut impl Write, answer: &RecordShape) -> Result<(), LabError> {
     let text = match (&answer.points, &answer.error) {
         (Some(points), _) => {
             let tip = points.last().copied().unwrap_or_default();
@@ -162,5 +162,5 @@ fn write_text(out: &mut impl Write, answer: &RecordShape) -> Result<(), CliError
     };
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())
-        .map_err(|e| CliError::io("writing the result", e))
+        .map_err(|e| LabError::io("writing the result", e))
 }

@@ -11,10 +11,10 @@
 
 use std::io::{self, Write};
 
-use ftwire::bridge::kirchhoff_guess;
-use ftwire::error::{CliError, from_rod, from_sim};
 use ftwire::output::{self, Report};
 use ftwire_core::Pose;
+use ftwire_lab::error::{LabError, from_rod, from_sim};
+use ftwire_lab::initial_guess::kirchhoff_guess;
 use ftwire_rod::to_normalised;
 use ftwire_sim::{ContinuationSettings, Equilibrium, RodParams, World};
 use nalgebra::Vector6;
@@ -23,12 +23,12 @@ use serde::Serialize;
 use crate::cli::sim_equilibrium::{MAX_INITIAL_A_NORMALISED, SimEquilibriumArgs, WORK_LIMIT};
 
 /// Runs `ftwire sim-equilibrium`.
-pub fn run(args: SimEquilibriumArgs) -> Result<(), CliError> {
+pub fn run(args: SimEquilibriumArgs) -> Result<(), LabError> {
     let eq = solve(&args)?;
     output::print(&EquilibriumReport::from(&eq), args.output.json)
 }
 
-fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, CliError> {
+fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, LabError> {
     let wire = args.wire.params()?;
     let params = RodParams {
         stiffness: wire.c(),
@@ -74,11 +74,11 @@ fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, CliError> {
 fn check_clamp_distance(
     args: &SimEquilibriumArgs,
     wire: &ftwire_core::WireParams,
-) -> Result<(), CliError> {
+) -> Result<(), LabError> {
     let distance = args.tip.tip_position.to_vector().norm();
     let diameter = 2.0 * wire.radius();
     if distance < diameter {
-        return Err(CliError::bad_input(format!(
+        return Err(LabError::bad_input(format!(
             "--tip-position {}: the clamp points are {distance} m apart; give at least the \
              wire's diameter 2 · --radius = {diameter} m (closer, the wire's two clamped ends \
              would overlap) and at most its length {} m",
@@ -91,7 +91,7 @@ fn check_clamp_distance(
 
 /// Bad input unless every component of `a` is within [`MAX_INITIAL_A_NORMALISED`] in the
 /// wire's normalised units; the message gives the range in N·m and N.
-fn check_initial_a(wire: &ftwire_core::WireParams, a: &Vector6<f64>) -> Result<(), CliError> {
+fn check_initial_a(wire: &ftwire_core::WireParams, a: &Vector6<f64>) -> Result<(), LabError> {
     let normalised = to_normalised(wire, a);
     let Some(k) = (0..6).find(|&k| normalised[k].abs() > MAX_INITIAL_A_NORMALISED) else {
         return Ok(());
@@ -110,7 +110,7 @@ fn check_initial_a(wire: &ftwire_core::WireParams, a: &Vector6<f64>) -> Result<(
     } else {
         format!("{:e}", a[k])
     };
-    Err(CliError::bad_input(format!(
+    Err(LabError::bad_input(format!(
         "--initial-a: {name} = {value} {unit} is too large for this wire: give each torque \
          within ±{torque:.4} N·m and each force within ±{force:.4} N \
          ({MAX_INITIAL_A_NORMALISED} in units of c2/L and c2/L²)"

@@ -14,9 +14,9 @@ use std::io::{self, BufRead, BufReader, Write};
 use std::path::Path;
 
 use ftwire::args::{check_radius, default_radius};
-use ftwire::error::{CliError, EXIT_BAD_INPUT, from_rod};
 use ftwire::output::{self, ErrorLine, JsonLines, Report};
 use ftwire_core::text;
+use ftwire_lab::error::{EXIT_BAD_INPUT, LabError, from_rod};
 use ftwire_rod::{DEFAULT_NODES, Load, Rod, Solution, WireParams};
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
@@ -24,18 +24,18 @@ use serde::{Deserialize, Serialize};
 use crate::cli::solve::{NODES, SolveArgs};
 
 /// Runs `ftwire solve`.
-pub fn run(args: SolveArgs) -> Result<(), CliError> {
+pub fn run(args: SolveArgs) -> Result<(), LabError> {
     match &args.batch {
         Some(path) => run_batch(path),
         None => run_single(&args),
     }
 }
 
-fn run_single(args: &SolveArgs) -> Result<(), CliError> {
+fn run_single(args: &SolveArgs) -> Result<(), LabError> {
     let wire = args.wire.params()?;
     let a = args
         .a
-        .ok_or_else(|| CliError::bad_input("solve needs --a A1,..,A6"))?;
+        .ok_or_else(|| LabError::bad_input("solve needs --a A1,..,A6"))?;
     let load = load(args, &wire)?;
     let solution = solve(wire, load, &a.0, args.nodes)?;
     let report = SingleReport {
@@ -50,7 +50,7 @@ fn run_single(args: &SolveArgs) -> Result<(), CliError> {
 
 /// The load of `--gravity`, `--density` (with the wire's radius) and `--natural-curvature`;
 /// none without them.
-fn load(args: &SolveArgs, wire: &WireParams) -> Result<Load, CliError> {
+fn load(args: &SolveArgs, wire: &WireParams) -> Result<Load, LabError> {
     let weight = match &args.gravity {
         Some(g) => Load::from_gravity(args.density.density, wire.radius(), g.to_vector()),
         None => Ok(Load::none()),
@@ -59,11 +59,11 @@ fn load(args: &SolveArgs, wire: &WireParams) -> Result<Load, CliError> {
         Some(k) => weight.and_then(|l| l.with_natural_curvature(k.to_vector())),
         None => weight,
     };
-    load.map_err(|e| CliError::bad_input(format!("invalid load: {e}")))
+    load.map_err(|e| LabError::bad_input(format!("invalid load: {e}")))
 }
 
 /// Solves one configuration; every failure is sorted into bad input or no answer.
-fn solve(wire: WireParams, load: Load, a: &[f64; 6], nodes: usize) -> Result<Solution, CliError> {
+fn solve(wire: WireParams, load: Load, a: &[f64; 6], nodes: usize) -> Result<Solution, LabError> {
     Rod::new(wire)
         .with_load(load)
         .solve(&Vector6::from(*a), nodes)
@@ -71,18 +71,18 @@ fn solve(wire: WireParams, load: Load, a: &[f64; 6], nodes: usize) -> Result<Sol
 }
 
 /// A batch always prints JSON Lines, so `--json` changes nothing there.
-fn run_batch(path: &Path) -> Result<(), CliError> {
+fn run_batch(path: &Path) -> Result<(), LabError> {
     let mut input: Box<dyn BufRead> = if path.as_os_str() == "-" {
         Box::new(io::stdin().lock())
     } else {
         if path.is_dir() {
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "--batch {}: a folder, not a file; give a JSON Lines file, or - for stdin",
                 path.display()
             )));
         }
         let file = File::open(path).map_err(|e| {
-            CliError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
+            LabError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
         })?;
         Box::new(BufReader::new(file))
     };
@@ -93,7 +93,7 @@ fn run_batch(path: &Path) -> Result<(), CliError> {
         bytes.clear();
         let read = input
             .read_until(b'\n', &mut bytes)
-            .map_err(|e| CliError::io(format!("reading line {number} of the batch"), e))?;
+            .map_err(|e| LabError::io(format!("reading line {number} of the batch"), e))?;
         if read == 0 {
             break;
         }
@@ -106,7 +106,7 @@ fn run_batch(path: &Path) -> Result<(), CliError> {
         let result = match text::utf8(line) {
             Ok(line) if line.trim().is_empty() => continue,
             Ok(line) => answer(line),
-            Err(e) => Err(CliError::bad_input(match e {
+            Err(e) => Err(LabError::bad_input(match e {
                 ftwire_core::CoreError::NotUtf8 { column, byte, .. } => format!(
                     "column {column}: byte 0x{byte:02X} is not valid UTF-8; a batch is UTF-8 text"
                 ),
@@ -131,38 +131,38 @@ fn run_batch(path: &Path) -> Result<(), CliError> {
          see their error objects"
     );
     if bad_input > 0 {
-        Err(CliError::bad_input(summary))
+        Err(LabError::bad_input(summary))
     } else if no_answer > 0 {
-        Err(CliError::no_answer(summary))
+        Err(LabError::no_answer(summary))
     } else {
         Ok(())
     }
 }
 
 /// The answer to one batch line.
-fn answer(line: &str) -> Result<Solution, CliError> {
+fn answer(line: &str) -> Result<Solution, LabError> {
     let request: Request = serde_json::from_str(line)
-        .map_err(|e| CliError::bad_input(format!("invalid request: {e}")))?;
+        .map_err(|e| LabError::bad_input(format!("invalid request: {e}")))?;
     let c: [f64; 3] = request.c.as_slice().try_into().map_err(|_| {
-        CliError::bad_input(format!(
+        LabError::bad_input(format!(
             "c must have 3 values C1,C2,C3 [N·m²], got {}",
             request.c.len()
         ))
     })?;
     let a: [f64; 6] = request.a.as_slice().try_into().map_err(|_| {
-        CliError::bad_input(format!(
+        LabError::bad_input(format!(
             "a must have 6 values τ1,τ2,τ3,f1,f2,f3, got {}",
             request.a.len()
         ))
     })?;
     let radius = request.radius.unwrap_or_else(default_radius);
     let wire = WireParams::new(c, request.length, radius)
-        .map_err(|e| CliError::bad_input(format!("invalid wire: {e}")))?;
-    check_radius(&wire, "radius", "length").map_err(CliError::bad_input)?;
+        .map_err(|e| LabError::bad_input(format!("invalid wire: {e}")))?;
+    check_radius(&wire, "radius", "length").map_err(LabError::bad_input)?;
     let nodes = match request.nodes {
         Some(nodes) => NODES
             .check_value("nodes", nodes)
-            .map_err(CliError::bad_input)?,
+            .map_err(LabError::bad_input)?,
         None => DEFAULT_NODES,
     };
     solve(wire, Load::none(), &a, nodes)

@@ -36,13 +36,15 @@ use nalgebra::{Point3, Translation3, Vector3, Vector6};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::Gravity;
-use super::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare, true_rod};
-use crate::csv_table::{CsvTable, fixed, text, value};
-use crate::error::{CliError, from_plan, from_rod, from_sim};
-use crate::scene::with_scene;
-use crate::setup::SimSetup;
-use crate::wire::WireSpec;
+use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
+use ftwire_lab::error::{LabError, from_plan, from_rod, from_sim};
+use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::rig::{
+    SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare, true_rod,
+};
+use ftwire_lab::scene::with_scene;
+use ftwire_lab::setup::SimSetup;
+use ftwire_lab::wire::WireSpec;
 
 /// RRT* iterations of [`plan_in_scene`]'s first attempt (an iteration budget, not a time
 /// budget, so that the path does not depend on the machine's speed).
@@ -183,8 +185,8 @@ pub fn near_obstacles(
     scene: &Scene,
     rod: &Rod,
     waypoints: &[Waypoint],
-) -> Result<Vec<bool>, CliError> {
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+) -> Result<Vec<bool>, LabError> {
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let checker = Checker::new(*rod, robot, scene, ValidityParams::default())
         .map_err(|e| from_plan(e, "the scene"))?;
     Ok(waypoints
@@ -353,8 +355,8 @@ pub fn relocation(
     poses: &GripperPoses,
     a_now: &Vector6<f64>,
     a_goal: &Vector6<f64>,
-) -> Result<Option<Pose>, CliError> {
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+) -> Result<Option<Pose>, LabError> {
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let checker = Checker::new(
         *model.rod(),
         robot.clone(),
@@ -365,7 +367,7 @@ pub fn relocation(
     let tip = |a: &Vector6<f64>| {
         model
             .tip(a)
-            .map_err(|e| CliError::no_answer(format!("relocating the base: {e}")))
+            .map_err(|e| LabError::no_answer(format!("relocating the base: {e}")))
     };
     let now = poses.relative();
     let at_goal = tip(a_goal)? * tip(a_now)?.inverse() * now;
@@ -509,7 +511,7 @@ pub fn waypoints_along(
     base: &Pose,
     path: &[Sample],
     n: usize,
-) -> Result<Vec<Waypoint>, CliError> {
+) -> Result<Vec<Waypoint>, LabError> {
     let wire = rod.wire();
     let a: Vec<Vector6<f64>> = path.iter().map(|s| s.config.a).collect();
     let mut cumulative = vec![0.0];
@@ -527,7 +529,7 @@ pub fn waypoints_along(
                 .position(|w| target <= w[1])
                 .unwrap_or(cumulative.len().saturating_sub(2));
             let (Some(from), Some(to)) = (a.get(k), a.get(k + 1).or_else(|| a.get(k))) else {
-                return Err(CliError::no_answer("an empty path"));
+                return Err(LabError::no_answer("an empty path"));
             };
             let span = cumulative.get(k + 1).copied().unwrap_or(total) - cumulative[k];
             let t = if span > 0.0 {
@@ -537,7 +539,7 @@ pub fn waypoints_along(
             };
             Ok(from + (to - from) * t)
         })
-        .collect::<Result<Vec<_>, CliError>>()?;
+        .collect::<Result<Vec<_>, LabError>>()?;
     waypoints_at(rod, base, &along)
 }
 
@@ -546,7 +548,7 @@ pub fn waypoints_along(
 ///
 /// # Errors
 /// No answer when the model cannot solve one of them.
-pub fn waypoints_at(rod: &Rod, base: &Pose, a: &[Vector6<f64>]) -> Result<Vec<Waypoint>, CliError> {
+pub fn waypoints_at(rod: &Rod, base: &Pose, a: &[Vector6<f64>]) -> Result<Vec<Waypoint>, LabError> {
     a.iter()
         .map(|a| {
             let tip = rod
@@ -648,7 +650,7 @@ pub fn polish_waypoints(
     rod: &Rod,
     noise: NoiseModel,
     waypoints: &[Waypoint],
-) -> Result<(Vec<Waypoint>, PolishOut), CliError> {
+) -> Result<(Vec<Waypoint>, PolishOut), LabError> {
     let unpolished = PolishOut {
         moved: 0,
         min_clearance_before_mm: f64::NAN,
@@ -657,7 +659,7 @@ pub fn polish_waypoints(
         min_landing_clearance_after_mm: f64::NAN,
         valid: false,
     };
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     // The checker's own model is the tracking one: `validity` keeps the margin on its folds
     // (`validity_tracked` would test the same model's stability twice).
     let checker = Checker::new(*rod, robot, scene, validity(noise, rod.wire().length()))
@@ -708,8 +710,8 @@ pub fn expected_touches(
     rod: &Rod,
     noise: NoiseModel,
     waypoints: &[Waypoint],
-) -> Result<f64, CliError> {
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+) -> Result<f64, LabError> {
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let checker = Checker::new(*rod, robot, scene, validity(noise, rod.wire().length()))
         .map_err(|e| from_plan(e, "the scene"))?;
     let settings = NoiseSettings::default();
@@ -805,10 +807,10 @@ pub fn choose_plan(
     seed: u64,
     candidates: usize,
     polish: bool,
-    prepare: impl Fn(&ScenePlan) -> Result<Vec<Waypoint>, CliError> + Sync,
-) -> Result<Chosen, CliError> {
+    prepare: impl Fn(&ScenePlan) -> Result<Vec<Waypoint>, LabError> + Sync,
+) -> Result<Chosen, LabError> {
     if candidates == 0 {
-        return Err(CliError::bad_input(
+        return Err(LabError::bad_input(
             "--plan-candidates 0: make at least 1 plan",
         ));
     }
@@ -818,7 +820,7 @@ pub fn choose_plan(
     // Each candidate: its planning time (`None`: no path), and its expected touches with its
     // plan and waypoints, or why it was passed over. The candidates are independent, so they
     // run in parallel; the choice below takes them in order, so it is the same on any machine.
-    type Outcome = (Option<f64>, Result<(Option<f64>, Chosen), CliError>);
+    type Outcome = (Option<f64>, Result<(Option<f64>, Chosen), LabError>);
     let outcomes: Vec<Outcome> = (0..candidates)
         .into_par_iter()
         .map(|k| {
@@ -879,7 +881,7 @@ pub fn choose_plan(
     }
     let Some((_, chosen, candidate)) = best else {
         return Err(
-            first_error.unwrap_or_else(|| CliError::no_answer("planning in the scene: no attempt"))
+            first_error.unwrap_or_else(|| LabError::no_answer("planning in the scene: no attempt"))
         );
     };
     Ok(Chosen {
@@ -908,7 +910,7 @@ pub fn reexpress(
     waypoints: &[Waypoint],
     model: &KirchhoffModel,
     base: &Pose,
-) -> Result<Vec<Waypoint>, CliError> {
+) -> Result<Vec<Waypoint>, LabError> {
     let mut out: Vec<Waypoint> = Vec::with_capacity(waypoints.len());
     for (i, waypoint) in waypoints.iter().enumerate() {
         let guess = match (out.last(), i.checked_sub(1).and_then(|j| waypoints.get(j))) {
@@ -916,7 +918,7 @@ pub fn reexpress(
             _ => waypoint.a,
         };
         let fail = |why: &str| {
-            CliError::no_answer(format!(
+            LabError::no_answer(format!(
                 "waypoint {i}: the tracking model has no configuration at the planned pose ({why})"
             ))
         };
@@ -1041,8 +1043,8 @@ pub fn plan_in_scene(
     rod: &Rod,
     validity: ValidityParams,
     seed: u64,
-) -> Result<(ScenePlan, Checker), CliError> {
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+) -> Result<(ScenePlan, Checker), LabError> {
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let checker =
         Checker::new(*rod, robot, scene, validity).map_err(|e| from_plan(e, "the scene"))?;
     let endpoint = |name: &str, role| {
@@ -1072,7 +1074,7 @@ pub fn plan_in_scene(
     let found = match (found, last) {
         (Some(found), _) => found,
         (None, Some(e)) => return Err(from_plan(e, "planning in the scene")),
-        (None, None) => return Err(CliError::no_answer("planning in the scene: no attempt")),
+        (None, None) => return Err(LabError::no_answer("planning in the scene: no attempt")),
     };
     let waypoints = waypoints_along(rod, &scene.base, &found.path.waypoints, WAYPOINTS)?;
     let seconds = began.elapsed().as_secs_f64();
@@ -1099,8 +1101,8 @@ pub fn place_in_scene(
     obstacles: bool,
     a0: &Vector6<f64>,
     config: RigConfig,
-) -> Result<SimRig, CliError> {
-    let params = wire.rod_params(gravity.vector(), super::SIM_EDGES);
+) -> Result<SimRig, LabError> {
+    let params = wire.rod_params(gravity.vector(), ftwire_lab::experiment::SIM_EDGES);
     let mut world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
     if obstacles {
         world = with_scene(world, scene).map_err(|e| from_sim(e, "the scene's obstacles"))?;
@@ -1118,10 +1120,14 @@ pub fn place_in_scene(
 pub fn scene_model(
     wire: &WireSpec,
     gravity: Gravity,
-    kind: super::ModelKind,
+    kind: ftwire_lab::experiment::ModelKind,
     scene: &Scene,
-) -> Result<KirchhoffModel, CliError> {
-    super::known_model_under(wire, scene.base.rotation.inverse() * gravity.vector(), kind)
+) -> Result<KirchhoffModel, LabError> {
+    ftwire_lab::experiment::known_model_under(
+        wire,
+        scene.base.rotation.inverse() * gravity.vector(),
+        kind,
+    )
 }
 
 /// What one tracking attempt did, scored on the simulator's truth.
@@ -1292,7 +1298,7 @@ impl Tracking<'_> {
         start: &Vector6<f64>,
         obstacles: bool,
         stream: u64,
-    ) -> Result<(NoisyRig<SimRig>, FtFeedback<Calibration>), CliError> {
+    ) -> Result<(NoisyRig<SimRig>, FtFeedback<Calibration>), LabError> {
         let config = self
             .setup
             .rig_config(self.seed ^ stream.wrapping_mul(0x9e37_79b9));
@@ -1311,7 +1317,7 @@ impl Tracking<'_> {
             NoiseSettings::default(),
             self.seed.wrapping_add(stream),
         )
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| LabError::bad_input(e.to_string()))?;
         Ok((noisy, FtFeedback::new(tared, SAMPLES_PER_REST)))
     }
 
@@ -1333,7 +1339,7 @@ impl Tracking<'_> {
         &self,
         model: &KirchhoffModel,
         waypoints: &[Waypoint],
-    ) -> Result<CollisionDetector, CliError> {
+    ) -> Result<CollisionDetector, LabError> {
         let mut residuals = Vec::new();
         for stream in 1..=REHEARSALS {
             let (_, more) = self.closed_loop_with(model, waypoints, None, false, stream)?;
@@ -1344,7 +1350,7 @@ impl Tracking<'_> {
             CollisionDetector::DEFAULT_MARGIN,
             CollisionDetector::DEFAULT_FLOOR,
         )
-        .map_err(|e| CliError::no_answer(format!("calibrating the collision detector: {e}")))
+        .map_err(|e| LabError::no_answer(format!("calibrating the collision detector: {e}")))
     }
 
     /// Tracks the waypoints closed loop with `detector` armed. A waypoint the controller
@@ -1359,7 +1365,7 @@ impl Tracking<'_> {
         waypoints: &[Waypoint],
         detector: CollisionDetector,
         stream: u64,
-    ) -> Result<Attempt, CliError> {
+    ) -> Result<Attempt, LabError> {
         self.closed_loop_with(model, waypoints, Some(detector), true, stream)
             .map(|(attempt, _)| attempt)
     }
@@ -1374,7 +1380,7 @@ impl Tracking<'_> {
         model: &KirchhoffModel,
         waypoints: &[Waypoint],
         stream: u64,
-    ) -> Result<Attempt, CliError> {
+    ) -> Result<Attempt, LabError> {
         self.closed_loop_with(model, waypoints, None, true, stream)
             .map(|(attempt, _)| attempt)
     }
@@ -1387,13 +1393,13 @@ impl Tracking<'_> {
         detector: Option<CollisionDetector>,
         obstacles: bool,
         stream: u64,
-    ) -> Result<(Attempt, Vec<f64>), CliError> {
+    ) -> Result<(Attempt, Vec<f64>), LabError> {
         let (Some(first), Some(last)) = (waypoints.first(), waypoints.last()) else {
-            return Err(CliError::no_answer("an empty path"));
+            return Err(LabError::no_answer("an empty path"));
         };
         let (mut rig, feedback) = self.rig(&first.a, obstacles, stream)?;
         let mut reach = if self.arms {
-            let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+            let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
             TrackReach::Robot(Box::new(RobotReach::new(
                 robot,
                 Pose::identity(),
@@ -1421,8 +1427,8 @@ impl Tracking<'_> {
         };
         let build = |settings| {
             let controller = Controller::new(*model, settings)
-                .map_err(|e| CliError::bad_input(e.to_string()))?;
-            Ok::<_, CliError>(match detector {
+                .map_err(|e| LabError::bad_input(e.to_string()))?;
+            Ok::<_, LabError>(match detector {
                 Some(d) => controller.with_detector(d),
                 None => controller,
             })
@@ -1458,7 +1464,7 @@ impl Tracking<'_> {
             .observer_settings()
             .map(|settings| BiasObserver::new(*model, settings))
             .transpose()
-            .map_err(|e| CliError::bad_input(e.to_string()))?;
+            .map_err(|e| LabError::bad_input(e.to_string()))?;
         // The last leg rests longer: its stop rule and the success are judged there.
         let end_feedback = FtFeedback::new(feedback.pipeline().clone(), GOAL_REST_SAMPLES);
         let mut attempt = Attempt {
@@ -1689,10 +1695,10 @@ impl Tracking<'_> {
         model: &KirchhoffModel,
         a_now: &Vector6<f64>,
         a_goal: &Vector6<f64>,
-    ) -> Result<Relocated, CliError> {
+    ) -> Result<Relocated, LabError> {
         let poses = rig
             .gripper_poses()
-            .map_err(|e| CliError::no_answer(e.to_string()))?;
+            .map_err(|e| LabError::no_answer(e.to_string()))?;
         let Some(base) = relocation(self.scene, self.noise, model, &poses, a_now, a_goal)? else {
             return Ok(Relocated::NoneFound);
         };
@@ -1715,9 +1721,9 @@ impl Tracking<'_> {
         model: &KirchhoffModel,
         waypoints: &[Waypoint],
         stream: u64,
-    ) -> Result<Attempt, CliError> {
+    ) -> Result<Attempt, LabError> {
         let (Some(first), Some(last)) = (waypoints.first(), waypoints.last()) else {
-            return Err(CliError::no_answer("an empty path"));
+            return Err(LabError::no_answer("an empty path"));
         };
         let (mut rig, _) = self.rig(&first.a, true, stream)?;
         let poses: Vec<Pose> = waypoints.iter().map(|w| w.tip).collect();
@@ -1748,7 +1754,7 @@ impl Tracking<'_> {
             None,
             |r, k| truths.push((k, truth_of(r.inner()))),
         )
-        .map_err(|e| CliError::no_answer(e.to_string()))?;
+        .map_err(|e| LabError::no_answer(e.to_string()))?;
         attempt.steps = rolled.moves;
         match rolled.failed {
             Some((k, message)) => attempt.outcome = format!("move {k} failed: {message}"),
@@ -1800,9 +1806,9 @@ enum Relocated {
 ///
 /// # Errors
 /// Bad input when the robot's description cannot be loaded.
-fn robot_reach(base: Pose) -> Result<TrackReach, CliError> {
+fn robot_reach(base: Pose) -> Result<TrackReach, LabError> {
     Ok(TrackReach::Robot(Box::new(RobotReach::new(
-        Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?,
+        Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?,
         Pose::identity(),
         base,
     ))))
@@ -1811,20 +1817,20 @@ fn robot_reach(base: Pose) -> Result<TrackReach, CliError> {
 /// Moves the second gripper back to where it was before the last move of `run` (the one the
 /// collision detector flagged): the pose the robot reported after the move before it, or the
 /// run's start.
-fn step_back<R: Rig>(rig: &mut R, run: &Run) -> Result<(), CliError> {
+fn step_back<R: Rig>(rig: &mut R, run: &Run) -> Result<(), LabError> {
     let Some((_, before)) = run.steps.split_last() else {
         return Ok(());
     };
     let back = before.last().map_or(run.start_tip, |s| s.tip);
     rig.move_tip(rig_base(rig)? * back)
-        .map_err(|e| CliError::no_answer(e.to_string()))
+        .map_err(|e| LabError::no_answer(e.to_string()))
 }
 
 /// The base gripper's pose as the robot reports it.
-fn rig_base<R: Rig>(rig: &R) -> Result<Pose, CliError> {
+fn rig_base<R: Rig>(rig: &R) -> Result<Pose, LabError> {
     rig.gripper_poses()
         .map(|poses| poses.base)
-        .map_err(|e| CliError::no_answer(e.to_string()))
+        .map_err(|e| LabError::no_answer(e.to_string()))
 }
 
 /// `waypoints.csv`: every closed-loop leg of every run, numbered by `label` (`pair`,
@@ -1834,7 +1840,7 @@ fn rig_base<R: Rig>(rig: &R) -> Result<Pose, CliError> {
 ///
 /// # Errors
 /// As [`CsvTable::row`].
-pub fn waypoints_csv(label: &str, closed: &[Attempt]) -> Result<Vec<u8>, CliError> {
+pub fn waypoints_csv(label: &str, closed: &[Attempt]) -> Result<Vec<u8>, LabError> {
     let mut csv = CsvTable::new(
         "waypoints.csv",
         &[
@@ -1901,12 +1907,12 @@ fn to_points(centreline: &[Point3<f64>]) -> Vec<[f64; 3]> {
 }
 
 /// Mean distance \[mm\] between two centrelines (world frame).
-fn shape_mm(truth: &[Point3<f64>], planned: &[Point3<f64>]) -> Result<f64, CliError> {
+fn shape_mm(truth: &[Point3<f64>], planned: &[Point3<f64>]) -> Result<f64, LabError> {
     let a: Vec<Vector3<f64>> = truth.iter().map(|p| p.coords).collect();
     let b: Vec<Vector3<f64>> = planned.iter().map(|p| p.coords).collect();
     centreline_distance(&a, &b, DEFAULT_METRIC_SAMPLES)
         .map(|d| 1e3 * d)
-        .map_err(|e| CliError::no_answer(format!("the shape error: {e}")))
+        .map_err(|e| LabError::no_answer(format!("the shape error: {e}")))
 }
 
 #[cfg(test)]
@@ -1998,7 +2004,7 @@ mod tests {
 
     #[test]
     fn a_relocation_is_one_clear_axis_translation_from_which_the_arms_reach() {
-        let scene = Scene::from_toml(crate::scene::PASSAGE, "passage.toml").expect("scene");
+        let scene = Scene::from_toml(ftwire_lab::scene::PASSAGE, "passage.toml").expect("scene");
         let wire =
             ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
         let rod = Rod::new(wire);
@@ -2088,7 +2094,7 @@ mod tests {
 
     #[test]
     fn a_wire_through_the_passage_gap_is_near_its_boxes_and_one_above_the_wall_is_not() {
-        let scene = Scene::from_toml(crate::scene::PASSAGE, "passage.toml").expect("scene");
+        let scene = Scene::from_toml(ftwire_lab::scene::PASSAGE, "passage.toml").expect("scene");
         let wire =
             ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
         // A straight wire across the wall's plane (y = 0.05) at `x`, `z`.
@@ -2169,9 +2175,14 @@ mod tests {
     #[test]
     fn one_plan_is_made_without_a_choice_where_the_loop_converges() {
         let wire = WireSpec::preset("nitinol-3mm-820").expect("a preset");
-        let scene = Scene::from_toml(crate::scene::PASSAGE, "passage.toml").expect("scene");
-        let loaded = scene_model(&wire, Gravity::On, super::super::ModelKind::Loaded, &scene)
-            .expect("the loaded model");
+        let scene = Scene::from_toml(ftwire_lab::scene::PASSAGE, "passage.toml").expect("scene");
+        let loaded = scene_model(
+            &wire,
+            Gravity::On,
+            ftwire_lab::experiment::ModelKind::Loaded,
+            &scene,
+        )
+        .expect("the loaded model");
         let planner = Rod::new(*loaded.wire());
         let noise = NoiseModel::Offset;
         let validity = validity_tracked(noise, loaded.rod());
@@ -2218,9 +2229,14 @@ mod tests {
     fn the_910_mm_wire_plans_through_the_shipped_passage_under_the_paper_noise() {
         // The demo's default wire: at 93 % of its length it had no path there.
         let wire = WireSpec::preset("nitinol-3mm-910").expect("a preset");
-        let scene = Scene::from_toml(crate::scene::PASSAGE, "passage.toml").expect("scene");
-        let loaded = scene_model(&wire, Gravity::On, super::super::ModelKind::Loaded, &scene)
-            .expect("the loaded model");
+        let scene = Scene::from_toml(ftwire_lab::scene::PASSAGE, "passage.toml").expect("scene");
+        let loaded = scene_model(
+            &wire,
+            Gravity::On,
+            ftwire_lab::experiment::ModelKind::Loaded,
+            &scene,
+        )
+        .expect("the loaded model");
         let noise = NoiseModel::Increment;
         let params = validity_tracked(noise, loaded.rod());
         assert!(params.max_span > MAX_SPAN_NOISY);

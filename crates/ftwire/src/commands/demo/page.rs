@@ -5,10 +5,10 @@
 
 use std::fmt::Write as _;
 
-use ftwire::error::CliError;
 use ftwire::experiment::track::{Attempt, Waypoint};
-use ftwire::results::ResultsFolder;
 use ftwire_core::Pose;
+use ftwire_lab::error::LabError;
+use ftwire_lab::results::ResultsFolder;
 use ftwire_plan::Scene;
 use ftwire_report::html::{code_span, escape_markdown};
 use ftwire_report::{HtmlReport, Rotation, Scene3d, Step3};
@@ -172,13 +172,13 @@ pub(super) fn write(
     folder: &ResultsFolder,
     summary: &Summary,
     drawn: &Drawn<'_>,
-) -> Result<(), CliError> {
+) -> Result<(), LabError> {
     let figure = |report: HtmlReport, caption: &str, stem: &str| {
         let path = folder.dir().join(format!("{stem}.png"));
         if path.is_file() {
             report
                 .with_png_file(caption, &path)
-                .map_err(|e| CliError::no_answer(format!("report.html: {e}")))
+                .map_err(|e| LabError::no_answer(format!("report.html: {e}")))
         } else {
             Ok(report)
         }

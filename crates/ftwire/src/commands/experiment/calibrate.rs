@@ -2,25 +2,25 @@
 //! wire, label them by shape fitting (eq. 15), train the calibration network, and compare it
 //! with the tared mounting-only pipeline on the test split.
 //!
-//! The procedure is [`ftwire::experiment::calibration`]'s. `--wire` replaces the known wire
+//! The procedure is [`ftwire_lab::experiment::calibration`]'s. `--wire` replaces the known wire
 //! (default [`KNOWN_WIRE`]); `--trials` is the number of configurations collected (default
 //! [`DEFAULT_SAMPLES`]). Writes `summary.json`, `calibration.json` (the weights, in the format
 //! `--calibration` loads), `samples.csv` (one row per configuration) and `timings.json`.
 
-use ftwire::csv_table::{CsvTable, text, value};
-use ftwire::error::{CliError, from_estimate};
-use ftwire::experiment::calibration::{DEFAULT_SAMPLES, KNOWN_WIRE, run as calibrate};
-use ftwire::output::RunHeader;
-use ftwire::results::OutGuard;
-use ftwire::wire::WireSpec;
+use ftwire_lab::csv_table::{CsvTable, text, value};
+use ftwire_lab::error::{LabError, from_estimate};
+use ftwire_lab::experiment::calibration::{DEFAULT_SAMPLES, KNOWN_WIRE, run as calibrate};
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::results::OutGuard;
+use ftwire_lab::wire::WireSpec;
 
 use crate::cli::experiment::CalibrateExperimentArgs;
 
 /// Runs the experiment.
-pub fn run(args: CalibrateExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: CalibrateExperimentArgs) -> Result<(), LabError> {
     let common = &args.common;
     let wire_name = common.wire.clone().unwrap_or_else(|| KNOWN_WIRE.to_owned());
-    let wire = WireSpec::load(&wire_name).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let wire = WireSpec::load(&wire_name).map_err(|e| LabError::bad_input(e.to_string()))?;
     let count = common.trials.unwrap_or(DEFAULT_SAMPLES);
     let setup = common.setup.load()?;
     let folder = common.open_results("calibrate", OutGuard::default())?;

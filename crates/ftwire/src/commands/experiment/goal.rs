@@ -68,14 +68,6 @@
 
 use std::time::Instant;
 
-use ftwire::csv_table::{Cell, CsvTable, text, value};
-use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
-use ftwire::experiment::calibration::rig_seed;
-use ftwire::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_among, tare};
-use ftwire::experiment::{Gravity, ModelKind, known_model};
-use ftwire::results::OutGuard;
-use ftwire::setup::SimSetup;
-use ftwire::wire::WireSpec;
 use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
 };
@@ -87,6 +79,14 @@ use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_lab::csv_table::{Cell, CsvTable, text, value};
+use ftwire_lab::error::{LabError, from_estimate, from_rod, from_sim};
+use ftwire_lab::experiment::calibration::rig_seed;
+use ftwire_lab::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, place_among, tare};
+use ftwire_lab::experiment::{Gravity, ModelKind, known_model};
+use ftwire_lab::results::OutGuard;
+use ftwire_lab::setup::SimSetup;
+use ftwire_lab::wire::WireSpec;
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::sampling::Sampler;
 use ftwire_rod::{Rod, from_normalised, to_normalised};
@@ -395,7 +395,7 @@ fn metrics(trials: &[(Truth, bool, bool)]) -> Metrics {
 }
 
 impl Context<'_> {
-    fn shape(&self, a: &Vector6<f64>) -> Result<Vec<Vector3<f64>>, CliError> {
+    fn shape(&self, a: &Vector6<f64>) -> Result<Vec<Vector3<f64>>, LabError> {
         Ok(self
             .model
             .shape(a, SHAPE_NODES)
@@ -408,7 +408,7 @@ impl Context<'_> {
         AnyPose
     }
 
-    fn truth(&self, rig: &SimRig, pair: &Pair) -> Result<Truth, CliError> {
+    fn truth(&self, rig: &SimRig, pair: &Pair) -> Result<Truth, LabError> {
         let equilibrium = rig.equilibrium();
         let centreline: Vec<Vector3<f64>> = equilibrium
             .wire_centreline()
@@ -444,7 +444,7 @@ impl Context<'_> {
         k: u64,
         noise: NoiseModel,
         obstacles: &[BoxObstacle],
-    ) -> Result<Option<TrialRig>, CliError> {
+    ) -> Result<Option<TrialRig>, LabError> {
         let config = self
             .rig
             .rig_config(rig_seed(self.seed.wrapping_add(0x60A1), k as usize));
@@ -469,7 +469,7 @@ impl Context<'_> {
             NoiseSettings::default(),
             rig_seed(self.seed.wrapping_add(0x5EED), k as usize),
         )
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| LabError::bad_input(e.to_string()))?;
         Ok(Some((noisy, feedback)))
     }
 
@@ -480,7 +480,7 @@ impl Context<'_> {
         k: u64,
         setup: &ClosedSetup<'_>,
         obstacles: &[BoxObstacle],
-    ) -> Result<ClosedTrial, CliError> {
+    ) -> Result<ClosedTrial, LabError> {
         let ClosedSetup {
             noise,
             epsilons,
@@ -523,7 +523,7 @@ impl Context<'_> {
             ..ControlSettings::default()
         };
         let mut controller = Controller::new(self.model, settings)
-            .map_err(|e| CliError::bad_input(e.to_string()))?;
+            .map_err(|e| LabError::bad_input(e.to_string()))?;
         if let Some(d) = detector {
             controller = controller.with_detector(d);
         }
@@ -534,7 +534,7 @@ impl Context<'_> {
             .observer_settings(noise)
             .map(|settings| BiasObserver::new(self.model, settings))
             .transpose()
-            .map_err(|e| CliError::bad_input(e.to_string()))?;
+            .map_err(|e| LabError::bad_input(e.to_string()))?;
         let run = controller.run_estimated(
             &mut rig,
             &feedback,
@@ -602,7 +602,7 @@ impl Context<'_> {
         k: u64,
         noise: NoiseModel,
         poses: &[Pose],
-    ) -> Result<OpenTrial, CliError> {
+    ) -> Result<OpenTrial, LabError> {
         let Some((mut rig, feedback)) = self.rig(pair, k, noise, &[])? else {
             return Ok(OpenTrial {
                 truth: Truth {
@@ -625,7 +625,7 @@ impl Context<'_> {
                 Err(e) => truth_error = Some(e),
             }
         })
-        .map_err(|e| CliError::no_answer(e.to_string()))?;
+        .map_err(|e| LabError::no_answer(e.to_string()))?;
         if let Some(e) = truth_error {
             return Err(e);
         }
@@ -647,7 +647,7 @@ fn draw_pairs(
     count: usize,
     rng: &mut ChaCha8Rng,
     draws: &mut PairDraws,
-) -> Result<Vec<Pair>, CliError> {
+) -> Result<Vec<Pair>, LabError> {
     let sampler = Sampler {
         half_width: PAIR_BOX,
         ..Sampler::default()
@@ -655,7 +655,7 @@ fn draw_pairs(
     let mut pairs = Vec::with_capacity(count);
     while pairs.len() < count {
         if draws.drawn >= MAX_DRAWS_PER_PAIR * count.max(1) {
-            return Err(CliError::no_answer(format!(
+            return Err(LabError::no_answer(format!(
                 "found only {} A-connected pairs in {} draws",
                 pairs.len(),
                 draws.drawn
@@ -669,7 +669,7 @@ fn draw_pairs(
             .sample_free(rod, rng)
             .map_err(|e| from_rod(e, "sampling A_free"))?;
         if !a_connected(rod, &a_s, &a_g, CONNECT_CHECKS)
-            .map_err(|e| CliError::no_answer(e.to_string()))?
+            .map_err(|e| LabError::no_answer(e.to_string()))?
         {
             draws.not_connected += 1;
             continue;
@@ -714,7 +714,7 @@ fn stable_with_margin(
 
 /// The box of the collision sub-run for `pair`: 20 mm at a node of `Φ(a_g)` (middle first)
 /// far enough from the start shape; `None` when no node qualifies.
-fn obstacle_for(pair: &Pair) -> Result<Option<BoxObstacle>, CliError> {
+fn obstacle_for(pair: &Pair) -> Result<Option<BoxObstacle>, LabError> {
     let n = pair.goal_shape.len();
     for fraction in [0.5, 0.35, 0.65] {
         let centre = pair.goal_shape[((n - 1) as f64 * fraction).round() as usize];
@@ -741,7 +741,7 @@ fn first_alarm(detector: &CollisionDetector, run: &Run) -> Option<usize> {
 
 /// Runs the experiment.
 #[allow(clippy::too_many_lines)]
-pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: GoalExperimentArgs) -> Result<(), LabError> {
     let common = &args.common;
     let seed = common.seed.seed;
     let shape_stop = shape_stop(args.shape_stop, args.noise_model)?;
@@ -749,7 +749,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         .wire
         .clone()
         .unwrap_or_else(|| DEFAULT_WIRE.to_owned());
-    let wire = WireSpec::load(&wire_name).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let wire = WireSpec::load(&wire_name).map_err(|e| LabError::bad_input(e.to_string()))?;
     let setup = common.setup.load()?;
     let kind = common.model();
     let model = known_model(&wire, common.gravity, kind)?;
@@ -847,7 +847,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
         CollisionDetector::DEFAULT_MARGIN,
         floor,
     )
-    .map_err(|e| CliError::no_answer(format!("calibrating the collision detector: {e}")))?;
+    .map_err(|e| LabError::no_answer(format!("calibrating the collision detector: {e}")))?;
     eprintln!(
         "collision detector: floor {floor:.4}, slope {:.3}, threshold {:.3} from {} free steps",
         detector.slope(),
@@ -945,7 +945,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
             }
             let steps = stop.steps.max(1);
             let poses = straight_line_in_a(&ctx.model, &pair.a_s, &pair.a_g, steps)
-                .map_err(|e| CliError::no_answer(format!("the straight line in A: {e}")))?;
+                .map_err(|e| LabError::no_answer(format!("the straight line in A: {e}")))?;
             let open = ctx.open(pair, k, model_noise, &poses)?;
             csv.row([
                 value(i),
@@ -1189,7 +1189,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), CliError> {
                     .tip(&pair.a_g)
                     .map_err(|e| from_estimate(e, "Γ(a_g)"))?;
                 let poses = straight_line_in_b(&b_s, &b_g, *steps)
-                    .map_err(|e| CliError::no_answer(e.to_string()))?;
+                    .map_err(|e| LabError::no_answer(e.to_string()))?;
                 let line_b = ctx.open(pair, 0, NoiseModel::None, &poses)?;
                 errors = errors.with_series(Series::line(
                     "open loop, straight line in B, no_noise",

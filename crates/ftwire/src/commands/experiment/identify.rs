@@ -47,7 +47,7 @@
 //!   errors, `χ²/dof`, flags, `model`, `linear_density`).
 //! - `error_vs_samples_<wire>.{png,svg}` (Fig. 3, log y, one per wire) and
 //!   `time_vs_samples.{png,svg}` (Fig. 4, from `timings.json`; a timing figure, left out of
-//!   `report.md` and `report.html`, [`ftwire::report::TIMING_FIGURES`]).
+//!   `report.md` and `report.html`, [`ftwire_lab::report::TIMING_FIGURES`]).
 //! - with `--save-log`, `logs/<wire>-trial<k>.jsonl`: each trial's records
 //!   `{time, a, b}` in the format of `ftwire_estimate::log`, with `a` the configuration as
 //!   identified from (tared, through `--pipeline`), `time` the rig's clock.
@@ -58,20 +58,22 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use ftwire::csv_table::{Cell, CsvTable, text, value};
-use ftwire::error::{CliError, from_estimate, from_rod, from_sim};
-use ftwire::experiment::Gravity;
-use ftwire::experiment::calibration::load_or_run;
-use ftwire::experiment::rig::{believed_tip, measure_over, mounting, pipeline, place_wire, tare};
-use ftwire::output::RunHeader;
-use ftwire::results::{OutGuard, ResultsFolder};
-use ftwire::setup::SimSetup;
-use ftwire::wire::{WireSpec, file_stem};
 use ftwire_core::{Pose, Rig};
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::ft::{FtCalibration, FtPipeline};
 use ftwire_estimate::identify::{IdentifyConfig, MotionPlan};
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
+use ftwire_lab::csv_table::{Cell, CsvTable, text, value};
+use ftwire_lab::error::{LabError, from_estimate, from_rod, from_sim};
+use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::calibration::load_or_run;
+use ftwire_lab::experiment::rig::{
+    believed_tip, measure_over, mounting, pipeline, place_wire, tare,
+};
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::results::{OutGuard, ResultsFolder};
+use ftwire_lab::setup::SimSetup;
+use ftwire_lab::wire::{WireSpec, file_stem};
 use ftwire_report::{LineChart, Series};
 use ftwire_rod::{Rod, from_normalised};
 use ftwire_sim::{RigConfig, SimRig};
@@ -264,7 +266,7 @@ struct Timing<'a> {
 }
 
 /// Runs the experiment.
-pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: IdentifyExperimentArgs) -> Result<(), LabError> {
     let wires = wires(&args)?;
     let trials = args.common.trials.unwrap_or(DEFAULT_TRIALS);
     let counts = sample_counts(args.samples.as_deref())?;
@@ -277,7 +279,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
     // model of these straight-at-rest wires is the paper's, so it runs alone.
     let settings = |kind| match kind {
         ModelArg::Loaded => loaded_config(&config, gravity),
-        ModelArg::Kirchhoff => config.clone(),
+        ModelArg::Weightless => config.clone(),
     };
     let models: Vec<(ModelArg, IdentifyConfig)> = match gravity {
         Gravity::Off => vec![(model, settings(model))],
@@ -299,7 +301,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         ..MotionPlan::default()
     };
     plan.validate()
-        .map_err(|e| CliError::bad_input(format!("--twist {}: {e}", args.twist)))?;
+        .map_err(|e| LabError::bad_input(format!("--twist {}: {e}", args.twist)))?;
     let protocol = Protocol {
         plan,
         rest_samples: args.rest_samples,
@@ -398,7 +400,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
         .unwrap_or_default();
     let first = results
         .first()
-        .ok_or_else(|| CliError::bad_input("no wire to identify"))?;
+        .ok_or_else(|| LabError::bad_input("no wire to identify"))?;
     let summary = Summary {
         model,
         form: args.settings.form,
@@ -453,13 +455,13 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), CliError> {
 /// `--pipeline` against `--sensor` and `--calibration`: the undistorted sensor is what a
 /// perfect calibration gives, so a learnt one on top of it is not meant; weights given to the
 /// mounting pipeline would be silently unused.
-fn check_pipeline(args: &IdentifyExperimentArgs, setup: &SimSetup) -> Result<(), CliError> {
+fn check_pipeline(args: &IdentifyExperimentArgs, setup: &SimSetup) -> Result<(), LabError> {
     match args.pipeline {
-        IdentifyPipeline::Calibrated if setup.sensor.is_undistorted() => Err(CliError::bad_input(
+        IdentifyPipeline::Calibrated if setup.sensor.is_undistorted() => Err(LabError::bad_input(
             "--sensor undistorted already removes what the calibration learns (and the \
                  calibration is learnt on the distorted sensor): use it with --pipeline mounting",
         )),
-        IdentifyPipeline::Mounting if args.calibration.is_some() => Err(CliError::bad_input(
+        IdentifyPipeline::Mounting if args.calibration.is_some() => Err(LabError::bad_input(
             "--calibration is for --pipeline calibrated; --pipeline mounting uses no weights",
         )),
         _ => Ok(()),
@@ -477,25 +479,25 @@ pub(crate) enum Map<'a> {
 }
 
 /// The wires: `--wire`, or Table I's.
-fn wires(args: &IdentifyExperimentArgs) -> Result<Vec<WireSpec>, CliError> {
+fn wires(args: &IdentifyExperimentArgs) -> Result<Vec<WireSpec>, LabError> {
     let names: Vec<&str> = match &args.common.wire {
         Some(given) => vec![given.as_str()],
         None => DEFAULT_WIRES.to_vec(),
     };
     names
         .into_iter()
-        .map(|name| WireSpec::load(name).map_err(|e| CliError::bad_input(format!("--wire: {e}"))))
+        .map(|name| WireSpec::load(name).map_err(|e| LabError::bad_input(format!("--wire: {e}"))))
         .collect()
 }
 
 /// The sample counts, sorted, each in `[2, MAX_SAMPLES]`.
-fn sample_counts(given: Option<&[usize]>) -> Result<Vec<usize>, CliError> {
+fn sample_counts(given: Option<&[usize]>) -> Result<Vec<usize>, LabError> {
     let mut counts = given.map_or_else(|| DEFAULT_SAMPLES.to_vec(), <[usize]>::to_vec);
     if counts.is_empty() {
-        return Err(CliError::bad_input("--samples: give at least one count"));
+        return Err(LabError::bad_input("--samples: give at least one count"));
     }
     if let Some(bad) = counts.iter().find(|&&n| !(2..=MAX_SAMPLES).contains(&n)) {
-        return Err(CliError::bad_input(format!(
+        return Err(LabError::bad_input(format!(
             "--samples: {bad} is not allowed: each count must be in [2, {MAX_SAMPLES}] \
              (identification needs motion, so at least two samples)"
         )));
@@ -516,14 +518,14 @@ pub(crate) fn record_trial(
     seed: u64,
     stream: u64,
     protocol: &Protocol,
-) -> Result<Vec<Recorded>, CliError> {
+) -> Result<Vec<Recorded>, LabError> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(stream);
     let params = wire
         .wire_params()
-        .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?;
+        .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
     let truth = Rod::new(params);
-    let mut last = CliError::no_answer(format!(
+    let mut last = LabError::no_answer(format!(
         "no stable start configuration in [−{START_BOX}, {START_BOX}]⁶ (normalised) after \
          {START_ATTEMPTS} draws"
     ));
@@ -539,7 +541,7 @@ pub(crate) fn record_trial(
         let config = setup.rig_config(rng.random());
         match follow_plan(wire, gravity, &a0, config, map, protocol, &mut rng) {
             Ok(samples) => return Ok(samples),
-            Err(e) if e.exit_code() == ftwire::error::EXIT_NO_ANSWER => last = e,
+            Err(e) if e.exit_code() == ftwire_lab::error::EXIT_NO_ANSWER => last = e,
             Err(e) => return Err(e),
         }
     }
@@ -556,7 +558,7 @@ fn follow_plan(
     map: Map<'_>,
     protocol: &Protocol,
     rng: &mut ChaCha8Rng,
-) -> Result<Vec<Recorded>, CliError> {
+) -> Result<Vec<Recorded>, LabError> {
     let mut rig = place_wire(wire, gravity, a0, config.clone())?;
     let tared = tare(&mut rig)?;
     match map {
@@ -586,7 +588,7 @@ fn follow<C: FtCalibration>(
     pipeline: &FtPipeline<C>,
     protocol: &Protocol,
     rng: &mut ChaCha8Rng,
-) -> Result<Vec<Recorded>, CliError> {
+) -> Result<Vec<Recorded>, LabError> {
     let b0 = believed_tip(rig)?;
     let poses = protocol.plan.poses(&b0, rng);
     let mut samples = Vec::with_capacity(poses.len() + 1);
@@ -608,7 +610,7 @@ fn record<C: FtCalibration>(
     rig: &mut SimRig,
     pipeline: &FtPipeline<C>,
     rest_samples: usize,
-) -> Result<Recorded, CliError> {
+) -> Result<Recorded, LabError> {
     let a = measure_over(rig, pipeline, rest_samples)?.a;
     Ok(Recorded {
         time: rig.time(),
@@ -775,7 +777,7 @@ fn aggregate<'a>(wire: &WireSpec, rows: impl Iterator<Item = &'a Row>, n: usize)
 }
 
 /// `identify.csv`.
-fn csv(wires: &[WireSpec], rows: &[Row]) -> Result<Vec<u8>, CliError> {
+fn csv(wires: &[WireSpec], rows: &[Row]) -> Result<Vec<u8>, LabError> {
     let mut table = CsvTable::new(
         "identify.csv",
         &[
@@ -841,7 +843,7 @@ fn write_figures(
     folder: &ResultsFolder,
     results: &[WireResults],
     median_ms: &dyn Fn(usize, usize) -> f64,
-) -> Result<(), CliError> {
+) -> Result<(), LabError> {
     let mut charts = Vec::new();
     let mut time = LineChart::new(
         "identification time against samples (Fig. 4)",
@@ -877,12 +879,12 @@ fn write_figures(
             .collect();
         time = time.with_series(Series::line_points(result.wire.name.clone(), points));
     }
-    charts.push((time, ftwire::report::TIMING_FIGURES[0].to_owned()));
+    charts.push((time, ftwire_lab::report::TIMING_FIGURES[0].to_owned()));
     for (chart, stem) in &charts {
         match chart.write(folder.dir(), stem) {
             // A figure without a drawable point (every estimate failed) is left out.
             Ok(_) | Err(ftwire_report::ReportError::Empty { .. }) => {}
-            Err(e) => return Err(CliError::no_answer(format!("drawing {stem}: {e}"))),
+            Err(e) => return Err(LabError::no_answer(format!("drawing {stem}: {e}"))),
         }
     }
     Ok(())
@@ -894,7 +896,7 @@ fn log_name(wire: &str, trial: usize) -> String {
 }
 
 /// A trial's JSON Lines log.
-fn log_text(samples: &[Recorded]) -> Result<String, CliError> {
+fn log_text(samples: &[Recorded]) -> Result<String, LabError> {
     let mut text = String::new();
     for sample in samples {
         let record = LogRecord {
@@ -904,7 +906,7 @@ fn log_text(samples: &[Recorded]) -> Result<String, CliError> {
             b: LogPose::from_pose(&sample.b),
             markers: None,
         };
-        let line = to_line(&record).map_err(|e| CliError::no_answer(e.to_string()))?;
+        let line = to_line(&record).map_err(|e| LabError::no_answer(e.to_string()))?;
         text.push_str(&line);
         text.push('\n');
     }
@@ -1069,7 +1071,7 @@ mod tests {
         let wire = WireSpec::preset("nitinol-2mm-630").expect("a preset");
         let t = truth(&wire);
         let row = |trial, scale: f64| Row {
-            model: ModelArg::Kirchhoff,
+            model: ModelArg::Weightless,
             linear_density: None,
             wire: 0,
             trial,
@@ -1095,7 +1097,7 @@ mod tests {
         assert_eq!(out.identified, 2);
         assert!((out.mean_abs_relative_error_identified[3] - 0.005).abs() < 1e-12);
         assert!((out.mean_abs_relative_error[3] - 0.02 / 3.0).abs() < 1e-12);
-        assert!((compute_ms_median(&rows, ModelArg::Kirchhoff, 0, 3) - 1.0).abs() < 1e-12);
+        assert!((compute_ms_median(&rows, ModelArg::Weightless, 0, 3) - 1.0).abs() < 1e-12);
         assert!(compute_ms_median(&rows, ModelArg::Loaded, 0, 3).is_nan());
         assert_eq!(log_name("a b/c", 4), "a_b_c-trial4.jsonl");
     }

@@ -8,19 +8,19 @@ pub mod shape;
 mod stats;
 pub mod track;
 
-use ftwire::error::CliError;
-use ftwire::experiment::calibration::load_or_run_into;
-use ftwire::output::RunHeader;
-use ftwire::results::{OutGuard, ResultsFolder};
-use ftwire::setup::SimSetup;
-use ftwire::wire::WireSpec;
 use ftwire_estimate::calibration::Calibration;
+use ftwire_lab::error::LabError;
+use ftwire_lab::experiment::calibration::load_or_run_into;
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::results::{OutGuard, ResultsFolder};
+use ftwire_lab::setup::SimSetup;
+use ftwire_lab::wire::WireSpec;
 use serde::Serialize;
 
 use crate::cli::experiment::{CommonExperimentArgs, ExperimentArgs, ExperimentId};
 
 /// Runs the chosen experiment.
-pub fn run(args: ExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: ExperimentArgs) -> Result<(), LabError> {
     match args.id {
         ExperimentId::Identify(args) => identify::run(args),
         ExperimentId::Calibrate(args) => calibrate::run(args),
@@ -35,9 +35,9 @@ pub fn run(args: ExperimentArgs) -> Result<(), CliError> {
 ///
 /// # Errors
 /// Bad input for an unknown preset or a bad wire file.
-pub fn wire_or(common: &CommonExperimentArgs, default: &str) -> Result<WireSpec, CliError> {
+pub fn wire_or(common: &CommonExperimentArgs, default: &str) -> Result<WireSpec, LabError> {
     let name = common.wire.as_deref().unwrap_or(default);
-    WireSpec::load(name).map_err(|e| CliError::bad_input(e.to_string()))
+    WireSpec::load(name).map_err(|e| LabError::bad_input(e.to_string()))
 }
 
 /// A started run that reads F/T through a learnt calibration: its results folder, its
@@ -68,7 +68,7 @@ impl CalibratedRun {
         calibration: Option<&std::path::Path>,
         setup: &SimSetup,
         other: OutGuard,
-    ) -> Result<Self, CliError> {
+    ) -> Result<Self, LabError> {
         let folder = common.open_results(id, other.input_opt("--calibration", calibration))?;
         let seed = common.seed.seed;
         let header = RunHeader::new(&format!("experiment {id}"), Some(seed), args)?;

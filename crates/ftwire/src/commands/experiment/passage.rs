@@ -63,16 +63,16 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use ftwire::csv_table::{CsvTable, fixed, text, value};
-use ftwire::error::{CliError, from_plan};
 use ftwire::experiment::track::{
     Attempt, ChoiceOut, Chosen, PolishOut, Tracking, WAYPOINTS, Waypoint, choose_plan,
     near_obstacles, polishes, scene_model, success_epsilon, success_rule, validity_tracked,
     waypoints_along, waypoints_csv,
 };
-use ftwire::results::{OutGuard, ResultsFolder};
-use ftwire::scene::{PASSAGE, box_outline};
 use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
+use ftwire_lab::error::{LabError, from_plan};
+use ftwire_lab::results::{OutGuard, ResultsFolder};
+use ftwire_lab::scene::{PASSAGE, box_outline};
 use ftwire_plan::Scene;
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::{Rod, to_normalised};
@@ -217,7 +217,7 @@ pub struct PlanOut {
 #[derive(Serialize)]
 struct Summary {
     wire: String,
-    model: ftwire::experiment::ModelKind,
+    model: ftwire_lab::experiment::ModelKind,
     noise_model: ftwire_control::NoiseModel,
     /// The controller's gain K.
     gain: f64,
@@ -258,7 +258,7 @@ struct Timings {
 ///
 /// # Errors
 /// Bad input (exit 2) for a scene file that cannot be read or parsed.
-pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), CliError> {
+pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), LabError> {
     match path {
         Some(path) => Ok((
             Scene::load(path).map_err(|e| from_plan(e, "--scene"))?,
@@ -276,7 +276,7 @@ pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), Cli
 ///
 /// # Errors
 /// Bad input for bad options, a bad scene or wire; no answer when no plan is found.
-pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
     let total = Instant::now();
     let common = &args.common;
     let seed = common.seed.seed;
@@ -409,7 +409,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
             let open = tracking.open_loop(&model, &waypoints, stream)?;
             Ok((closed, open))
         })
-        .collect::<Result<_, CliError>>()?;
+        .collect::<Result<_, LabError>>()?;
     let attempts_s = started.elapsed().as_secs_f64();
     let (closed, open): (Vec<Attempt>, Vec<Attempt>) = rollouts.into_iter().unzip();
 
@@ -465,7 +465,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), CliError> {
 ///
 /// # Errors
 /// As [`CsvTable::row`].
-pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> Result<Vec<u8>, CliError> {
+pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> Result<Vec<u8>, LabError> {
     let mut csv = CsvTable::new(
         "attempts.csv",
         &[
@@ -535,7 +535,7 @@ fn figures(
     waypoints: &[Waypoint],
     closed: &[Attempt],
     open: &[Attempt],
-) -> Result<(), CliError> {
+) -> Result<(), LabError> {
     let wire = model.wire();
     let planned: Vec<Vector6<f64>> = waypoints
         .iter()

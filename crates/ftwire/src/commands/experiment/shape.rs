@@ -4,7 +4,7 @@
 //! Per wire (default: the four presets; `--wire` replaces them), `--configs N` (default 50)
 //! seeded configurations of `A_free` of the true wire. For each, the operator places the wire
 //! there anew and the robot tares before it grips it (as in
-//! [`ftwire::experiment::calibration`]); `ã` is measured through the learnt calibration
+//! [`ftwire_lab::experiment::calibration`]); `ã` is measured through the learnt calibration
 //! (`--calibration FILE`, or a calibration run first on the known wire and cached as
 //! `calibration.json`, labelled with the same `--model`), and `ShapeEstimator` gives the shape
 //! with the true wire's parameters (the wire is known, as in the paper's Table II) and the
@@ -24,25 +24,13 @@
 //! Writes `summary.json` (the same for the same seed), `configs.csv`, `timings.json`
 //! (`calibration_s`, `experiment_s`, and `estimate_us_median`: `[wire, µs]` pairs),
 //! `calibration.json` (when it ran one), figures `shape_<wire>` (the first configuration,
-//! estimate against truth and markers, 3-D; `<wire>` as [`ftwire::wire::file_stem`] makes it)
+//! estimate against truth and markers, 3-D; `<wire>` as [`ftwire_lab::wire::file_stem`] makes it)
 //! and `error_per_wire`, and with `--save-log` the JSON Lines log `logs/<wire>.jsonl` that
 //! `ftwire shape --log` reads: `raw` is the **tared** reading averaged at rest (the
 //! calibration's input), `b` the believed tip pose, `markers` the frame in the base clamp frame.
 
 use std::time::Instant;
 
-use ftwire::csv_table::{CsvTable, text, value};
-use ftwire::error::from_estimate;
-use ftwire::error::{CliError, from_rod};
-use ftwire::experiment::calibration::{load_or_run_into, rig_seed};
-use ftwire::experiment::rig::{
-    believed_tip, bias_observer, measure_over, mounting, pipeline, place_wire, tare,
-    true_centreline,
-};
-use ftwire::experiment::{ModelKind, known_model};
-use ftwire::output::RunHeader;
-use ftwire::results::OutGuard;
-use ftwire::wire::{PRESETS, WireSpec, file_stem};
 use ftwire_control::{BiasObserver, BiasObserverSettings, NoiseModel};
 use ftwire_core::Rig;
 use ftwire_estimate::calibration::Calibration;
@@ -51,6 +39,18 @@ use ftwire_estimate::shape::{
     DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance, marker_distances,
 };
 use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_lab::csv_table::{CsvTable, text, value};
+use ftwire_lab::error::from_estimate;
+use ftwire_lab::error::{LabError, from_rod};
+use ftwire_lab::experiment::calibration::{load_or_run_into, rig_seed};
+use ftwire_lab::experiment::rig::{
+    believed_tip, bias_observer, measure_over, mounting, pipeline, place_wire, tare,
+    true_centreline,
+};
+use ftwire_lab::experiment::{ModelKind, known_model};
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::results::OutGuard;
+use ftwire_lab::wire::{PRESETS, WireSpec, file_stem};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
@@ -155,7 +155,7 @@ fn run_config(
     other: &KirchhoffModel,
     placed: &Vector6<f64>,
     config: RigConfig,
-) -> Result<Option<ConfigResult>, CliError> {
+) -> Result<Option<ConfigResult>, LabError> {
     let Ok(mut rig) = place_wire(wire, args.common.gravity, placed, config.clone()) else {
         return Ok(None);
     };
@@ -167,7 +167,7 @@ fn run_config(
     let a_tilde = measured.a;
     let frame = rig
         .observe_markers()
-        .map_err(|e| ftwire::error::from_sim(e, "observing the markers"))?;
+        .map_err(|e| ftwire_lab::error::from_sim(e, "observing the markers"))?;
     let true_wrench = rig.equilibrium().base_wrench.to_vector();
     let relative = |start: usize| {
         let t = true_wrench.fixed_rows::<3>(start);
@@ -206,7 +206,7 @@ fn run_config(
     };
     // One rest after the tare, fused with where the robot reports its gripper.
     let mut fusion = BiasObserver::new(*estimator.model(), readout.fusion)
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| LabError::bad_input(e.to_string()))?;
     let fused = fusion.update(
         &a_tilde,
         &measured.a_std_error,
@@ -251,14 +251,14 @@ fn run_config(
 }
 
 /// Runs the experiment.
-pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: ShapeExperimentArgs) -> Result<(), LabError> {
     let common = &args.common;
     let seed = common.seed.seed;
     let setup = common.setup.load()?;
     let fusion = bias_observer(&setup, NoiseModel::None, true)
-        .ok_or_else(|| CliError::bad_input("no bias observer for a robot that knows its pose"))?;
+        .ok_or_else(|| LabError::bad_input("no bias observer for a robot that knows its pose"))?;
     let wires: Vec<WireSpec> = match &common.wire {
-        Some(given) => vec![WireSpec::load(given).map_err(|e| CliError::bad_input(e.to_string()))?],
+        Some(given) => vec![WireSpec::load(given).map_err(|e| LabError::bad_input(e.to_string()))?],
         None => PRESETS
             .iter()
             .filter_map(|name| WireSpec::preset(name))
@@ -266,7 +266,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
     };
     let configs = args.configs.unwrap_or(DEFAULT_CONFIGS);
     if configs == 0 {
-        return Err(CliError::bad_input("--configs 0: give at least 1"));
+        return Err(LabError::bad_input("--configs 0: give at least 1"));
     }
     let folder = common.open_results(
         "shape",
@@ -390,7 +390,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             skipped,
             torque_rel: mean(&rows.iter().map(|r| r.wrench_rel.0).collect::<Vec<_>>()),
             force_rel: mean(&rows.iter().map(|r| r.wrench_rel.1).collect::<Vec<_>>()),
-            kirchhoff_mean_mm: if kind == ModelKind::Kirchhoff {
+            kirchhoff_mean_mm: if kind == ModelKind::Weightless {
                 m
             } else {
                 other_m
@@ -493,7 +493,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), CliError> {
             .find(|(n, _)| *n == r.name)
             .map_or_else(|| "-".to_owned(), |(_, v)| format!("{v:.2}"));
         let other = match summary.model {
-            ModelKind::Kirchhoff => r.loaded_mean_mm,
+            ModelKind::Weightless => r.loaded_mean_mm,
             ModelKind::Loaded => r.kirchhoff_mean_mm,
         };
         println!(

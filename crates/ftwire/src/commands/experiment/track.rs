@@ -40,15 +40,15 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use ftwire::csv_table::{CsvTable, fixed, text, value};
-use ftwire::error::{CliError, from_rod};
 use ftwire::experiment::track::{
     Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
     validity_tracked, waypoints_along, waypoints_csv,
 };
-use ftwire::results::{OutGuard, ResultsFolder};
 use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
+use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
+use ftwire_lab::error::{LabError, from_rod};
+use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_plan::{Checker, Config, ConfigurationSpec, Scene, ValidityParams};
 use ftwire_report::{LineChart, Series};
 use ftwire_robot::Robot;
@@ -119,7 +119,7 @@ struct PairOut {
 #[derive(Serialize)]
 struct Summary {
     wire: String,
-    model: ftwire::experiment::ModelKind,
+    model: ftwire_lab::experiment::ModelKind,
     noise_model: ftwire_control::NoiseModel,
     /// The controller's gain K.
     gain: f64,
@@ -165,7 +165,7 @@ struct Planned {
 ///
 /// # Errors
 /// Bad input for bad options or a bad wire; no answer when too few pairs can be planned.
-pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
+pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
     let total = Instant::now();
     let common = &args.common;
     let seed = common.seed.seed;
@@ -237,7 +237,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
             let open = tracking.open_loop(&model, &p.waypoints, stream)?;
             Ok((closed, open))
         })
-        .collect::<Result<_, CliError>>()?;
+        .collect::<Result<_, LabError>>()?;
     let tracking_s = started.elapsed().as_secs_f64();
     let (closed, open): (Vec<Attempt>, Vec<Attempt>) = runs.into_iter().unzip();
 
@@ -291,7 +291,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), CliError> {
         gain,
         shape_stop_mm: 1e3 * shape_stop,
         waypoint_moves,
-        bias_observer: ftwire::experiment::rig::bias_observer(
+        bias_observer: ftwire_lab::experiment::rig::bias_observer(
             &setup,
             noise,
             args.rollout.bias_observer.on(),
@@ -318,10 +318,10 @@ fn draw_and_plan(
     seed: u64,
     validity: ValidityParams,
     draws: &mut PairDraws,
-) -> Result<Vec<Planned>, CliError> {
-    let robot = Robot::sda10f().map_err(|e| CliError::bad_input(e.to_string()))?;
+) -> Result<Vec<Planned>, LabError> {
+    let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let checker = Checker::new(*planner, robot, free, validity)
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
+        .map_err(|e| LabError::bad_input(e.to_string()))?;
     let sampler = Sampler {
         half_width: PAIR_BOX,
         ..Sampler::default()
@@ -331,7 +331,7 @@ fn draw_and_plan(
     let mut out = Vec::with_capacity(count);
     while out.len() < count {
         if draws.drawn >= MAX_DRAWS_PER_PAIR * count {
-            return Err(CliError::no_answer(format!(
+            return Err(LabError::no_answer(format!(
                 "planned only {} of {count} pairs in {} draws ({draws:?})",
                 out.len(),
                 draws.drawn
@@ -430,7 +430,7 @@ fn metrics(attempts: &[Attempt]) -> Metrics {
 }
 
 /// `pairs.csv`: one row per pair.
-fn pairs_csv(pairs: &[PairOut]) -> Result<Vec<u8>, CliError> {
+fn pairs_csv(pairs: &[PairOut]) -> Result<Vec<u8>, LabError> {
     let mut csv = CsvTable::new(
         "pairs.csv",
         &[
@@ -464,7 +464,7 @@ fn figures(
     planned: &[Planned],
     closed: &[Attempt],
     open: &[Attempt],
-) -> Result<(), CliError> {
+) -> Result<(), LabError> {
     if let (Some(first), Some(c), Some(o)) = (planned.first(), closed.first(), open.first()) {
         let plan: Vec<Vector6<f64>> = first
             .waypoints
@@ -517,9 +517,9 @@ fn figures(
 #[cfg(test)]
 mod tests {
     use ftwire::experiment::track::validity;
-    use ftwire::experiment::{Gravity, ModelKind};
-    use ftwire::wire::WireSpec;
     use ftwire_control::NoiseModel;
+    use ftwire_lab::experiment::{Gravity, ModelKind};
+    use ftwire_lab::wire::WireSpec;
 
     use super::*;
 

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use ftwire::error::CliError;
-use ftwire::results::ResultsFolder;
+use ftwire_lab::error::LabError;
+use ftwire_lab::results::ResultsFolder;
 use ftwire_report::HtmlReport;
 
 /// Writes `report.html` beside `report.md`: `markdown` (the report), then the figures of the
@@ -14,10 +14,10 @@ pub(super) fn write(
     dir: &Path,
     markdown: &str,
     ids: &[&str],
-) -> Result<(), CliError> {
+) -> Result<(), LabError> {
     let mut report = HtmlReport::new("ftwire reproduce").with_markdown(markdown);
     for id in ids {
-        let files = ftwire::report::pngs(&dir.join(id));
+        let files = ftwire_lab::report::pngs(&dir.join(id));
         if files.is_empty() {
             continue;
         }
@@ -29,7 +29,7 @@ pub(super) fn write(
                 .unwrap_or_default();
             report = report
                 .with_png_file(&format!("{id}/{name}"), &file)
-                .map_err(|e| CliError::no_answer(format!("report.html: {e}")))?;
+                .map_err(|e| LabError::no_answer(format!("report.html: {e}")))?;
         }
     }
     folder.write("report.html", report.to_html())

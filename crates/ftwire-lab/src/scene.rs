@@ -22,7 +22,7 @@ use ftwire_sim::{BoxObstacle, Floor, Obstacle, SimError, World};
 /// let text = "[base]\nposition = [0.6, 0.35, 0.35]\n[floor]\nheight = -0.2\n\
 ///     [[obstacle]]\ncentre = [0.8, 0.0, 0.3]\nhalf_extents = [0.1, 0.02, 0.1]\n";
 /// let scene = ftwire_plan::Scene::from_toml(text, "demo")?;
-/// let obstacles = ftwire::scene::sim_obstacles(&scene)?;
+/// let obstacles = ftwire_lab::scene::sim_obstacles(&scene)?;
 /// assert_eq!(obstacles.len(), 2);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

@@ -8,7 +8,7 @@
 
 use std::fmt::Display;
 
-use crate::error::CliError;
+use crate::error::LabError;
 
 /// One cell of a [`CsvTable`] record: made by [`text`], [`value`], [`fixed`] or
 /// [`Cell::empty`].
@@ -41,7 +41,7 @@ const FORMULA_STARTS: [char; 6] = ['=', '+', '-', '@', '\t', '\r'];
 ///
 /// # Example
 /// ```
-/// use ftwire::csv_table::text;
+/// use ftwire_lab::csv_table::text;
 /// assert_eq!(text("nitinol-2mm-630").as_str(), "nitinol-2mm-630");
 /// assert_eq!(text("=HYPERLINK(\"x\")").as_str(), "'=HYPERLINK(\"x\")");
 /// assert_eq!(text("-0.5").as_str(), "'-0.5", "text that looks like a number is still text");
@@ -69,7 +69,7 @@ impl Plain for bool {}
 ///
 /// # Example
 /// ```
-/// use ftwire::csv_table::value;
+/// use ftwire_lab::csv_table::value;
 /// assert_eq!(value(-0.5).as_str(), "-0.5");
 /// assert_eq!(value(3_usize).as_str(), "3");
 /// assert_eq!(value(true).as_str(), "true");
@@ -106,18 +106,18 @@ impl CsvTable {
     ///
     /// # Example
     /// ```
-    /// use ftwire::csv_table::{CsvTable, text, value};
+    /// use ftwire_lab::csv_table::{CsvTable, text, value};
     /// let mut table = CsvTable::new("wires.csv", &["wire", "error"])?;
     /// table.row([text("a,b"), value(-0.5)])?;
     /// table.row([text("=1+2"), value(f64::NAN)])?;
     /// assert_eq!(table.into_bytes()?, b"wire,error\n\"a,b\",-0.5\n'=1+2,NaN\n");
-    /// # Ok::<(), ftwire::error::CliError>(())
+    /// # Ok::<(), ftwire_lab::error::LabError>(())
     /// ```
-    pub fn new(name: &str, columns: &[&str]) -> Result<Self, CliError> {
+    pub fn new(name: &str, columns: &[&str]) -> Result<Self, LabError> {
         let mut writer = csv::Writer::from_writer(Vec::new());
         writer
             .write_record(columns)
-            .map_err(|e| CliError::io(format!("writing {name}"), e.into()))?;
+            .map_err(|e| LabError::io(format!("writing {name}"), e.into()))?;
         Ok(Self {
             name: name.to_owned(),
             width: columns.len(),
@@ -128,10 +128,10 @@ impl CsvTable {
     /// Appends one record.
     ///
     /// # Errors
-    /// [`CliError::Io`] when the record's width is not the header's (a bug of the caller).
-    pub fn row(&mut self, cells: impl IntoIterator<Item = Cell>) -> Result<(), CliError> {
+    /// [`LabError::Io`] when the record's width is not the header's (a bug of the caller).
+    pub fn row(&mut self, cells: impl IntoIterator<Item = Cell>) -> Result<(), LabError> {
         let cells: Vec<Cell> = cells.into_iter().collect();
-        let error = |e: std::io::Error| CliError::io(format!("writing {}", self.name), e);
+        let error = |e: std::io::Error| LabError::io(format!("writing {}", self.name), e);
         if cells.len() != self.width {
             return Err(error(std::io::Error::other(format!(
                 "a record of {} cells under a header of {}",
@@ -147,12 +147,12 @@ impl CsvTable {
     /// The file's bytes.
     ///
     /// # Errors
-    /// [`CliError::Io`] if the last record cannot be written.
-    pub fn into_bytes(self) -> Result<Vec<u8>, CliError> {
+    /// [`LabError::Io`] if the last record cannot be written.
+    pub fn into_bytes(self) -> Result<Vec<u8>, LabError> {
         let name = self.name;
         self.writer
             .into_inner()
-            .map_err(|e| CliError::io(format!("writing {name}"), e.into_error()))
+            .map_err(|e| LabError::io(format!("writing {name}"), e.into_error()))
     }
 }
 

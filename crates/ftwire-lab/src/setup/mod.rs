@@ -194,7 +194,7 @@ impl SimSetup {
     ///
     /// # Example
     /// ```
-    /// use ftwire::setup::SimSetup;
+    /// use ftwire_lab::setup::SimSetup;
     /// use ftwire_sim::RigConfig;
     /// // Without files: the rig the experiments have always used.
     /// assert_eq!(SimSetup::default().rig_config(7), RigConfig { seed: 7, ..RigConfig::default() });

@@ -9,8 +9,8 @@ use ftwire_sim::{BoxObstacle, RigConfig, SimRig, Simulator, World};
 use nalgebra::{Vector3, Vector6};
 
 use super::{Gravity, ModelKind, SIM_EDGES};
-use crate::bridge::kirchhoff_guess;
-use crate::error::{CliError, from_rod, from_sim};
+use crate::error::{LabError, from_rod, from_sim};
+use crate::initial_guess::kirchhoff_guess;
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
@@ -34,13 +34,13 @@ pub fn place_wire(
     gravity: Gravity,
     a0: &Vector6<f64>,
     config: RigConfig,
-) -> Result<SimRig, CliError> {
-    place_among(wire, gravity, ModelKind::Kirchhoff, a0, config, &[])
+) -> Result<SimRig, LabError> {
+    place_among(wire, gravity, ModelKind::Weightless, a0, config, &[])
 }
 
 /// As [`place_wire`], in a world with box `obstacles` (world frame = base clamp frame), with
 /// the second gripper at `Γ(a0)` of the true wire's `model`:
-/// - [`ModelKind::Kirchhoff`]: the weightless rod's `Γ(a0)`, the paper's placement; with
+/// - [`ModelKind::Weightless`]: the weightless rod's `Γ(a0)`, the paper's placement; with
 ///   gravity on the wire then sags from it, away from `a0`;
 /// - [`ModelKind::Loaded`]: the loaded model's ([`true_rod`]: its weight under `gravity` and
 ///   its rest curvature), so that the true wire's base wrench is `a0` (up to the simulator's
@@ -56,12 +56,12 @@ pub fn place_among(
     a0: &Vector6<f64>,
     config: RigConfig,
     obstacles: &[BoxObstacle],
-) -> Result<SimRig, CliError> {
+) -> Result<SimRig, LabError> {
     let world = world_among(wire, gravity, obstacles)?;
     let rod = match model {
-        ModelKind::Kirchhoff => Rod::new(
+        ModelKind::Weightless => Rod::new(
             wire.wire_params()
-                .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
+                .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?,
         ),
         ModelKind::Loaded => true_rod(wire, gravity.vector())?,
     };
@@ -73,7 +73,7 @@ fn world_among(
     wire: &WireSpec,
     gravity: Gravity,
     obstacles: &[BoxObstacle],
-) -> Result<World, CliError> {
+) -> Result<World, LabError> {
     let params = wire.rod_params(gravity.vector(), SIM_EDGES);
     Ok(obstacles.iter().fold(
         World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?,
@@ -86,13 +86,13 @@ fn world_among(
 ///
 /// # Errors
 /// Bad input for a wire whose parameters are not valid.
-pub fn true_rod(wire: &WireSpec, g_clamp: Vector3<f64>) -> Result<Rod, CliError> {
+pub fn true_rod(wire: &WireSpec, g_clamp: Vector3<f64>) -> Result<Rod, LabError> {
     let load = Load::from_gravity(wire.density, wire.radius, g_clamp)
         .and_then(|load| load.with_natural_curvature(Vector3::from(wire.natural_curvature)))
         .map_err(|e| from_rod(e, "the loaded model of the wire"))?;
     Ok(Rod::new(
         wire.wire_params()
-            .map_err(|e| CliError::bad_input(format!("wire {}: {e}", wire.name)))?,
+            .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?,
     )
     .with_load(load))
 }
@@ -109,7 +109,7 @@ pub fn place_in_world(
     base: &Pose,
     a0: &Vector6<f64>,
     config: RigConfig,
-) -> Result<SimRig, CliError> {
+) -> Result<SimRig, LabError> {
     let tip = base
         * model
             .tip(a0)
@@ -131,14 +131,14 @@ pub fn read_samples(rig: &mut SimRig, n: usize) -> Vec<Option<FtSample>> {
 ///
 /// # Errors
 /// No answer when too many samples drop out.
-pub fn tare(rig: &mut SimRig) -> Result<Tare, CliError> {
+pub fn tare(rig: &mut SimRig) -> Result<Tare, LabError> {
     let samples: Vec<Option<FtSample>> = (0..TARE_SAMPLES)
         .map(|_| rig.read_ft_empty_gripper().ok())
         .collect();
     let rest = RestAverage::new(TARE_SAMPLES / 2)
-        .map_err(|e| CliError::bad_input(e.to_string()))?
+        .map_err(|e| LabError::bad_input(e.to_string()))?
         .average(samples.iter().map(Option::as_ref))
-        .map_err(|e| CliError::no_answer(format!("taring the F/T sensor: {e}")))?;
+        .map_err(|e| LabError::no_answer(format!("taring the F/T sensor: {e}")))?;
     Ok(Tare::from_rest(&rest, &Vector6::zeros()))
 }
 
@@ -204,9 +204,9 @@ pub fn fuse_rest(noise: NoiseModel) -> bool {
 ///
 /// # Errors
 /// Bad input for a non-finite mounting in the rig's sensor settings.
-pub fn mounting(config: &RigConfig) -> Result<Mounting, CliError> {
+pub fn mounting(config: &RigConfig) -> Result<Mounting, LabError> {
     Mounting::new(config.sensor.sensor_from_clamp())
-        .map_err(|e| CliError::bad_input(format!("the sensor's mounting: {e}")))
+        .map_err(|e| LabError::bad_input(format!("the sensor's mounting: {e}")))
 }
 
 /// A pipeline with the default rest average ([`SAMPLES_PER_REST`], at least half of them
@@ -214,9 +214,9 @@ pub fn mounting(config: &RigConfig) -> Result<Mounting, CliError> {
 ///
 /// # Errors
 /// Never for the constants here; kept fallible for the pipeline's own checks.
-pub fn pipeline<C: FtCalibration>(tare: Tare, calibration: C) -> Result<FtPipeline<C>, CliError> {
+pub fn pipeline<C: FtCalibration>(tare: Tare, calibration: C) -> Result<FtPipeline<C>, LabError> {
     let average =
-        RestAverage::new(SAMPLES_PER_REST / 2).map_err(|e| CliError::bad_input(e.to_string()))?;
+        RestAverage::new(SAMPLES_PER_REST / 2).map_err(|e| LabError::bad_input(e.to_string()))?;
     Ok(FtPipeline::new(average, tare, calibration))
 }
 
@@ -228,7 +228,7 @@ pub fn pipeline<C: FtCalibration>(tare: Tare, calibration: C) -> Result<FtPipeli
 pub fn measure<C: FtCalibration>(
     rig: &mut SimRig,
     pipeline: &FtPipeline<C>,
-) -> Result<Measurement, CliError> {
+) -> Result<Measurement, LabError> {
     measure_over(rig, pipeline, SAMPLES_PER_REST)
 }
 
@@ -242,18 +242,18 @@ pub fn measure_over<C: FtCalibration>(
     rig: &mut SimRig,
     pipeline: &FtPipeline<C>,
     count: usize,
-) -> Result<Measurement, CliError> {
+) -> Result<Measurement, LabError> {
     let samples = read_samples(rig, count);
     pipeline
         .measure(samples.iter().map(Option::as_ref))
-        .map_err(|e| CliError::no_answer(format!("measuring the wire's configuration: {e}")))
+        .map_err(|e| LabError::no_answer(format!("measuring the wire's configuration: {e}")))
 }
 
 /// The second gripper's pose relative to the base clamp, as the robot believes it.
 ///
 /// # Errors
 /// Never on the simulated rig; kept fallible as [`Rig::gripper_poses`] is.
-pub fn believed_tip(rig: &SimRig) -> Result<Pose, CliError> {
+pub fn believed_tip(rig: &SimRig) -> Result<Pose, LabError> {
     let poses: GripperPoses = rig
         .gripper_poses()
         .map_err(|e| from_sim(e, "reading the gripper poses"))?;

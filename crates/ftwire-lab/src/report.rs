@@ -19,7 +19,7 @@ use ftwire_report::html::{code_span, escape_markdown};
 use ftwire_report::{HtmlReport, ReportError};
 use serde_json::Value;
 
-use crate::output::RunHeader;
+use crate::header::RunHeader;
 
 /// Most rows of the summary table (the rest is in `summary.json`).
 pub const MAX_ROWS: usize = 400;

@@ -22,8 +22,8 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use serde::Serialize;
 
-use crate::error::CliError;
-use crate::output::RunHeader;
+use crate::error::LabError;
+use crate::header::RunHeader;
 
 /// The file that marks a folder as written by ftwire: a run may replace a folder that holds
 /// it. It holds the run header of the run that wrote the folder (JSON).
@@ -140,10 +140,10 @@ impl OutGuard {
     }
 
     /// Checks that `target`, an existing folder, may be replaced.
-    fn check(&self, target: &Path) -> Result<(), CliError> {
+    fn check(&self, target: &Path) -> Result<(), LabError> {
         let shown = target.display();
         let Ok(inside) = target.canonicalize() else {
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "--out {shown}: cannot resolve the folder"
             )));
         };
@@ -154,7 +154,7 @@ impl OutGuard {
         };
         for (option, path) in &self.inputs {
             if holds(path) {
-                return Err(CliError::bad_input(format!(
+                return Err(LabError::bad_input(format!(
                     "--out {shown} holds the run's input {option} {}; a run replaces its \
                      results folder whole, so write the results to another folder",
                     path.display()
@@ -162,7 +162,7 @@ impl OutGuard {
             }
         }
         if std::env::current_dir().is_ok_and(|cwd| holds(&cwd)) {
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "--out {shown} holds the working folder; a run replaces its results folder \
                  whole, so write the results to another folder"
             )));
@@ -171,13 +171,13 @@ impl OutGuard {
             return Ok(());
         }
         let empty = fs::read_dir(target)
-            .map_err(|e| CliError::bad_input(format!("--out {shown}: cannot read it: {e}")))?
+            .map_err(|e| LabError::bad_input(format!("--out {shown}: cannot read it: {e}")))?
             .next()
             .is_none();
         if empty {
             return Ok(());
         }
-        Err(CliError::bad_input(format!(
+        Err(LabError::bad_input(format!(
             "--out {shown} exists and is not a results folder of ftwire (it has no {MARK}); a \
              run replaces its results folder whole, so it leaves this one alone: name a new \
              or empty folder, or give --force to replace {shown} and everything in it"
@@ -260,13 +260,13 @@ impl ResultsFolder {
     /// (creating `results/` when it is missing); see [`ResultsFolder::create`].
     ///
     /// # Errors
-    /// As [`ResultsFolder::create`]; bad input when `results` is a file, [`CliError::Io`] when
+    /// As [`ResultsFolder::create`]; bad input when `results` is a file, [`LabError::Io`] when
     /// `results/` cannot be created.
     pub fn create_or_default(
         out: Option<&Path>,
         id: &str,
         guard: &OutGuard,
-    ) -> Result<Self, CliError> {
+    ) -> Result<Self, LabError> {
         match out {
             Some(out) => Self::create(out, guard),
             None => Self::create(&default_folder(id)?, guard),
@@ -281,11 +281,11 @@ impl ResultsFolder {
     /// Bad input (exit 2): a missing parent folder, a parent or `target` that is a file or a
     /// symbolic link, a `target` that `guard` refuses to replace, or a parent that cannot be
     /// written.
-    pub fn create(target: &Path, guard: &OutGuard) -> Result<Self, CliError> {
+    pub fn create(target: &Path, guard: &OutGuard) -> Result<Self, LabError> {
         let name = target
             .file_name()
             .ok_or_else(|| {
-                CliError::bad_input(format!("--out {} does not name a folder", target.display()))
+                LabError::bad_input(format!("--out {} does not name a folder", target.display()))
             })?
             .to_string_lossy()
             .into_owned();
@@ -299,7 +299,7 @@ impl ResultsFolder {
             } else {
                 "does not exist; create it first"
             };
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "--out {}: {} {why}",
                 target.display(),
                 parent.display()
@@ -307,13 +307,13 @@ impl ResultsFolder {
         }
         match fs::symlink_metadata(target) {
             Ok(meta) if meta.file_type().is_symlink() => {
-                return Err(CliError::bad_input(format!(
+                return Err(LabError::bad_input(format!(
                     "--out {} is a symbolic link; name the folder itself",
                     target.display()
                 )));
             }
             Ok(meta) if !meta.is_dir() => {
-                return Err(CliError::bad_input(format!(
+                return Err(LabError::bad_input(format!(
                     "--out {} is a file, not a folder",
                     target.display()
                 )));
@@ -324,7 +324,7 @@ impl ResultsFolder {
         remove_stale(&parent, &name);
         let staging = parent.join(format!(".{name}.partial-{}", unique_suffix()));
         let cannot_write = |e: std::io::Error| {
-            CliError::bad_input(format!(
+            LabError::bad_input(format!(
                 "--out {}: cannot write in {}: {e}",
                 target.display(),
                 parent.display()
@@ -357,15 +357,15 @@ impl ResultsFolder {
     ///
     /// # Errors
     /// Bad input if `name` is empty, absolute, leaves the folder (`..`), or is `summary.json`;
-    /// [`CliError::Io`] if writing fails.
-    pub fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> Result<(), CliError> {
+    /// [`LabError::Io`] if writing fails.
+    pub fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> Result<(), LabError> {
         let path = Path::new(name);
         let inside = !name.is_empty()
             && path
                 .components()
                 .all(|c| matches!(c, std::path::Component::Normal(_)));
         if !inside || name == "summary.json" {
-            return Err(CliError::bad_input(format!(
+            return Err(LabError::bad_input(format!(
                 "results file name {name:?} must be a relative path inside the results folder, \
                  other than summary.json"
             )));
@@ -374,9 +374,9 @@ impl ResultsFolder {
         let context = || format!("writing {name} for {}", self.target.display());
         // Sub-folders only: a temporary folder removed by an interrupt is not made again.
         if let Some(parent) = file.parent().filter(|_| self.staging.is_dir()) {
-            fs::create_dir_all(parent).map_err(|e| CliError::io(context(), e))?;
+            fs::create_dir_all(parent).map_err(|e| LabError::io(context(), e))?;
         }
-        fs::write(file, contents).map_err(|e| CliError::io(context(), e))
+        fs::write(file, contents).map_err(|e| LabError::io(context(), e))
     }
 
     /// The folder the files are written into until [`ResultsFolder::finish`] moves it into
@@ -394,10 +394,10 @@ impl ResultsFolder {
         &self,
         stem: &str,
         draw: impl FnOnce(&Path) -> Result<Vec<PathBuf>, ftwire_report::ReportError>,
-    ) -> Result<(), CliError> {
+    ) -> Result<(), LabError> {
         draw(self.dir())
             .map(|_| ())
-            .map_err(|e| CliError::no_answer(format!("figure {stem}: {e}")))
+            .map_err(|e| LabError::no_answer(format!("figure {stem}: {e}")))
     }
 
     /// Writes the default `report.md` and `report.html` ([`crate::report`]) where the run did
@@ -406,9 +406,9 @@ impl ResultsFolder {
         &self,
         header: &RunHeader,
         summary: &impl Serialize,
-    ) -> Result<(), CliError> {
+    ) -> Result<(), LabError> {
         let value = serde_json::to_value(summary)
-            .map_err(|e| CliError::bad_input(format!("cannot serialise the summary: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("cannot serialise the summary: {e}")))?;
         let figures = crate::report::pngs(&self.staging);
         if !self.staging.join("report.md").exists() {
             let names: Vec<String> = figures
@@ -419,7 +419,7 @@ impl ResultsFolder {
         }
         if !self.staging.join("report.html").exists() {
             let page = crate::report::html(header, &value, &figures)
-                .map_err(|e| CliError::no_answer(format!("report.html: {e}")))?;
+                .map_err(|e| LabError::no_answer(format!("report.html: {e}")))?;
             self.write("report.html", page)?;
         }
         Ok(())
@@ -429,9 +429,9 @@ impl ResultsFolder {
     ///
     /// # Errors
     /// As [`ResultsFolder::write`], and bad input if `value` cannot be serialised.
-    pub fn write_json(&self, name: &str, value: &impl Serialize) -> Result<(), CliError> {
+    pub fn write_json(&self, name: &str, value: &impl Serialize) -> Result<(), LabError> {
         let text = serde_json::to_vec_pretty(value)
-            .map_err(|e| CliError::bad_input(format!("cannot serialise {name}: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("cannot serialise {name}: {e}")))?;
         self.write(name, text)
     }
 
@@ -440,23 +440,23 @@ impl ResultsFolder {
     /// is in place. Returns the target.
     ///
     /// # Errors
-    /// [`CliError::Io`] if a write or a rename fails; the target then still holds either the
+    /// [`LabError::Io`] if a write or a rename fails; the target then still holds either the
     /// old results or the new ones, never a mix.
     pub fn finish(
         mut self,
         header: &RunHeader,
         summary: &impl Serialize,
-    ) -> Result<PathBuf, CliError> {
+    ) -> Result<PathBuf, LabError> {
         let text = serde_json::to_vec_pretty(&Summary { header, summary })
-            .map_err(|e| CliError::bad_input(format!("cannot serialise summary.json: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("cannot serialise summary.json: {e}")))?;
         let context = |what: &str| format!("{what} {}", self.target.display());
         fs::write(self.staging.join("summary.json"), text)
-            .map_err(|e| CliError::io(context("writing summary.json of"), e))?;
+            .map_err(|e| LabError::io(context("writing summary.json of"), e))?;
         self.write_default_reports(header, summary)?;
         let mark = serde_json::to_vec_pretty(header)
-            .map_err(|e| CliError::bad_input(format!("cannot serialise {MARK}: {e}")))?;
+            .map_err(|e| LabError::bad_input(format!("cannot serialise {MARK}: {e}")))?;
         fs::write(self.staging.join(MARK), mark)
-            .map_err(|e| CliError::io(context(&format!("writing {MARK} of")), e))?;
+            .map_err(|e| LabError::io(context(&format!("writing {MARK} of")), e))?;
         // An interrupt waits for the moves below: `--out` ends with the old results or the new.
         let mut live = live();
         let old = if fs::symlink_metadata(&self.target).is_ok() {
@@ -470,7 +470,7 @@ impl ResultsFolder {
                 unique_suffix()
             ));
             fs::rename(&self.target, &aside)
-                .map_err(|e| CliError::io(context("moving aside the old results in"), e))?;
+                .map_err(|e| LabError::io(context("moving aside the old results in"), e))?;
             Some(aside)
         } else {
             None
@@ -480,13 +480,13 @@ impl ResultsFolder {
                 // Put the old results back; the new ones stay in the staging folder.
                 let _ = fs::rename(aside, &self.target);
             }
-            return Err(CliError::io(context("moving the new results into"), e));
+            return Err(LabError::io(context("moving the new results into"), e));
         }
         self.finished = true;
         live.retain(|dir| dir != &self.staging);
         if let Some(aside) = old {
             fs::remove_dir_all(&aside)
-                .map_err(|e| CliError::io(format!("removing {}", aside.display()), e))?;
+                .map_err(|e| LabError::io(format!("removing {}", aside.display()), e))?;
         }
         Ok(self.target.clone())
     }
@@ -495,16 +495,16 @@ impl ResultsFolder {
 /// `results/<id>` in the working folder, creating `results/` when it is missing.
 ///
 /// # Errors
-/// Bad input when `results` is a file; [`CliError::Io`] when it cannot be created.
-pub fn default_folder(id: &str) -> Result<PathBuf, CliError> {
+/// Bad input when `results` is a file; [`LabError::Io`] when it cannot be created.
+pub fn default_folder(id: &str) -> Result<PathBuf, LabError> {
     let results = Path::new("results");
     if fs::symlink_metadata(results).is_ok() && !results.is_dir() {
-        return Err(CliError::bad_input(
+        return Err(LabError::bad_input(
             "results is a file, not a folder: the default results folder is results/<run>; \
              move the file or give --out DIR",
         ));
     }
-    fs::create_dir_all(results).map_err(|e| CliError::io("creating the folder results", e))?;
+    fs::create_dir_all(results).map_err(|e| LabError::io("creating the folder results", e))?;
     Ok(results.join(id))
 }
 

@@ -46,7 +46,7 @@ impl SensorSpec {
     ///
     /// # Example
     /// ```
-    /// use ftwire::setup::SensorSpec;
+    /// use ftwire_lab::setup::SensorSpec;
     /// let sensor = SensorSpec::preset("undistorted").expect("a preset");
     /// assert_eq!(sensor.config.cubic_nonlinearity, [0.0; 6]);
     /// assert!(SensorSpec::preset("perfect").is_none());

@@ -49,7 +49,7 @@ use serde::Serialize;
 
 use super::rig::{measure, mounting, pipeline, place_wire, tare, true_centreline};
 use super::{Gravity, ModelKind, known_model};
-use crate::error::{CliError, from_estimate, from_rod};
+use crate::error::{LabError, from_estimate, from_rod};
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
@@ -202,7 +202,7 @@ pub fn collect(
     count: usize,
     seed: u64,
     mut progress: impl FnMut(usize),
-) -> Result<(Vec<CalibrationSample>, Skipped), CliError> {
+) -> Result<(Vec<CalibrationSample>, Skipped), LabError> {
     let model = known_model(wire, gravity, kind)?;
     // The configurations are placed as the weight-free model gives them, whatever the labels'
     // model, so that both models label the same collection.
@@ -263,7 +263,7 @@ pub fn shape_error(
     model: &KirchhoffModel,
     a: &Vector6<f64>,
     truth: &[Vector3<f64>],
-) -> Result<f64, CliError> {
+) -> Result<f64, LabError> {
     let shape = model
         .shape(a, SHAPE_NODES)
         .map_err(|e| from_estimate(e, "the model's shape"))?;
@@ -280,7 +280,7 @@ pub fn map_errors(
     samples: &[CalibrationSample],
     indices: &[usize],
     a_of: impl Fn(&CalibrationSample) -> Vector6<f64>,
-) -> Result<MapErrors, CliError> {
+) -> Result<MapErrors, LabError> {
     let (mut torque, mut force, mut shape, mut n) = (0.0, 0.0, 0.0, 0_usize);
     for sample in indices.iter().filter_map(|&i| samples.get(i)) {
         let a = a_of(sample);
@@ -313,7 +313,7 @@ pub fn run(
     count: usize,
     seed: u64,
     progress: impl FnMut(usize),
-) -> Result<CalibrationRun, CliError> {
+) -> Result<CalibrationRun, LabError> {
     let start = Instant::now();
     let (samples, skipped) = collect(wire, (gravity, kind), setup, count, seed, progress)?;
     let collect_s = start.elapsed().as_secs_f64();
@@ -381,14 +381,14 @@ pub fn load_or_run(
     setup: &SimSetup,
     seed: u64,
     progress: impl FnMut(usize),
-) -> Result<(Calibration, Option<CalibrationRun>), CliError> {
+) -> Result<(Calibration, Option<CalibrationRun>), LabError> {
     if let Some(path) = file {
         let calibration = Calibration::load(path)
-            .map_err(|e| CliError::bad_input(format!("--calibration {}: {e}", path.display())))?;
+            .map_err(|e| LabError::bad_input(format!("--calibration {}: {e}", path.display())))?;
         return Ok((calibration, None));
     }
     let wire = WireSpec::preset(KNOWN_WIRE)
-        .ok_or_else(|| CliError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
+        .ok_or_else(|| LabError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
     let run = run(
         &wire,
         (gravity, kind),
@@ -412,7 +412,7 @@ pub fn load_or_run_into(
     (gravity, kind): (Gravity, ModelKind),
     setup: &SimSetup,
     seed: u64,
-) -> Result<(Calibration, f64), CliError> {
+) -> Result<(Calibration, f64), LabError> {
     if file.is_none() {
         eprintln!("no --calibration: calibrating on the known wire first");
     }

@@ -36,7 +36,7 @@ pub const PRESETS: [&str; 4] = [
 ///
 /// # Example
 /// ```
-/// use ftwire::wire::file_stem;
+/// use ftwire_lab::wire::file_stem;
 /// assert_eq!(file_stem("nitinol-2mm-630"), "nitinol-2mm-630");
 /// assert_eq!(file_stem("../a b/c"), ".._a_b_c");
 /// ```
@@ -119,9 +119,9 @@ impl WireSpec {
     ///
     /// # Example
     /// ```
-    /// let wire = ftwire::wire::WireSpec::preset("nitinol-3mm-820").expect("a preset");
+    /// let wire = ftwire_lab::wire::WireSpec::preset("nitinol-3mm-820").expect("a preset");
     /// assert_eq!(wire.c, [0.214, 0.278, 0.278]);
-    /// assert!(ftwire::wire::WireSpec::preset("copper").is_none());
+    /// assert!(ftwire_lab::wire::WireSpec::preset("copper").is_none());
     /// ```
     pub fn preset(name: &str) -> Option<Self> {
         let params = match name {

@@ -1,7 +1,7 @@
 //! The one error type of the `ftwire` binary, and the exit-code rule.
 //!
-//! Every command returns [`CliError`]; `main` maps it to the process exit code in one place,
-//! [`CliError::exit_code`]:
+//! Every command returns [`LabError`]; `main` maps it to the process exit code in one place,
+//! [`LabError::exit_code`]:
 //! - **0**: success;
 //! - **1**: the input is valid but no answer was found (no IK solution, Newton did not converge,
 //!   later: no path), or the answer could not be written out;
@@ -20,7 +20,7 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 /// answer exists for this input, or the output could not be written).
 #[derive(Debug, Error)]
 #[non_exhaustive]
-pub enum CliError {
+pub enum LabError {
     /// The input is invalid: a value out of range, an unreadable file, an inconsistent
     /// combination. Exit code 2.
     #[error("{message}")]
@@ -45,7 +45,7 @@ pub enum CliError {
     },
 }
 
-impl CliError {
+impl LabError {
     /// A bad input, with a message saying what was wrong and what is allowed.
     pub fn bad_input(message: impl Into<String>) -> Self {
         Self::BadInput {
@@ -105,32 +105,32 @@ impl CliError {
 
 /// Sorts a simulator error: Newton's failure is "no answer"; invalid parameters, poses and
 /// guesses are bad input. `context` names what the user asked for.
-pub fn from_sim(error: ftwire_sim::SimError, context: &str) -> CliError {
+pub fn from_sim(error: ftwire_sim::SimError, context: &str) -> LabError {
     use ftwire_sim::SimError;
     match error {
         SimError::NewtonFailed { .. } | SimError::WorkExhausted { .. } | SimError::NotSolved => {
-            CliError::no_answer(format!("{context}: {error}"))
+            LabError::no_answer(format!("{context}: {error}"))
         }
-        _ => CliError::bad_input(format!("{context}: {error}")),
+        _ => LabError::bad_input(format!("{context}: {error}")),
     }
 }
 
 /// Sorts a Kirchhoff-model error: an integration that overflowed is "no answer"; everything
 /// else (parameters, a configuration outside `A`, node counts) is bad input.
-pub fn from_rod(error: ftwire_rod::RodError, context: &str) -> CliError {
+pub fn from_rod(error: ftwire_rod::RodError, context: &str) -> LabError {
     use ftwire_rod::RodError;
     match error {
         RodError::Diverged { .. } | RodError::SamplingExhausted { .. } => {
-            CliError::no_answer(format!("{context}: {error}"))
+            LabError::no_answer(format!("{context}: {error}"))
         }
-        _ => CliError::bad_input(format!("{context}: {error}")),
+        _ => LabError::bad_input(format!("{context}: {error}")),
     }
 }
 
 /// Sorts an estimator error: a model that cannot be solved is sorted as [`from_rod`] does;
 /// data that do not identify the wire, too few good sensor samples, no start for a shape fit
 /// and unreadable files are "no answer"; bad settings, logs and samples are bad input.
-pub fn from_estimate(error: ftwire_estimate::EstimateError, context: &str) -> CliError {
+pub fn from_estimate(error: ftwire_estimate::EstimateError, context: &str) -> LabError {
     use ftwire_estimate::EstimateError;
     match error {
         EstimateError::Model(error) => from_rod(error, context),
@@ -138,35 +138,35 @@ pub fn from_estimate(error: ftwire_estimate::EstimateError, context: &str) -> Cl
         | EstimateError::NotIdentified { .. }
         | EstimateError::NoFitStart { .. }
         | EstimateError::TooFewGoodSamples { .. } => {
-            CliError::no_answer(format!("{context}: {error}"))
+            LabError::no_answer(format!("{context}: {error}"))
         }
-        _ => CliError::bad_input(format!("{context}: {error}")),
+        _ => LabError::bad_input(format!("{context}: {error}")),
     }
 }
 
 /// Sorts a robot error: an unreachable target is "no answer"; limits, joint counts, parameters
 /// and unreadable models are bad input.
-pub fn from_robot(error: ftwire_robot::RobotError, context: &str) -> CliError {
+pub fn from_robot(error: ftwire_robot::RobotError, context: &str) -> LabError {
     use ftwire_robot::RobotError;
     match error {
         RobotError::Unreachable { .. }
         | RobotError::OutOfReach { .. }
         | RobotError::DualArmUnreachable { .. } => {
-            CliError::no_answer(format!("{context}: {error}"))
+            LabError::no_answer(format!("{context}: {error}"))
         }
-        _ => CliError::bad_input(format!("{context}: {error}")),
+        _ => LabError::bad_input(format!("{context}: {error}")),
     }
 }
 
 /// Sorts a planning error: no path within the budget is "no answer"; a bad scene, a start or
 /// goal outside `Z_free` (or a tip pose no configuration reaches), bad settings and unreadable
 /// files are bad input. `context` names what the user asked for.
-pub fn from_plan(error: ftwire_plan::PlanError, context: &str) -> CliError {
+pub fn from_plan(error: ftwire_plan::PlanError, context: &str) -> LabError {
     use ftwire_plan::PlanError;
     match error {
-        PlanError::NoPath { .. } => CliError::no_answer(format!("{context}: {error}")),
+        PlanError::NoPath { .. } => LabError::no_answer(format!("{context}: {error}")),
         PlanError::Rod(error) => from_rod(error, context),
-        _ => CliError::bad_input(format!("{context}: {error}")),
+        _ => LabError::bad_input(format!("{context}: {error}")),
     }
 }
 
@@ -176,9 +176,9 @@ mod tests {
 
     #[test]
     fn each_kind_has_its_exit_code() {
-        assert_eq!(CliError::bad_input("x").exit_code(), 2);
-        assert_eq!(CliError::no_answer("x").exit_code(), 1);
-        let io = CliError::io("writing", io::Error::other("closed"));
+        assert_eq!(LabError::bad_input("x").exit_code(), 2);
+        assert_eq!(LabError::no_answer("x").exit_code(), 1);
+        let io = LabError::io("writing", io::Error::other("closed"));
         assert_eq!(io.exit_code(), 1);
         assert_eq!(io.to_string(), "writing: closed");
         let sim = from_sim(
@@ -196,6 +196,6 @@ mod tests {
         );
         assert_eq!(sim.exit_code(), 2);
         assert!(sim.to_string().starts_with("building: "));
-        assert_eq!(CliError::bad_input("b").context("a").to_string(), "a: b");
+        assert_eq!(LabError::bad_input("b").context("a").to_string(), "a: b");
     }
 }

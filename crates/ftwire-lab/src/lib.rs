@@ -1,0 +1,33 @@
+//! ftwire's laboratory: the experiments of paper §IV run against the ground-truth simulator,
+//! and what they share. This is the one library crate that sees both sides of the wall
+//! (`ARCHITECTURE.md`): the Kirchhoff model and its estimators on one side, the simulator that
+//! plays the robot on the other. The `ftwire` binary, the Python bindings and the ROS 2 bridge
+//! call it; it has no command-line parsing and prints nothing.
+//!
+//! - [`error`]: the one error type, sorted by who must act (bad input, no answer, I/O), and
+//!   the exit code of each kind;
+//! - [`header`]: the run header of a results folder (version, revision, seed, configuration);
+//! - [`results`]: the results folder of a run, replaced whole or not at all, never a folder
+//!   ftwire did not write;
+//! - [`report`]: the default `report.md` and `report.html` of a results folder;
+//! - [`csv_table`]: the one CSV writer of the results folders (quoting, formula guard);
+//! - [`wire`]: wires by preset name or TOML file;
+//! - [`setup`]: the simulated F/T sensor and rig, by preset or TOML file;
+//! - [`scene`]: a planning scene's obstacles for the simulator (the same file the planner
+//!   reads);
+//! - [`initial_guess`]: the Kirchhoff shape as the simulator's initial guess;
+//! - [`experiment`]: what the experiments share (gravity, the estimators' model, the simulated
+//!   rig, taring and measuring, the learnt calibration).
+
+pub mod csv_table;
+pub mod error;
+pub mod experiment;
+pub mod header;
+pub mod initial_guess;
+pub mod report;
+pub mod results;
+pub mod scene;
+pub mod setup;
+pub mod wire;
+
+pub use error::LabError;
