@@ -16,6 +16,7 @@
 //! - [`scene`]: a planning scene's obstacles for the simulator (the same file the planner
 //!   reads);
 //! - [`initial_guess`]: the Kirchhoff shape as the simulator's initial guess;
+//! - [`provenance`]: the commit, date and machine of a run, for results pages;
 //! - [`experiment`]: what the experiments share (gravity, the estimators' model, the simulated
 //!   rig, taring and measuring, the learnt calibration).
 
@@ -24,6 +25,7 @@ pub mod error;
 pub mod experiment;
 pub mod header;
 pub mod initial_guess;
+pub mod provenance;
 pub mod report;
 pub mod results;
 pub mod scene;

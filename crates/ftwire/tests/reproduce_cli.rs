@@ -25,9 +25,11 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
     let dir = std::env::temp_dir().join(format!("ftwire-reproduce-{}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).expect("creates a temporary folder");
+    let docs = dir.join("docs");
+    fs::create_dir_all(&docs).expect("creates docs/");
     let report = |jobs: &str| {
         let out = dir.join(format!("jobs{jobs}"));
-        let output = ftwire(&[
+        let mut args = vec![
             "reproduce",
             "--quick",
             "--seed",
@@ -36,7 +38,11 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
             jobs,
             "--out",
             out.to_str().expect("UTF-8"),
-        ]);
+        ];
+        if jobs == "2" {
+            args.extend(["--docs", docs.to_str().expect("UTF-8")]);
+        }
+        let output = ftwire(&args);
         assert_success(&output, "reproduce --quick");
         let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
         assert!(stderr.contains("expected time"), "{stderr}");
@@ -63,6 +69,26 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
         let one = report("1");
         (one, other.join().expect("the two-job report"))
     });
+    // The documentation's page: the same tables, the provenance, every figure it links.
+    let page = fs::read_to_string(docs.join("results.md")).expect("docs/results.md");
+    assert!(
+        page.starts_with("<!-- Written by `ftwire reproduce --docs`"),
+        "{page}"
+    );
+    assert!(
+        page.contains("at commit `") && page.contains("threads"),
+        "{page}"
+    );
+    assert!(page.contains("--quick --seed 2 --jobs 2"), "{page}");
+    let figures: Vec<&str> = page
+        .lines()
+        .filter_map(|l| l.strip_prefix("![").and_then(|l| l.split_once("](")))
+        .map(|(_, target)| target.trim_end_matches(')'))
+        .collect();
+    assert!(figures.len() >= 5, "{page}");
+    for figure in figures {
+        assert!(docs.join(figure).is_file(), "{figure}");
+    }
     for table in [
         "## Table I",
         "## Table II",
@@ -74,6 +100,7 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
         "| nitinol-2mm-630 | c1 |",
     ] {
         assert!(one.contains(table), "{table} in the report:\n{one}");
+        assert!(page.contains(table), "{table} in docs/results.md");
     }
     let row = one
         .lines()
@@ -112,5 +139,29 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
     ]);
     assert_exit(&output, 2, "sensor.toml", "a missing sensor file");
     assert!(!out.exists(), "nothing written for bad input");
+    // A results page the user wrote is refused before anything runs, and left as it was.
+    let theirs = dir.join("their-docs");
+    fs::create_dir_all(&theirs).expect("creates their docs");
+    fs::write(theirs.join("results.md"), "# My results\n").expect("writes their page");
+    let out = dir.join("refused");
+    let output = ftwire(&[
+        "reproduce",
+        "--quick",
+        "--docs",
+        theirs.to_str().expect("UTF-8"),
+        "--out",
+        out.to_str().expect("UTF-8"),
+    ]);
+    assert_exit(
+        &output,
+        2,
+        "not written by ftwire reproduce",
+        "a user's results.md",
+    );
+    assert!(!out.exists(), "nothing run for a refused --docs");
+    assert_eq!(
+        fs::read_to_string(theirs.join("results.md")).expect("their page"),
+        "# My results\n"
+    );
     let _ = fs::remove_dir_all(&dir);
 }

@@ -31,6 +31,13 @@ pub struct ReproduceArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub results: ResultsArgs,
+    /// Also write the documentation's results page, `DIR/results.md` with the tables, the
+    /// commit, date and machine, and its figures in `DIR/results/` (`--docs docs` writes
+    /// the project's `docs/results.md`). A page or folder there that ftwire did not write is
+    /// replaced only with `--force`.
+    #[arg(long, value_name = "DIR")]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub docs: Option<std::path::PathBuf>,
     /// The simulated sensor and rig, passed on to every experiment (checked before any runs).
     #[command(flatten)]
     pub setup: SimSetupArgs,

@@ -31,6 +31,7 @@ use crate::cli::reproduce::ReproduceArgs;
 use crate::commands::experiment::identify::TABLE_I;
 use crate::commands::experiment::shape::TABLE_II;
 
+mod docs;
 mod page;
 
 /// One experiment run as a child process.
@@ -208,8 +209,12 @@ pub fn run(args: ReproduceArgs) -> Result<(), LabError> {
     let jobs = args.jobs.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
-    // A bad sensor or rig file is bad input before anything runs or is written.
+    // A bad sensor or rig file, or a docs page that is not ftwire's, is bad input before
+    // anything runs or is written.
     args.setup.load()?;
+    if let Some(dir) = &args.docs {
+        docs::check(dir, args.results.force)?;
+    }
     let mut passed_on = Vec::new();
     if let Some(sensor) = &args.setup.sensor {
         passed_on.extend(["--sensor".to_owned(), sensor.clone()]);
@@ -300,6 +305,14 @@ pub fn run(args: ReproduceArgs) -> Result<(), LabError> {
         "reproduce: report in {}",
         target.join("report.md").display()
     );
+    if let Some(dir) = &args.docs {
+        let command = std::iter::once("ftwire".to_owned())
+            .chain(std::env::args().skip(1))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let page = docs::write(dir, &target, &markdown, &ids, &command)?;
+        println!("reproduce: results page in {}", page.display());
+    }
     if failed.is_empty() {
         Ok(())
     } else {
