@@ -8,7 +8,7 @@ use crate::Pose;
 /// # Example
 /// ```
 /// use ftwire_core::FtSample;
-/// // A log written before `saturated` existed still parses, with no channel clipped.
+/// // A sample without a `saturated` field parses, with no channel clipped.
 /// let old = r#"{"time": 0.5, "raw": [1.0, 2.0, 3.0, 0.1, 0.2, 0.3]}"#;
 /// let sample: FtSample = serde_json::from_str(old)?;
 /// assert_eq!(sample.saturated, [false; 6]);
@@ -64,7 +64,8 @@ pub struct Command {
 /// What a real dual-arm robot with one wrist F/T sensor offers the algorithms.
 ///
 /// Algorithms (`ftwire-estimate`, `ftwire-control`, `ftwire-plan`) see the world only through
-/// this trait; the simulator implements it, and a ROS 2 bridge will later.
+/// this trait; the simulator implements it (`ftwire_sim::SimRig`), and so can a real robot's
+/// driver.
 pub trait Rig {
     /// The rig's error type.
     type Error: std::error::Error + Send + Sync + 'static;

@@ -150,9 +150,8 @@ pub fn point_box_distance(p: &Point3<f64>, b: &OrientedBox) -> f64 {
 /// Distance from a segment to a box \[m\] (0 if they meet).
 ///
 /// parry3d-f64's GJK distance between the segment, carried into the box's frame, and the box
-/// as a cuboid: exact to rounding for these polytopes (it agreed with the golden-section
-/// search it replaced to 2e-15 m over 16k random separated pairs, and on every contact; the
-/// measurement is in `crates/ftwire-robot/docs/parry.md`). The test
+/// as a cuboid: exact to rounding for these polytopes (the comparison with a golden-section
+/// search is in `crates/ftwire-robot/docs/parry.md`). The test
 /// `segment_distances_match_brute_force` checks it against a sampled minimum.
 ///
 /// # Example

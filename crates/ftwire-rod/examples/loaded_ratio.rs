@@ -1,5 +1,5 @@
-//! The cost of the loaded model against the unloaded one (issue 16: a full solve under load at
-//! most 2× the unloaded one), as ratios that hold on a busy machine: the 64 configurations of
+//! The cost of the loaded model against the unloaded one (the requirement: a full solve under
+//! load at most 2× the unloaded one), as ratios that hold on a busy machine: the 64 configurations of
 //! `benches/solve.rs` (2 mm nitinol wire, stable, normalised `[−30, 30]⁶`, seed 2024), solved
 //! without load and under the wire's weight (gravity along −z of the base clamp frame) in
 //! interleaved blocks, 300 pairs of blocks per hot path. Prints, per path, the ratio of the

@@ -31,7 +31,7 @@ pub(crate) fn septic_hermite(theta: f64) -> [f64; 8] {
 }
 
 /// Quintic Hermite basis at `θ ∈ [0, 1]`: weights of `y0, h y0', h² y0'', y1, h y1', h² y1''`.
-/// The dense output before [`septic_hermite`]; kept with its test for comparison.
+/// A lower-order dense output than [`septic_hermite`], kept with its test for comparison.
 #[cfg(test)]
 pub(crate) fn quintic_hermite(theta: f64) -> [f64; 6] {
     let t = theta;

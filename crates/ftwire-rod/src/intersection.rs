@@ -16,7 +16,7 @@
 //!
 //! A bounding-volume hierarchy over the polyline, in its own order: a balanced binary tree of
 //! index ranges of segments, each with the axis-aligned box of its nodes, leaves of at most
-//! [`LEAF`] segments. Pairs of ranges are searched from the root down and dropped when their
+//! 8 segments (`LEAF`). Pairs of ranges are searched from the root down and dropped when their
 //! boxes are farther apart than the diameter, when every pair in them is adjacent (closer in
 //! index than the offset above), or when none can come before the first contact found so far.
 //! Along a smooth wire the boxes separate once they are shorter than about `r/2` of arc, so the

@@ -660,7 +660,7 @@ pub(crate) fn rotation_from_columns(r: &Matrix3<f64>) -> Rotation3<f64> {
 /// `D = s00 s11 − s01²` (so that `|s00 c1 − s01 c0|² = s00 D`): two square roots and two
 /// divisions per node, independent of each other (the usual form needs a third division,
 /// `s01 / s00`, and its second square root waits on it), which the compiler runs for
-/// several nodes at once. The divider was the bound of this pass.
+/// several nodes at once. The divider bounds this pass, so fewer divisions make it faster.
 #[inline(always)]
 fn orthonormalise(r: &Matrix3<f64>) -> Matrix3<f64> {
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];

@@ -530,8 +530,7 @@ impl FullConstants {
 /// unpacks; `m = Rᵀ m0 − Rᵀ (p × n0)` reuses the `s_k` (`Rᵀ (p × n0) = −Σ_k n0_k s_k`) and is
 /// summed as a tree, because the chain from a stage's frame through `m` to the frame's rate
 /// is the one the next stage waits on. (Storing `J` by columns instead, as pairs of cross
-/// products, takes about 50 permutes a stage and ran slower than the generic loop this
-/// replaced.)
+/// products, takes about 50 permutes a stage, which costs more than the generic loop saves.)
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn full_rate(k: &FullConstants, y: &Block, out: &mut Block, scratch: &mut [[f64; 4]; 5]) {

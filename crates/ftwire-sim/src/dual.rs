@@ -12,8 +12,8 @@
 //! only itself to the build, and agrees with this module to rounding. It is not used because:
 //! - the Hessian is the hot path of every Newton iteration, and this module updates only the
 //!   upper triangle of the symmetric Hessian, on plain fixed-size arrays, where `num-dual`
-//!   updates the full matrix behind an `Option` per derivative; on a bend–twist-like stencil of
-//!   11 variables it was about 2.5–3× faster (`benches/README.md`);
+//!   updates the full matrix behind an `Option` per derivative, so it does less work per
+//!   stencil (the measurement, with its date and machine, is in `benches/README.md`);
 //! - the stencils need only [`Scalar`]: arithmetic, `sqrt`, `sin`, `cos` and `atan2`; being
 //!   generic over `num-dual`'s `DualNum` (the whole `num-traits` float surface) would tie every
 //!   stencil to a much larger trait for no new capability.

@@ -25,7 +25,7 @@ pub struct RodState {
     /// in Bergou et al. 2010, §4.1, where it is updated incrementally. Without it, a clamp
     /// whose director turns more than π from the transported reference of its neighbour (a tip
     /// rolled about its own axis) would wrap `m_ref` by 2π, change the rod's total twist by a
-    /// full turn and snap it to another equilibrium (issue 14; test
+    /// full turn and snap it to another equilibrium (test
     /// `tests/issue_14_reference_twist_wrap.rs`).
     pub(crate) ref_twist: Vec<f64>,
     pub(crate) base: Pose,

@@ -1,4 +1,4 @@
-//! The cold start bends a straight wire into place by continuation (issue 3), on strongly bent
+//! The cold start bends a straight wire into place by continuation, on strongly bent
 //! targets: random reachable tip poses (clamp distance in `[0.15, 0.95]·L`, direction uniform
 //! on the sphere, rotation about a uniform axis by up to π), on the 2 mm × 630 mm and the
 //! 3 mm × 820 mm nitinol wires, with and without gravity, N = 100.

@@ -1,10 +1,9 @@
-//! Issue 14: a third of the `experiment goal` motions snapped the simulated wire to another
-//! branch although the model found the whole path stable. Every one of those snaps was the
-//! reference twist of the last vertex (between the tip clamp's edge, whose reference director is
-//! the clamp's, and its neighbour's transported one) crossing ±π: `atan2` wrapped it by 2π,
-//! which changed the rod's total twist by a full turn at fixed clamps. The reference twist now
-//! stays on its continuous branch (`RodState::ref_twist`), so turning a clamp past π is an
-//! ordinary smooth motion.
+//! The bug this file guards: motions snapped the simulated wire to another branch although the
+//! model found the whole path stable, because the reference twist of the last vertex (between
+//! the tip clamp's edge, whose reference director is the clamp's, and its neighbour's
+//! transported one) crossed ±π and `atan2` wrapped it by 2π, which changed the rod's total
+//! twist by a full turn at fixed clamps. The reference twist stays on its continuous branch
+//! (`RodState::ref_twist`), so turning a clamp past π is an ordinary smooth motion.
 
 mod common;
 

@@ -11,8 +11,9 @@
 //! vector's norm (its angle) is at most `ftwire_core::MAX_ROTATION_ANGLE` ([`parse_rotation`]).
 //!
 //! The options' doc comments are clap's `--help` text, which shows them verbatim: their units
-//! are written `[m]`, not as escaped Markdown, hence the allowed "links" below.
-#![allow(rustdoc::broken_intra_doc_links)]
+//! are written `[m]`, not as escaped Markdown, and placeholders `<run>`, not as code spans, hence
+//! the allowed "links" and "HTML tags" below.
+#![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 
 use std::path::PathBuf;
 
@@ -229,8 +230,8 @@ impl std::fmt::Display for Numbers<3> {
 
 /// The wire: stiffnesses, length and radius.
 ///
-/// Commands read it through [`WireArgs::params`], not field by field, so that a later
-/// `--wire PRESET|FILE.toml` (filling in what the flags leave out) changes only that method.
+/// Commands read it through [`WireArgs::params`], not field by field, so that how the wire is
+/// put together from the options (and checked) is decided in that one method.
 #[derive(Debug, Clone, Args, Serialize)]
 pub struct WireArgs {
     /// Stiffnesses C1,C2,C3 [N·m²]: torsion, bending about body y, bending about body z.
@@ -448,7 +449,7 @@ impl ResultsArgs {
 
 /// The simulated rig: `--sensor PRESET|FILE.toml` and `--rig FILE.toml` (see
 /// [`ftwire_lab::setup`]; every key in `docs/config.md`). Left out of a run header when not given, so
-/// that a run without them writes the same `summary.json` as before they existed.
+/// that a run with the default sensor and rig writes a header without `sensor` or `rig` keys.
 #[derive(Debug, Clone, Default, Args, Serialize)]
 pub struct SimSetupArgs {
     /// The simulated F/T sensor: `distorted` (the default sensor: gain, cross-talk and

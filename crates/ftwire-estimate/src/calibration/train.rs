@@ -30,12 +30,11 @@ pub struct TrainConfig {
     /// reading of zero gives `a = 0` exactly (default `false`). Set it when the readings are
     /// tared with the gripper empty, as [`crate::ft::FtPipeline`] does: a zero tared reading is
     /// then a zero wrench, while a free map puts its least-squares intercept there, an absolute
-    /// error (a few mN and tenths of a mN·m in the simulated experiments) that is nothing on
-    /// the calibration wire but several per cent of a soft wire's force scale. Only when zero
-    /// is inside the training readings' range: elsewhere `F(0)` is an extrapolation (a wire
-    /// whose weight keeps every reading away from zero gave 0.09 N). Leave it off for untared
-    /// readings, whose bias the affine part must learn. Weight files written
-    /// before this setting read as `false`, so they keep their meaning.
+    /// error that is nothing on the calibration wire but can be several per cent of a soft
+    /// wire's force scale. Only when zero is inside the training readings' range: elsewhere
+    /// `F(0)` is an extrapolation (as for a wire whose weight keeps every reading away from
+    /// zero). Leave it off for untared readings, whose bias the affine part must learn. Weight
+    /// files without this setting read as `false`, so they keep their meaning.
     #[serde(default)]
     pub anchored: bool,
     /// Split fractions (default 70 % training, 15 % validation, 15 % test).

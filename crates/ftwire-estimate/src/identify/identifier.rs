@@ -18,10 +18,9 @@
 //!
 //! Why two stages: in the full 4-D box, `c_i ∈ [1e-3, 5]`, the absolute residual is rugged
 //! along `c1` (a tiny torsional stiffness spins the wire about its axis), and a 20-particle
-//! swarm there missed the basin of the 3 mm nitinol wire for some seeds. Three choices make
-//! the 2-D coarse search reliable (measured on simulated wires of the brief's range, where the
-//! plain `(ln c2, L)` search at a fixed ratio settled in wrong basins, at a half or a quarter
-//! of the stiffness, in up to 3 trials in 10 on 7 wires of 8):
+//! swarm there can miss the basin of a stiff wire. Three choices make the 2-D coarse search
+//! reliable, where the plain `(ln c2, L)` search at a fixed ratio can settle in a wrong basin,
+//! at a half or a quarter of the stiffness:
 //! - **stiffness per length** ([`ParameterConstraints::stiffness_per_length`]): the data pin
 //!   `c/L`, so the basin is a thin valley along `c2 ∝ L`, one grid column in eighty wide; in
 //!   `(ln(c2/L), L)` it runs straight along `L`;

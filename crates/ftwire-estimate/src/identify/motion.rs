@@ -11,19 +11,17 @@
 //!
 //! Why the twist: the torsional stiffness `c1` shows in the data only through the torsional
 //! moment along the wire. A start whose wire is nearly planar barely loads it, and a random 3°
-//! rotation twists the tip by about 1.5° on average, so there `c1` was determined to several
-//! per cent from three samples (one simulated 2 mm nitinol trial in ten: 4.9 %, where the
-//! other nine were within 0.6 %). A twist `θ` adds the torsional moment `c1 θ / L`, a
+//! rotation twists the tip by about 1.5° on average, so without a twist a few samples can
+//! leave `c1` poorly determined. A twist `θ` adds the torsional moment `c1 θ / L`, a
 //! normalised torque `θ c1/c2 ≈ 0.56` for 40° on any round wire, whatever its stiffness and
 //! length: far above the noise, and far below twist buckling (Greenhill's load of a clamped
-//! wire is a normalised torque of about 9). A 20° twist already took the three-sample error on
-//! `c1` of the simulated nitinol wires within 0.43 % over three seeds.
+//! wire is a normalised torque of about 9).
 //!
 //! Why 40° rather than 20°: the sensor's noise and drift are fixed in newton-metres and the
-//! twist's torque is `c1 θ / L`, so on the softest, longest wires of the brief's range
-//! (`c2/L` of tens of mN·m) a 20° twist left 0.5–0.7 % on `c1` from three samples. Doubling
-//! it doubles the margin over the noise on every wire alike (it is normalised), still at a
-//! fifteenth of Greenhill's load; the measurements are in `docs/identify-soft-wires.md`.
+//! twist's torque is `c1 θ / L`, so the softest, longest wires of the search box (`c2/L` of
+//! tens of mN·m) get the least torque above the noise. Doubling the twist doubles that margin
+//! on every wire alike (it is normalised), still at a fifteenth of Greenhill's load; the
+//! measurements are in `docs/identify-soft-wires.md`.
 //!
 //! Why small, and why near `b0`:
 //! - **the equilibrium branch**: a held wire can have several equilibria for one gripper pose;
@@ -35,11 +33,10 @@
 //!   residual has no such limit, but gains nothing from large moves either;
 //! - **signal-to-noise**: each move must still change the wrench well above the sensor's
 //!   noise. Held wires are stiff to pull and soft to bend, so millimetres matter: on the 3 mm
-//!   nitinol wire in a stable shape, the default moves changed the normalised wrench
-//!   (`J(L)⁻¹ δb`, torque in `c2/L`, force in `c2/L²`) by 0.05 to 1.4, that is 25 to 700
-//!   times the 0.2 % noise of a tared, averaged sensor (test
-//!   `the_motion_plan_is_small_seeded_and_informative`); much smaller moves drown in the
-//!   noise, much larger ones risk leaving the branch.
+//!   nitinol wire in a stable shape, the default moves change the normalised wrench
+//!   (`J(L)⁻¹ δb`, torque in `c2/L`, force in `c2/L²`) by far more than the noise of a tared,
+//!   averaged sensor (test `the_motion_plan_is_small_seeded_and_informative`); much smaller
+//!   moves drown in the noise, much larger ones risk leaving the branch.
 //!
 //! The plan only returns poses; executing them (and checking reachability and collisions) is
 //! the caller's job.

@@ -17,7 +17,7 @@
 //!   with anisotropic bending and natural strains).
 //!
 //! The two factors remove the largest `O(h²)` errors of the plain DER (measured against the
-//! Kirchhoff model in `crates/ftwire/tests/model_vs_sim.rs`; numbers in the crate README):
+//! Kirchhoff model in `crates/ftwire/tests/model_vs_sim.rs`; numbers in `docs/model.md`):
 //! - `g(φ)`: with the edges as the position steps and the vertices as rotations, the discrete
 //!   rod is a Strang splitting of the Kirchhoff equations (half edge, rotation, edge, …, half
 //!   edge); the exact flow of `R' = R û` over one Voronoi length turns by `|u|·ℓ`, so the
@@ -313,7 +313,7 @@ mod tests {
         }
     }
 
-    /// Issue 14: the reference twist is taken on the branch nearest the vertex's previous one,
+    /// The reference twist is taken on the branch nearest the vertex's previous one,
     /// not always in `(−π, π]`: a reference director turned 3.1 rad past its neighbour's reads
     /// as `3.1 − 2π` when the previous value was just below −π.
     #[test]

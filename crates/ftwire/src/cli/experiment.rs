@@ -122,8 +122,9 @@ pub struct IdentifyExperimentArgs {
     /// F/T samples averaged at each rest of the motion (at the simulated sensor's 1 kHz, 400
     /// is a 0.4 s rest): the white noise of `ã` falls as `1/√N`, while the sensor's bias
     /// drifts on for the time the rests take; the two balance near `σ √f / q ≈ 800` for the
-    /// default sensor (noise σ, rate f, drift intensity q), and of 100, 400 and 1000 the
-    /// unseen-wire survey measured 400 best. 100 to 100000.
+    /// default sensor (noise σ, rate f, drift intensity q), but rests shorter or longer than
+    /// the default change little: the tare's own noise, the same offset in every sample,
+    /// dominates (`docs/identify-soft-wires.md`). 100 to 100000.
     #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES, value_parser = REST_SAMPLES)]
     pub rest_samples: usize,
     /// How `ã` is computed from the tared reading.
@@ -169,7 +170,7 @@ pub const WAYPOINT_MOVES: CountRange = CountRange::new(1, 1000);
 #[serde(rename_all = "lowercase")]
 pub enum IdentifyPipeline {
     /// The learnt calibration network (`--calibration FILE`, or one run and cached first):
-    /// corrects the sensor's gain, cross-talk and nonlinearity (issue 13).
+    /// corrects the sensor's gain, cross-talk and nonlinearity.
     Calibrated,
     /// The sensor's mounting transform only (no learnt correction): the sensor's gain error
     /// and cross-talk of about 1 % stay in `ã`. For comparison.
@@ -292,13 +293,12 @@ pub struct RolloutArgs {
     /// calibration is first run on the default known wire and cached in the results folder.
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
-    /// The controller's gain K of eq. 13, in (0, 1] [default: 1 under `increment` and
-    /// `absolute`, 0.5 otherwise]. The paper's is 0.2; a larger gain undoes each move's error
-    /// sooner (under `increment` noise the wire's stationary spread about the path falls from
-    /// 1.67 times one move's error at K = 0.2 to 1 at K = 1) and takes fewer moves, each of
-    /// them a rest in which the sensor drifts. Measured on the shipped passage (seed 0): with
-    /// `offset` noise 50/50 successes at 0.5, 9/10 at 0.2 and at 1; with `increment`, 43/50 at
-    /// 1 against 35/50 at 0.5 (without the shape stop).
+    /// The controller's gain K of eq. 13, in (0, 1]: each closed-loop move corrects the
+    /// fraction K of the remaining configuration error, `δa = K (a_goal − ã)` [default: 1
+    /// under `increment` and `absolute`, 0.5 otherwise; the paper's is 0.2]. A larger gain
+    /// undoes each move's execution error sooner (under `increment` noise the wire's
+    /// stationary spread about the path is `1/√(K (2 − K))` times one move's error) and takes
+    /// fewer moves, each of them a rest in which the sensor drifts (`docs/control-noise.md`).
     #[arg(long, value_name = "K", value_parser = ftwire::args::parse_finite)]
     pub gain: Option<f64>,
     /// The closed loop's shape stop in mm: each leg ends once the model's shape at the

@@ -16,7 +16,8 @@ use serde::Serialize;
 pub enum FormArg {
     /// The exact absolute form `log(Γ_η(ã_i)⁻¹ b̃_i)`: reaches the noise floor.
     Absolute,
-    /// The paper's eq. 12, `J_η(ã_i) δã_i − δb̃_i`: limited to 2–3 % by its linearisation.
+    /// The paper's eq. 12, `J_η(ã_i) δã_i − δb̃_i`: its linearisation limits its accuracy
+    /// even without noise.
     Eq12,
     /// Eq. 12 with `J` at the midpoint of each step.
     Midpoint,

@@ -72,7 +72,7 @@ pub struct SimEquilibriumArgs {
     pub gravity: Vec3,
     /// Discretisation: N edges, N + 1 nodes including the two ghost nodes inside the grippers,
     /// 12 to 2000 (fewer give wrenches off by more than a few percent). `--nodes` is a hidden
-    /// old name of this option, and means edges too (unlike `solve --nodes`, shape nodes).
+    /// alias of this option, and means edges too (unlike `solve --nodes`, shape nodes).
     #[arg(
         long,
         value_name = "N",

@@ -66,9 +66,9 @@ use crate::commands::identify::{flag_name, run_identification};
 
 mod page;
 
-/// Configurations of the calibration phase: fewer than `experiment calibrate`'s 600, which
-/// keeps the demo within its time while the calibrated map stays at the sensor's floor on the
-/// nitinol wires (the summary reports its test error).
+/// Configurations of the calibration phase: as many as `experiment calibrate` collects by
+/// default (`ftwire::experiment::calibration::DEFAULT_SAMPLES`), so that the demo's calibrated
+/// map is as good as the experiment's (the summary reports its test error).
 pub const CALIBRATION_CONFIGS: usize = 600;
 
 /// Samples the identification phase identifies from (the paper's smallest useful count).
@@ -352,11 +352,11 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     let controller_model = model
         .with_weight_per_length(weight)
         .map_err(|e| from_estimate(e, "the identified wire's weight"))?;
-    // The planner checks shapes with the identified wire's weightless model (the scene's
-    // configurations are the paper model's): with the loaded model's shapes, the same
-    // iteration budget found no path for some identified wires (seeds 0 and 3 with the full
-    // calibration). The wire sags about 2.5 mm from them; the controller tracks the
-    // configurations with the loaded model.
+    // The planner checks shapes with the identified wire's weightless model, as the scene's
+    // configurations are the paper model's: with the loaded model's shapes, the fixed
+    // iteration budget can find no path for some identified wires. The wire sags a few
+    // millimetres from those shapes; the controller tracks the configurations with the
+    // loaded model.
     let noise = args.noise_model.model();
     let identified = Rod::new(*model.wire());
     // Under the noises that scatter every landing, the best of `track::PLAN_CANDIDATES`

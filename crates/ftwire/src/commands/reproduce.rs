@@ -40,8 +40,8 @@ struct Job {
     id: &'static str,
     /// `ftwire` arguments before `--out` and `--seed`.
     args: Vec<String>,
-    /// Measured wall time on a 2-core machine \[s\], quick and full (for the announced
-    /// expected time).
+    /// Expected wall time \[s\] on a 2-core machine, quick and full, announced before the run
+    /// (an estimate, not a bound).
     expected_s: (f64, f64),
 }
 

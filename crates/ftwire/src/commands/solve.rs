@@ -187,7 +187,10 @@ struct Tip {
     rotation: [[f64; 3]; 3],
 }
 
-/// The JSON output of one solve (keys as documented in the issue and `--help`).
+/// The JSON output of one solve: `tip` (`position` \[m\], row-major `rotation`, base clamp
+/// frame), `jacobian` `J(L)` (rows `(δω, δv)`), `stable`, `self_intersecting`, `det_j_min` (the
+/// stability record's smallest `|det J(t)|`) and `shape` (node positions \[m\], base clamp
+/// frame).
 #[derive(Serialize)]
 struct Output {
     tip: Tip,

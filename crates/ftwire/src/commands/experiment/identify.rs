@@ -28,8 +28,8 @@
 //!   (`calibrated` or `mounting`), `calibration` (the `--calibration` path, `"cached"` when one
 //!   was run and cached, `null` for the mounting pipeline), `trials`, `sample_counts`;
 //!   `wires`: a list of `{wire: {name, c, length, linear_density}, by_samples}` of `--model`;
-//!   `wire` and `by_samples` repeated at the top level for the first wire (issue 13's
-//!   contract); and `by_model`, a list of `{model, wires}` for every model run, `--model`
+//!   `wire` and `by_samples` repeated at the top level for the first wire (the layout of a
+//!   one-wire summary, which readers of `summary.json` rely on); and `by_model`, a list of `{model, wires}` for every model run, `--model`
 //!   first. Each `by_samples` row is `{samples, estimated, identified, mean[4], std[4],
 //!   relative_error[4], mean_abs_relative_error[4], mean_abs_relative_error_identified[4],
 //!   evaluations_median, linear_density}` over `(c1, c2, c3, L)`, with

@@ -80,7 +80,7 @@ pub(crate) const TABLE_II: [(&str, f64); 4] = [
     ("cable-3mm-920", 52.3),
 ];
 
-/// One wire's row of `summary.json` (issue 13).
+/// One wire's row of `summary.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 struct WireResult {
     name: String,
