@@ -89,7 +89,7 @@ pub const LATE_FRACTION: f64 = 0.75;
 pub const RELOCATION_STEPS: [f64; 4] = [0.01, 0.02, 0.03, 0.04];
 
 /// How a planned path is executed (plain data; [`TrackingPolicy::for_noise`] gives the
-/// tuned policy of each execution noise). The path tracker reads every choice here.
+/// tuned policy of each execution noise). The [`crate::PathTracker`] reads every choice here.
 ///
 /// # Example
 /// ```
