@@ -14,7 +14,7 @@
 //! 3. **shape**: estimate the wire's centreline from the F/T reading alone;
 //! 4. **controller**: steer the wire to a goal configuration by the Jacobian rule (eq. 13–14);
 //! 5. **track a plan**: waypoints on the straight line in `A` from the start to a second goal,
-//!    each checked stable, the controller steering to each in turn.
+//!    each checked stable, executed by the library's `PathTracker` under a `TrackingPolicy`.
 //!
 //! Each step prints what it found, and the example exits non-zero when identification, shape
 //! or tracking miss their tolerances, so running it in CI checks the whole workflow:
@@ -26,7 +26,10 @@
 use std::error::Error;
 
 use ftwire_control::open_loop::{a_connected, line_in_a};
-use ftwire_control::{AnyPose, ControlSettings, Controller, FtFeedback, Outcome, configuration_at};
+use ftwire_control::{
+    AnyPose, ControlSettings, Controller, FtFeedback, NoiseModel, Outcome, PathTracker, Rest,
+    RestKind, TrackingPolicy, configuration_at,
+};
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, WireParams};
 use ftwire_estimate::ft::{FtPipeline, Mounting, RestAverage, Tare};
 use ftwire_estimate::identify::{IdentifyConfig, MotionPlan, identify};
@@ -274,7 +277,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     )?;
 
     // 5. Track a plan: waypoints on the straight line in A from here to a second goal, the
-    //    whole line checked stable and free of self-contact first.
+    //    whole line checked stable and free of self-contact first, executed by the
+    //    `PathTracker` under the policy of a robot that goes where it is told (no execution
+    //    noise): the legs' stops, the retreats and undos, the success rule.
     let start = feedback.measure(&mut robot)?.a;
     let end = from_normalised(&wire, &Vector6::new(0.1, 3.0, 0.4, -1.0, 2.0, 1.0));
     check(
@@ -282,20 +287,42 @@ fn main() -> Result<(), Box<dyn Error>> {
         "the plan leaves A_free".into(),
     )?;
     let waypoints = line_in_a(&start, &end, 4);
-    for (k, waypoint) in waypoints.iter().enumerate().skip(1) {
-        let run = controller.run(&mut robot, &feedback, &mut AnyPose, waypoint)?;
-        let error = to_normalised(&true_wire, &(robot.a - waypoint)).norm();
+    let tracker = PathTracker::new(model, TrackingPolicy::for_noise(NoiseModel::None));
+    // The observer sees the robot at every rest; `MyRobot` knows its true wire, so it reports
+    // how far each leg ended from its waypoint (a real robot would log its own data here).
+    let mut rests = 0;
+    let mut leg_errors = Vec::new();
+    let tracked = tracker.track(
+        &mut robot,
+        &feedback,
+        &mut AnyPose,
+        &waypoints,
+        |robot: &MyRobot, rest: &Rest<'_>| {
+            rests += 1;
+            if rest.kind == RestKind::LegEnd
+                && let Some(waypoint) = waypoints.get(rest.waypoint)
+            {
+                leg_errors.push(to_normalised(&true_wire, &(robot.a - waypoint)).norm());
+            }
+        },
+    )?;
+    for (leg, error) in tracked.legs.iter().zip(&leg_errors) {
         println!(
-            "plan:     waypoint {k}/{}: {} after {} steps, true error {error:.3}",
+            "plan:     waypoint {}/{}: {} after {} steps, true error {error:.3}",
+            leg.waypoint,
             waypoints.len() - 1,
-            run.outcome.name(),
-            run.steps.len()
+            leg.outcome.name(),
+            leg.moves
         );
-        check(
-            matches!(run.outcome, Outcome::Reached { .. }),
-            format!("waypoint {k}: {:?}", run.outcome),
-        )?;
     }
+    check(
+        tracked.completed && tracked.legs.len() == waypoints.len() - 1,
+        format!("the plan ended {:?}", tracked.end),
+    )?;
+    check(
+        rests == 1 + tracked.moves + tracked.legs.len(),
+        format!("{rests} rests observed for {} moves", tracked.moves),
+    )?;
     let final_error = to_normalised(&true_wire, &(robot.a - end)).norm();
     let final_shape = centreline_distance(
         &model.shape(&end, NODES)?.positions,
@@ -306,7 +333,13 @@ fn main() -> Result<(), Box<dyn Error>> {
         "plan:     final true error {final_error:.3} (normalised), {:.2} mm from the planned shape",
         1e3 * final_shape
     );
-    check(final_error < 0.05, format!("final error {final_error:.3}"))?;
+    let verdict = tracker
+        .policy()
+        .judge(tracked.completed, false, final_error);
+    check(
+        verdict.success && final_error < 0.05,
+        format!("final error {final_error:.3}"),
+    )?;
     check(
         final_shape < 3e-3,
         format!("final shape off by {:.1} mm", 1e3 * final_shape),

@@ -71,6 +71,15 @@ pub enum ControlError {
         /// Needed.
         needed: usize,
     },
+    /// A path to track with no waypoint.
+    #[error("an empty path: tracking needs at least its start")]
+    EmptyPath,
+    /// Relocating both grippers failed before any move (the search could not run).
+    #[error("relocating the base: {message}")]
+    Relocation {
+        /// What went wrong.
+        message: String,
+    },
     /// Too few steps for an open-loop path.
     #[error("an open-loop path needs at least 1 step, got {steps}")]
     NoSteps {

@@ -12,7 +12,9 @@
 //!    [`AnyPose`] to ignore the robot), and ends with a typed [`Outcome`]. After a detected
 //!    contact, [`retreat()`] goes back along the run. [`Controller::run_estimated`] steers by
 //!    `ã` corrected for the sensor's bias drift by a [`BiasObserver`].
-//! 4. The open-loop baselines are in [`open_loop`]; execution noise as the paper adds it, and
+//! 4. [`PathTracker`] executes a planned list of waypoints under a [`TrackingPolicy`] (the
+//!    legs' stops, retreat, undo, relocation and the success rule per execution noise).
+//! 5. The open-loop baselines are in [`open_loop`]; execution noise as the paper adds it, and
 //!    two more realistic models, wrap any rig in [`NoisyRig`].
 //!
 //! Conventions: `a = (τ1, τ2, τ3, f1, f2, f3)`, torque first, the wire's wrench on the base
@@ -29,6 +31,7 @@ mod noise;
 pub mod open_loop;
 mod reach;
 mod retreat;
+pub mod tracking;
 
 pub use bias::{BiasObserver, BiasObserverSettings};
 pub use collision::{
@@ -44,3 +47,6 @@ pub use feedback::FtFeedback;
 pub use noise::{NoiseModel, NoiseSettings, NoisyRig};
 pub use reach::{AnyPose, Reach, ReachCheck, RobotReach};
 pub use retreat::{Retreat, retreat};
+pub use tracking::{
+    PathTracker, Relocate, Rest, RestKind, TrackEnd, Tracked, TrackedLeg, TrackingPolicy, Verdict,
+};

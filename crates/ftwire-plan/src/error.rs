@@ -73,6 +73,9 @@ pub enum PlanError {
         /// What is allowed.
         allowed: &'static str,
     },
+    /// A path with no waypoint where one was needed.
+    #[error("an empty path")]
+    EmptyPath,
     /// The planner found no path within its budget.
     #[error("no path found in {iterations} iterations ({seconds:.2} s, {nodes} tree nodes)")]
     NoPath {

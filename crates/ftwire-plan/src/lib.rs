@@ -10,6 +10,10 @@
 //!    (`Z = A × Q`) — and [`PlannerParams`] (seed, budget, clearance weight);
 //! 4. the [`Path`]'s waypoints carry each `a`, both gripper poses and the joints;
 //!    [`Path::resample`] gives `N + 1` waypoints `γ(i/N)` for tracking.
+//! 5. For a plan that is to be tracked: a [`PlanPolicy`] (margins, polish and choice by how the
+//!    execution lands the gripper), [`plan_in_scene`] (a fixed budget, seeded restarts,
+//!    [`Waypoint`]s), [`choose_plan`] among candidates by their [`expected_touches`] after
+//!    [`polish_waypoints`]; [`near_obstacles`] and [`relocation`] serve the tracker.
 //!
 //! Conventions: SI units; `a = (τ1, τ2, τ3, f1, f2, f3)` is the wrench the wire exerts on the
 //! base gripper, torque first, in the base clamp frame; normalised `a` divides torques by
@@ -37,18 +41,29 @@
 //! # Ok::<(), ftwire_plan::PlanError>(())
 //! ```
 
+mod choice;
 mod endpoint;
 mod error;
 mod path;
+mod policy;
 mod polish;
 mod rrt_star;
 pub mod scene;
 mod space;
 pub mod validity;
+mod waypoint;
 
+pub use choice::{
+    ChoiceOut, Chosen, PLAN_CANDIDATES, PLAN_ITERATIONS, PLAN_RESTARTS, ScenePlan, WAYPOINTS,
+    candidate_seed, choose_plan, plan_in_scene,
+};
 pub use endpoint::{configuration_for_tip, scene_configuration, scene_endpoint};
 pub use error::PlanError;
 pub use path::Path;
+pub use policy::{
+    LANDING_SIGMAS, LANDING_TARGET, MARGIN_NOISY, MAX_SLACK_NOISY, MAX_SPAN_NOISY, PlanPolicy,
+    STABILITY_MARGIN_NOISY, TOUCH_SAMPLES,
+};
 pub use polish::{
     Landing, PolishParams, Polished, Scatter, landing_clearance, polish_clearance, touch_rate,
 };
@@ -56,3 +71,7 @@ pub use rrt_star::{Plan, PlannerParams, plan};
 pub use scene::{ConfigurationSpec, Scene, SceneBox};
 pub use space::{FixedBase, MovingBase, Space};
 pub use validity::{Checker, Config, Edge, Invalid, Sample, ValidityParams, joint_distance};
+pub use waypoint::{
+    NEAR_CLEARANCE, PolishOut, Waypoint, expected_touches, near_obstacles, polish_waypoints,
+    relocation, waypoints_along, waypoints_at,
+};

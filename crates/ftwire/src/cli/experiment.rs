@@ -7,6 +7,7 @@ use ftwire_lab::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire_control::TrackingPolicy;
 use ftwire_lab::experiment::Gravity;
 use serde::Serialize;
 
@@ -327,15 +328,32 @@ pub struct RolloutArgs {
 }
 
 impl RolloutArgs {
+    /// The tracking policy of the noise model with `--gain`, `--shape-stop`,
+    /// `--waypoint-moves` and `--near-shape-stop` (each checked, or the policy's default).
+    ///
+    /// # Errors
+    /// Bad input for a bad gain or a negative distance.
+    pub fn policy(&self) -> Result<TrackingPolicy, LabError> {
+        let shape_stop = self.shape_stop()?;
+        let mut policy = TrackingPolicy {
+            gain: self.gain()?,
+            shape_stop,
+            near_shape_stop: self.near_shape_stop(shape_stop)?,
+            ..TrackingPolicy::for_noise(self.noise_model.model())
+        };
+        policy.through.max_iterations = self.waypoint_moves();
+        Ok(policy)
+    }
+
     /// `--gain`, checked, or the default for the noise model
-    /// (`ftwire::experiment::track::default_gain`).
+    /// (`ftwire_control::TrackingPolicy::gain`).
     ///
     /// # Errors
     /// Bad input for a gain outside `(0, 1]`.
     pub fn gain(&self) -> Result<f64, LabError> {
         let noise = self.noise_model.model();
         match self.gain {
-            None => Ok(ftwire::experiment::track::default_gain(noise)),
+            None => Ok(TrackingPolicy::for_noise(noise).gain),
             Some(gain) if gain > 0.0 && gain <= 1.0 => Ok(gain),
             Some(gain) => Err(LabError::bad_input(format!(
                 "--gain {gain}: give a gain K in (0, 1]"
@@ -352,24 +370,26 @@ impl RolloutArgs {
     }
 
     /// `--waypoint-moves` (checked by its parser), or the default for the noise model
-    /// (`ftwire::experiment::track::through_settings`).
+    /// (`ftwire_control::TrackingPolicy::through`).
     pub fn waypoint_moves(&self) -> usize {
         self.waypoint_moves.unwrap_or_else(|| {
-            ftwire::experiment::track::through_settings(self.noise_model.model()).max_iterations
+            TrackingPolicy::for_noise(self.noise_model.model())
+                .through
+                .max_iterations
         })
     }
 
     /// `--near-shape-stop` in metres, checked, or the default for the noise model and
-    /// `shape_stop` \[m\] (`ftwire::experiment::track::near_shape_stop`).
+    /// `shape_stop` \[m\] (`ftwire_control::TrackingPolicy::near_shape_stop_for`).
     ///
     /// # Errors
     /// Bad input for a negative distance.
     pub fn near_shape_stop(&self, shape_stop: f64) -> Result<f64, LabError> {
         match self.near_shape_stop {
-            None => Ok(ftwire::experiment::track::near_shape_stop(
-                self.noise_model.model(),
-                shape_stop,
-            )),
+            None => {
+                Ok(TrackingPolicy::for_noise(self.noise_model.model())
+                    .near_shape_stop_for(shape_stop))
+            }
             Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
             Some(mm) => Err(LabError::bad_input(format!(
                 "--near-shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
@@ -379,13 +399,13 @@ impl RolloutArgs {
 }
 
 /// `--shape-stop` \[mm\] in metres, or the default for `noise`
-/// (`ftwire::experiment::track::default_shape_stop`).
+/// (`ftwire_control::TrackingPolicy::shape_stop`).
 ///
 /// # Errors
 /// Bad input for a negative distance.
 pub fn shape_stop(mm: Option<f64>, noise: NoiseModelArg) -> Result<f64, LabError> {
     match mm {
-        None => Ok(ftwire::experiment::track::default_shape_stop(noise.model())),
+        None => Ok(TrackingPolicy::for_noise(noise.model()).shape_stop),
         Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
         Some(mm) => Err(LabError::bad_input(format!(
             "--shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
@@ -430,14 +450,14 @@ pub struct PassageExperimentArgs {
     /// Track the plan's waypoints as resampled, without the clearance polish (by default,
     /// under `increment` and `absolute` noise, each waypoint whose landings, a move there
     /// landing 2 σ of the noise off on one axis, come closer than 15 mm to a box is moved away
-    /// from it, its legs kept in `Z_free`; `track::polish_params`).
+    /// from it, its legs kept in `Z_free`; `ftwire_plan::PlanPolicy::polish_params`).
     #[arg(long)]
     pub no_polish: bool,
     /// Plans made, each from its own seed, of which the one whose tracked waypoints expect
-    /// the fewest touching landings under the paper's noise is tracked (`track::choose_plan`;
+    /// the fewest touching landings under the paper's noise is tracked (`ftwire_plan::choose_plan`;
     /// under `increment` and `absolute` only: one plan otherwise), 1 to 100; 1 tracks the first
     /// plan.
-    #[arg(long, value_name = "N", default_value_t = ftwire::experiment::track::PLAN_CANDIDATES, value_parser = PLAN_CANDIDATES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_plan::PLAN_CANDIDATES, value_parser = PLAN_CANDIDATES)]
     pub plan_candidates: usize,
     /// Noise, calibration and gain.
     #[command(flatten)]

@@ -32,7 +32,7 @@
 use std::io::IsTerminal as _;
 use std::time::{Duration, Instant};
 
-use ftwire::experiment::track::{self, Attempt, ChoiceOut, PolishOut, Tracking};
+use ftwire::experiment::track::{self, Attempt, PlanFailure, Tracking};
 use ftwire_core::WireParams;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::identify::MotionPlan;
@@ -47,6 +47,7 @@ use ftwire_lab::results::OutGuard;
 use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
 use ftwire_plan::Scene;
+use ftwire_plan::{ChoiceOut, PolishOut};
 use ftwire_report::{Chart3d, SeriesKind};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
@@ -67,7 +68,7 @@ use crate::commands::identify::{flag_name, run_identification};
 mod page;
 
 /// Configurations of the calibration phase: as many as `experiment calibrate` collects by
-/// default (`ftwire::experiment::calibration::DEFAULT_SAMPLES`), so that the demo's calibrated
+/// default (`ftwire_lab::experiment::calibration::DEFAULT_SAMPLES`), so that the demo's calibrated
 /// map is as good as the experiment's (the summary reports its test error).
 pub const CALIBRATION_CONFIGS: usize = 600;
 
@@ -105,12 +106,12 @@ struct PlanOut {
     /// Smallest clearance of the wire from an obstacle along the path \[m\].
     min_clearance: f64,
     waypoints: usize,
-    /// The clearance polish of the tracked waypoints (`track::polish_waypoints`), under the
+    /// The clearance polish of the tracked waypoints (`ftwire_plan::polish_waypoints`), under the
     /// noises that scatter every landing (`increment`, `absolute`); `null` otherwise, where
     /// the loop converges onto the plan.
     polish: Option<PolishOut>,
-    /// How the plan was chosen among `track::PLAN_CANDIDATES` under the same noises
-    /// (`track::choose_plan`); `null` otherwise.
+    /// How the plan was chosen among `ftwire_plan::PLAN_CANDIDATES` under the same noises
+    /// (`ftwire_plan::choose_plan`); `null` otherwise.
     choice: Option<ChoiceOut>,
 }
 
@@ -359,21 +360,25 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     // loaded model.
     let noise = args.noise_model.model();
     let identified = Rod::new(*model.wire());
-    // Under the noises that scatter every landing, the best of `track::PLAN_CANDIDATES`
+    // Under the noises that scatter every landing, the best of `ftwire_plan::PLAN_CANDIDATES`
     // plans by their expected touches, each with its tight waypoints polished away from the
     // boxes (as `experiment passage` does). The plan's poses take the loaded model's
     // configurations and shapes: the controller steers to where the plan puts the grippers,
     // and the shape error is against the wire that sags.
-    let chosen = track::choose_plan(
+    let plan_policy = track::plan_policy(noise);
+    let chosen = ftwire_plan::choose_plan(
         &scene,
         &identified,
         controller_model.rod(),
-        track::validity_tracked(noise, controller_model.rod()),
-        noise,
+        plan_policy.validity_tracked(controller_model.rod()),
+        &plan_policy,
         seed,
-        track::PLAN_CANDIDATES,
-        track::polishes(noise),
-        |planned| track::reexpress(&planned.waypoints, &controller_model, &scene.base),
+        ftwire_plan::PLAN_CANDIDATES,
+        plan_policy.polishes(),
+        |planned| {
+            track::reexpress(&planned.waypoints, &controller_model, &scene.base)
+                .map_err(PlanFailure)
+        },
     )?;
     let planned = &chosen.planned;
     let plan_out = PlanOut {
@@ -410,10 +415,11 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         setup: &setup,
         noise,
         seed,
-        gain: ftwire_control::ControlSettings::default().gain,
-        shape_stop: track::default_shape_stop(noise),
-        waypoint_moves: track::through_settings(noise).max_iterations,
-        near_shape_stop: track::near_shape_stop(noise, track::default_shape_stop(noise)),
+        // The paper's gain, the policy's stops.
+        policy: ftwire_control::TrackingPolicy {
+            gain: ftwire_control::ControlSettings::default().gain,
+            ..ftwire_control::TrackingPolicy::for_noise(noise)
+        },
         arms: true,
         bias_observer: true,
     };

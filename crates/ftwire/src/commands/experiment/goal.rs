@@ -33,7 +33,7 @@
 //! has the measurement with the drift switched off).
 //!
 //! **Shape stop.** Under `increment` and `absolute` noise the noise runs stop instead on the
-//! shape (`--shape-stop`, default 6 mm, `ftwire::experiment::track::SHAPE_STOP_NOISY`): once the
+//! shape (`--shape-stop`, default 6 mm, `ftwire_control::tracking::SHAPE_STOP_NOISY`): once the
 //! model's shape at the measured `ã` is within that mean distance of `Φ(a_g)`. Every move lands
 //! the wire about 12 mm (mean along it) from where it was sent, so the loop can only end on a
 //! lucky move; the stop on the shape the table scores picks one far better than ε on the six
@@ -68,6 +68,7 @@
 
 use std::time::Instant;
 
+use ftwire::experiment::track::touches;
 use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
 };
@@ -421,7 +422,7 @@ impl Context<'_> {
         Ok(Truth {
             shape_mm: 1e3 * distance,
             a_error: to_normalised(&self.params, &(a_true - pair.a_g)).norm(),
-            contact: equilibrium.contact_forces.iter().any(|f| f.norm() > 0.0),
+            contact: touches(&equilibrium.contact_forces),
             contact_force: equilibrium.contact_forces.iter().map(|f| f.norm()).sum(),
             snapped: rig
                 .simulator()

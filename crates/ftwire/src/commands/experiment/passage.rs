@@ -34,7 +34,7 @@
 //! ends the attempt as `unreachable`). A goal out of their reach (under `offset`, the run's
 //! grasp offset moves the pose to command), or a leg's start (under `increment`, the
 //! accumulated noise carries the gripper), is brought back once by translating both grippers
-//! 1–4 cm along a world axis where the model's wire stays clear (`relocated`; `track::relocation`).
+//! 1–4 cm along a world axis where the model's wire stays clear (`relocated`; `ftwire_plan::relocation`).
 //!
 //! **Scoring** (the simulator's truth): an attempt *collided* when the true wire touched a box at
 //! any rest (a contact force above `CONTACT_FORCE`); it *completed* when the whole path was
@@ -64,16 +64,17 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use ftwire::experiment::track::{
-    Attempt, ChoiceOut, Chosen, PolishOut, Tracking, WAYPOINTS, Waypoint, choose_plan,
-    near_obstacles, polishes, scene_model, success_epsilon, success_rule, validity_tracked,
-    waypoints_along, waypoints_csv,
+    Attempt, PlanFailure, Tracking, plan_policy, scene_model, waypoints_csv,
 };
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
 use ftwire_lab::error::{LabError, from_plan};
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_lab::scene::{PASSAGE, box_outline};
-use ftwire_plan::Scene;
+use ftwire_plan::{
+    ChoiceOut, Chosen, PolishOut, Scene, WAYPOINTS, Waypoint, choose_plan, near_obstacles,
+    waypoints_along,
+};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::{Rod, to_normalised};
 use nalgebra::Vector6;
@@ -118,7 +119,7 @@ pub struct Rates {
     pub retreats: usize,
     /// Attempts the detector flagged that still completed the path after their retreats.
     pub recovered: usize,
-    /// Legs undone over all attempts (`track::MAX_UNDOS` per attempt at most): a leg the
+    /// Legs undone over all attempts (`TrackingPolicy::max_undos` per attempt at most): a leg the
     /// controller stopped because its measured configuration ran away from the waypoint (under
     /// `increment` and `absolute` noise), that ended on a sensor fault, or (under those noises)
     /// whose waypoint the arms could not reach or that was flagged again after a retreat; the
@@ -128,7 +129,7 @@ pub struct Rates {
     /// them (at most one in a row per attempt).
     pub skipped: usize,
     /// Attempts that moved both grippers by one translation to bring a goal, or a leg's start,
-    /// out of the arms' reach back into it (`track::relocation`).
+    /// out of the arms' reach back into it (`ftwire_plan::relocation`).
     pub relocated: usize,
     /// Attempts that ended early for another reason than a detection (a waypoint the
     /// controller refused, a failed move, a sensor fault).
@@ -200,17 +201,17 @@ pub struct PlanOut {
     pub min_clearance_mm: f64,
     /// Waypoints tracked (`N + 1`).
     pub waypoints: usize,
-    /// Waypoints whose planned wire is within `track::NEAR_CLEARANCE` of a box or the floor
+    /// Waypoints whose planned wire is within `ftwire_plan::NEAR_CLEARANCE` of a box or the floor
     /// (the legs from and to them stop at `shape_stop_near_mm`), after the polish.
     pub near_waypoints: usize,
     /// What the clearance polish did (`null` with `--no-polish`, and without noise or under
-    /// `offset`, where it does not run: `track::polishes`): waypoints moved, and the
-    /// smallest waypoint clearance and landing clearance (`track::polish_params`) of the
+    /// `offset`, where it does not run: `PlanPolicy::polishes`): waypoints moved, and the
+    /// smallest waypoint clearance and landing clearance (`PlanPolicy::polish_params`) of the
     /// tracking model before and after \[mm\].
     pub polish: Option<PolishOut>,
     /// How the plan was chosen among `--plan-candidates` (`null` without noise and under
     /// `offset`, where one plan is made): each candidate's expected touching landings and the
-    /// one tracked (`track::choose_plan`; their planning times are in `timings.json`).
+    /// one tracked (`ftwire_plan::choose_plan`; their planning times are in `timings.json`).
     pub choice: Option<ChoiceOut>,
 }
 
@@ -224,7 +225,7 @@ struct Summary {
     /// The closed loop's shape stop \[mm\] (0: the `ε` stops).
     shape_stop_mm: f64,
     /// The shape stop \[mm\] of the legs from or to a waypoint near a box
-    /// (`track::near_shape_stop`; the same as `shape_stop_mm` where it is not looser).
+    /// (`TrackingPolicy::near_shape_stop_for`; the same as `shape_stop_mm` where it is not looser).
     shape_stop_near_mm: f64,
     /// Most moves toward each waypoint before the last (`--waypoint-moves`).
     waypoint_moves: usize,
@@ -280,10 +281,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
     let total = Instant::now();
     let common = &args.common;
     let seed = common.seed.seed;
-    let gain = args.rollout.gain()?;
-    let shape_stop = args.rollout.shape_stop()?;
-    let waypoint_moves = args.rollout.waypoint_moves();
-    let near_stop = args.rollout.near_shape_stop(shape_stop)?;
+    let policy = args.rollout.policy()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (scene, scene_name) = load_scene(args.scene.as_deref())?;
     let setup = common.setup.load()?;
@@ -308,6 +306,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
     // expected touches, each polished for clearance (unless `--no-polish`).
     let noise = args.rollout.noise_model.model();
     let planner_rod = Rod::new(*model.wire());
+    let plans = plan_policy(noise);
     let Chosen {
         planned,
         waypoints,
@@ -315,15 +314,15 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
         choice,
         seconds,
         candidate_plan_ms,
-    } = choose_plan(
+    } = choose_plan::<PlanFailure>(
         &scene,
         &planner_rod,
         model.rod(),
-        validity_tracked(noise, model.rod()),
-        noise,
+        plans.validity_tracked(model.rod()),
+        &plans,
         seed,
         args.plan_candidates,
-        !args.no_polish && polishes(noise),
+        !args.no_polish && plans.polishes(),
         // The waypoints' shapes and gripper poses of the tracking model (the loaded one with
         // gravity on): the open loop rolls out the poses that give `γ_A` on the true, heavy
         // wire.
@@ -334,6 +333,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
                 &planned.plan.path.waypoints,
                 WAYPOINTS,
             )
+            .map_err(PlanFailure::from)
         },
     )?;
     let plan_ms = 1e3 * seconds;
@@ -344,7 +344,8 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
         cost: planned.plan.path.cost,
         min_clearance_mm: 1e3 * planned.plan.path.min_clearance(),
         waypoints: planned.waypoints.len(),
-        near_waypoints: near_obstacles(&scene, model.rod(), &waypoints)?
+        near_waypoints: near_obstacles(&scene, model.rod(), &waypoints)
+            .map_err(|e| from_plan(e, "the scene"))?
             .iter()
             .filter(|&&near| near)
             .count(),
@@ -387,10 +388,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
         setup: &setup,
         noise,
         seed,
-        gain,
-        shape_stop,
-        waypoint_moves,
-        near_shape_stop: near_stop,
+        policy,
         arms: true,
         bias_observer: args.rollout.bias_observer.on(),
     };
@@ -445,13 +443,13 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
         wire: wire.name.clone(),
         model: kind,
         noise_model: noise,
-        gain,
-        shape_stop_mm: 1e3 * shape_stop,
-        shape_stop_near_mm: 1e3 * near_stop,
-        waypoint_moves,
+        gain: policy.gain,
+        shape_stop_mm: 1e3 * policy.shape_stop,
+        shape_stop_near_mm: 1e3 * policy.near_shape_stop,
+        waypoint_moves: policy.through.max_iterations,
         bias_observer: tracking.observer_settings(),
-        success_epsilon: success_epsilon(noise),
-        success_rule: success_rule(noise),
+        success_epsilon: policy.success_epsilon,
+        success_rule: policy.success_rule(),
         detector_threshold: detector.threshold(),
         results,
         plan,

@@ -40,16 +40,16 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use ftwire::experiment::track::{
-    Attempt, PLAN_RESTARTS, Tracking, WAYPOINTS, plan_in_scene, scene_model, success_rule,
-    validity_tracked, waypoints_along, waypoints_csv,
-};
+use ftwire::experiment::track::{Attempt, Tracking, plan_policy, scene_model, waypoints_csv};
 use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
 use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
-use ftwire_lab::error::{LabError, from_rod};
+use ftwire_lab::error::{LabError, from_plan, from_rod};
 use ftwire_lab::results::{OutGuard, ResultsFolder};
-use ftwire_plan::{Checker, Config, ConfigurationSpec, Scene, ValidityParams};
+use ftwire_plan::{
+    Checker, Config, ConfigurationSpec, PLAN_RESTARTS, Scene, ValidityParams, WAYPOINTS, Waypoint,
+    plan_in_scene, waypoints_along,
+};
 use ftwire_report::{LineChart, Series};
 use ftwire_robot::Robot;
 use ftwire_rod::sampling::Sampler;
@@ -158,7 +158,7 @@ struct Planned {
     scene: Scene,
     path_length: f64,
     plan_ms: f64,
-    waypoints: Vec<ftwire::experiment::track::Waypoint>,
+    waypoints: Vec<Waypoint>,
 }
 
 /// Runs the experiment.
@@ -169,10 +169,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
     let total = Instant::now();
     let common = &args.common;
     let seed = common.seed.seed;
-    let gain = args.rollout.gain()?;
-    let shape_stop = args.rollout.shape_stop()?;
-    let waypoint_moves = args.rollout.waypoint_moves();
-    let near_stop = args.rollout.near_shape_stop(shape_stop)?;
+    let policy = args.rollout.policy()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
     let (passage_scene, _) = passage::load_scene(None)?;
     let free = Scene {
@@ -207,7 +204,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
         model.rod(),
         args.pairs,
         seed,
-        validity_tracked(noise, model.rod()),
+        plan_policy(noise).validity_tracked(model.rod()),
         &mut draws,
     )?;
     eprintln!("{} pairs planned ({draws:?})", planned.len());
@@ -225,10 +222,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
                 setup: &setup,
                 noise,
                 seed,
-                gain,
-                shape_stop,
-                waypoint_moves,
-                near_shape_stop: near_stop,
+                policy,
                 arms: args.reach == ReachArg::Robot,
                 bias_observer: args.rollout.bias_observer.on(),
             };
@@ -288,15 +282,15 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
         wire: wire.name.clone(),
         model: kind,
         noise_model: noise,
-        gain,
-        shape_stop_mm: 1e3 * shape_stop,
-        waypoint_moves,
+        gain: policy.gain,
+        shape_stop_mm: 1e3 * policy.shape_stop,
+        waypoint_moves: policy.through.max_iterations,
         bias_observer: ftwire_lab::experiment::rig::bias_observer(
             &setup,
             noise,
             args.rollout.bias_observer.on(),
         ),
-        success_rule: success_rule(noise),
+        success_rule: policy.success_rule(),
         reach: args.reach,
         pairs: planned.len(),
         results,
@@ -365,7 +359,8 @@ fn draw_and_plan(
         match plan_in_scene(&scene, planner, validity, pair_seed) {
             Ok((plan, _)) => {
                 let waypoints =
-                    waypoints_along(tracker, &scene.base, &plan.plan.path.waypoints, WAYPOINTS)?;
+                    waypoints_along(tracker, &scene.base, &plan.plan.path.waypoints, WAYPOINTS)
+                        .map_err(|e| from_plan(e, "a waypoint of the path"))?;
                 out.push(Planned {
                     a_s,
                     a_g,
@@ -516,7 +511,6 @@ fn figures(
 
 #[cfg(test)]
 mod tests {
-    use ftwire::experiment::track::validity;
     use ftwire_control::NoiseModel;
     use ftwire_lab::experiment::{Gravity, ModelKind};
     use ftwire_lab::wire::WireSpec;
@@ -572,7 +566,7 @@ mod tests {
             planner,
             robot,
             &free,
-            validity(NoiseModel::Increment, planner.wire().length()),
+            plan_policy(NoiseModel::Increment).validity(planner.wire().length()),
         )
         .expect("a checker");
         let sampler = Sampler {
