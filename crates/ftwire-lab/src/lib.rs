@@ -17,8 +17,10 @@
 //!   reads);
 //! - [`initial_guess`]: the Kirchhoff shape as the simulator's initial guess;
 //! - [`experiment`]: what the experiments share (gravity, the estimators' model, the simulated
-//!   rig, taring and measuring, the learnt calibration).
+//!   rig, taring and measuring, the learnt calibration, summary statistics);
+//! - [`calibrate`]: the calibration experiment (§IV-A).
 
+pub mod calibrate;
 pub mod csv_table;
 pub mod error;
 pub mod experiment;

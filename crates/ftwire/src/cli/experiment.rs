@@ -79,6 +79,19 @@ impl CommonExperimentArgs {
     pub fn model(&self) -> ModelArg {
         ModelArg::resolve(self.model, self.gravity)
     }
+
+    /// The lab's common settings of these options.
+    pub fn params(&self) -> ftwire_lab::experiment::CommonParams {
+        ftwire_lab::experiment::CommonParams {
+            wire: self.wire.clone(),
+            seed: self.seed.seed,
+            trials: self.trials,
+            gravity: self.gravity,
+            model: self.model,
+            sensor: self.setup.sensor.clone(),
+            rig: self.setup.rig.clone(),
+        }
+    }
 }
 
 impl CommonExperimentArgs {
