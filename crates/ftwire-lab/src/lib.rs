@@ -18,7 +18,9 @@
 //! - [`initial_guess`]: the Kirchhoff shape as the simulator's initial guess;
 //! - [`experiment`]: what the experiments share (gravity, the estimators' model, the simulated
 //!   rig, taring and measuring, the learnt calibration, summary statistics);
-//! - [`calibrate`]: the calibration experiment (§IV-A).
+//! - [`calibrate`]: the calibration experiment (§IV-A);
+//! - [`shape`]: the shape experiment (Table II, Fig. 5);
+//! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
 
 pub mod calibrate;
 pub mod csv_table;
@@ -26,10 +28,12 @@ pub mod error;
 pub mod experiment;
 pub mod header;
 pub mod initial_guess;
+pub mod paper;
 pub mod report;
 pub mod results;
 pub mod scene;
 pub mod setup;
+pub mod shape;
 pub mod wire;
 
 pub use error::LabError;

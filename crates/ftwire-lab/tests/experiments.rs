@@ -100,3 +100,75 @@ fn calibrate_writes_the_weights_and_reports_both_maps() {
     assert!(exists(&folder, "calibration.json") && exists(&folder, "samples.csv"));
     assert!(lines.first().is_some_and(|l| l.contains("nitinol-3mm-820")));
 }
+
+#[test]
+fn shape_from_a_calibration_file_reports_every_metric_and_writes_its_files() {
+    let dir = TempDir::new("shape");
+    // A small calibration, read back from its file as `--calibration` would.
+    let calibrated = dir.results("calibrate");
+    let settings = ftwire_lab::calibrate::CalibrateParams {
+        common: common("nitinol-3mm-820", 40),
+    };
+    ftwire_lab::calibrate::run(&settings, &calibrated, &mut |_| {}).expect("calibrates");
+    let weights = calibrated.dir().join("calibration.json");
+    let folder = dir.results("shape");
+    let settings = ftwire_lab::shape::ShapeParams {
+        common: common("nitinol-2mm-630", 1),
+        configs: Some(2),
+        calibration: Some(weights),
+        save_log: true,
+        ..ftwire_lab::shape::ShapeParams::default()
+    };
+    let mut lines = Vec::new();
+    let run = ftwire_lab::shape::run(&settings, &folder, &mut |l| lines.push(l.to_owned()))
+        .expect("runs");
+    assert!(
+        lines.is_empty(),
+        "a given calibration is not run: {lines:?}"
+    );
+    let summary = serde_json::to_value(&run.summary).expect("serialises");
+    assert_eq!(summary["model"], "kirchhoff");
+    let wire = &summary["wires"][0];
+    for key in [
+        "name",
+        "configs",
+        "mean_mm",
+        "std_mm",
+        "marker_mean_mm",
+        "mounting_mean_mm",
+        "kirchhoff_mean_mm",
+        "loaded_mean_mm",
+        "fused_mean_mm",
+        "torque_rel",
+        "force_rel",
+        "not_confident",
+        "skipped",
+    ] {
+        assert!(wire.get(key).is_some(), "{key} missing: {wire}");
+    }
+    assert_finite(&summary, "summary");
+    let row = &run.summary.wires[0];
+    assert_eq!(row.configs, 2);
+    // The wire is known: the shape from F/T is within centimetres of the truth.
+    assert!(row.mean_mm > 0.0 && row.mean_mm < 30.0, "{}", row.mean_mm);
+    assert_eq!(run.timings.estimate_us_median.len(), 1);
+    for file in [
+        "configs.csv",
+        "error_per_wire.png",
+        "shape_nitinol-2mm-630.png",
+        "logs/nitinol-2mm-630.jsonl",
+    ] {
+        assert!(exists(&folder, file), "{file}");
+    }
+    assert!(!exists(&folder, "calibration.json"));
+}
+
+#[test]
+fn shape_refuses_no_configurations_before_any_work() {
+    let settings = ftwire_lab::shape::ShapeParams {
+        configs: Some(0),
+        ..ftwire_lab::shape::ShapeParams::default()
+    };
+    let e = settings.check().expect_err("0 configurations");
+    assert_eq!(e.exit_code(), 2);
+}

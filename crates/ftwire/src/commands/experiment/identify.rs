@@ -71,6 +71,7 @@ use ftwire_lab::experiment::rig::{
     believed_tip, measure_over, mounting, pipeline, place_wire, tare,
 };
 use ftwire_lab::header::RunHeader;
+use ftwire_lab::paper::TABLE_I;
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::{WireSpec, file_stem};
@@ -107,31 +108,6 @@ const START_BOX: f64 = 5.0;
 /// Start configurations tried per trial before giving up (unstable draws, or a start the
 /// simulator cannot hold).
 const START_ATTEMPTS: usize = 20;
-
-/// One parameter's row of Table I: true value, estimated mean, ±, relative error \[%\].
-pub(crate) type PaperRow = (f64, f64, f64, f64);
-
-/// Table I of the paper: `(wire, rows of c1, c2, c3, L)`.
-pub(crate) const TABLE_I: [(&str, [PaperRow; 4]); 2] = [
-    (
-        "nitinol-2mm-630",
-        [
-            (0.042, 0.043, 0.006, 2.4),
-            (0.055, 0.056, 0.008, 1.8),
-            (0.055, 0.056, 0.008, 1.8),
-            (0.630, 0.635, 0.012, 0.8),
-        ],
-    ),
-    (
-        "nitinol-3mm-820",
-        [
-            (0.214, 0.215, 0.008, 0.5),
-            (0.278, 0.279, 0.011, 0.4),
-            (0.278, 0.279, 0.011, 0.4),
-            (0.820, 0.811, 0.013, 1.1),
-        ],
-    ),
-];
 
 /// Names of the four parameters, in the order of every `[4]` array.
 const PARAMETERS: [&str; 4] = ["c1", "c2", "c3", "L"];
