@@ -19,6 +19,8 @@
 //! - [`experiment`]: what the experiments share (gravity, the estimators' model, the simulated
 //!   rig, taring and measuring, the learnt calibration, summary statistics);
 //! - [`calibrate`]: the calibration experiment (§IV-A);
+//! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
+//!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
 //! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
 
@@ -27,6 +29,7 @@ pub mod csv_table;
 pub mod error;
 pub mod experiment;
 pub mod header;
+pub mod identify;
 pub mod initial_guess;
 pub mod paper;
 pub mod report;

@@ -1,6 +1,6 @@
 //! The paper's published results that the experiments print beside their own and that
 //! `ftwire reproduce` tabulates: Table I (identification) and Table II (shape from F/T). One
-//! copy, read by the experiments (identification, [`crate::shape`]) and by the front ends.
+//! copy, read by the experiments ([`crate::identify`], [`crate::shape`]) and by the front ends.
 
 /// One parameter's row of Table I: the true value, the estimated mean, its ±, and the relative
 /// error \[%\]; stiffnesses in N·m², the length in m.

@@ -172,3 +172,126 @@ fn shape_refuses_no_configurations_before_any_work() {
     let e = settings.check().expect_err("0 configurations");
     assert_eq!(e.exit_code(), 2);
 }
+
+/// One trial of the 2 mm wire through the mounting pipeline (no calibration to run first).
+fn identify_settings(gravity: Gravity) -> ftwire_lab::identify::IdentifyParams {
+    ftwire_lab::identify::IdentifyParams {
+        common: CommonParams {
+            gravity,
+            ..common("nitinol-2mm-630", 1)
+        },
+        samples: Some(vec![5, 3]),
+        pipeline: ftwire_lab::identify::Pipeline::Mounting,
+        save_log: true,
+        ..ftwire_lab::identify::IdentifyParams::default()
+    }
+}
+
+#[test]
+fn identify_recovers_the_wire_and_writes_its_files() {
+    let dir = TempDir::new("identify");
+    let folder = dir.results("identify");
+    let settings = identify_settings(Gravity::Off);
+    let mut lines = Vec::new();
+    let run = ftwire_lab::identify::run(&settings, &folder, &mut |l| lines.push(l.to_owned()))
+        .expect("runs");
+    let summary = serde_json::to_value(&run.summary).expect("serialises");
+    for key in [
+        "model",
+        "form",
+        "gravity",
+        "sensor",
+        "pipeline",
+        "calibration",
+        "trials",
+        "sample_counts",
+        "wire",
+        "by_samples",
+        "wires",
+        "by_model",
+    ] {
+        assert!(summary.get(key).is_some(), "{key} missing: {summary}");
+    }
+    assert_eq!(summary["pipeline"], "mounting");
+    assert_eq!(summary["form"], "absolute");
+    assert!(summary["calibration"].is_null());
+    assert_eq!(summary["sample_counts"], serde_json::json!([3, 5]));
+    // Without gravity the loaded model is the paper's: one model runs.
+    assert_eq!(run.summary.by_model.len(), 1);
+    let row = &run.summary.by_samples[1];
+    assert_eq!((row.samples, row.estimated), (5, 1));
+    for j in 0..4 {
+        assert!(row.mean[j].is_finite(), "{row:?}");
+    }
+    // The length within 1 % of the truth, the stiffnesses within 5 % (one trial, the
+    // mounting's gain error of about 1 % left in ã).
+    assert!(row.mean_abs_relative_error[3] < 0.01, "{row:?}");
+    for j in 0..3 {
+        assert!(row.mean_abs_relative_error[j] < 0.05, "{row:?}");
+    }
+    assert_eq!(run.timings.identifications.len(), 2);
+    assert!(
+        run.timings
+            .median_ms(run.summary.model, "nitinol-2mm-630", 5)
+            .is_finite()
+    );
+    for file in [
+        "identify.csv",
+        "error_vs_samples_nitinol-2mm-630.png",
+        "logs/nitinol-2mm-630-trial0.jsonl",
+    ] {
+        assert!(exists(&folder, file), "{file}");
+    }
+    assert_eq!(lines.len(), 1, "one line per trial and model: {lines:?}");
+}
+
+#[test]
+fn identify_with_gravity_runs_both_models_on_the_same_data() {
+    let dir = TempDir::new("identify-gravity");
+    let folder = dir.results("identify");
+    let settings = ftwire_lab::identify::IdentifyParams {
+        samples: Some(vec![3]),
+        save_log: false,
+        ..identify_settings(Gravity::On)
+    };
+    let run = ftwire_lab::identify::run(&settings, &folder, &mut |_| {}).expect("runs");
+    let models: Vec<&str> = run
+        .summary
+        .by_model
+        .iter()
+        .map(|m| m.model.name())
+        .collect();
+    assert_eq!(models, ["loaded", "kirchhoff"]);
+    let loaded = &run.summary.by_samples[0];
+    let density = loaded
+        .linear_density
+        .as_ref()
+        .expect("the loaded model's λ");
+    assert!(
+        density.mean.is_finite() && density.mean > 0.0,
+        "{density:?}"
+    );
+    assert!(
+        run.summary.by_model[1].wires[0].by_samples[0]
+            .linear_density
+            .is_none()
+    );
+}
+
+#[test]
+fn identify_refuses_bad_settings_before_any_work() {
+    let bad = [
+        ftwire_lab::identify::IdentifyParams {
+            samples: Some(vec![1]),
+            ..ftwire_lab::identify::IdentifyParams::default()
+        },
+        ftwire_lab::identify::IdentifyParams {
+            calibration: Some("weights.json".into()),
+            ..identify_settings(Gravity::Off)
+        },
+    ];
+    for settings in bad {
+        let e = settings.check().expect_err("bad input");
+        assert_eq!(e.exit_code(), 2, "{e}");
+    }
+}

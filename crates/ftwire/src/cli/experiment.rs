@@ -137,7 +137,7 @@ pub struct IdentifyExperimentArgs {
     /// drifts on for the time the rests take; the two balance near `σ √f / q ≈ 800` for the
     /// default sensor (noise σ, rate f, drift intensity q), and of 100, 400 and 1000 the
     /// unseen-wire survey measured 400 best. 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = REST_SAMPLES)]
     pub rest_samples: usize,
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
@@ -150,9 +150,6 @@ pub struct IdentifyExperimentArgs {
 }
 
 pub use ftwire_lab::experiment::ModelKind as ModelArg;
-
-/// The default of `experiment identify --rest-samples`.
-pub const IDENTIFY_REST_SAMPLES: usize = 400;
 
 /// `--trials` and `--configs`: each trial is bounded by its own settings, and what the
 /// experiments keep of one (a row of results, a trial's samples) is small, so the count
