@@ -18,18 +18,27 @@
 //! - [`initial_guess`]: the Kirchhoff shape as the simulator's initial guess;
 //! - [`provenance`]: the commit, date and machine of a run, for results pages;
 //! - [`experiment`]: what the experiments share (gravity, the estimators' model, the simulated
-//!   rig, taring and measuring, the learnt calibration).
+//!   rig, taring and measuring, the learnt calibration, summary statistics);
+//! - [`calibrate`]: the calibration experiment (§IV-A);
+//! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
+//!   identification that `ftwire identify --log` and the demo share with it;
+//! - [`shape`]: the shape experiment (Table II, Fig. 5);
+//! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
 
+pub mod calibrate;
 pub mod csv_table;
 pub mod error;
 pub mod experiment;
 pub mod header;
+pub mod identify;
 pub mod initial_guess;
+pub mod paper;
 pub mod provenance;
 pub mod report;
 pub mod results;
 pub mod scene;
 pub mod setup;
+pub mod shape;
 pub mod wire;
 
 pub use error::LabError;

@@ -400,9 +400,9 @@ pub fn load_or_run(
     Ok((run.calibration.clone(), Some(run)))
 }
 
-/// [`load_or_run`] for an experiment writing `folder`: says when it calibrates first, and
-/// caches a fresh run's weights there as `calibration.json`. Returns the calibration and the
-/// time it took \[s\].
+/// [`load_or_run`] for an experiment writing `folder`: says when it calibrates first (on
+/// stderr), and caches a fresh run's weights there as `calibration.json`. Returns the
+/// calibration and the time it took \[s\].
 ///
 /// # Errors
 /// As [`load_or_run`], and the folder's write errors.
@@ -413,8 +413,24 @@ pub fn load_or_run_into(
     setup: &SimSetup,
     seed: u64,
 ) -> Result<(Calibration, f64), LabError> {
+    load_or_run_reporting(folder, file, (gravity, kind), (setup, seed), &mut |line| {
+        eprintln!("{line}")
+    })
+}
+
+/// [`load_or_run_into`] that says when it calibrates first to `progress` instead of stderr.
+///
+/// # Errors
+/// As [`load_or_run`], and the folder's write errors.
+pub fn load_or_run_reporting(
+    folder: &crate::results::ResultsFolder,
+    file: Option<&Path>,
+    (gravity, kind): (Gravity, ModelKind),
+    (setup, seed): (&SimSetup, u64),
+    progress: super::Progress<'_>,
+) -> Result<(Calibration, f64), LabError> {
     if file.is_none() {
-        eprintln!("no --calibration: calibrating on the known wire first");
+        progress("no --calibration: calibrating on the known wire first");
     }
     let start = Instant::now();
     let (calibration, calibration_run) = load_or_run(file, (gravity, kind), setup, seed, |_| {})?;

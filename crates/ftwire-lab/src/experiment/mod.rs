@@ -1,11 +1,13 @@
 //! What the experiments of paper §IV share: the common options' values, the simulated rig they
-//! run against, and the F/T measurement a real robot would make.
+//! run against, the F/T measurement a real robot would make, and the summary statistics
+//! ([`stats`]).
 //!
 //! The true wire is given to the simulator only; the estimators see what a real rig gives them
 //! (raw F/T samples and the believed gripper poses).
 
 pub mod calibration;
 pub mod rig;
+pub mod stats;
 
 use ftwire_estimate::KirchhoffModel;
 use ftwire_rod::Load;

@@ -80,6 +80,19 @@ impl CommonExperimentArgs {
     pub fn model(&self) -> ModelArg {
         ModelArg::resolve(self.model, self.gravity)
     }
+
+    /// The lab's common settings of these options.
+    pub fn params(&self) -> ftwire_lab::experiment::CommonParams {
+        ftwire_lab::experiment::CommonParams {
+            wire: self.wire.clone(),
+            seed: self.seed.seed,
+            trials: self.trials,
+            gravity: self.gravity,
+            model: self.model,
+            sensor: self.setup.sensor.clone(),
+            rig: self.setup.rig.clone(),
+        }
+    }
 }
 
 impl CommonExperimentArgs {
@@ -126,7 +139,7 @@ pub struct IdentifyExperimentArgs {
     /// default sensor (noise σ, rate f, drift intensity q), but rests shorter or longer than
     /// the default change little: the tare's own noise, the same offset in every sample,
     /// dominates (`docs/identify-soft-wires.md`). 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = IDENTIFY_REST_SAMPLES, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = REST_SAMPLES)]
     pub rest_samples: usize,
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
@@ -139,9 +152,6 @@ pub struct IdentifyExperimentArgs {
 }
 
 pub use ftwire_lab::experiment::ModelKind as ModelArg;
-
-/// The default of `experiment identify --rest-samples`.
-pub const IDENTIFY_REST_SAMPLES: usize = 400;
 
 /// `--trials` and `--configs`: each trial is bounded by its own settings, and what the
 /// experiments keep of one (a row of results, a trial's samples) is small, so the count

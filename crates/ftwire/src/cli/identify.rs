@@ -6,8 +6,9 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
-use ftwire_estimate::identify::{IdentifyConfig, ParameterConstraints, ResidualForm};
+use ftwire_estimate::identify::IdentifyConfig;
 use ftwire_lab::error::LabError;
+use ftwire_lab::identify::{Form, IdentifySettings};
 use serde::Serialize;
 
 /// The residual identification minimises (`--form`).
@@ -26,13 +27,13 @@ pub enum FormArg {
 }
 
 impl FormArg {
-    /// The library's residual form.
-    pub fn form(self) -> ResidualForm {
+    /// The lab's residual form.
+    pub fn form(self) -> Form {
         match self {
-            Self::Absolute => ResidualForm::Absolute,
-            Self::Eq12 => ResidualForm::Eq12,
-            Self::Midpoint => ResidualForm::Midpoint,
-            Self::Relative => ResidualForm::Relative,
+            Self::Absolute => Form::Absolute,
+            Self::Eq12 => Form::Eq12,
+            Self::Midpoint => Form::Midpoint,
+            Self::Relative => Form::Relative,
         }
     }
 }
@@ -59,25 +60,22 @@ pub struct IdentifySettingsArgs {
 }
 
 impl IdentifySettingsArgs {
-    /// The library's settings: its defaults with these flags applied.
+    /// The lab's settings of these flags.
+    pub fn settings(&self) -> IdentifySettings {
+        IdentifySettings {
+            form: self.form.form(),
+            isotropic: self.isotropic,
+            torsion_ratio: self.torsion_ratio,
+        }
+    }
+
+    /// The library's settings: its defaults with these flags applied
+    /// ([`IdentifySettings::config`]).
     ///
     /// # Errors
     /// Bad input (exit 2) for a torsion ratio that is not positive.
     pub fn config(&self) -> Result<IdentifyConfig, LabError> {
-        let config = IdentifyConfig {
-            form: self.form.form(),
-            constraints: ParameterConstraints {
-                isotropic: self.isotropic,
-                torsion_ratio: self.torsion_ratio,
-                stiffness_per_length: false,
-                weight: None,
-            },
-            ..IdentifyConfig::default()
-        };
-        config
-            .validate()
-            .map_err(|e| LabError::bad_input(format!("--torsion-ratio: {e}")))?;
-        Ok(config)
+        self.settings().config()
     }
 }
 

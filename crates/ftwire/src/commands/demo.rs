@@ -43,6 +43,10 @@ use ftwire_lab::experiment::calibration::{self, KNOWN_WIRE, rig_seed};
 use ftwire_lab::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
 use ftwire_lab::experiment::{Gravity, ModelKind};
 use ftwire_lab::header::RunHeader;
+use ftwire_lab::identify::{
+    IdentifySettings, Map, Protocol, REST_SAMPLES as IDENTIFY_REST_SAMPLES, flag_name,
+    linear_density, loaded_config, record_trial, run_identification, truth,
+};
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
@@ -58,12 +62,6 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::cli::demo::DemoArgs;
-use crate::cli::experiment::IDENTIFY_REST_SAMPLES;
-use crate::cli::identify::{FormArg, IdentifySettingsArgs};
-use crate::commands::experiment::identify::{
-    Map, Protocol, linear_density, loaded_config, record_trial, truth,
-};
-use crate::commands::identify::{flag_name, run_identification};
 
 mod page;
 
@@ -526,12 +524,7 @@ fn identify(
         &protocol,
     )?;
     let pairs: Vec<_> = samples.iter().map(|s| (s.a, s.b)).collect();
-    let settings = IdentifySettingsArgs {
-        form: FormArg::Absolute,
-        isotropic: false,
-        torsion_ratio: None,
-    };
-    let config = loaded_config(&settings.config()?, Gravity::On);
+    let config = loaded_config(&IdentifySettings::default().config()?, Gravity::On);
     let estimate = run_identification(&pairs, &config, seed)?;
     let truth = truth(wire);
     let eta = [estimate.c[0], estimate.c[1], estimate.c[2], estimate.length];

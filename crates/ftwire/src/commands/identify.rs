@@ -1,8 +1,8 @@
 //! `ftwire identify --log FILE.jsonl`: identify a wire's `η = (c1, c2, c3, L)` from a recorded
-//! log (paper §III-B, eq. 12; the library's `ftwire_estimate::identify`), and what the live
-//! experiment (`ftwire experiment identify`) shares with it so that both give the same answer
-//! on the same data and seed: the model template, the swarm's random generator and the
-//! estimate's report.
+//! log (paper §III-B, eq. 12; the library's `ftwire_estimate::identify`), through the one
+//! identification the live experiment (`ftwire experiment identify`) makes
+//! ([`ftwire_lab::identify::run_identification`]: the model template, the swarm's random
+//! generator), so that both give the same answer on the same data and seed.
 //!
 //! Records with `a` (tared and calibrated) are used as they are; records with `raw` need
 //! `--calibration W` (the learnt weights of `ftwire_estimate::calibration`), which maps the
@@ -13,17 +13,15 @@ use std::io::{self, BufReader, IsTerminal, Write};
 use std::path::Path;
 use std::time::Duration;
 
-use ftwire::args::default_radius;
 use ftwire::output::{self, Report};
-use ftwire_core::{Pose, WireParams};
-use ftwire_estimate::identify::{Estimate, Identifier, IdentifyConfig, Unidentified, identify};
+use ftwire_core::Pose;
+use ftwire_estimate::Calibration;
+use ftwire_estimate::identify::{Estimate, IdentifyConfig, Unidentified};
 use ftwire_estimate::log::{LogRecord, read_log};
-use ftwire_estimate::{Calibration, KirchhoffModel};
 use ftwire_lab::error::{LabError, from_estimate};
+use ftwire_lab::identify::{flag_name, identifier};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{Vector3, Vector6};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::cli::identify::{FormArg, IdentifyArgs};
@@ -129,58 +127,24 @@ fn samples_of(
         .collect()
 }
 
-/// The model identification starts from. Only its radius and integrator are used (the search
-/// replaces `c` and `L`); the radius is the simulator's default, which the estimate does not
-/// depend on. The live experiment and the log command use this one template, so the same data
-/// and seed give the same estimate.
-///
-/// # Errors
-/// Never for the constants here; kept fallible for the core type's checks.
-pub fn template_model() -> Result<KirchhoffModel, LabError> {
-    let wire = WireParams::new([0.1, 0.1, 0.1], 1.0, default_radius())
-        .map_err(|e| LabError::bad_input(format!("the identification template: {e}")))?;
-    Ok(KirchhoffModel::new(wire))
-}
-
-/// Identifies from `samples` with the swarm seeded by `seed` (a fresh generator per call, so an
-/// estimate depends only on its data and the seed, not on what ran before).
-///
-/// # Errors
-/// Bad input for data that cannot be identified from (too few samples, too little motion, a
-/// sample outside `A`); no answer for anything else the library reports.
-pub fn run_identification(
-    samples: &[(Vector6<f64>, Pose)],
-    config: &IdentifyConfig,
-    seed: u64,
-) -> Result<Estimate, LabError> {
-    let model = template_model()?;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    identify(&model, samples, config, &mut rng)
-        .map_err(|e| from_estimate(e, "identifying the wire"))
-}
-
 /// How long the search runs between two updates of the progress line.
 const PROGRESS_TICK: Duration = Duration::from_millis(200);
 
-/// As [`run_identification`], the same estimate for the same samples and seed (the search is
-/// cut into steps, which the library's streaming identifier makes independent of the cut),
-/// with a progress line on stderr while it runs, when stderr is a terminal: the search round,
-/// the swarm iteration, the refinement, and the time so far. The time grows in proportion to
-/// the samples, so the line also says how to take fewer (`--samples`).
+/// As [`ftwire_lab::identify::run_identification`], the same estimate for the same samples
+/// and seed (the search is cut into steps by [`ftwire_lab::identify::identifier`], which the
+/// library's streaming identifier makes independent of the cut), with a progress line on
+/// stderr while it runs, when stderr is a terminal: the search round, the swarm iteration,
+/// the refinement, and the time so far. The time grows in proportion to the samples, so the
+/// line also says how to take fewer (`--samples`).
 ///
 /// # Errors
-/// As [`run_identification`].
+/// As [`ftwire_lab::identify::run_identification`].
 pub fn identify_with_progress(
     samples: &[(Vector6<f64>, Pose)],
     config: &IdentifyConfig,
     seed: u64,
 ) -> Result<Estimate, LabError> {
-    let failed = |e| from_estimate(e, "identifying the wire");
-    let rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut identifier = Identifier::new(template_model()?, config.clone(), rng).map_err(failed)?;
-    for (a, b) in samples {
-        identifier.push(*a, *b).map_err(failed)?;
-    }
+    let mut identifier = identifier(samples, config, seed)?;
     let bar = io::stderr().is_terminal().then(|| {
         let bar = ProgressBar::new_spinner();
         let style = ProgressStyle::with_template("{spinner} {prefix}: {msg} ({elapsed})")
@@ -219,18 +183,7 @@ pub fn identify_with_progress(
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    estimate.map_err(failed)
-}
-
-/// A short machine-readable name of why an estimate is not trusted (`None`: identified).
-pub fn flag_name(reason: Option<&Unidentified>) -> Option<&'static str> {
-    reason.map(|reason| match reason {
-        Unidentified::IllConditioned { .. } => "ill_conditioned",
-        Unidentified::ResidualAboveNoise { .. } => "residual_above_noise",
-        Unidentified::AtBound { .. } => "at_bound",
-        Unidentified::Unfinished { .. } => "unfinished",
-        _ => "unidentified",
-    })
+    estimate.map_err(|e| from_estimate(e, "identifying the wire"))
 }
 
 /// The estimate as printed (`--json`: one object).

@@ -21,6 +21,7 @@ use std::time::Instant;
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
+use ftwire_lab::paper::{TABLE_I, TABLE_II};
 use ftwire_lab::results::OutGuard;
 use ftwire_report::html::{code_span, escape_markdown};
 use rayon::prelude::*;
@@ -28,8 +29,6 @@ use serde::Serialize;
 use serde_json::Value;
 
 use crate::cli::reproduce::ReproduceArgs;
-use crate::commands::experiment::identify::TABLE_I;
-use crate::commands::experiment::shape::TABLE_II;
 
 mod docs;
 mod page;

@@ -1,0 +1,157 @@
+//! The calibration experiment (paper §IV-A): collect F/T readings and markers on a known
+//! wire, label them by shape fitting (eq. 15), train the calibration network, and compare it
+//! with the tared mounting-only pipeline on the test split.
+//!
+//! The procedure is [`crate::experiment::calibration`]'s; this module runs it as an
+//! experiment writing a results folder: `calibration.json` (the weights, in the format the
+//! other experiments' `--calibration` loads) and `samples.csv` (one row per configuration).
+//! The caller writes `summary.json` ([`CalibrateRun::summary`]) and `timings.json`
+//! ([`CalibrateRun::timings`]). Guarded by the tests of `tests/experiments.rs` and by the
+//! recorded summary of `crates/ftwire/tests/calibrate_experiment.rs`.
+
+use serde::Serialize;
+
+use crate::csv_table::{CsvTable, text, value};
+use crate::error::{LabError, from_estimate};
+use crate::experiment::calibration::{
+    self, CalibrationRun, CalibrationSummary, CalibrationTimings, DEFAULT_SAMPLES, KNOWN_WIRE,
+};
+use crate::experiment::{CommonParams, Progress};
+use crate::results::ResultsFolder;
+use crate::wire::WireSpec;
+
+/// Configurations between two progress lines.
+const PROGRESS_EVERY: usize = 50;
+
+/// The settings of the calibration experiment: only the common ones. `common.wire` replaces
+/// the known wire (default [`KNOWN_WIRE`]); `common.trials` is the number of configurations
+/// collected (default [`DEFAULT_SAMPLES`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct CalibrateParams {
+    /// The settings every experiment takes.
+    pub common: CommonParams,
+}
+
+impl CalibrateParams {
+    /// The known wire: `common.wire`, or [`KNOWN_WIRE`].
+    ///
+    /// # Errors
+    /// Bad input for an unknown preset or a bad wire file.
+    pub fn wire(&self) -> Result<WireSpec, LabError> {
+        self.common.wire_or(KNOWN_WIRE)
+    }
+
+    /// The configurations collected: `common.trials`, or [`DEFAULT_SAMPLES`].
+    pub fn count(&self) -> usize {
+        self.common.trials.unwrap_or(DEFAULT_SAMPLES)
+    }
+
+    /// Checks the settings as [`run`] does before any work (the wire, the sensor and the rig
+    /// files), so that a caller can refuse bad input before it opens a results folder.
+    ///
+    /// # Errors
+    /// Bad input naming what is wrong.
+    pub fn check(&self) -> Result<(), LabError> {
+        self.wire()?;
+        self.common.setup()?;
+        Ok(())
+    }
+}
+
+/// A finished calibration experiment.
+#[derive(Debug, Clone)]
+pub struct CalibrateRun {
+    /// `summary.json`'s body (after the run header).
+    pub summary: CalibrationSummary,
+    /// `timings.json`: the wall-clock times of collection and training.
+    pub timings: CalibrationTimings,
+}
+
+/// Runs the calibration experiment into `folder`: writes `calibration.json` and
+/// `samples.csv`, reports a line to `progress` when it starts and every 50 configurations,
+/// and returns the summary and timings for the caller to write (it does not finish the
+/// folder).
+///
+/// # Errors
+/// Bad input for bad settings ([`CalibrateParams::check`]) or too few usable samples for the
+/// split; no answer when the collection fails; I/O errors writing the folder.
+pub fn run(
+    settings: &CalibrateParams,
+    folder: &ResultsFolder,
+    progress: Progress<'_>,
+) -> Result<CalibrateRun, LabError> {
+    let common = &settings.common;
+    let wire = settings.wire()?;
+    let count = settings.count();
+    let setup = common.setup()?;
+    progress(&format!(
+        "calibrating on {} ({count} configurations, gravity {:?})",
+        wire.name, common.gravity
+    ));
+    let result = calibration::run(
+        &wire,
+        (common.gravity, common.model()),
+        &setup,
+        count,
+        common.seed,
+        |k| {
+            if (k + 1) % PROGRESS_EVERY == 0 {
+                progress(&format!("  {} / {count}", k + 1));
+            }
+        },
+    )?;
+    let json = result
+        .calibration
+        .to_json()
+        .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
+    folder.write("calibration.json", json)?;
+    folder.write("samples.csv", samples_csv(&result)?)?;
+    Ok(CalibrateRun {
+        summary: result.summary,
+        timings: result.timings,
+    })
+}
+
+/// `samples.csv`: one row per used configuration, its split, the label's marker residual,
+/// the true wrench and the label (torque first).
+fn samples_csv(result: &CalibrationRun) -> Result<Vec<u8>, LabError> {
+    let mut csv = CsvTable::new(
+        "samples.csv",
+        &[
+            "sample",
+            "split",
+            "label_rms_mm",
+            "t1",
+            "t2",
+            "t3",
+            "f1",
+            "f2",
+            "f3",
+            "label_t1",
+            "label_t2",
+            "label_t3",
+            "label_f1",
+            "label_f2",
+            "label_f3",
+        ],
+    )?;
+    for (i, sample) in result.samples.iter().enumerate() {
+        let split = if result.split.train.contains(&i) {
+            "train"
+        } else if result.split.validation.contains(&i) {
+            "validation"
+        } else {
+            "test"
+        };
+        let mut cells = vec![value(i), text(split), value(1e3 * sample.label_rms)];
+        cells.extend(
+            sample
+                .true_wrench
+                .iter()
+                .chain(sample.label.iter())
+                .map(|&v| value(v)),
+        );
+        csv.row(cells)?;
+    }
+    csv.into_bytes()
+}

@@ -1,0 +1,38 @@
+//! The paper's published results that the experiments print beside their own and that
+//! `ftwire reproduce` tabulates: Table I (identification) and Table II (shape from F/T). One
+//! copy, read by the experiments ([`crate::identify`], [`crate::shape`]) and by the front ends.
+
+/// One parameter's row of Table I: the true value, the estimated mean, its ±, and the relative
+/// error \[%\]; stiffnesses in N·m², the length in m.
+pub type PaperRow = (f64, f64, f64, f64);
+
+/// Table I of the paper, identification from 3 samples: `(wire, rows of c1, c2, c3, L)`.
+pub const TABLE_I: [(&str, [PaperRow; 4]); 2] = [
+    (
+        "nitinol-2mm-630",
+        [
+            (0.042, 0.043, 0.006, 2.4),
+            (0.055, 0.056, 0.008, 1.8),
+            (0.055, 0.056, 0.008, 1.8),
+            (0.630, 0.635, 0.012, 0.8),
+        ],
+    ),
+    (
+        "nitinol-3mm-820",
+        [
+            (0.214, 0.215, 0.008, 0.5),
+            (0.278, 0.279, 0.011, 0.4),
+            (0.278, 0.279, 0.011, 0.4),
+            (0.820, 0.811, 0.013, 1.1),
+        ],
+    ),
+];
+
+/// Table II of the paper: the mean shape error \[mm\] from F/T of the real wires,
+/// `(wire, error)`.
+pub const TABLE_II: [(&str, f64); 4] = [
+    ("nitinol-2mm-630", 5.72),
+    ("nitinol-3mm-910", 7.42),
+    ("nitinol-3mm-820", 6.55),
+    ("cable-3mm-920", 52.3),
+];
