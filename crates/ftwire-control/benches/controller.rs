@@ -3,14 +3,14 @@
 //! for the weightless model and for the loaded one (the 3 mm / 820 mm nitinol under gravity);
 //! and one update of the bias observer at a rest (three Gauss–Newton iterations, each a
 //! solve of `J(L)`), which the loop adds when it steers by the drift-corrected `ã` (and, fused
-//! with the pose, `BiasObserverSettings::fuse_rest`, up to six, stopping once converged); and the
+//! with the pose, `BiasObserverParams::fuse_rest`, up to six, stopping once converged); and the
 //! shape stop's check at a rest (`Controller::shape_distance`: one shape solve of 50 nodes and
 //! the mean distance to the goal's), which the loop adds when it stops on the shape.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use ftwire_control::{BiasObserver, BiasObserverSettings, ControlSettings, Controller};
+use ftwire_control::{BiasObserver, BiasObserverParams, ControlParams, Controller};
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::{Load, from_normalised};
@@ -26,7 +26,7 @@ fn bench(c: &mut Criterion) {
     let loaded = weightless.with_load(load);
     for (name, model) in [("weightless", weightless), ("loaded", loaded)] {
         let controller =
-            Controller::new(model, ControlSettings::default()).expect("valid settings");
+            Controller::new(model, ControlParams::default()).expect("valid settings");
         c.bench_function(&format!("controller step ({name})"), |b| {
             b.iter(|| {
                 controller
@@ -46,9 +46,9 @@ fn bench(c: &mut Criterion) {
         let reading = a + from_normalised(&wire, &Vector6::new(0.0, 0.0, 0.0, 0.01, 0.0, 0.0));
         let std = from_normalised(&wire, &Vector6::repeat(0.01));
         for (kind, fuse_rest) in [("", false), (", fused", true)] {
-            let settings = BiasObserverSettings {
+            let settings = BiasObserverParams {
                 fuse_rest,
-                ..BiasObserverSettings::default()
+                ..BiasObserverParams::default()
             };
             c.bench_function(&format!("bias observer update ({name}{kind})"), |b| {
                 b.iter_batched(

@@ -27,12 +27,12 @@ use std::error::Error;
 
 use ftwire_control::open_loop::{a_connected, line_in_a};
 use ftwire_control::{
-    AnyPose, ControlSettings, Controller, FtFeedback, NoiseModel, Outcome, PathTracker, Rest,
+    AnyPose, ControlParams, Controller, FtFeedback, NoiseModel, Outcome, PathTracker, Rest,
     RestKind, TrackingPolicy, configuration_at,
 };
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, WireParams};
 use ftwire_estimate::ft::{FtPipeline, Mounting, RestAverage, Tare};
-use ftwire_estimate::identify::{IdentifyConfig, MotionPlan, identify};
+use ftwire_estimate::identify::{IdentifierParams, MotionPlan, identify};
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::{Rod, from_normalised, to_normalised};
@@ -213,7 +213,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     // A nominal guess of the wire: only its radius and load matter, the search box is wide.
     let guess = KirchhoffModel::new(WireParams::new([0.1, 0.1, 0.1], 1.0, 0.0015)?);
     let estimate =
-        identify(&guess, &samples, &IdentifyConfig::default(), &mut rng)?.identified()?;
+        identify(&guess, &samples, &IdentifierParams::default(), &mut rng)?.identified()?;
     let wire = estimate.wire(true_wire.radius())?;
     let c_error = (0..3)
         .map(|i| (wire.c()[i] / true_wire.c()[i] - 1.0).abs())
@@ -254,10 +254,10 @@ fn main() -> Result<(), Box<dyn Error>> {
 
     // 4. Controller: steer to a goal configuration, given in the identified wire's normalised
     //    units (torque in c2/L, force in c2/L²).
-    let settings = ControlSettings {
+    let settings = ControlParams {
         epsilon: 0.02,
         max_iterations: 150,
-        ..ControlSettings::default()
+        ..ControlParams::default()
     };
     let controller = Controller::new(model, settings)?;
     let goal = from_normalised(&wire, &Vector6::new(0.3, 2.6, 0.6, -1.4, 2.4, 0.8));

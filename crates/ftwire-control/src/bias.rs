@@ -30,11 +30,11 @@
 //!
 //! with `J_n = S J(L) N⁻¹` (`N` the normalisation of `A`), the rest's own noise `w` (from the
 //! pipeline's standard errors), and `r` the robot's repeatability plus a floor for the model's
-//! error. An innovation beyond [`BiasObserverSettings::gate`] (squared Mahalanobis) is not
+//! error. An innovation beyond [`BiasObserverParams::gate`] (squared Mahalanobis) is not
 //! used: a contact, or a model far off, must not be explained away as drift. The collision
 //! detector watches the raw `ã`, not the corrected one.
 //!
-//! **Fusing each rest** ([`BiasObserverSettings::fuse_rest`]). The same equation says more
+//! **Fusing each rest** ([`BiasObserverParams::fuse_rest`]). The same equation says more
 //! than `β`: the rest's own noise `w` (its standard errors `W`) enters `z` through `J_n`, and a
 //! robot that knows its gripper's pose to its repeatability sees it. Adding `w` to the state
 //! for this rest only (prior `N(0, W)`, dropped afterwards) changes nothing in `β̂`, `Δ̂₀` and
@@ -65,7 +65,7 @@
 //! it reached its goal (`docs/cable.md`).
 //!
 //! The corrected configuration is `ã − β̂` (`− ŵ` when fusing). It is only as good as the
-//! model: the observer trusts `Γ` to the [`BiasObserverSettings::model_std`] floor, so on a
+//! model: the observer trusts `Γ` to the [`BiasObserverParams::model_std`] floor, so on a
 //! real rig with a worse model that floor must be raised, or the observer left out.
 
 use ftwire_core::Pose;
@@ -85,7 +85,7 @@ type Matrix12x6 = SMatrix<f64, 12, 6>;
 const UPDATE_ITERATIONS: usize = 3;
 
 /// Gauss–Newton iterations of one update that also fuses the rest
-/// ([`BiasObserverSettings::fuse_rest`]): the rest's noise can be tenths of a normalised unit,
+/// ([`BiasObserverParams::fuse_rest`]): the rest's noise can be tenths of a normalised unit,
 /// where `Γ` is not linear. They stop early once converged ([`CONVERGED`]).
 const FUSED_ITERATIONS: usize = 6;
 
@@ -112,7 +112,7 @@ struct Linearised {
 /// Settings of the [`BiasObserver`] (public fields + `Default`, the simulated default sensor
 /// and the paper's execution spread).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct BiasObserverSettings {
+pub struct BiasObserverParams {
     /// Drift intensity of each force channel \[N/√s\] (default `0.002`).
     pub force_drift: f64,
     /// Drift intensity of each torque channel \[N·m/√s\] (default `2e-4`: the sensor's own
@@ -121,16 +121,16 @@ pub struct BiasObserverSettings {
     /// Standard deviation of each force channel's bias just after the tare \[N\] (default
     /// `0.005`: a 0.5 s tare of a 0.05 N-noise sensor, with margin).
     pub initial_force_std: f64,
-    /// As [`BiasObserverSettings::initial_force_std`], torque \[N·m\] (default `2e-4`).
+    /// As [`BiasObserverParams::initial_force_std`], torque \[N·m\] (default `2e-4`).
     pub initial_torque_std: f64,
     /// Prior spread of the robot's calibration error `Δ₀` per axis, position \[m\] (default
     /// `0.01`).
     pub offset_position_std: f64,
-    /// As [`BiasObserverSettings::offset_position_std`], rotation \[rad\] (default 3°).
+    /// As [`BiasObserverParams::offset_position_std`], rotation \[rad\] (default 3°).
     pub offset_rotation_std: f64,
     /// The robot's repeatability per move, position \[m\] (default `1e-4`).
     pub repeat_position_std: f64,
-    /// As [`BiasObserverSettings::repeat_position_std`], rotation \[rad\] (default 0.05°).
+    /// As [`BiasObserverParams::repeat_position_std`], rotation \[rad\] (default 0.05°).
     pub repeat_rotation_std: f64,
     /// How far the model's `Γ` is trusted, per component of the scaled twist (rad, and m per
     /// metre of wire) (default `2e-4`).
@@ -145,7 +145,7 @@ pub struct BiasObserverSettings {
     pub fuse_rest: bool,
 }
 
-impl Default for BiasObserverSettings {
+impl Default for BiasObserverParams {
     fn default() -> Self {
         Self {
             force_drift: 0.002,
@@ -163,7 +163,7 @@ impl Default for BiasObserverSettings {
     }
 }
 
-impl BiasObserverSettings {
+impl BiasObserverParams {
     fn validate(&self) -> Result<(), ControlError> {
         for (name, value) in [
             ("force_drift", self.force_drift),
@@ -206,13 +206,13 @@ impl BiasObserverSettings {
 ///
 /// # Example
 /// ```
-/// use ftwire_control::{BiasObserver, BiasObserverSettings};
+/// use ftwire_control::{BiasObserver, BiasObserverParams};
 /// use ftwire_core::WireParams;
 /// use ftwire_estimate::{KirchhoffModel, WireModel};
 /// use nalgebra::Vector6;
 ///
 /// let model = KirchhoffModel::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
-/// let mut observer = BiasObserver::new(model, BiasObserverSettings::default())?;
+/// let mut observer = BiasObserver::new(model, BiasObserverParams::default())?;
 /// let a = Vector6::new(0.0, 0.2, 0.1, -0.5, 0.3, 0.0);
 /// let tip = model.tip(&a)?;
 /// // A reading 20 mN off in x, where the robot holds the wire at Γ(a).
@@ -224,7 +224,7 @@ impl BiasObserverSettings {
 #[derive(Debug, Clone)]
 pub struct BiasObserver<M> {
     model: M,
-    settings: BiasObserverSettings,
+    settings: BiasObserverParams,
     /// `β̂`, normalised.
     bias: Vector6<f64>,
     /// `Δ̂₀`.
@@ -246,7 +246,7 @@ impl<M: WireModel> BiasObserver<M> {
     ///
     /// # Errors
     /// [`ControlError::BadSetting`] for a setting outside its range.
-    pub fn new(model: M, settings: BiasObserverSettings) -> Result<Self, ControlError> {
+    pub fn new(model: M, settings: BiasObserverParams) -> Result<Self, ControlError> {
         settings.validate()?;
         let wire = model.wire();
         let (ts, fs, l) = (wire.torque_scale(), wire.force_scale(), wire.length());
@@ -456,7 +456,7 @@ impl<M: WireModel> BiasObserver<M> {
     }
 
     /// The last used rest's own noise `ŵ` (SI units, as `a`), taken out of what
-    /// [`BiasObserver::update`] returned when [`BiasObserverSettings::fuse_rest`] is on; zero
+    /// [`BiasObserver::update`] returned when [`BiasObserverParams::fuse_rest`] is on; zero
     /// otherwise.
     pub fn rest_noise(&self) -> Vector6<f64> {
         from_normalised(self.model.wire(), &self.rest_noise)

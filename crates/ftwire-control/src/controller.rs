@@ -11,13 +11,13 @@
 //! configuration the model predicts after the step, `ã_i + s K (a_g − ã_i)` for the step's
 //! scale `s` (exactly `J⁻¹ δb`), must be in `A_stable`; and the robot must be able to reach
 //! `b_{i+1}` ([`ReachCheck`]). A step that fails either of the last two is halved until it
-//! passes both (at most [`ControlSettings::max_shrinks`] times): near a joint limit a shorter
+//! passes both (at most [`ControlParams::max_shrinks`] times): near a joint limit a shorter
 //! step along the same direction often stays inside. The loop stops when the *measured* `ã` is
-//! within `ε` of the goal in normalised units (or, with [`ControlSettings::shape_tolerance`],
+//! within `ε` of the goal in normalised units (or, with [`ControlParams::shape_tolerance`],
 //! when the model's shape at `ã` is within that distance of the goal's), and every other end
-//! is an [`Outcome`]; with [`ControlSettings::divergence`] one of them is
+//! is an [`Outcome`]; with [`ControlParams::divergence`] one of them is
 //! [`Outcome::Diverged`], a measured `ã` that ran away from the goal. With a
-//! [`BiasObserver`] ([`Controller::run_estimated`]) the step, the guard and the stop use `ã`
+//! [`BiasObserver`] ([`Controller::run_with_bias_observer`]) the step, the guard and the stop use `ã`
 //! corrected for the sensor's bias drift. A [`CollisionDetector`] can watch
 //! the residual of every move (see [`crate::collision`]).
 
@@ -38,7 +38,7 @@ use crate::{
 
 /// Settings of the controller (public fields + `Default`; checked by [`Controller::new`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ControlSettings {
+pub struct ControlParams {
     /// The gain `K` of eq. 13 (default `0.2`, the paper's), in `(0, 1]`.
     pub gain: f64,
     /// Stop threshold `ε` on `‖a_g − ã‖` in normalised units (torque in `c2/L`, force in
@@ -54,14 +54,14 @@ pub struct ControlSettings {
     /// the robot cannot reach (default `6`).
     pub max_shrinks: usize,
     /// Settling radius \[normalised\]: once the measured `ã` is within it of the goal, each
-    /// rest averages at least [`ControlSettings::settle_samples`] F/T samples (default `0`:
+    /// rest averages at least [`ControlParams::settle_samples`] F/T samples (default `0`:
     /// off). Near the goal the steps `K (a_g − ã)` shrink below the noise of a rest's mean, so
     /// the loop steers by noise and the stop rule fires on a lucky reading; a longer average
     /// there halves the noise for each fourfold of samples, at the cost of only the last few
     /// rests, and lets the loop stop at an ε below that noise (`tests/controller.rs`,
     /// `longer_rests_near_the_goal_let_the_loop_stop_at_a_small_epsilon`).
     pub settle_radius: f64,
-    /// F/T samples averaged per rest inside [`ControlSettings::settle_radius`] (default `0`;
+    /// F/T samples averaged per rest inside [`ControlParams::settle_radius`] (default `0`;
     /// the feedback's own count when that is larger).
     pub settle_samples: usize,
     /// Shape stop \[m\] (default `0`: off, the stop is `ε`'s). When positive, it replaces `ε`:
@@ -71,15 +71,15 @@ pub struct ControlSettings {
     /// execution noise, the stop picks a move that landed the *wire* near its goal, which `ε`
     /// on the six wrench components does only loosely (`docs/control-noise.md`).
     pub shape_tolerance: f64,
-    /// The shape stop \[m\] once [`ControlSettings::late_after`] steps are spent (default
-    /// `0`: the same as [`ControlSettings::shape_tolerance`]; never tighter than it). A tight
+    /// The shape stop \[m\] once [`ControlParams::late_after`] steps are spent (default
+    /// `0`: the same as [`ControlParams::shape_tolerance`]; never tighter than it). A tight
     /// shape stop waits for a lucky landing of the noisy moves; where landings near the goal
-    /// are rare, the run would end at [`ControlSettings::max_iterations`] on whatever landing
+    /// are rare, the run would end at [`ControlParams::max_iterations`] on whatever landing
     /// came last. A looser stop for the last moves of the budget ends it on a landing near the
     /// goal instead (optimal stopping with a finite budget: the threshold rises as the moves
     /// left run out).
     pub late_shape_tolerance: f64,
-    /// Steps after which [`ControlSettings::late_shape_tolerance`] applies (default
+    /// Steps after which [`ControlParams::late_shape_tolerance`] applies (default
     /// `usize::MAX`: never).
     pub late_after: usize,
     /// Divergence stop \[normalised\] (default `0`: off). When positive, the run stops with
@@ -93,14 +93,14 @@ pub struct ControlSettings {
     pub divergence: f64,
 }
 
-/// Rests in a row beyond [`ControlSettings::divergence`] that stop a run as diverged.
+/// Rests in a row beyond [`ControlParams::divergence`] that stop a run as diverged.
 pub const DIVERGED_RESTS: usize = 2;
 
 /// Nodes of the model shapes the shape stop compares, and their matched arc lengths
-/// ([`ControlSettings::shape_tolerance`]).
+/// ([`ControlParams::shape_tolerance`]).
 pub const SHAPE_STOP_SAMPLES: usize = 50;
 
-impl Default for ControlSettings {
+impl Default for ControlParams {
     fn default() -> Self {
         Self {
             gain: 0.2,
@@ -119,7 +119,7 @@ impl Default for ControlSettings {
     }
 }
 
-impl ControlSettings {
+impl ControlParams {
     fn validate(&self) -> Result<(), ControlError> {
         let bad = |name, value, allowed| ControlError::BadSetting {
             name,
@@ -172,9 +172,9 @@ impl ControlSettings {
         Ok(())
     }
 
-    /// The shape stop \[m\] at step `step` of a run: [`ControlSettings::shape_tolerance`], or
-    /// the looser [`ControlSettings::late_shape_tolerance`] from step
-    /// [`ControlSettings::late_after`] on.
+    /// The shape stop \[m\] at step `step` of a run: [`ControlParams::shape_tolerance`], or
+    /// the looser [`ControlParams::late_shape_tolerance`] from step
+    /// [`ControlParams::late_after`] on.
     pub fn shape_stop_at(&self, step: usize) -> f64 {
         if step >= self.late_after {
             self.shape_tolerance.max(self.late_shape_tolerance)
@@ -216,7 +216,7 @@ pub enum Outcome {
         /// `‖a_g − ã‖` at the stop \[normalised\].
         error: f64,
     },
-    /// [`ControlSettings::max_iterations`] steps were taken without reaching the goal.
+    /// [`ControlParams::max_iterations`] steps were taken without reaching the goal.
     IterationLimit {
         /// `‖a_g − ã‖` at the end \[normalised\].
         error: f64,
@@ -248,7 +248,7 @@ pub enum Outcome {
         /// The pipeline's message.
         message: String,
     },
-    /// The measured `ã` stayed away from the goal by more than [`ControlSettings::divergence`]
+    /// The measured `ã` stayed away from the goal by more than [`ControlParams::divergence`]
     /// beyond the start's distance for [`DIVERGED_RESTS`] rests in a row.
     Diverged {
         /// The step whose move ended there (0-based).
@@ -300,7 +300,7 @@ pub struct StepRecord {
     /// `ã_{i+1}` measured after the move.
     pub measured: Vector6<f64>,
     /// What the controller took as `a_{i+1}`: `measured`, corrected by the bias observer
-    /// when the run has one ([`Controller::run_estimated`]).
+    /// when the run has one ([`Controller::run_with_bias_observer`]).
     pub estimate: Vector6<f64>,
     /// The move's miss against the model's prediction \[normalised\] (see [`MoveCheck::miss`]).
     pub miss: f64,
@@ -355,13 +355,13 @@ impl Run {
 ///
 /// # Example
 /// ```
-/// use ftwire_control::{ControlSettings, Controller};
+/// use ftwire_control::{ControlParams, Controller};
 /// use ftwire_estimate::KirchhoffModel;
 /// use ftwire_core::{Pose, WireParams};
 /// use nalgebra::Vector6;
 ///
 /// let model = KirchhoffModel::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
-/// let controller = Controller::new(model, ControlSettings::default())?;
+/// let controller = Controller::new(model, ControlParams::default())?;
 /// let a = Vector6::new(0.0, 0.2, 0.1, -0.5, 0.3, 0.0);
 /// let goal = Vector6::new(0.0, 0.25, 0.1, -0.4, 0.3, 0.0);
 /// let plan = controller.plan_step(&a, &goal, &Pose::identity())?.expect("a stable step");
@@ -372,7 +372,7 @@ impl Run {
 #[derive(Debug, Clone)]
 pub struct Controller<M> {
     model: M,
-    settings: ControlSettings,
+    settings: ControlParams,
     detector: Option<CollisionDetector>,
 }
 
@@ -381,7 +381,7 @@ impl<M: WireModel> Controller<M> {
     ///
     /// # Errors
     /// [`ControlError::BadSetting`] for a setting outside its range.
-    pub fn new(model: M, settings: ControlSettings) -> Result<Self, ControlError> {
+    pub fn new(model: M, settings: ControlParams) -> Result<Self, ControlError> {
         settings.validate()?;
         Ok(Self {
             model,
@@ -403,7 +403,7 @@ impl<M: WireModel> Controller<M> {
     }
 
     /// The settings.
-    pub fn settings(&self) -> &ControlSettings {
+    pub fn settings(&self) -> &ControlParams {
         &self.settings
     }
 
@@ -413,15 +413,15 @@ impl<M: WireModel> Controller<M> {
     }
 
     /// F/T samples to average at the rest after a step taken `error` (normalised) from the
-    /// goal: `samples` (the feedback's own), or at least [`ControlSettings::settle_samples`]
-    /// within [`ControlSettings::settle_radius`].
+    /// goal: `samples` (the feedback's own), or at least [`ControlParams::settle_samples`]
+    /// within [`ControlParams::settle_radius`].
     ///
     /// # Example
     /// ```
-    /// use ftwire_control::{ControlSettings, Controller};
+    /// use ftwire_control::{ControlParams, Controller};
     /// use ftwire_estimate::KirchhoffModel;
     /// let wire = ftwire_core::WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?;
-    /// let settings = ControlSettings {
+    /// let settings = ControlParams {
     ///     settle_radius: 0.2,
     ///     settle_samples: 400,
     ///     ..Default::default()
@@ -446,7 +446,7 @@ impl<M: WireModel> Controller<M> {
     }
 
     /// The goal's model shape `Φ(a_g)` for the shape stop, `None` when it is off
-    /// ([`ControlSettings::shape_tolerance`]).
+    /// ([`ControlParams::shape_tolerance`]).
     ///
     /// # Errors
     /// [`ControlError::Model`] when the model cannot be solved at `goal`.
@@ -495,7 +495,7 @@ impl<M: WireModel> Controller<M> {
     }
 
     /// [`Controller::plan_step`] with the reach guard: the step's scale is halved (at most
-    /// [`ControlSettings::max_shrinks`] times) until its prediction passes the stability guard
+    /// [`ControlParams::max_shrinks`] times) until its prediction passes the stability guard
     /// and `reach` can reach its `next_tip`. Also returns the time spent in `reach` \[s\].
     fn plan_reachable_step<Q: ReachCheck>(
         &self,
@@ -600,7 +600,7 @@ impl<M: WireModel> Controller<M> {
         goal: &Vector6<f64>,
         observe: impl FnMut(&R, &StepRecord),
     ) -> Result<Run, ControlError> {
-        self.run_estimated(rig, feedback, reach, goal, None, observe)
+        self.run_with_bias_observer(rig, feedback, reach, goal, None, observe)
     }
 
     /// As [`Controller::run_observed`], steering by `ã` corrected by a [`BiasObserver`] of
@@ -611,7 +611,7 @@ impl<M: WireModel> Controller<M> {
     ///
     /// # Errors
     /// As [`Controller::run_observed`].
-    pub fn run_estimated<R: Rig, C: FtCalibration, Q: ReachCheck>(
+    pub fn run_with_bias_observer<R: Rig, C: FtCalibration, Q: ReachCheck>(
         &self,
         rig: &mut R,
         feedback: &FtFeedback<C>,

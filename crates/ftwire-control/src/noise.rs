@@ -57,7 +57,7 @@ impl NoiseModel {
 
 /// Standard deviations of the noise (public fields + `Default`, the paper's values).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct NoiseSettings {
+pub struct NoiseParams {
     /// Position σ per axis \[m\] of an increment, a pose or the offset (default `0.010`).
     pub position_std: f64,
     /// Rotation σ per rotation-vector component \[rad\] (default 3° = `0.05236`).
@@ -68,7 +68,7 @@ pub struct NoiseSettings {
     pub repeat_orientation_std: f64,
 }
 
-impl Default for NoiseSettings {
+impl Default for NoiseParams {
     fn default() -> Self {
         Self {
             position_std: 0.010,
@@ -83,7 +83,7 @@ impl Default for NoiseSettings {
 ///
 /// # Example
 /// ```
-/// use ftwire_control::{NoiseModel, NoiseSettings, NoisyRig};
+/// use ftwire_control::{NoiseModel, NoiseParams, NoisyRig};
 /// # use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig};
 /// # #[derive(Debug)] struct Still(GripperPoses);
 /// # #[derive(Debug, thiserror::Error)] #[error("never")] struct Never;
@@ -95,7 +95,7 @@ impl Default for NoiseSettings {
 /// #     fn time(&self) -> f64 { 0.0 }
 /// # }
 /// let start = GripperPoses { base: Pose::identity(), tip: Pose::translation(0.5, 0.0, 0.0) };
-/// let mut rig = NoisyRig::new(Still(start), NoiseModel::Offset, NoiseSettings::default(), 7)?;
+/// let mut rig = NoisyRig::new(Still(start), NoiseModel::Offset, NoiseParams::default(), 7)?;
 /// let target = Pose::translation(0.5, 0.1, 0.0);
 /// rig.move_tip(target)?;
 /// // The robot believes it is at the target; the gripper is off by the offset.
@@ -107,7 +107,7 @@ impl Default for NoiseSettings {
 pub struct NoisyRig<R> {
     inner: R,
     model: NoiseModel,
-    settings: NoiseSettings,
+    settings: NoiseParams,
     rng: ChaCha8Rng,
     believed: GripperPoses,
     offset: Pose,
@@ -125,7 +125,7 @@ impl<R: Rig> NoisyRig<R> {
     pub fn new(
         inner: R,
         model: NoiseModel,
-        settings: NoiseSettings,
+        settings: NoiseParams,
         seed: u64,
     ) -> Result<Self, ControlError> {
         for (name, value) in [

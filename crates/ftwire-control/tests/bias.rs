@@ -5,7 +5,7 @@ mod common;
 
 use common::{ModelRig, feedback, pair, wire};
 use ftwire_control::{
-    AnyPose, BiasObserver, BiasObserverSettings, ControlError, ControlSettings, Controller, Outcome,
+    AnyPose, BiasObserver, BiasObserverParams, ControlError, ControlParams, Controller, Outcome,
 };
 use ftwire_core::Pose;
 use ftwire_estimate::{KirchhoffModel, WireModel};
@@ -38,7 +38,7 @@ fn path(rests: usize) -> Vec<Vector6<f64>> {
 /// error `offset`. Returns the normalised error of the corrected and of the raw `a` over the
 /// last ten rests (RMS), and the observer.
 fn track(seed: u64, rest_std: f64, offset: &Pose) -> (f64, f64, BiasObserver<KirchhoffModel>) {
-    track_with(seed, rest_std, offset, BiasObserverSettings::default())
+    track_with(seed, rest_std, offset, BiasObserverParams::default())
 }
 
 /// As [`track`], with the observer's `settings`.
@@ -46,7 +46,7 @@ fn track_with(
     seed: u64,
     rest_std: f64,
     offset: &Pose,
-    settings: BiasObserverSettings,
+    settings: BiasObserverParams,
 ) -> (f64, f64, BiasObserver<KirchhoffModel>) {
     let w = wire();
     let model = model();
@@ -96,13 +96,13 @@ fn without_noise_the_observer_finds_a_constant_bias_and_the_offset() {
     let model = model();
     // A sensor that does not drift and a robot that repeats exactly; the model is trusted to
     // its solver's precision.
-    let settings = BiasObserverSettings {
+    let settings = BiasObserverParams {
         force_drift: 0.0,
         torque_drift: 0.0,
         repeat_position_std: 0.0,
         repeat_rotation_std: 0.0,
         model_std: 1e-6,
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     };
     let mut observer = BiasObserver::new(model, settings).expect("valid");
     let bias = Vector6::new(2e-4, -1e-4, 1.5e-4, 0.004, -0.003, 0.005);
@@ -156,12 +156,12 @@ fn with_the_robot_where_it_believes_the_gain_is_larger() {
 fn fusing_each_rest_takes_its_noise_out_where_the_robot_knows_its_pose() {
     // Rests five times noisier than the experiments' (a light wire's few mN), a robot that
     // reports where it is, and knows it (its prior spread is its repeatability).
-    let known = BiasObserverSettings {
+    let known = BiasObserverParams {
         offset_position_std: 1e-4,
         offset_rotation_std: 0.05f64.to_radians(),
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     };
-    let fused = BiasObserverSettings {
+    let fused = BiasObserverParams {
         fuse_rest: true,
         ..known
     };
@@ -191,9 +191,9 @@ fn fusing_each_rest_helps_less_under_an_unknown_offset() {
     // The same rests, the robot off by the paper's spread: the pose is only as good as the
     // offset estimate, so the fused rest is better than the drift alone, not as good as
     // with the pose known.
-    let fused = BiasObserverSettings {
+    let fused = BiasObserverParams {
         fuse_rest: true,
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     };
     let ratios: Vec<(f64, f64)> = (0..8)
         .map(|seed| {
@@ -209,9 +209,9 @@ fn fusing_each_rest_helps_less_under_an_unknown_offset() {
 fn a_contact_is_not_explained_away_as_drift_nor_fused_away() {
     let model = model();
     for fuse_rest in [false, true] {
-        let settings = BiasObserverSettings {
+        let settings = BiasObserverParams {
             fuse_rest,
-            ..BiasObserverSettings::default()
+            ..BiasObserverParams::default()
         };
         let mut observer = BiasObserver::new(model, settings).expect("valid");
         let rests = path(20);
@@ -236,9 +236,9 @@ fn a_contact_is_not_explained_away_as_drift_nor_fused_away() {
 
 #[test]
 fn bad_settings_and_bad_readings() {
-    let bad = BiasObserverSettings {
+    let bad = BiasObserverParams {
         force_drift: -1.0,
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     };
     assert!(matches!(
         BiasObserver::new(model(), bad),
@@ -247,9 +247,9 @@ fn bad_settings_and_bad_readings() {
             ..
         })
     ));
-    let exact = BiasObserverSettings {
+    let exact = BiasObserverParams {
         model_std: 0.0,
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     };
     assert!(matches!(
         BiasObserver::new(model(), exact),
@@ -258,7 +258,7 @@ fn bad_settings_and_bad_readings() {
             ..
         })
     ));
-    let mut observer = BiasObserver::new(model(), BiasObserverSettings::default()).expect("valid");
+    let mut observer = BiasObserver::new(model(), BiasObserverParams::default()).expect("valid");
     let a = pair().0;
     let nan = Vector6::new(f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0);
     let tip = model().tip(&a).expect("solves");
@@ -275,25 +275,25 @@ fn closed_loop_miss(observe: bool) -> (f64, usize) {
     let (a_s, a_g) = pair();
     let per_move = from_normalised(&w, &Vector6::new(0.0, 0.0, 0.0, 5e-4, -4e-4, 4e-4));
     let mut rig = ModelRig::new(a_s).with_bias(Vector6::zeros(), per_move);
-    let settings = ControlSettings {
+    let settings = ControlParams {
         epsilon: 5e-3,
-        ..ControlSettings::default()
+        ..ControlParams::default()
     };
     let controller = Controller::new(model(), settings).expect("valid");
     let mut observer = BiasObserver::new(
         model(),
-        BiasObserverSettings {
+        BiasObserverParams {
             // The rig's drift per move (its clock ticks once a move), with margin.
             force_drift: 2.0 * per_move.fixed_rows::<3>(3).amax(),
             // The model rig's robot goes where it is told.
             offset_position_std: 1e-4,
             offset_rotation_std: 1e-3,
-            ..BiasObserverSettings::default()
+            ..BiasObserverParams::default()
         },
     )
     .expect("valid");
     let run = controller
-        .run_estimated(
+        .run_with_bias_observer(
             &mut rig,
             &feedback(),
             &mut AnyPose,
@@ -346,11 +346,11 @@ fn a_rest_whose_noise_folds_it_off_its_branch_is_fused_on_the_last_estimates_bra
     // wire's configuration.
     let w = wire();
     let model = model();
-    let settings = BiasObserverSettings {
+    let settings = BiasObserverParams {
         offset_position_std: 1e-4,
         offset_rotation_std: 0.05f64.to_radians(),
         fuse_rest: true,
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     };
     let sigma = 1.0;
     let std = from_normalised(&w, &Vector6::repeat(sigma));

@@ -6,8 +6,8 @@ mod common;
 use common::{ModelRig, feedback, pair, settings, wire};
 use ftwire_control::open_loop::{a_connected, roll_out, straight_line_in_a, straight_line_in_b};
 use ftwire_control::{
-    AnyPose, CollisionDetector, ControlError, ControlSettings, Controller, NoiseModel,
-    NoiseSettings, NoisyRig, Outcome, Reach, ReachCheck, retreat,
+    AnyPose, CollisionDetector, ControlError, ControlParams, Controller, NoiseModel,
+    NoiseParams, NoisyRig, Outcome, Reach, ReachCheck, retreat,
 };
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
@@ -19,7 +19,7 @@ fn controller() -> Controller<KirchhoffModel> {
     controller_with(settings())
 }
 
-fn controller_with(settings: ControlSettings) -> Controller<KirchhoffModel> {
+fn controller_with(settings: ControlParams) -> Controller<KirchhoffModel> {
     Controller::new(KirchhoffModel::new(wire()), settings).expect("valid settings")
 }
 
@@ -69,12 +69,12 @@ fn settled_runs(settle_radius: f64, runs: u64) -> (usize, f64) {
     // 0.03 normalised units of noise per channel on one sample: 0.017 on the feedback's
     // 3-sample mean, about 0.04 in norm, well above ε.
     let std = from_normalised(&w, &Vector6::repeat(0.03));
-    let settings = ControlSettings {
+    let settings = ControlParams {
         epsilon: 0.015,
         max_iterations: 120,
         settle_radius,
         settle_samples: 192,
-        ..ControlSettings::default()
+        ..ControlParams::default()
     };
     let controller = Controller::new(KirchhoffModel::new(w), settings).expect("valid settings");
     let mut errors = Vec::new();
@@ -128,7 +128,7 @@ fn the_first_order_prediction_matches_finite_moves() {
 #[test]
 fn the_iteration_limit_ends_a_run() {
     let (a_s, a_g) = pair();
-    let controller = controller_with(ControlSettings {
+    let controller = controller_with(ControlParams {
         max_iterations: 3,
         ..settings()
     });
@@ -276,7 +276,7 @@ fn measured_outside_a_stable_the_controller_steps_back_toward_the_goal() {
 #[test]
 fn the_step_limits_and_the_stability_guard_bound_each_step() {
     let (a_s, a_g) = pair();
-    let s = ControlSettings {
+    let s = ControlParams {
         max_translation: 0.01,
         max_rotation: 0.02,
         ..settings()
@@ -392,7 +392,7 @@ fn a_reading_that_runs_away_two_rests_in_a_row_stops_the_run_as_diverged() {
         contact: Some((2, runaway)),
         ..ModelRig::new(a_s)
     };
-    let watching = controller_with(ControlSettings {
+    let watching = controller_with(ControlParams {
         divergence: 5.0,
         ..settings()
     });
@@ -417,7 +417,7 @@ fn a_reading_that_runs_away_two_rests_in_a_row_stops_the_run_as_diverged() {
     // One rest beyond is noise the next step corrects: a reading thrown once does not stop
     // the run. (Short steps here, so that the move made on the thrown reading does not itself
     // carry the wire away.)
-    let short = controller_with(ControlSettings {
+    let short = controller_with(ControlParams {
         divergence: 5.0,
         max_translation: 0.002,
         max_rotation: 0.01,
@@ -439,7 +439,7 @@ fn a_reading_that_runs_away_two_rests_in_a_row_stops_the_run_as_diverged() {
     assert_eq!(thrown.moves, 10);
     let bad = Controller::new(
         KirchhoffModel::new(wire()),
-        ControlSettings {
+        ControlParams {
             divergence: -1.0,
             ..settings()
         },
@@ -483,7 +483,7 @@ fn bad_input_is_refused_before_any_motion() {
     assert_eq!(rig.moves, 0);
     let e = Controller::new(
         KirchhoffModel::new(wire()),
-        ControlSettings {
+        ControlParams {
             gain: 0.0,
             ..settings()
         },
@@ -499,12 +499,12 @@ fn noisy_runs_are_deterministic_and_the_closed_loop_beats_the_offset() {
         let rig = NoisyRig::new(
             ModelRig::new(a_s),
             NoiseModel::Offset,
-            NoiseSettings::default(),
+            NoiseParams::default(),
             11,
         )
         .expect("valid");
         let mut rig = rig;
-        let controller = Controller::new(KirchhoffModel::new(wire()), ControlSettings::default())
+        let controller = Controller::new(KirchhoffModel::new(wire()), ControlParams::default())
             .expect("valid");
         let run = controller
             .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
@@ -532,7 +532,7 @@ fn noisy_runs_are_deterministic_and_the_closed_loop_beats_the_offset() {
     let mut rig = NoisyRig::new(
         ModelRig::new(a_s),
         NoiseModel::Offset,
-        NoiseSettings::default(),
+        NoiseParams::default(),
         11,
     )
     .expect("valid");
@@ -591,7 +591,7 @@ fn rms_after(model: NoiseModel, moves: usize, runs: u64, from_reported: bool) ->
     let mut sum = 0.0;
     for seed in 0..runs {
         let mut rig =
-            NoisyRig::new(Still(start), model, NoiseSettings::default(), seed).expect("valid");
+            NoisyRig::new(Still(start), model, NoiseParams::default(), seed).expect("valid");
         for _ in 0..moves {
             let target = if from_reported {
                 let Ok(poses) = ftwire_core::Rig::gripper_poses(&rig);
@@ -649,7 +649,7 @@ fn roll_out_rms(model: NoiseModel, moves: usize, runs: u64) -> f64 {
     let mut sum = 0.0;
     for seed in 0..runs {
         let mut rig =
-            NoisyRig::new(Still(start), model, NoiseSettings::default(), seed).expect("valid");
+            NoisyRig::new(Still(start), model, NoiseParams::default(), seed).expect("valid");
         let out = roll_out(
             &mut rig,
             &poses,
@@ -687,7 +687,7 @@ fn the_reported_pose_stays_a_rotation_over_many_noisy_moves() {
     let mut rig = NoisyRig::new(
         Still(start),
         NoiseModel::Increment,
-        NoiseSettings::default(),
+        NoiseParams::default(),
         3,
     )
     .expect("valid");
@@ -707,10 +707,10 @@ fn the_shape_stop_ends_a_run_at_the_first_shape_within_its_tolerance() {
     let tolerance = 0.005;
     let shaped = Controller::new(
         model,
-        ControlSettings {
+        ControlParams {
             epsilon: 1e-9,
             shape_tolerance: tolerance,
-            ..ControlSettings::default()
+            ..ControlParams::default()
         },
     )
     .expect("valid settings");
@@ -742,9 +742,9 @@ fn the_shape_stop_ends_a_run_at_the_first_shape_within_its_tolerance() {
     // ε alone runs on (the shape stop replaced it above).
     let plain = Controller::new(
         model,
-        ControlSettings {
+        ControlParams {
             epsilon: 1e-9,
-            ..ControlSettings::default()
+            ..ControlParams::default()
         },
     )
     .expect("valid settings")
@@ -759,16 +759,16 @@ fn a_bad_shape_tolerance_is_refused_by_name() {
         for (field, settings) in [
             (
                 "shape_tolerance",
-                ControlSettings {
+                ControlParams {
                     shape_tolerance: value,
-                    ..ControlSettings::default()
+                    ..ControlParams::default()
                 },
             ),
             (
                 "late_shape_tolerance",
-                ControlSettings {
+                ControlParams {
                     late_shape_tolerance: value,
-                    ..ControlSettings::default()
+                    ..ControlParams::default()
                 },
             ),
         ] {
@@ -786,17 +786,17 @@ fn the_late_shape_stop_applies_from_its_step_on_and_never_before() {
     let (a_s, a_g) = pair();
     let model = KirchhoffModel::new(wire());
     let (tight, late, after) = (1e-12, 0.005, 3);
-    let settings = ControlSettings {
+    let settings = ControlParams {
         epsilon: 1e-12,
         shape_tolerance: tight,
         late_shape_tolerance: late,
         late_after: after,
-        ..ControlSettings::default()
+        ..ControlParams::default()
     };
     assert_eq!(settings.shape_stop_at(after - 1), tight);
     assert_eq!(settings.shape_stop_at(after), late);
     // Never tighter than the shape stop.
-    let looser = ControlSettings {
+    let looser = ControlParams {
         shape_tolerance: 0.01,
         ..settings
     };
@@ -825,7 +825,7 @@ fn the_late_shape_stop_applies_from_its_step_on_and_never_before() {
     // The tight stop alone runs on past it.
     let tight_only = Controller::new(
         model,
-        ControlSettings {
+        ControlParams {
             late_shape_tolerance: 0.0,
             ..settings
         },

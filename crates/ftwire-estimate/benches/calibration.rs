@@ -6,7 +6,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use ftwire_estimate::calibration::{Calibration, Dataset, TrainConfig};
+use ftwire_estimate::calibration::{Calibration, Dataset, TrainParams};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -31,9 +31,9 @@ fn bench(c: &mut Criterion) {
     let Ok(data) = data() else {
         return;
     };
-    let one_epoch = TrainConfig {
+    let one_epoch = TrainParams {
         max_epochs: 1,
-        ..TrainConfig::default()
+        ..TrainParams::default()
     };
     let Ok(calibration) = Calibration::train(&data, &one_epoch, 3) else {
         return;

@@ -11,7 +11,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::identify::ParameterConstraints;
-use ftwire_estimate::identify::{IdentifyConfig, identify};
+use ftwire_estimate::identify::{IdentifierParams, identify};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::{Load, from_normalised, sampling::Sampler};
 use nalgebra::{Vector3, Vector6};
@@ -43,7 +43,7 @@ fn bench(c: &mut Criterion) {
     let wire = WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015).expect("valid wire");
     let model = KirchhoffModel::new(wire);
     let sets: Vec<_> = (0..8).map(|s| samples(&model, 100 + s)).collect();
-    let config = IdentifyConfig::default();
+    let config = IdentifierParams::default();
     let mut i = 0;
     c.bench_function("identify, 3 samples, absolute, 3 mm nitinol", |b| {
         b.iter(|| {
@@ -56,12 +56,12 @@ fn bench(c: &mut Criterion) {
     let load = Load::from_gravity(6450.0, 0.0015, g).expect("valid load");
     let loaded = model.with_load(load);
     let sets: Vec<_> = (0..8).map(|s| samples(&loaded, 100 + s)).collect();
-    let config = IdentifyConfig {
+    let config = IdentifierParams {
         constraints: ParameterConstraints {
             weight: Some(g),
             ..ParameterConstraints::default()
         },
-        ..IdentifyConfig::default()
+        ..IdentifierParams::default()
     };
     // The estimator starts from the weightless template: it knows gravity, not the wire.
     c.bench_function(

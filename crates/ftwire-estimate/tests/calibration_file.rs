@@ -2,7 +2,7 @@
 //! files.
 
 use ftwire_estimate::EstimateError;
-use ftwire_estimate::calibration::{Activation, Calibration, Dataset, TrainConfig};
+use ftwire_estimate::calibration::{Activation, Calibration, Dataset, TrainParams};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -21,13 +21,13 @@ fn trained_with(residual: bool, anchored: bool) -> Calibration {
         .map(|a| a.map(|x| 2.0 * x + 0.1 * x.powi(3)))
         .collect();
     let data = Dataset::new(raw, labels).expect("finite");
-    let config = TrainConfig {
+    let config = TrainParams {
         hidden: vec![5, 3],
         activation: Activation::Gelu,
         residual,
         anchored,
         max_epochs: 20,
-        ..TrainConfig::default()
+        ..TrainParams::default()
     };
     Calibration::train(&data, &config, 8).expect("trains")
 }
@@ -101,7 +101,7 @@ fn a_file_with_a_bom_loads_and_invalid_utf8_is_located() {
 fn an_anchored_map_reads_zero_at_zero_and_older_files_stay_unanchored() {
     let calibration = trained(true);
     assert!(
-        !TrainConfig::default().anchored,
+        !TrainParams::default().anchored,
         "readings may carry a bias by default"
     );
     let zero = Vector6::zeros();

@@ -8,7 +8,7 @@
 //! `cargo test -p ftwire-estimate --release --test calibration_synthetic -- --nocapture` prints
 //! the numbers.
 
-use ftwire_estimate::calibration::{Affine, Calibration, Dataset, Normaliser, TrainConfig};
+use ftwire_estimate::calibration::{Affine, Calibration, Dataset, Normaliser, TrainParams};
 use nalgebra::{Matrix3, Matrix6, Rotation3, Vector3, Vector6};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -135,14 +135,14 @@ struct Errors {
     floor: Vector6<f64>,
 }
 
-fn evaluate(samples_count: usize, config: &TrainConfig, seed: u64) -> (Errors, Calibration) {
+fn evaluate(samples_count: usize, config: &TrainParams, seed: u64) -> (Errors, Calibration) {
     evaluate_on(&Sensor::new(), samples_count, config, seed)
 }
 
 fn evaluate_on(
     sensor: &Sensor,
     samples_count: usize,
-    config: &TrainConfig,
+    config: &TrainParams,
     seed: u64,
 ) -> (Errors, Calibration) {
     let (raw, labels) = samples(sensor, samples_count, seed);
@@ -208,7 +208,7 @@ fn print(name: &str, errors: &Errors, calibration: &Calibration) {
 /// fit's.
 #[test]
 fn trained_calibration_reaches_the_noise_floor() {
-    let config = TrainConfig::default();
+    let config = TrainParams::default();
     let (errors, calibration) = evaluate(3000, &config, 11);
     print("residual 6-64-64-6", &errors, &calibration);
     for i in 0..6 {
@@ -232,10 +232,10 @@ fn trained_calibration_reaches_the_noise_floor() {
 #[test]
 fn residual_beats_plain_network() {
     let samples = 300;
-    let residual = TrainConfig::default();
-    let plain = TrainConfig {
+    let residual = TrainParams::default();
+    let plain = TrainParams {
         residual: false,
-        ..TrainConfig::default()
+        ..TrainParams::default()
     };
     let (with, with_calibration) = evaluate(samples, &residual, 5);
     let (without, without_calibration) = evaluate(samples, &plain, 5);
@@ -248,7 +248,7 @@ fn residual_beats_plain_network() {
 /// the affine fit is already at the floor, and the network must not spoil it.
 #[test]
 fn linear_sensor_stays_at_the_noise_floor() {
-    let (errors, calibration) = evaluate_on(&Sensor::simulator(), 1000, &TrainConfig::default(), 7);
+    let (errors, calibration) = evaluate_on(&Sensor::simulator(), 1000, &TrainParams::default(), 7);
     print("simulator's sensor, residual", &errors, &calibration);
     for i in 0..6 {
         assert!(errors.affine[i] < 1.1 * errors.floor[i], "component {i}");

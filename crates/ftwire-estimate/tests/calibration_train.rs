@@ -2,7 +2,7 @@
 //! bit-identical weights, early stopping keeps the best weights, progress is reported.
 
 use ftwire_estimate::EstimateError;
-use ftwire_estimate::calibration::{Calibration, Dataset, SplitFractions, StopReason, TrainConfig};
+use ftwire_estimate::calibration::{Calibration, Dataset, SplitFractions, StopReason, TrainParams};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -25,12 +25,12 @@ fn data(n: usize, seed: u64) -> Dataset {
     Dataset::new(raw, labels).expect("finite data")
 }
 
-fn small() -> TrainConfig {
-    TrainConfig {
+fn small() -> TrainParams {
+    TrainParams {
         hidden: vec![8, 8],
         max_epochs: 60,
         patience: 15,
-        ..TrainConfig::default()
+        ..TrainParams::default()
     }
 }
 
@@ -89,7 +89,7 @@ fn too_few_samples_name_the_split() {
             ..
         }
     ));
-    let config = TrainConfig {
+    let config = TrainParams {
         split: SplitFractions {
             train: 0.95,
             validation: 0.04,
@@ -111,42 +111,42 @@ fn too_few_samples_name_the_split() {
 fn bad_settings_are_rejected() {
     let d = data(40, 2);
     let cases = [
-        TrainConfig {
+        TrainParams {
             batch_size: 0,
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             learning_rate: 0.0,
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             learning_rate: f64::NAN,
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             decay: 1.5,
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             patience: 0,
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             hidden: vec![8, 0],
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             hidden: vec![1000],
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             split: SplitFractions {
                 train: 0.8,
                 validation: 0.3,
             },
             ..small()
         },
-        TrainConfig {
+        TrainParams {
             split: SplitFractions {
                 train: -0.1,
                 validation: 0.3,
@@ -177,7 +177,7 @@ fn same_seed_gives_bit_identical_weights() {
 #[test]
 fn early_stopping_keeps_the_best_weights_and_reports_progress() {
     let d = data(200, 5);
-    let config = TrainConfig {
+    let config = TrainParams {
         patience: 5,
         plateau: 100,
         learning_rate: 0.05,
@@ -214,7 +214,7 @@ fn early_stopping_keeps_the_best_weights_and_reports_progress() {
 #[test]
 fn learns_a_nonlinear_sensor() {
     let d = data(400, 6);
-    let config = TrainConfig {
+    let config = TrainParams {
         hidden: vec![32, 32],
         learning_rate: 3e-3,
         max_epochs: 400,

@@ -5,7 +5,7 @@ mod identify_common;
 use std::time::Instant;
 
 use ftwire_core::WireParams;
-use ftwire_estimate::identify::{Estimate, IdentifyConfig, ResidualForm, identify};
+use ftwire_estimate::identify::{Estimate, IdentifierParams, ResidualForm, identify};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use identify_common::{SENSOR, errors, noise_model, samples, thick, thin, worst};
 use rand::{RngExt, SeedableRng};
@@ -19,9 +19,9 @@ fn noisy_identification(
     seed: u64,
 ) -> Result<(Estimate, [f64; 4]), EstimateError> {
     let data = samples(model, data_seed, 3, 0.5, Some(SENSOR))?;
-    let config = IdentifyConfig {
+    let config = IdentifierParams {
         noise: noise_model(model.wire(), SENSOR),
-        ..IdentifyConfig::default()
+        ..IdentifierParams::default()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let est = identify(model, &data, &config, &mut rng)?;
@@ -37,7 +37,7 @@ fn absolute_form_recovers_both_nitinol_wires_from_three_exact_samples() -> Resul
             let data = samples(&model, 100 + seed, 3, 0.5, None)?;
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let t = Instant::now();
-            let est = identify(&model, &data, &IdentifyConfig::default(), &mut rng)?;
+            let est = identify(&model, &data, &IdentifierParams::default(), &mut rng)?;
             let e = errors(est.c, est.length, model.wire());
             println!(
                 "{name} seed {seed}: errors c1 {:.2e} c2 {:.2e} c3 {:.2e} L {:.2e}, {} evaluations, {:?}, flag {:?}",
@@ -102,10 +102,10 @@ fn the_whitened_polish_lowers_the_error_on_noisy_data() -> Result<(), EstimateEr
         for seed in 0..12 {
             let data = samples(&model, 300 + seed, 3, 0.5, Some(SENSOR))?;
             for (k, polish) in [false, true].into_iter().enumerate() {
-                let config = IdentifyConfig {
+                let config = IdentifierParams {
                     noise: noise_model(model.wire(), SENSOR),
                     polish,
-                    ..IdentifyConfig::default()
+                    ..IdentifierParams::default()
                 };
                 let mut rng = ChaCha8Rng::seed_from_u64(seed);
                 let est = identify(&model, &data, &config, &mut rng)?;
@@ -139,10 +139,10 @@ fn differential_forms_run_and_are_limited_by_their_linearisation() -> Result<(),
             let trials = 4;
             for seed in 0..trials {
                 let data = samples(&model, 300 + seed, 3, 0.2, sensor)?;
-                let config = IdentifyConfig {
+                let config = IdentifierParams {
                     form,
                     noise,
-                    ..IdentifyConfig::default()
+                    ..IdentifierParams::default()
                 };
                 let mut rng = ChaCha8Rng::seed_from_u64(seed);
                 let est = identify(&model, &data, &config, &mut rng)?;

@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::identify::{
-    Identifier, IdentifyConfig, MotionPlan, ParameterConstraints, Unidentified, identify,
+    Identifier, IdentifierParams, MotionPlan, ParameterConstraints, Unidentified, identify,
 };
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::{se3, to_normalised};
@@ -15,10 +15,10 @@ use nalgebra::Vector6;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-fn config(constraints: ParameterConstraints) -> IdentifyConfig {
-    IdentifyConfig {
+fn config(constraints: ParameterConstraints) -> IdentifierParams {
+    IdentifierParams {
         constraints,
-        ..IdentifyConfig::default()
+        ..IdentifierParams::default()
     }
 }
 
@@ -55,7 +55,7 @@ fn a_mildly_anisotropic_wire_is_recovered_or_flagged() -> Result<(), EstimateErr
     let model = KirchhoffModel::new(WireParams::new([0.1, 0.15, 0.18], 0.9, 0.001)?);
     let data = samples(&model, 410, 3, 0.5, None)?;
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let est = identify(&model, &data, &IdentifyConfig::default(), &mut rng)?;
+    let est = identify(&model, &data, &IdentifierParams::default(), &mut rng)?;
     let e = errors(est.c, est.length, model.wire());
     println!(
         "c3/c2 = 1.2: worst error {:.1e}, flag {:?}",
@@ -71,7 +71,7 @@ fn one_sample_is_too_few() -> Result<(), EstimateError> {
     let model = thick()?;
     let data = samples(&model, 420, 1, 0.5, None)?;
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let err = identify(&model, &data, &IdentifyConfig::default(), &mut rng);
+    let err = identify(&model, &data, &IdentifierParams::default(), &mut rng);
     assert!(
         matches!(
             err,
@@ -92,7 +92,7 @@ fn identical_poses_are_a_degenerate_motion() -> Result<(), EstimateError> {
     let one = samples(&model, 421, 1, 0.5, None)?;
     let data = [one[0]; 3];
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let err = identify(&model, &data, &IdentifyConfig::default(), &mut rng);
+    let err = identify(&model, &data, &IdentifierParams::default(), &mut rng);
     assert!(
         matches!(err, Err(EstimateError::DegenerateMotion { .. })),
         "{err:?}"
@@ -116,7 +116,7 @@ fn data_the_model_cannot_explain_are_never_a_confident_answer() -> Result<(), Es
     mixed.extend(samples(&other, 432, 2, 0.5, None)?);
     for (name, data) in [("untared", biased), ("mixed", mixed)] {
         let mut rng = ChaCha8Rng::seed_from_u64(2);
-        let est = identify(&model, &data, &IdentifyConfig::default(), &mut rng)?;
+        let est = identify(&model, &data, &IdentifierParams::default(), &mut rng)?;
         let e = worst(errors(est.c, est.length, model.wire()));
         println!("{name}: worst error {e:.2e}, flag {:?}", est.unidentified);
         assert!(
@@ -134,7 +134,7 @@ fn same_seed_same_bits() -> Result<(), EstimateError> {
     let data = samples(&model, 440, 4, 0.5, None)?;
     let run = |seed| {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        identify(&model, &data, &IdentifyConfig::default(), &mut rng)
+        identify(&model, &data, &IdentifierParams::default(), &mut rng)
     };
     let (a, b) = (run(8)?, run(8)?);
     let bits = |e: &ftwire_estimate::identify::Estimate| {
@@ -175,7 +175,7 @@ fn bad_samples_are_named() -> Result<(), EstimateError> {
     for (index, a, b, message) in cases {
         let mut data = good.clone();
         data[index] = (a, b);
-        let err = identify(&model, &data, &IdentifyConfig::default(), &mut rng);
+        let err = identify(&model, &data, &IdentifierParams::default(), &mut rng);
         let text = err
             .as_ref()
             .map_err(ToString::to_string)
@@ -187,16 +187,16 @@ fn bad_samples_are_named() -> Result<(), EstimateError> {
     let err = identify(
         &model,
         &[good[0], far],
-        &IdentifyConfig::default(),
+        &IdentifierParams::default(),
         &mut rng,
     );
     assert!(
         matches!(err, Err(EstimateError::ChordTooLong { index: 1, .. })),
         "{err:?}"
     );
-    let bad_config = IdentifyConfig {
+    let bad_config = IdentifierParams {
         max_chi2_per_dof: f64::NAN,
-        ..IdentifyConfig::default()
+        ..IdentifierParams::default()
     };
     assert!(matches!(
         identify(&model, &good, &bad_config, &mut rng),
@@ -213,12 +213,12 @@ fn streaming_matches_batch_and_absorbs_new_samples() -> Result<(), EstimateError
     let model = thin()?;
     let data = samples(&model, 460, 4, 0.5, None)?;
     let mut rng = ChaCha8Rng::seed_from_u64(6);
-    let batch = identify(&model, &data[..3], &IdentifyConfig::default(), &mut rng)?;
+    let batch = identify(&model, &data[..3], &IdentifierParams::default(), &mut rng)?;
 
     // The same seed, all three samples pushed, the work cut into zero-budget steps: no work is
     // started in a zero budget, so the estimate stays provisional until run to completion.
     let rng = ChaCha8Rng::seed_from_u64(6);
-    let mut id = Identifier::new(model, IdentifyConfig::default(), rng)?;
+    let mut id = Identifier::new(model, IdentifierParams::default(), rng)?;
     assert!(matches!(
         id.step(Duration::from_millis(5)),
         Err(EstimateError::TooFewSamples { .. })

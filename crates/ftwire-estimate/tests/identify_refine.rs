@@ -79,7 +79,7 @@ fn lm_jacobian_matches_known_derivative() -> Result<(), EstimateError> {
 /// identity: `L_i⁻¹ W (Σ_b + J_i Σ_a J_iᵀ) W L_i⁻ᵀ = I`, with `J_i` solved here independently.
 #[test]
 fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<(), EstimateError> {
-    let noise = ftwire_estimate::identify::NoiseModel::default();
+    let noise = ftwire_estimate::identify::MeasurementNoise::default();
     for model in [thick()?, thin()?] {
         let samples = exact_samples(&model, 700)?;
         let residuals = absolute(&model, &samples);

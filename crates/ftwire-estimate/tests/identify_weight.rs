@@ -3,7 +3,7 @@
 
 mod identify_common;
 
-use ftwire_estimate::identify::{IdentifyConfig, ParameterConstraints, identify};
+use ftwire_estimate::identify::{IdentifierParams, ParameterConstraints, identify};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::Load;
 use identify_common::{SENSOR, errors, noise_model, samples, thick, thin, worst};
@@ -37,12 +37,12 @@ fn exact_loaded_data_give_c_l_and_the_linear_density() -> Result<(), EstimateErr
         for (k, g) in gravities().into_iter().enumerate() {
             let (truth, lambda) = loaded(base, g)?;
             let data = samples(&truth, 40 + k as u64, 3, 0.5, None)?;
-            let config = IdentifyConfig {
+            let config = IdentifierParams {
                 constraints: ParameterConstraints {
                     weight: Some(g),
                     ..ParameterConstraints::default()
                 },
-                ..IdentifyConfig::default()
+                ..IdentifierParams::default()
             };
             // The estimator starts from a weightless template: it knows gravity, not the wire.
             let mut rng = ChaCha8Rng::seed_from_u64(k as u64);
@@ -76,22 +76,22 @@ fn noisy_loaded_data_give_c_l_and_the_weight_and_the_weightless_fit_is_flagged()
             let (truth, lambda) = loaded(base, g)?;
             let data = samples(&truth, 60 + k as u64, 3, 0.5, Some(SENSOR))?;
             let noise = noise_model(truth.wire(), SENSOR);
-            let weighed = IdentifyConfig {
+            let weighed = IdentifierParams {
                 constraints: ParameterConstraints {
                     weight: Some(g),
                     ..ParameterConstraints::default()
                 },
                 noise,
-                ..IdentifyConfig::default()
+                ..IdentifierParams::default()
             };
             let mut rng = ChaCha8Rng::seed_from_u64(k as u64);
             let est = identify(&base, &data, &weighed, &mut rng)?;
             let e = errors(est.c, est.length, truth.wire());
             let e_lambda = (est.linear_density.unwrap_or(f64::NAN) / lambda - 1.0).abs();
             // The paper's weightless model on the same data.
-            let weightless = IdentifyConfig {
+            let weightless = IdentifierParams {
                 noise,
-                ..IdentifyConfig::default()
+                ..IdentifierParams::default()
             };
             let mut rng = ChaCha8Rng::seed_from_u64(k as u64);
             let paper = identify(&base, &data, &weightless, &mut rng)?;
@@ -133,12 +133,12 @@ fn noisy_loaded_data_give_c_l_and_the_weight_and_the_weightless_fit_is_flagged()
 
 #[test]
 fn a_zero_gravity_is_a_bad_setting() -> Result<(), EstimateError> {
-    let config = IdentifyConfig {
+    let config = IdentifierParams {
         constraints: ParameterConstraints {
             weight: Some(Vector3::zeros()),
             ..ParameterConstraints::default()
         },
-        ..IdentifyConfig::default()
+        ..IdentifierParams::default()
     };
     let data = samples(&thin()?, 1, 3, 0.5, None)?;
     let mut rng = ChaCha8Rng::seed_from_u64(0);

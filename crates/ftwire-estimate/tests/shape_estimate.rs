@@ -2,7 +2,7 @@
 //! catches unstable configurations and jumps, bad input is named.
 
 use ftwire_core::{CoreError, WireParams};
-use ftwire_estimate::shape::{Confidence, EstimatorConfig, ShapeEstimator};
+use ftwire_estimate::shape::{Confidence, EstimatorParams, ShapeEstimator};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::{RodError, from_normalised};
 use nalgebra::Vector6;
@@ -46,9 +46,9 @@ fn unstable_configurations_are_flagged() -> Result<(), EstimateError> {
 #[test]
 fn jumps_are_flagged_once_and_reset_forgets() -> Result<(), EstimateError> {
     let model = model()?;
-    let config = EstimatorConfig {
+    let config = EstimatorParams {
         jump_threshold: 1.0,
-        ..EstimatorConfig::default()
+        ..EstimatorParams::default()
     };
     let mut estimator = ShapeEstimator::new(model).with_config(config)?;
     let z = Vector6::new(0.5, 2.0, -1.0, -3.0, 1.5, 0.5);
@@ -82,9 +82,9 @@ fn jumps_are_flagged_once_and_reset_forgets() -> Result<(), EstimateError> {
 #[test]
 fn bad_input_is_named_and_leaves_the_state() -> Result<(), EstimateError> {
     let model = model()?;
-    let mut estimator = ShapeEstimator::new(model).with_config(EstimatorConfig {
+    let mut estimator = ShapeEstimator::new(model).with_config(EstimatorParams {
         jump_threshold: 1.0,
-        ..EstimatorConfig::default()
+        ..EstimatorParams::default()
     })?;
     let z = Vector6::new(0.5, 2.0, -1.0, -3.0, 1.5, 0.5);
     let a = from_normalised(model.wire(), &z);
@@ -104,18 +104,18 @@ fn bad_input_is_named_and_leaves_the_state() -> Result<(), EstimateError> {
     // The errors did not replace the reference sample: a is still confident.
     assert!(estimator.estimate(&a)?.confidence.is_confident());
     for nodes in [49, 2_000_000] {
-        let config = EstimatorConfig {
+        let config = EstimatorParams {
             nodes,
-            ..EstimatorConfig::default()
+            ..EstimatorParams::default()
         };
         assert!(matches!(
             ShapeEstimator::new(model).with_config(config),
             Err(EstimateError::BadShapeSetting { name: "nodes", .. })
         ));
     }
-    let config = EstimatorConfig {
+    let config = EstimatorParams {
         jump_threshold: f64::INFINITY,
-        ..EstimatorConfig::default()
+        ..EstimatorParams::default()
     };
     assert!(matches!(
         ShapeEstimator::new(model).with_config(config),

@@ -4,7 +4,7 @@
 
 use ftwire_core::WireParams;
 use ftwire_estimate::shape::{
-    Correspondence, FitConfig, GlobalSearch, Markers, MultiStart, ShapeFit, ShapeFitter,
+    Correspondence, FitParams, GlobalSearch, Markers, MultiStart, ShapeFit, ShapeFitter,
     SwarmSearch, centreline_distance, centreline_point, evenly_spaced_fractions,
 };
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
@@ -117,7 +117,7 @@ struct Summary {
 
 fn run(
     model: &KirchhoffModel,
-    config: FitConfig,
+    config: FitParams,
     seeds: &[u64],
     per_seed: usize,
     sigma: f64,
@@ -136,7 +136,7 @@ fn run(
 
 fn run_with<G: GlobalSearch>(
     model: &KirchhoffModel,
-    config: FitConfig,
+    config: FitParams,
     global: G,
     seeds: &[u64],
     per_seed: usize,
@@ -187,7 +187,7 @@ fn mean(values: &[f64]) -> f64 {
 
 #[test]
 fn exact_markers_recover_a_and_the_shape() -> Result<(), EstimateError> {
-    let summary = run(&two_mm()?, FitConfig::default(), &[1, 2, 3], 6, 0.0, 0)?;
+    let summary = run(&two_mm()?, FitParams::default(), &[1, 2, 3], 6, 0.0, 0)?;
     eprintln!(
         "exact: rel max {:.2e} mean {:.2e}; shape max {:.2e} mm",
         max(&summary.relative),
@@ -202,7 +202,7 @@ fn exact_markers_recover_a_and_the_shape() -> Result<(), EstimateError> {
 #[test]
 fn noisy_markers_with_dropouts_recover_the_shape() -> Result<(), EstimateError> {
     for (model, seeds) in [(two_mm()?, [4, 5, 6]), (three_mm()?, [7, 8, 9])] {
-        let summary = run(&model, FitConfig::default(), &seeds, 6, 3e-4, 2)?;
+        let summary = run(&model, FitParams::default(), &seeds, 6, 3e-4, 2)?;
         eprintln!(
             "noisy L = {}: rel max {:.2e} mean {:.2e}; shape max {:.3} mm mean {:.3} mm; rms max {:.3} mm",
             model.wire().length(),
@@ -223,9 +223,9 @@ fn noisy_markers_with_dropouts_recover_the_shape() -> Result<(), EstimateError> 
 
 #[test]
 fn closest_point_correspondence_recovers_the_shape() -> Result<(), EstimateError> {
-    let config = FitConfig {
+    let config = FitParams {
         correspondence: Correspondence::ClosestPoint,
-        ..FitConfig::default()
+        ..FitParams::default()
     };
     let summary = run(&two_mm()?, config, &[10, 11], 4, 3e-4, 1)?;
     eprintln!(
@@ -241,9 +241,9 @@ fn closest_point_correspondence_recovers_the_shape() -> Result<(), EstimateError
 #[test]
 fn bad_settings_are_named() -> Result<(), EstimateError> {
     let model = two_mm()?;
-    let bad_rms = FitConfig {
+    let bad_rms = FitParams {
         trusted_rms: -1.0,
-        ..FitConfig::default()
+        ..FitParams::default()
     };
     assert!(matches!(
         ShapeFitter::new(model).with_config(bad_rms),
@@ -253,7 +253,7 @@ fn bad_settings_are_named() -> Result<(), EstimateError> {
             ..
         })
     ));
-    let mut no_iterations = FitConfig::default();
+    let mut no_iterations = FitParams::default();
     no_iterations.local.max_iterations = 0;
     assert!(matches!(
         ShapeFitter::new(model).with_config(no_iterations),
@@ -264,9 +264,9 @@ fn bad_settings_are_named() -> Result<(), EstimateError> {
     ));
     // A global stage with no samples is refused when it runs; no continuation either.
     let fitter = ShapeFitter::new(model)
-        .with_config(FitConfig {
+        .with_config(FitParams {
             continuation_steps: 0,
-            ..FitConfig::default()
+            ..FitParams::default()
         })?
         .with_global(MultiStart {
             samples: 0,
@@ -290,9 +290,9 @@ fn bad_settings_are_named() -> Result<(), EstimateError> {
 /// swarm alone finds the basin. Noisy markers, both wires, several seeds.
 #[test]
 fn the_particle_swarm_then_refinement_recovers_the_shape() -> Result<(), EstimateError> {
-    let config = FitConfig {
+    let config = FitParams {
         continuation_steps: 0,
-        ..FitConfig::default()
+        ..FitParams::default()
     };
     for (model, seeds) in [(two_mm()?, [21, 22]), (three_mm()?, [23, 24])] {
         let summary = run_with(&model, config, SwarmSearch::default(), &seeds, 3, 3e-4, 1)?;

@@ -34,7 +34,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use ftwire_control::{BiasObserver, BiasObserverSettings, NoiseModel};
+use ftwire_control::{BiasObserver, BiasObserverParams, NoiseModel};
 use ftwire_core::Rig;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
@@ -45,7 +45,7 @@ use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
-use ftwire_sim::RigConfig;
+use ftwire_sim::RigParams;
 use nalgebra::{Point3, Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -145,7 +145,7 @@ impl ShapeParams {
 }
 
 /// The bias observer's settings that fuse a rest with the gripper's reported pose.
-fn fusion(setup: &SimSetup) -> Result<BiasObserverSettings, LabError> {
+fn fusion(setup: &SimSetup) -> Result<BiasObserverParams, LabError> {
     bias_observer(setup, NoiseModel::None, true)
         .ok_or_else(|| LabError::bad_input("no bias observer for a robot that knows its pose"))
 }
@@ -242,7 +242,7 @@ fn mean(values: &[f64]) -> f64 {
 /// settings that fuse the rest with the gripper's reported pose, and the samples averaged.
 struct Readout<'a> {
     calibration: &'a Calibration,
-    fusion: BiasObserverSettings,
+    fusion: BiasObserverParams,
     rest_samples: usize,
 }
 
@@ -267,7 +267,7 @@ fn run_config(
     estimator: &mut ShapeEstimator<KirchhoffModel>,
     other: &KirchhoffModel,
     placed: &Vector6<f64>,
-    config: RigConfig,
+    config: RigParams,
 ) -> Result<Option<ConfigResult>, LabError> {
     let Ok(mut rig) = place_wire(wire, gravity, placed, config.clone()) else {
         return Ok(None);

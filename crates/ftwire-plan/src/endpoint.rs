@@ -14,7 +14,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::validity::{Checker, Sample};
-use crate::{Config, ConfigurationSpec, PlanError, Scene};
+use crate::{ZPoint, ConfigurationSpec, PlanError, Scene};
 
 /// Candidates drawn from `A_free` for the inverse problem.
 const CANDIDATES: usize = 400;
@@ -98,7 +98,7 @@ pub fn configuration_for_tip(
 ///
 /// # Errors
 /// [`PlanError::UnknownConfiguration`], or as [`configuration_for_tip`].
-pub fn scene_configuration(scene: &Scene, rod: &Rod, name: &str) -> Result<Config, PlanError> {
+pub fn scene_configuration(scene: &Scene, rod: &Rod, name: &str) -> Result<ZPoint, PlanError> {
     let a = match *scene.configuration(name)? {
         ConfigurationSpec::A(a) => a,
         ConfigurationSpec::Normalised(n) => from_normalised(rod.wire(), &n),
@@ -106,7 +106,7 @@ pub fn scene_configuration(scene: &Scene, rod: &Rod, name: &str) -> Result<Confi
             configuration_for_tip(rod, &(scene.base.inverse() * tip), name, 0)?
         }
     };
-    Ok(Config {
+    Ok(ZPoint {
         a,
         base: scene.base,
     })

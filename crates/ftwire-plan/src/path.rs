@@ -4,7 +4,7 @@
 use nalgebra::SVector;
 
 use crate::validity::{Checker, Invalid, Sample};
-use crate::{Config, Space};
+use crate::{ZPoint, Space};
 
 /// A path through `Z_free`: consecutive waypoints joined by straight edges that were checked
 /// at the resolution of [`crate::validity`].
@@ -100,7 +100,7 @@ impl Path {
             } else {
                 1.0
             };
-            let config: Config = a.config.interpolate(&b.config, s);
+            let config: ZPoint = a.config.interpolate(&b.config, s);
             // The arms' IK seeded from the last resampled point, then from the planned
             // waypoints either side (each checked with IK when planned), then the full
             // search: a seeded solve can miss a pose the arms do reach.

@@ -135,7 +135,7 @@ pub fn polish_clearance(
 
 /// What the polish ascends at `config`: its clearance, or its landing clearance with
 /// [`PolishParams::landing`]; `None` where the model refuses it.
-fn score(checker: &Checker, config: &crate::Config, params: &PolishParams) -> Option<f64> {
+fn score(checker: &Checker, config: &crate::ZPoint, params: &PolishParams) -> Option<f64> {
     match &params.landing {
         None => checker.clearance(config).ok(),
         Some(landing) => landing_clearance(checker, config, landing).ok(),
@@ -157,7 +157,7 @@ fn polish_one(checker: &Checker, path: &mut [Sample], i: usize, params: &PolishP
         let here = &path[i];
         let x = ftwire_rod::to_normalised(&wire, &here.config.a);
         let score_at = |x: &Vector6<f64>| {
-            let config = crate::Config {
+            let config = crate::ZPoint {
                 a: ftwire_rod::from_normalised(&wire, x),
                 ..here.config
             };
@@ -189,7 +189,7 @@ fn polish_one(checker: &Checker, path: &mut [Sample], i: usize, params: &PolishP
             if shift.norm() > params.max_shift {
                 next = origin + shift * (params.max_shift / shift.norm());
             }
-            let config = crate::Config {
+            let config = crate::ZPoint {
                 a: ftwire_rod::from_normalised(&wire, &next),
                 ..here.config
             };
@@ -220,7 +220,7 @@ fn valid_between(
     checker: &Checker,
     path: &[Sample],
     i: usize,
-    config: &crate::Config,
+    config: &crate::ZPoint,
 ) -> Option<Sample> {
     let edge = checker.edge(&path[i - 1], config).ok()?;
     let sample = edge.end;
@@ -257,7 +257,7 @@ pub struct Landing {
 /// [`PlanError::Rod`] when the model refuses `config.a`.
 pub fn landing_clearance(
     checker: &Checker,
-    config: &crate::Config,
+    config: &crate::ZPoint,
     landing: &Landing,
 ) -> Result<f64, PlanError> {
     landing.check()?;
@@ -285,7 +285,7 @@ pub fn landing_clearance(
 /// The wire's clearance \[m\] (`Checker::wire_clearance`) at `a`, with `config`'s base.
 fn clearance_at(
     checker: &Checker,
-    config: &crate::Config,
+    config: &crate::ZPoint,
     a: &Vector6<f64>,
 ) -> Result<f64, ftwire_rod::RodError> {
     let shape = checker.rod().shape(a, checker.params().nodes)?;
@@ -326,7 +326,7 @@ pub struct Scatter {
 /// samples; [`PlanError::Rod`] when the model refuses `config.a`.
 pub fn touch_rate(
     checker: &Checker,
-    config: &crate::Config,
+    config: &crate::ZPoint,
     scatter: &Scatter,
 ) -> Result<f64, PlanError> {
     scatter.check()?;

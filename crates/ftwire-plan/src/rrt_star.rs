@@ -40,7 +40,7 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::validity::{Checker, Edge, Sample, joint_distance};
-use crate::{Config, Path, PlanError, Space};
+use crate::{ZPoint, Path, PlanError, Space};
 
 /// Settings of [`plan`] (public fields + `Default`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -245,7 +245,7 @@ impl<const D: usize> FailedEdges<D> {
         from: usize,
         sample: &Sample,
         x: &SVector<f64, D>,
-        config: &Config,
+        config: &ZPoint,
     ) -> Option<Edge> {
         let id = (from, std::array::from_fn(|i| x[i].to_bits()));
         if self.edges.contains(&id) {
@@ -290,7 +290,7 @@ pub fn plan<const D: usize, S: Space<D>>(
     space: &S,
     checker: &Checker,
     start: &Sample,
-    goal: &Config,
+    goal: &ZPoint,
     params: &PlannerParams,
 ) -> Result<Plan, PlanError> {
     check_params(params)?;

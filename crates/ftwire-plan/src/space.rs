@@ -10,7 +10,7 @@ use ftwire_core::{Pose, WireParams};
 use ftwire_rod::{from_normalised, to_normalised};
 use nalgebra::{SVector, Translation3, UnitQuaternion, Vector3};
 
-use crate::Config;
+use crate::ZPoint;
 
 /// A planning space of dimension `D`: a box of states and the map to configurations.
 pub trait Space<const D: usize> {
@@ -19,9 +19,9 @@ pub trait Space<const D: usize> {
     /// The box's upper corner.
     fn upper(&self) -> SVector<f64, D>;
     /// The configuration of a state.
-    fn config(&self, x: &SVector<f64, D>) -> Config;
+    fn config(&self, x: &SVector<f64, D>) -> ZPoint;
     /// The state of a configuration.
-    fn state(&self, config: &Config) -> SVector<f64, D>;
+    fn state(&self, config: &ZPoint) -> SVector<f64, D>;
 }
 
 /// Normalised `A`, the base gripper held at one pose (the paper's planner).
@@ -51,7 +51,7 @@ impl FixedBase {
     /// The smallest box holding the configurations `a` (physical units), padded by `pad`
     /// normalised units on every side: the planner then samples near its start and goal, where
     /// the arms can follow (most of a wide box is out of the second arm's reach).
-    pub fn around(wire: WireParams, base: Pose, configurations: &[Config], pad: f64) -> Self {
+    pub fn around(wire: WireParams, base: Pose, configurations: &[ZPoint], pad: f64) -> Self {
         let mut lower = SVector::<f64, 6>::repeat(f64::INFINITY);
         let mut upper = SVector::<f64, 6>::repeat(f64::NEG_INFINITY);
         for c in configurations {
@@ -78,13 +78,13 @@ impl Space<6> for FixedBase {
     fn upper(&self) -> SVector<f64, 6> {
         self.upper
     }
-    fn config(&self, x: &SVector<f64, 6>) -> Config {
-        Config {
+    fn config(&self, x: &SVector<f64, 6>) -> ZPoint {
+        ZPoint {
             a: from_normalised(&self.wire, x),
             base: self.base,
         }
     }
-    fn state(&self, config: &Config) -> SVector<f64, 6> {
+    fn state(&self, config: &ZPoint) -> SVector<f64, 6> {
         to_normalised(&self.wire, &config.a)
     }
 }
@@ -157,7 +157,7 @@ impl Space<12> for MovingBase {
     fn upper(&self) -> SVector<f64, 12> {
         self.corner(&self.a_upper, 1.0)
     }
-    fn config(&self, x: &SVector<f64, 12>) -> Config {
+    fn config(&self, x: &SVector<f64, 12>) -> ZPoint {
         let a = from_normalised(&self.wire, &x.fixed_rows::<6>(0).into_owned());
         let t: Vector3<f64> = x.fixed_rows::<3>(6) * self.translation_unit;
         let r: Vector3<f64> = x.fixed_rows::<3>(9) * self.rotation_unit;
@@ -165,9 +165,9 @@ impl Space<12> for MovingBase {
             Translation3::from(self.base.translation.vector + t),
             UnitQuaternion::from_scaled_axis(r) * self.base.rotation,
         );
-        Config { a, base }
+        ZPoint { a, base }
     }
-    fn state(&self, config: &Config) -> SVector<f64, 12> {
+    fn state(&self, config: &ZPoint) -> SVector<f64, 12> {
         let a = to_normalised(&self.wire, &config.a);
         let t =
             (config.base.translation.vector - self.base.translation.vector) / self.translation_unit;

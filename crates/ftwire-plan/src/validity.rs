@@ -126,25 +126,25 @@ impl Default for ValidityParams {
 
 /// A configuration in `Z = A × Q`: the wire's `a` and the base gripper's pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Config {
+pub struct ZPoint {
     /// `a` \[N·m, N\], torque first, base clamp frame.
     pub a: Vector6<f64>,
     /// World from the base gripper's clamp frame.
     pub base: Pose,
 }
 
-impl Config {
+impl ZPoint {
     /// The point a fraction `s ∈ [0, 1]` along the straight edge to `to`: `a` linear, the base
     /// translation linear and its rotation spherical.
     /// The ends are returned exactly (`s ≤ 0`: `self`, `s ≥ 1`: `to`).
-    pub fn interpolate(&self, to: &Config, s: f64) -> Config {
+    pub fn interpolate(&self, to: &ZPoint, s: f64) -> ZPoint {
         if s <= 0.0 {
             return *self;
         }
         if s >= 1.0 {
             return *to;
         }
-        Config {
+        ZPoint {
             a: self.a + (to.a - self.a) * s,
             base: self.base.lerp_slerp(&to.base, s),
         }
@@ -247,7 +247,7 @@ impl fmt::Display for Invalid {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sample {
     /// The configuration.
-    pub config: Config,
+    pub config: ZPoint,
     /// World from the second gripper's clamp frame (`base · Γ(a)`).
     pub tip: Pose,
     /// Joint angles of the robot reaching both grippers.
@@ -364,7 +364,7 @@ impl Checker {
     ///
     /// # Errors
     /// The reason the configuration is not in `Z_free`.
-    pub fn endpoint(&self, config: &Config) -> Result<Sample, Invalid> {
+    pub fn endpoint(&self, config: &ZPoint) -> Result<Sample, Invalid> {
         let wire = self.wire(config)?;
         let target = DualArmTarget {
             world_from_base: Pose::identity(),
@@ -398,13 +398,13 @@ impl Checker {
     ///
     /// # Errors
     /// The reason the configuration is not in `Z_free`.
-    pub fn sample(&self, config: &Config, seed: &DualArmJoints) -> Result<Sample, Invalid> {
+    pub fn sample(&self, config: &ZPoint, seed: &DualArmJoints) -> Result<Sample, Invalid> {
         let wire = self.wire(config)?;
         self.finish(config, wire, seed)
     }
 
     /// The wire's checks: stability, self-intersection, clearance.
-    fn wire(&self, config: &Config) -> Result<WireState, Invalid> {
+    fn wire(&self, config: &ZPoint) -> Result<WireState, Invalid> {
         let model = |e: ftwire_rod::RodError| Invalid::Model(e.to_string());
         let solution = self
             .rod
@@ -473,7 +473,7 @@ impl Checker {
     /// The robot's checks on a wire found valid, the IK seeded from `seed`.
     fn finish(
         &self,
-        config: &Config,
+        config: &ZPoint,
         wire: WireState,
         seed: &DualArmJoints,
     ) -> Result<Sample, Invalid> {
@@ -496,7 +496,7 @@ impl Checker {
     /// # Errors
     /// The reason the end's wire is not in `Z_free`, else the reason the first failing sample
     /// or interval is not.
-    pub fn edge(&self, from: &Sample, to: &Config) -> Result<Edge, Invalid> {
+    pub fn edge(&self, from: &Sample, to: &ZPoint) -> Result<Edge, Invalid> {
         let wire = self.rod.wire();
         let da = (to_normalised(wire, &to.a) - to_normalised(wire, &from.config.a)).norm();
         let dt = (to.base.translation.vector - from.config.base.translation.vector).norm();
@@ -570,7 +570,7 @@ impl Checker {
     fn resolve(
         &self,
         from: &Sample,
-        to: &Config,
+        to: &ZPoint,
         (a, sa): (&Sample, f64),
         (b, sb): (&Sample, f64),
         min_fraction: f64,
@@ -616,7 +616,7 @@ impl Checker {
     ///
     /// # Errors
     /// [`Invalid::Model`] when the model refuses `a`.
-    pub fn clearance(&self, config: &Config) -> Result<f64, Invalid> {
+    pub fn clearance(&self, config: &ZPoint) -> Result<f64, Invalid> {
         let shape = self
             .rod
             .shape(&config.a, self.params.nodes)
@@ -747,7 +747,7 @@ struct EdgeState {
 
 /// The model's centreline (base clamp frame) in the world frame of `config`'s base.
 pub(crate) fn world_centreline(
-    config: &Config,
+    config: &ZPoint,
     positions: &[nalgebra::Vector3<f64>],
 ) -> Vec<Point3<f64>> {
     positions

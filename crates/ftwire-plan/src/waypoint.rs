@@ -9,7 +9,7 @@ use ftwire_rod::{Rod, to_normalised};
 use nalgebra::{Point3, Translation3, Vector3, Vector6};
 use serde::Serialize;
 
-use crate::{Checker, Config, PlanError, PlanPolicy, Sample, Scene, ValidityParams};
+use crate::{Checker, ZPoint, PlanError, PlanPolicy, Sample, Scene, ValidityParams};
 
 /// The clearance \[m\] below which a waypoint's planned wire is near an obstacle: its surface
 /// closer than this to a box or the floor ([`near_obstacles`]). A 3 mm wire through the middle
@@ -172,7 +172,7 @@ pub fn polish_waypoints(
     )?;
     let mut chain: Vec<Sample> = Vec::with_capacity(waypoints.len());
     for w in waypoints {
-        let config = Config {
+        let config = ZPoint {
             a: w.a,
             base: scene.base,
         };
@@ -224,7 +224,7 @@ pub fn expected_touches(
         policy.validity(rod.wire().length()),
     )?;
     waypoints.iter().skip(1).try_fold(0.0, |sum, w| {
-        let config = Config {
+        let config = ZPoint {
             a: w.a,
             base: scene.base,
         };
@@ -270,7 +270,7 @@ pub fn relocation(
             poses.base.rotation,
         )
     };
-    let clear = |base: Pose| checker.endpoint(&Config { a: *a_goal, base }).is_ok();
+    let clear = |base: Pose| checker.endpoint(&ZPoint { a: *a_goal, base }).is_ok();
     let coarse = DualArmParams::default();
     for &step in steps {
         for axis in 0..6 {

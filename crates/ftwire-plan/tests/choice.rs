@@ -7,7 +7,7 @@ mod common;
 use common::{rod, shipped_passage};
 use ftwire_core::{GripperPoses, Pose};
 use ftwire_plan::{
-    Checker, Config, MARGIN_NOISY, MAX_SPAN_NOISY, PlanError, PlanPolicy, ScenePlan, WAYPOINTS,
+    Checker, ZPoint, MARGIN_NOISY, MAX_SPAN_NOISY, PlanError, PlanPolicy, ScenePlan, WAYPOINTS,
     Waypoint, candidate_seed, choose_plan, near_obstacles, plan_in_scene, relocation,
     scene_configuration, waypoints_along,
 };
@@ -135,7 +135,7 @@ fn a_relocation_is_one_clear_axis_translation_from_which_the_arms_reach() {
     assert!(steps.iter().any(|s| (t.norm() - s).abs() < 1e-12));
     let robot = Robot::sda10f().expect("robot");
     let checker = Checker::new(rod, robot, &scene, policy.validity(0.82)).expect("ok");
-    assert!(checker.endpoint(&Config { a: goal.a, base }).is_ok());
+    assert!(checker.endpoint(&ZPoint { a: goal.a, base }).is_ok());
     // A relative pose no base near here reaches (the grippers 3 m apart): none.
     let far = GripperPoses {
         base: scene.base,

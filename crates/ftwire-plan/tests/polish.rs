@@ -8,7 +8,7 @@
 mod common;
 
 use ftwire_plan::{
-    Config, Landing, PlannerParams, PolishParams, Sample, Scatter, landing_clearance, plan,
+    ZPoint, Landing, PlannerParams, PolishParams, Sample, Scatter, landing_clearance, plan,
     polish_clearance, touch_rate,
 };
 use ftwire_rod::{se3, to_normalised};
@@ -145,7 +145,7 @@ const TWO_SIGMA: Landing = Landing {
 
 /// The exact landing of `config` when the second gripper lands off by the body twist `xi`:
 /// the `a` whose tip is `Γ(a)·exp(ξ)`, by Newton's method from `config.a` (the same branch).
-fn exact_landing(checker: &ftwire_plan::Checker, config: &Config, xi: &Vector6<f64>) -> Config {
+fn exact_landing(checker: &ftwire_plan::Checker, config: &ZPoint, xi: &Vector6<f64>) -> ZPoint {
     try_exact_landing(checker, config, xi).expect("Newton converged")
 }
 
@@ -153,9 +153,9 @@ fn exact_landing(checker: &ftwire_plan::Checker, config: &Config, xi: &Vector6<f
 /// beyond a fold).
 fn try_exact_landing(
     checker: &ftwire_plan::Checker,
-    config: &Config,
+    config: &ZPoint,
     xi: &Vector6<f64>,
-) -> Option<Config> {
+) -> Option<ZPoint> {
     let rod = checker.rod();
     let start = rod.tip(&config.a).ok()?;
     let mut a = config.a;
@@ -175,7 +175,7 @@ fn try_exact_landing(
         }
     }
     let tip = rod.tip(&a).ok()?;
-    (se3::log(&(tip.inverse() * target)).norm() < 1e-6).then_some(Config { a, ..*config })
+    (se3::log(&(tip.inverse() * target)).norm() < 1e-6).then_some(ZPoint { a, ..*config })
 }
 
 use nalgebra::Vector6;

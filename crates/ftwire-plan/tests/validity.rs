@@ -3,7 +3,7 @@
 
 mod common;
 
-use ftwire_plan::{Config, Invalid, PlanError, Scene, scene_configuration, scene_endpoint};
+use ftwire_plan::{ZPoint, Invalid, PlanError, Scene, scene_configuration, scene_endpoint};
 use ftwire_rod::from_normalised;
 use nalgebra::Vector6;
 
@@ -77,13 +77,13 @@ fn an_unstable_configuration_is_invalid() {
     let rod = common::rod();
     // Compressed far beyond the clamped–clamped Euler load 4π² (normalised).
     let a = from_normalised(rod.wire(), &Vector6::new(0.0, 0.0, 1e-3, -80.0, 0.0, 0.0));
-    let config = Config {
+    let config = ZPoint {
         a,
         base: scene.base,
     };
     assert_eq!(checker.endpoint(&config), Err(Invalid::Unstable));
     // Outside A (a2 = a3 = a5 = a6 = 0): the model refuses it.
-    let config = Config {
+    let config = ZPoint {
         a: Vector6::new(0.1, 0.0, 0.0, -0.1, 0.0, 0.0),
         base: scene.base,
     };
@@ -114,7 +114,7 @@ fn the_edge_through_a_block_is_invalid_and_its_reason_named() {
     for k in 1..=40 {
         let mut y = x;
         y[1] += 0.1 * f64::from(k);
-        let to = Config {
+        let to = ZPoint {
             a: from_normalised(rod.wire(), &y),
             base: scene.base,
         };
@@ -210,7 +210,7 @@ fn stability_margin_rejects_a_stable_configuration_next_to_the_boundary() {
     // Half a unit inside: stable, and one more unit of compression is not.
     let t = lo - 0.5;
     assert!(stable(t) && !stable(t + 1.0), "boundary at {lo}");
-    let config = Config {
+    let config = ZPoint {
         a: at(t),
         base: scene.base,
     };
@@ -272,7 +272,7 @@ fn a_stability_model_holds_configurations_to_its_own_folds() {
         "{t_loaded} against {weightless}"
     );
     // Stable for the planner's model, not for the loaded one.
-    let config = Config {
+    let config = ZPoint {
         a: compressed(&rod, 0.5 * (t_loaded + weightless)),
         base: scene.base,
     };

@@ -5,8 +5,8 @@
 //! equilibrium carried along by a blend of the two grippers' rigid motions, weighted by arc
 //! length, which is exact when both grippers move together — and is corrected by Newton's
 //! method ([`crate::newton`]). A step whose Newton solve fails is halved, up to
-//! [`ContinuationSettings::max_subdivisions`] times. A step whose corrector moves some node by
-//! more than [`ContinuationSettings::snap_distance`] is halved as well; if the jump persists at
+//! [`ContinuationParams::max_subdivisions`] times. A step whose corrector moves some node by
+//! more than [`ContinuationParams::snap_distance`] is halved as well; if the jump persists at
 //! `1/16` of the nominal step, the branch has ended: the wire snaps to another branch, as a real
 //! wire does, and the jump is reported as a [`SnapEvent`].
 
@@ -101,7 +101,7 @@ pub(crate) fn predict(world: &World, from: &Equilibrium, base: &Pose, tip: &Pose
 /// The error of a motion that has spent more than its work limit after `iterations` Newton
 /// iterations, if it has.
 fn exhausted(
-    settings: &crate::ContinuationSettings,
+    settings: &crate::ContinuationParams,
     iterations: usize,
     world: &World,
 ) -> Option<SimError> {

@@ -59,7 +59,7 @@ pub enum SimError {
         /// How many times the motion step was halved before giving up.
         subdivisions: usize,
     },
-    /// A motion spent its work limit ([`crate::ContinuationSettings::work_limit`]) before it
+    /// A motion spent its work limit ([`crate::ContinuationParams::work_limit`]) before it
     /// reached its target.
     #[error(
         "no equilibrium found: the motion spent its work limit of {limit} Newton iterations \

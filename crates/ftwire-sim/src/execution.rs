@@ -27,14 +27,14 @@ use crate::sensor::{SensingError, in_range};
 ///
 /// # Example
 /// ```
-/// use ftwire_sim::ExecutionErrorConfig;
+/// use ftwire_sim::ExecutionErrorParams;
 ///
-/// assert_eq!(ExecutionErrorConfig::default().position_std, 0.0);
-/// assert_eq!(ExecutionErrorConfig::paper().position_std, 0.010);
+/// assert_eq!(ExecutionErrorParams::default().position_std, 0.0);
+/// assert_eq!(ExecutionErrorParams::paper().position_std, 0.010);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct ExecutionErrorConfig {
+pub struct ExecutionErrorParams {
     /// Position error σ per axis of the gripper frame \[m\] (default `0`; the paper's
     /// experiments use `0.010`).
     pub position_std: f64,
@@ -43,12 +43,12 @@ pub struct ExecutionErrorConfig {
     pub orientation_std: f64,
 }
 
-impl ExecutionErrorConfig {
+impl ExecutionErrorParams {
     /// The gripper noise of the paper's control experiments: 10 mm and 3°.
     ///
     /// # Example
     /// ```
-    /// let paper = ftwire_sim::ExecutionErrorConfig::paper();
+    /// let paper = ftwire_sim::ExecutionErrorParams::paper();
     /// assert!((paper.orientation_std.to_degrees() - 3.0).abs() < 1e-12);
     /// ```
     #[must_use]
@@ -60,11 +60,11 @@ impl ExecutionErrorConfig {
     }
 }
 
-/// The execution-error model: a validated [`ExecutionErrorConfig`] and its own seeded random
+/// The execution-error model: a validated [`ExecutionErrorParams`] and its own seeded random
 /// number generator. Same configuration, seed and calls give the same poses.
 #[derive(Debug, Clone)]
 pub struct ExecutionErrorModel {
-    config: ExecutionErrorConfig,
+    config: ExecutionErrorParams,
     rng: ChaCha8Rng,
 }
 
@@ -76,13 +76,13 @@ impl ExecutionErrorModel {
     ///
     /// # Example
     /// ```
-    /// use ftwire_sim::{ExecutionErrorConfig, ExecutionErrorModel};
+    /// use ftwire_sim::{ExecutionErrorParams, ExecutionErrorModel};
     ///
-    /// assert!(ExecutionErrorModel::new(ExecutionErrorConfig::paper(), 9).is_ok());
-    /// let bad = ExecutionErrorConfig { position_std: -1.0, ..ExecutionErrorConfig::paper() };
+    /// assert!(ExecutionErrorModel::new(ExecutionErrorParams::paper(), 9).is_ok());
+    /// let bad = ExecutionErrorParams { position_std: -1.0, ..ExecutionErrorParams::paper() };
     /// assert!(ExecutionErrorModel::new(bad, 9).is_err());
     /// ```
-    pub fn new(config: ExecutionErrorConfig, seed: u64) -> Result<Self, SensingError> {
+    pub fn new(config: ExecutionErrorParams, seed: u64) -> Result<Self, SensingError> {
         in_range("position_std", 0, config.position_std, 0.0, f64::MAX)?;
         in_range("orientation_std", 0, config.orientation_std, 0.0, f64::MAX)?;
         Ok(Self {
@@ -92,7 +92,7 @@ impl ExecutionErrorModel {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &ExecutionErrorConfig {
+    pub fn config(&self) -> &ExecutionErrorParams {
         &self.config
     }
 
@@ -104,13 +104,13 @@ impl ExecutionErrorModel {
     /// # Example
     /// ```
     /// use ftwire_core::Pose;
-    /// use ftwire_sim::{ExecutionErrorConfig, ExecutionErrorModel};
+    /// use ftwire_sim::{ExecutionErrorParams, ExecutionErrorModel};
     /// use nalgebra::Vector3;
     ///
     /// let commanded = Pose::translation(0.1, 0.2, 0.3);
-    /// let mut exact = ExecutionErrorModel::new(ExecutionErrorConfig::default(), 1)?;
+    /// let mut exact = ExecutionErrorModel::new(ExecutionErrorParams::default(), 1)?;
     /// assert_eq!(exact.actual_pose(&commanded)?, commanded);
-    /// let mut noisy = ExecutionErrorModel::new(ExecutionErrorConfig::paper(), 1)?;
+    /// let mut noisy = ExecutionErrorModel::new(ExecutionErrorParams::paper(), 1)?;
     /// let actual = noisy.actual_pose(&commanded)?;
     /// assert!((actual.translation.vector - Vector3::new(0.1, 0.2, 0.3)).norm() < 0.1);
     /// # Ok::<(), ftwire_sim::SensingError>(())

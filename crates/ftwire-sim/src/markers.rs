@@ -21,15 +21,15 @@ pub const DEFAULT_MARKER_COUNT: usize = 11;
 ///
 /// # Example
 /// ```
-/// use ftwire_sim::MarkerConfig;
+/// use ftwire_sim::MarkerParams;
 ///
-/// let config = MarkerConfig::default();
+/// let config = MarkerParams::default();
 /// assert_eq!(config.fractions.len(), 11);
 /// assert!((config.fractions[5] - 0.5).abs() < 1e-15);
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct MarkerConfig {
+pub struct MarkerParams {
     /// Marker positions as fractions `s / L` of the wire length, each in `[0, 1]` (default: 11
     /// evenly spaced, `0, 0.1, …, 1`, both ends included, so that the markers span the whole
     /// wire as the paper's do).
@@ -41,7 +41,7 @@ pub struct MarkerConfig {
     pub dropout_probability: f64,
 }
 
-impl Default for MarkerConfig {
+impl Default for MarkerParams {
     fn default() -> Self {
         let last = (DEFAULT_MARKER_COUNT - 1) as f64;
         Self {
@@ -52,12 +52,12 @@ impl Default for MarkerConfig {
     }
 }
 
-impl MarkerConfig {
+impl MarkerParams {
     /// Markers at the default positions without noise or dropouts.
     ///
     /// # Example
     /// ```
-    /// let ideal = ftwire_sim::MarkerConfig::ideal();
+    /// let ideal = ftwire_sim::MarkerParams::ideal();
     /// assert_eq!(ideal.noise_std, 0.0);
     /// assert_eq!(ideal.dropout_probability, 0.0);
     /// ```
@@ -83,15 +83,15 @@ pub struct MarkerFrame {
     /// Time of the frame \[s\].
     pub time: f64,
     /// Measured marker positions, world frame \[m\], in the order of
-    /// [`MarkerConfig::fractions`]; `None` for a marker that dropped out.
+    /// [`MarkerParams::fractions`]; `None` for a marker that dropped out.
     pub positions: Vec<Option<Point3<f64>>>,
 }
 
-/// The motion-capture system: a validated [`MarkerConfig`] and its own seeded random number
+/// The motion-capture system: a validated [`MarkerParams`] and its own seeded random number
 /// generator. Same configuration, seed and calls give the same frames.
 #[derive(Debug, Clone)]
 pub struct MotionCapture {
-    config: MarkerConfig,
+    config: MarkerParams,
     rng: ChaCha8Rng,
 }
 
@@ -104,13 +104,13 @@ impl MotionCapture {
     ///
     /// # Example
     /// ```
-    /// use ftwire_sim::{MarkerConfig, MotionCapture};
+    /// use ftwire_sim::{MarkerParams, MotionCapture};
     ///
-    /// assert!(MotionCapture::new(MarkerConfig::default(), 1).is_ok());
-    /// let bad = MarkerConfig { fractions: vec![0.5, 1.2], ..MarkerConfig::default() };
+    /// assert!(MotionCapture::new(MarkerParams::default(), 1).is_ok());
+    /// let bad = MarkerParams { fractions: vec![0.5, 1.2], ..MarkerParams::default() };
     /// assert!(MotionCapture::new(bad, 1).is_err());
     /// ```
-    pub fn new(config: MarkerConfig, seed: u64) -> Result<Self, SensingError> {
+    pub fn new(config: MarkerParams, seed: u64) -> Result<Self, SensingError> {
         config.validate()?;
         Ok(Self {
             config,
@@ -119,7 +119,7 @@ impl MotionCapture {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &MarkerConfig {
+    pub fn config(&self) -> &MarkerParams {
         &self.config
     }
 
@@ -171,10 +171,10 @@ impl MotionCapture {
     ///
     /// # Example
     /// ```
-    /// use ftwire_sim::{MarkerConfig, MotionCapture};
+    /// use ftwire_sim::{MarkerParams, MotionCapture};
     /// use nalgebra::Point3;
     ///
-    /// let mut mocap = MotionCapture::new(MarkerConfig::ideal(), 5)?;
+    /// let mut mocap = MotionCapture::new(MarkerParams::ideal(), 5)?;
     /// let line = [Point3::origin(), Point3::new(0.5, 0.0, 0.0)];
     /// let frame = mocap.observe(0.1, &line, &[0.0, 0.5], 0.5)?;
     /// let p = frame.positions[2].expect("no dropouts in the ideal configuration");

@@ -24,7 +24,7 @@ pub struct Convergence {
     pub converged: bool,
     /// Newton iterations used (summed over continuation steps for a motion).
     pub iterations: usize,
-    /// Final scaled residual (see [`crate::NewtonSettings::tolerance`]).
+    /// Final scaled residual (see [`crate::NewtonParams::tolerance`]).
     pub residual: f64,
 }
 

@@ -7,8 +7,8 @@
 //! through the sim-only methods of [`SimRig`], never through [`Rig`].
 //!
 //! Time: each F/T read takes the sensor's next clock tick; each move advances the clock by the
-//! time the grippers need at [`RigConfig::linear_speed`] and [`RigConfig::angular_speed`],
-//! plus [`RigConfig::settle_time`].
+//! time the grippers need at [`RigParams::linear_speed`] and [`RigParams::angular_speed`],
+//! plus [`RigParams::settle_time`].
 
 use std::ops::RangeInclusive;
 
@@ -16,14 +16,14 @@ use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
 
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
-use crate::execution::{ExecutionErrorConfig, ExecutionErrorModel};
-use crate::markers::{MarkerConfig, MarkerFrame, MotionCapture};
+use crate::execution::{ExecutionErrorParams, ExecutionErrorModel};
+use crate::markers::{MarkerParams, MarkerFrame, MotionCapture};
 use crate::motion::Motion;
-use crate::sensor::{FtSensor, FtSensorConfig};
+use crate::sensor::{FtSensor, FtSensorParams};
 use crate::simulator::Simulator;
 use crate::world::World;
 
-/// The allowed range of [`RigConfig::linear_speed`] \[m/s\] and [`RigConfig::angular_speed`]
+/// The allowed range of [`RigParams::linear_speed`] \[m/s\] and [`RigParams::angular_speed`]
 /// \[rad/s\]: 1 mm/s (or mrad/s) to 10 m/s (or rad/s), beyond any robot arm's either way.
 ///
 /// With these bounds and [`SETTLE_TIME_RANGE`], a move of the grippers (at most a few metres
@@ -32,20 +32,20 @@ use crate::world::World;
 /// clock ticks, below the 2⁵³ ≈ 9·10¹⁵ the clock counts exactly.
 pub const SPEED_RANGE: RangeInclusive<f64> = 1e-3..=10.0;
 
-/// The allowed range of [`RigConfig::settle_time`] \[s\]: none up to an hour per move (see
+/// The allowed range of [`RigParams::settle_time`] \[s\]: none up to an hour per move (see
 /// [`SPEED_RANGE`] for why the clock needs a bound).
 pub const SETTLE_TIME_RANGE: RangeInclusive<f64> = 0.0..=3600.0;
 
 /// Settings of a [`SimRig`]: its sensing and acting models, its motion timing and its seed.
 #[derive(Debug, Clone, PartialEq)]
-pub struct RigConfig {
-    /// The F/T sensor on the base gripper (default: [`FtSensorConfig::default`], the character
-    /// of a SensONE-class sensor; [`FtSensorConfig::ideal`] switches distortions off).
-    pub sensor: FtSensorConfig,
+pub struct RigParams {
+    /// The F/T sensor on the base gripper (default: [`FtSensorParams::default`], the character
+    /// of a SensONE-class sensor; [`FtSensorParams::ideal`] switches distortions off).
+    pub sensor: FtSensorParams,
     /// Motion capture (default: 11 markers, σ = 0.3 mm, 2 % dropouts).
-    pub markers: MarkerConfig,
-    /// Robot execution error (default: none; [`ExecutionErrorConfig::paper`] is 10 mm and 3°).
-    pub execution: ExecutionErrorConfig,
+    pub markers: MarkerParams,
+    /// Robot execution error (default: none; [`ExecutionErrorParams::paper`] is 10 mm and 3°).
+    pub execution: ExecutionErrorParams,
     /// Gripper speed used to time a move \[m/s\], in [`SPEED_RANGE`] (default `0.05`).
     pub linear_speed: f64,
     /// Gripper angular speed used to time a move \[rad/s\], in [`SPEED_RANGE`] (default `0.5`).
@@ -57,12 +57,12 @@ pub struct RigConfig {
     pub seed: u64,
 }
 
-impl Default for RigConfig {
+impl Default for RigParams {
     fn default() -> Self {
         Self {
-            sensor: FtSensorConfig::default(),
-            markers: MarkerConfig::default(),
-            execution: ExecutionErrorConfig::default(),
+            sensor: FtSensorParams::default(),
+            markers: MarkerParams::default(),
+            execution: ExecutionErrorParams::default(),
             linear_speed: 0.05,
             angular_speed: 0.5,
             settle_time: 0.1,
@@ -71,12 +71,12 @@ impl Default for RigConfig {
     }
 }
 
-impl RigConfig {
+impl RigParams {
     /// A rig with no distortion at all: ideal sensor, ideal markers, no execution error.
     pub fn ideal() -> Self {
         Self {
-            sensor: FtSensorConfig::ideal(),
-            markers: MarkerConfig::ideal(),
+            sensor: FtSensorParams::ideal(),
+            markers: MarkerParams::ideal(),
             ..Self::default()
         }
     }
@@ -90,7 +90,7 @@ impl RigConfig {
     ///
     /// # Example
     /// ```
-    /// let mut config = ftwire_sim::RigConfig::default();
+    /// let mut config = ftwire_sim::RigParams::default();
     /// assert!(config.validate().is_ok());
     /// config.markers.noise_std = -1.0;
     /// assert!(config.validate().is_err());
@@ -144,7 +144,7 @@ fn stream_seed(seed: u64, stream: u64) -> u64 {
 /// # Example
 /// ```
 /// use ftwire_core::{GripperPoses, Rig};
-/// use ftwire_sim::{RigConfig, RodParams, SimRig, World};
+/// use ftwire_sim::{RigParams, RodParams, SimRig, World};
 /// use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 ///
 /// let world = World::new(RodParams::nitinol_2mm_630().with_edges(40))?;
@@ -152,7 +152,7 @@ fn stream_seed(seed: u64, stream: u64) -> u64 {
 ///     base: Isometry3::identity(),
 ///     tip: Isometry3::from_parts(Translation3::new(0.5, 0.1, 0.0), UnitQuaternion::identity()),
 /// };
-/// let mut rig = SimRig::new(world, start, RigConfig::ideal())?;
+/// let mut rig = SimRig::new(world, start, RigParams::ideal())?;
 /// let sample = rig.read_ft()?;
 /// // The ideal sensor reports the true base wrench, force first.
 /// let truth = rig.equilibrium().base_wrench;
@@ -168,7 +168,7 @@ pub struct SimRig {
     execution: ExecutionErrorModel,
     believed: GripperPoses,
     time: f64,
-    config: RigConfig,
+    config: RigParams,
 }
 
 impl SimRig {
@@ -178,7 +178,7 @@ impl SimRig {
     /// # Errors
     /// [`SimError::RigSetting`] or [`SimError::Sensing`] for a bad setting, and the errors of
     /// [`Simulator::new`].
-    pub fn new(world: World, start: GripperPoses, config: RigConfig) -> Result<Self, SimError> {
+    pub fn new(world: World, start: GripperPoses, config: RigParams) -> Result<Self, SimError> {
         config.validate()?;
         let sim = Simulator::new(world, &start.base, &start.tip)?;
         Self::from_simulator(sim, config)
@@ -189,7 +189,7 @@ impl SimRig {
     ///
     /// # Errors
     /// [`SimError::RigSetting`] or [`SimError::Sensing`] for a bad setting.
-    pub fn from_simulator(sim: Simulator, config: RigConfig) -> Result<Self, SimError> {
+    pub fn from_simulator(sim: Simulator, config: RigParams) -> Result<Self, SimError> {
         config.validate()?;
         let (base, tip) = sim.gripper_poses();
         Ok(Self {
@@ -255,7 +255,7 @@ impl SimRig {
     /// # Example
     /// ```
     /// use ftwire_core::{GripperPoses, Rig};
-    /// use ftwire_sim::{RigConfig, RodParams, SimRig, World};
+    /// use ftwire_sim::{RigParams, RodParams, SimRig, World};
     /// use nalgebra::{Isometry3, Translation3, UnitQuaternion};
     ///
     /// let world = World::new(RodParams::nitinol_2mm_630().with_edges(30))?;
@@ -263,7 +263,7 @@ impl SimRig {
     ///     base: Isometry3::identity(),
     ///     tip: Isometry3::from_parts(Translation3::new(0.5, 0.1, 0.0), UnitQuaternion::identity()),
     /// };
-    /// let mut rig = SimRig::new(world, start, RigConfig::ideal())?;
+    /// let mut rig = SimRig::new(world, start, RigParams::ideal())?;
     /// assert_eq!(rig.read_ft_empty_gripper()?.raw, nalgebra::Vector6::zeros());
     /// # Ok::<(), ftwire_sim::SimError>(())
     /// ```
@@ -281,7 +281,7 @@ impl SimRig {
     }
 
     /// The rig's settings.
-    pub fn config(&self) -> &RigConfig {
+    pub fn config(&self) -> &RigParams {
         &self.config
     }
 

@@ -3,7 +3,7 @@
 
 /// Settings of Newton's method.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NewtonSettings {
+pub struct NewtonParams {
     /// Iteration limit (default `200`).
     pub max_iterations: usize,
     /// Convergence tolerance on the scaled residual (default `1e-8`): the largest free nodal
@@ -15,7 +15,7 @@ pub struct NewtonSettings {
     pub max_step_fraction: f64,
 }
 
-impl Default for NewtonSettings {
+impl Default for NewtonParams {
     fn default() -> Self {
         Self {
             max_iterations: 200,
@@ -27,7 +27,7 @@ impl Default for NewtonSettings {
 
 /// Settings of the continuation.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContinuationSettings {
+pub struct ContinuationParams {
     /// Largest gripper translation per step, as a fraction of `L` (default `0.05`).
     pub max_translation_fraction: f64,
     /// Largest gripper rotation per step \[rad\] (default `0.15`, about 8.6°).
@@ -37,7 +37,7 @@ pub struct ContinuationSettings {
     /// Node jump between predictor and equilibrium above which a step is suspected to snap,
     /// as a fraction of `L` (default `0.02`).
     pub snap_distance_fraction: f64,
-    /// Newton tolerance (scaled residual, as [`NewtonSettings::tolerance`]) of the
+    /// Newton tolerance (scaled residual, as [`NewtonParams::tolerance`]) of the
     /// intermediate steps of a motion (default `1e-3`); the last step is solved to the world's
     /// Newton tolerance. The intermediate equilibria only carry the branch to the next step.
     pub path_tolerance: f64,
@@ -50,7 +50,7 @@ pub struct ContinuationSettings {
     pub work_limit: Option<usize>,
 }
 
-impl Default for ContinuationSettings {
+impl Default for ContinuationParams {
     fn default() -> Self {
         Self {
             max_translation_fraction: 0.05,

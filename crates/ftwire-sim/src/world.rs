@@ -6,7 +6,7 @@ use ftwire_core::{Pose, ensure_finite, ensure_positive};
 use crate::discrete_rod::{DiscreteRod, RodParams};
 use crate::error::SimError;
 use crate::obstacle::{BoxObstacle, Floor, Obstacle};
-use crate::settings::{ContinuationSettings, NewtonSettings};
+use crate::settings::{ContinuationParams, NewtonParams};
 
 /// The default contact stiffness \[N/m³\].
 pub const DEFAULT_CONTACT_STIFFNESS: f64 = 1e12;
@@ -38,8 +38,8 @@ pub struct World {
     rod: DiscreteRod,
     obstacles: Vec<Obstacle>,
     contact_stiffness: f64,
-    newton: NewtonSettings,
-    continuation: ContinuationSettings,
+    newton: NewtonParams,
+    continuation: ContinuationParams,
     samples_per_edge: usize,
 }
 
@@ -53,8 +53,8 @@ impl World {
             rod: DiscreteRod::new(params)?,
             obstacles: Vec::new(),
             contact_stiffness: DEFAULT_CONTACT_STIFFNESS,
-            newton: NewtonSettings::default(),
-            continuation: ContinuationSettings::default(),
+            newton: NewtonParams::default(),
+            continuation: ContinuationParams::default(),
             samples_per_edge: 2,
         };
         world.update_sampling();
@@ -93,14 +93,14 @@ impl World {
 
     /// Sets Newton's settings.
     #[must_use]
-    pub fn with_newton(mut self, settings: NewtonSettings) -> Self {
+    pub fn with_newton(mut self, settings: NewtonParams) -> Self {
         self.newton = settings;
         self
     }
 
     /// Sets the continuation settings.
     #[must_use]
-    pub fn with_continuation(mut self, settings: ContinuationSettings) -> Self {
+    pub fn with_continuation(mut self, settings: ContinuationParams) -> Self {
         self.continuation = settings;
         self
     }
@@ -146,12 +146,12 @@ impl World {
     }
 
     /// Newton's settings.
-    pub fn newton_settings(&self) -> &NewtonSettings {
+    pub fn newton_settings(&self) -> &NewtonParams {
         &self.newton
     }
 
     /// Continuation settings.
-    pub fn continuation_settings(&self) -> &ContinuationSettings {
+    pub fn continuation_settings(&self) -> &ContinuationParams {
         &self.continuation
     }
 

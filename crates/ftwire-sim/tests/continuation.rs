@@ -5,7 +5,7 @@ mod common;
 use common::pose;
 use ftwire_core::CoreError;
 use ftwire_sim::{
-    ContinuationSettings, InitialGuess, NewtonSettings, RodParams, SimError, Simulator, World,
+    ContinuationParams, InitialGuess, NewtonParams, RodParams, SimError, Simulator, World,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
@@ -210,13 +210,13 @@ fn a_failed_motion_keeps_the_last_good_state() {
     let before = sim.equilibrium().clone();
     // A crippled solver: one Newton iteration and no subdivision.
     let crippled = world
-        .with_newton(NewtonSettings {
+        .with_newton(NewtonParams {
             max_iterations: 1,
-            ..NewtonSettings::default()
+            ..NewtonParams::default()
         })
-        .with_continuation(ContinuationSettings {
+        .with_continuation(ContinuationParams {
             max_subdivisions: 0,
-            ..ContinuationSettings::default()
+            ..ContinuationParams::default()
         });
     let mut weak = Simulator::from_equilibrium(crippled, before.clone());
     let result = weak.move_grippers(&base, &pose([0.2, 0.3, 0.1], [1.0, 0.5, 2.0]));
@@ -267,9 +267,9 @@ fn a_motion_stops_at_its_work_limit() {
     let far = pose([0.2, 0.3, 0.1], [1.0, 0.5, 2.0]);
     let sim = Simulator::new(world.clone(), &base, &tip).expect("solves");
     let limited = |limit: usize| {
-        world.clone().with_continuation(ContinuationSettings {
+        world.clone().with_continuation(ContinuationParams {
             work_limit: Some(limit),
-            ..ContinuationSettings::default()
+            ..ContinuationParams::default()
         })
     };
     // The move takes many steps of a few iterations each: ten iterations' work is too little.

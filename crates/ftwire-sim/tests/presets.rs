@@ -33,7 +33,7 @@ fn total_clamp_force(eq: &Equilibrium) -> Vector3<f64> {
 /// How far the clamp forces may be from balancing the weight: the internal energies are
 /// invariant under translation, so the clamp forces sum to the weight plus the sum of the
 /// residual forces on the free nodes, each component of which Newton's scaled residual bounds
-/// by `residual·c_max/L²` (`NewtonSettings::tolerance`); plus rounding.
+/// by `residual·c_max/L²` (`NewtonParams::tolerance`); plus rounding.
 fn balance_tolerance(world: &World, eq: &Equilibrium, weight: f64) -> f64 {
     let rod = world.rod();
     let l = rod.params().length;

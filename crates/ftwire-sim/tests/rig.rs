@@ -2,7 +2,7 @@
 
 use ftwire_core::{Command, CoreError, GripperPoses, Pose, Rig};
 use ftwire_sim::{
-    ExecutionErrorConfig, FtSensorConfig, RigConfig, RodParams, SensingError, SimError, SimRig,
+    ExecutionErrorParams, FtSensorParams, RigParams, RodParams, SensingError, SimError, SimRig,
     World,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -25,13 +25,13 @@ fn world() -> World {
     World::new(RodParams::nitinol_2mm_630().with_edges(40)).expect("valid preset")
 }
 
-fn rig(config: RigConfig) -> SimRig {
+fn rig(config: RigParams) -> SimRig {
     SimRig::new(world(), start(), config).expect("the start pose has an equilibrium")
 }
 
 #[test]
 fn ideal_sensor_reports_the_true_base_wrench_force_first_on_clock_ticks() {
-    let mut rig = rig(RigConfig::ideal());
+    let mut rig = rig(RigParams::ideal());
     let truth = rig.equilibrium().base_wrench;
     let period = 1.0 / rig.config().sensor.rate;
     let mut last = f64::NEG_INFINITY;
@@ -60,7 +60,7 @@ fn ideal_sensor_reports_the_true_base_wrench_force_first_on_clock_ticks() {
 #[test]
 fn a_clipped_channel_is_flagged_in_the_rig_sample_and_a_normal_one_is_not() {
     // An ideal sensor: nothing clips.
-    let mut rig = rig(RigConfig::ideal());
+    let mut rig = rig(RigParams::ideal());
     let normal = rig.read_ft().expect("ideal sensor never drops out");
     assert_eq!(normal.saturated, [false; 6]);
     assert!(!normal.is_saturated());
@@ -70,13 +70,13 @@ fn a_clipped_channel_is_flagged_in_the_rig_sample_and_a_normal_one_is_not() {
     assert!(load.abs() > 1e-3, "the bent wire loads τ3");
     let mut full_scale = [1e3; 6];
     full_scale[5] = 0.5 * load.abs();
-    let config = RigConfig {
-        sensor: FtSensorConfig {
+    let config = RigParams {
+        sensor: FtSensorParams {
             full_scale,
             saturation: true,
-            ..FtSensorConfig::ideal()
+            ..FtSensorParams::ideal()
         },
-        ..RigConfig::ideal()
+        ..RigParams::ideal()
     };
     let mut rig = SimRig::new(world(), start(), config).expect("valid settings");
     let clipped = rig.read_ft().expect("ideal sensor never drops out");
@@ -88,7 +88,7 @@ fn a_clipped_channel_is_flagged_in_the_rig_sample_and_a_normal_one_is_not() {
 
 #[test]
 fn command_moves_the_wire_and_the_robot_reports_the_command() {
-    let mut rig = rig(RigConfig::ideal());
+    let mut rig = rig(RigParams::ideal());
     let before = rig.equilibrium().base_wrench;
     let t0 = rig.time();
     let target = Command {
@@ -113,10 +113,10 @@ fn command_moves_the_wire_and_the_robot_reports_the_command() {
 
 #[test]
 fn execution_error_moves_the_wire_elsewhere_than_the_robot_believes() {
-    let config = RigConfig {
-        execution: ExecutionErrorConfig::paper(),
+    let config = RigParams {
+        execution: ExecutionErrorParams::paper(),
         seed: 7,
-        ..RigConfig::ideal()
+        ..RigParams::ideal()
     };
     let mut rig = rig(config);
     let target = Command {
@@ -139,10 +139,10 @@ fn execution_error_moves_the_wire_elsewhere_than_the_robot_believes() {
 #[test]
 fn same_seed_same_run_other_seed_other_run() {
     let run = |seed| {
-        let mut rig = rig(RigConfig {
-            execution: ExecutionErrorConfig::paper(),
+        let mut rig = rig(RigParams {
+            execution: ExecutionErrorParams::paper(),
             seed,
-            ..RigConfig::default()
+            ..RigParams::default()
         });
         let mut out = Vec::new();
         for _ in 0..3 {
@@ -165,12 +165,12 @@ fn same_seed_same_run_other_seed_other_run() {
 
 #[test]
 fn a_dropout_is_an_error_that_consumes_the_tick_and_keeps_the_state() {
-    let config = RigConfig {
-        sensor: FtSensorConfig {
+    let config = RigParams {
+        sensor: FtSensorParams {
             dropout_probability: 1.0 - f64::EPSILON,
-            ..FtSensorConfig::ideal()
+            ..FtSensorParams::ideal()
         },
-        ..RigConfig::ideal()
+        ..RigParams::ideal()
     };
     let mut rig = rig(config);
     let before = rig.equilibrium().clone();
@@ -190,7 +190,7 @@ fn a_dropout_is_an_error_that_consumes_the_tick_and_keeps_the_state() {
 
 #[test]
 fn bad_commands_are_refused_and_nothing_moves() {
-    let mut rig = rig(RigConfig::ideal());
+    let mut rig = rig(RigParams::ideal());
     let before = rig.equilibrium().clone();
     let believed = rig.gripper_poses().expect("poses");
 
@@ -219,45 +219,45 @@ fn bad_commands_are_refused_and_nothing_moves() {
 fn bad_rig_settings_are_named() {
     for (config, field) in [
         (
-            RigConfig {
+            RigParams {
                 linear_speed: 0.0,
-                ..RigConfig::ideal()
+                ..RigParams::ideal()
             },
             "linear_speed",
         ),
         (
-            RigConfig {
+            RigParams {
                 angular_speed: f64::NAN,
-                ..RigConfig::ideal()
+                ..RigParams::ideal()
             },
             "angular_speed",
         ),
         (
-            RigConfig {
+            RigParams {
                 settle_time: -1.0,
-                ..RigConfig::ideal()
+                ..RigParams::ideal()
             },
             "settle_time",
         ),
         // Times and speeds that would run the sensor's clock beyond its exact range.
         (
-            RigConfig {
+            RigParams {
                 settle_time: 1e300,
-                ..RigConfig::ideal()
+                ..RigParams::ideal()
             },
             "settle_time",
         ),
         (
-            RigConfig {
+            RigParams {
                 linear_speed: 1e-300,
-                ..RigConfig::ideal()
+                ..RigParams::ideal()
             },
             "linear_speed",
         ),
         (
-            RigConfig {
+            RigParams {
                 angular_speed: 1e300,
-                ..RigConfig::ideal()
+                ..RigParams::ideal()
             },
             "angular_speed",
         ),
@@ -271,7 +271,7 @@ fn bad_rig_settings_are_named() {
 
 #[test]
 fn ideal_markers_sit_on_the_wire_from_base_to_tip() {
-    let mut rig = rig(RigConfig::ideal());
+    let mut rig = rig(RigParams::ideal());
     let frame = rig.observe_markers().expect("markers");
     assert_eq!(frame.positions.len(), 11);
     let first = frame.positions[0].expect("no dropouts in the ideal config");
@@ -301,7 +301,7 @@ fn ideal_markers_sit_on_the_wire_from_base_to_tip() {
 
 #[test]
 fn the_empty_gripper_reads_only_the_sensor_offset_and_keeps_the_wire() {
-    let mut config = RigConfig::default();
+    let mut config = RigParams::default();
     config.sensor.dropout_probability = 0.0;
     let mut rig = rig(config);
     let equilibrium = rig.equilibrium().clone();

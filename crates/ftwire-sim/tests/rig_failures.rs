@@ -9,7 +9,7 @@ mod common;
 use common::pose;
 use ftwire_core::{Command, GripperPoses, Pose, Rig};
 use ftwire_sim::{
-    ContinuationSettings, Equilibrium, ExecutionErrorConfig, NewtonSettings, RigConfig, RodParams,
+    ContinuationParams, Equilibrium, ExecutionErrorParams, NewtonParams, RigParams, RodParams,
     SimError, SimRig, Simulator, World,
 };
 
@@ -48,9 +48,9 @@ fn snapshot(rig: &SimRig) -> Snapshot {
 
 /// A rig with execution error, so that a command draws from the execution model's stream.
 fn rig_with_execution_error() -> SimRig {
-    let config = RigConfig {
-        execution: ExecutionErrorConfig::paper(),
-        ..RigConfig::ideal()
+    let config = RigParams {
+        execution: ExecutionErrorParams::paper(),
+        ..RigParams::ideal()
     };
     let world = World::new(params()).expect("valid preset");
     SimRig::new(world, start(), config).expect("the start pose has an equilibrium")
@@ -121,17 +121,17 @@ fn a_failed_newton_solve_changes_nothing() {
         .expect("the start pose has an equilibrium")
         .equilibrium;
     let strict = world
-        .with_newton(NewtonSettings {
+        .with_newton(NewtonParams {
             max_iterations: 1,
             tolerance: 1e-12,
-            ..NewtonSettings::default()
+            ..NewtonParams::default()
         })
-        .with_continuation(ContinuationSettings {
+        .with_continuation(ContinuationParams {
             max_subdivisions: 0,
-            ..ContinuationSettings::default()
+            ..ContinuationParams::default()
         });
     let sim = Simulator::from_equilibrium(strict, equilibrium);
-    let mut rig = SimRig::from_simulator(sim, RigConfig::ideal()).expect("ideal settings");
+    let mut rig = SimRig::from_simulator(sim, RigParams::ideal()).expect("ideal settings");
     rig.read_ft().expect("the ideal sensor never drops out");
     let before = snapshot(&rig);
 

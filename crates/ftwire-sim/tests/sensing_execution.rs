@@ -2,10 +2,10 @@
 
 use approx::assert_abs_diff_eq;
 use ftwire_core::{Command, Pose};
-use ftwire_sim::{ExecutionErrorConfig, ExecutionErrorModel, SensingError};
+use ftwire_sim::{ExecutionErrorParams, ExecutionErrorModel, SensingError};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
 
-fn model(config: ExecutionErrorConfig, seed: u64) -> ExecutionErrorModel {
+fn model(config: ExecutionErrorParams, seed: u64) -> ExecutionErrorModel {
     match ExecutionErrorModel::new(config, seed) {
         Ok(m) => m,
         Err(e) => panic!("valid configuration rejected: {e}"),
@@ -34,7 +34,7 @@ fn std(values: &[f64]) -> f64 {
 
 #[test]
 fn the_default_configuration_executes_exactly() {
-    let mut m = model(ExecutionErrorConfig::default(), 1);
+    let mut m = model(ExecutionErrorParams::default(), 1);
     for _ in 0..100 {
         assert_eq!(actual(&mut m, &commanded()), commanded());
     }
@@ -53,7 +53,7 @@ fn the_default_configuration_executes_exactly() {
 
 #[test]
 fn paper_errors_have_10_mm_and_3_degree_spread_in_the_gripper_frame() {
-    let config = ExecutionErrorConfig::paper();
+    let config = ExecutionErrorParams::paper();
     let mut m = model(config, 2);
     let p = commanded();
     let n = 20_000;
@@ -86,7 +86,7 @@ fn paper_errors_have_10_mm_and_3_degree_spread_in_the_gripper_frame() {
 
 #[test]
 fn base_and_tip_get_independent_errors() {
-    let mut m = model(ExecutionErrorConfig::paper(), 3);
+    let mut m = model(ExecutionErrorParams::paper(), 3);
     let command = Command {
         base: commanded(),
         tip: commanded(),
@@ -103,7 +103,7 @@ fn base_and_tip_get_independent_errors() {
 #[test]
 fn the_same_seed_gives_the_same_poses_and_another_seed_does_not() {
     let run = |seed| {
-        let mut m = model(ExecutionErrorConfig::paper(), seed);
+        let mut m = model(ExecutionErrorParams::paper(), seed);
         (0..100)
             .map(|_| actual(&mut m, &commanded()))
             .collect::<Vec<_>>()
@@ -116,16 +116,16 @@ fn the_same_seed_gives_the_same_poses_and_another_seed_does_not() {
 fn bad_inputs_give_clear_errors() {
     for (config, field) in [
         (
-            ExecutionErrorConfig {
+            ExecutionErrorParams {
                 position_std: -0.01,
-                ..ExecutionErrorConfig::paper()
+                ..ExecutionErrorParams::paper()
             },
             "position_std",
         ),
         (
-            ExecutionErrorConfig {
+            ExecutionErrorParams {
                 orientation_std: f64::NAN,
-                ..ExecutionErrorConfig::paper()
+                ..ExecutionErrorParams::paper()
             },
             "orientation_std",
         ),
@@ -135,7 +135,7 @@ fn bad_inputs_give_clear_errors() {
             other => panic!("expected an error naming {field}, got {other:?}"),
         }
     }
-    let mut m = model(ExecutionErrorConfig::paper(), 6);
+    let mut m = model(ExecutionErrorParams::paper(), 6);
     let bad = Pose::translation(0.0, f64::NAN, 0.0);
     assert!(matches!(m.actual_pose(&bad), Err(SensingError::Core(_))));
     let command = Command {
@@ -148,9 +148,9 @@ fn bad_inputs_give_clear_errors() {
 #[test]
 fn errors_are_applied_in_the_gripper_frame() {
     // Orientation error only: the gripper turns about its own origin, which stays put.
-    let rotation_only = ExecutionErrorConfig {
+    let rotation_only = ExecutionErrorParams {
         position_std: 0.0,
-        ..ExecutionErrorConfig::paper()
+        ..ExecutionErrorParams::paper()
     };
     let mut m = model(rotation_only, 7);
     let p = commanded();
@@ -160,9 +160,9 @@ fn errors_are_applied_in_the_gripper_frame() {
 
     // Position error only: the same draw, commanded with another orientation, is the same
     // gripper-frame offset, rotated with the gripper.
-    let position_only = ExecutionErrorConfig {
+    let position_only = ExecutionErrorParams {
         orientation_std: 0.0,
-        ..ExecutionErrorConfig::paper()
+        ..ExecutionErrorParams::paper()
     };
     let at_identity = actual(&mut model(position_only, 8), &Pose::identity());
     let turned = actual(&mut model(position_only, 8), &p);

@@ -2,7 +2,7 @@
 
 use approx::assert_abs_diff_eq;
 use ftwire_core::{CoreError, Wrench};
-use ftwire_sim::{FtSensor, FtSensorConfig, SensingError};
+use ftwire_sim::{FtSensor, FtSensorParams, SensingError};
 use nalgebra::{Vector3, Vector6};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -11,7 +11,7 @@ fn wrench(t: [f64; 3], f: [f64; 3]) -> Wrench {
     Wrench::new(Vector3::from(t), Vector3::from(f))
 }
 
-fn sensor(config: FtSensorConfig, seed: u64) -> FtSensor {
+fn sensor(config: FtSensorParams, seed: u64) -> FtSensor {
     match FtSensor::new(config, seed) {
         Ok(sensor) => sensor,
         Err(e) => panic!("valid configuration rejected: {e}"),
@@ -40,7 +40,7 @@ fn random_wrench(rng: &mut ChaCha8Rng, torque: f64, force: f64) -> Wrench {
 
 #[test]
 fn ideal_sensor_returns_the_true_wrench_force_first() {
-    let mut s = sensor(FtSensorConfig::ideal(), 11);
+    let mut s = sensor(FtSensorParams::ideal(), 11);
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     for k in 0..200 {
         let w = random_wrench(&mut rng, 2.0, 50.0);
@@ -57,9 +57,9 @@ fn ideal_sensor_returns_the_true_wrench_force_first() {
 #[test]
 fn an_offset_mount_turns_a_clamp_force_into_a_sensor_torque() {
     // Sensor origin 80 mm behind the clamp along sensor z, axes aligned.
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         clamp_position_in_sensor: [0.0, 0.0, 0.08],
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let mut s = sensor(config, 2);
     let raw = read(&mut s, &wrench([0.0; 3], [1.0, 0.0, 0.0]), 0.0).raw;
@@ -73,11 +73,11 @@ fn an_offset_mount_turns_a_clamp_force_into_a_sensor_torque() {
 
 #[test]
 fn the_default_mount_rotates_clamp_axes_onto_sensor_axes() {
-    let defaults = FtSensorConfig::default();
-    let config = FtSensorConfig {
+    let defaults = FtSensorParams::default();
+    let config = FtSensorParams {
         clamp_position_in_sensor: defaults.clamp_position_in_sensor,
         clamp_rotation_in_sensor: defaults.clamp_rotation_in_sensor,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let rotation = config.sensor_from_clamp().rotation;
     assert_abs_diff_eq!(rotation * Vector3::x(), Vector3::z(), epsilon = 1e-15);
@@ -97,7 +97,7 @@ fn the_default_mount_rotates_clamp_axes_onto_sensor_axes() {
 
 #[test]
 fn gain_cross_talk_and_nonlinearity_act_as_specified() {
-    let mut config = FtSensorConfig::ideal();
+    let mut config = FtSensorParams::ideal();
     config.gain[0] = [1.01, 0.02, 0.0, 0.0, 0.0, 0.5];
     config.cubic_nonlinearity[2] = 0.004;
     let s = sensor(config, 4);
@@ -116,11 +116,11 @@ fn gain_cross_talk_and_nonlinearity_act_as_specified() {
 #[test]
 fn the_ground_truth_inverse_recovers_the_wrench() {
     // Default distortions (mount, gain, nonlinearity, bias) but no noise, drift or dropout.
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         noise_std: [0.0; 6],
         bias_random_walk: [0.0; 6],
         dropout_probability: 0.0,
-        ..FtSensorConfig::default()
+        ..FtSensorParams::default()
     };
     let mut s = sensor(config, 5);
     let mut rng = ChaCha8Rng::seed_from_u64(2);
@@ -149,10 +149,10 @@ fn the_ground_truth_inverse_recovers_the_wrench() {
 
 #[test]
 fn white_noise_has_the_configured_standard_deviation() {
-    let sigma = FtSensorConfig::default().noise_std;
-    let config = FtSensorConfig {
+    let sigma = FtSensorParams::default().noise_std;
+    let config = FtSensorParams {
         noise_std: sigma,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let mut s = sensor(config, 6);
     let w = wrench([0.3, -0.2, 0.1], [1.0, 2.0, -3.0]);
@@ -181,7 +181,7 @@ fn white_noise_has_the_configured_standard_deviation() {
 }
 
 /// Bias of channel `channel` at the sample nearest `time` for `runs` independent sensors.
-fn bias_samples(config: &FtSensorConfig, times: &[f64], runs: u64) -> Vec<Vec<f64>> {
+fn bias_samples(config: &FtSensorParams, times: &[f64], runs: u64) -> Vec<Vec<f64>> {
     let mut out = vec![Vec::new(); times.len()];
     for seed in 0..runs {
         let mut s = sensor(config.clone(), 1000 + seed);
@@ -203,11 +203,11 @@ fn variance_about(values: &[f64], centre: f64) -> f64 {
 fn bias_drift_is_a_random_walk_with_variance_growing_linearly_in_time() {
     let q = 0.01;
     let b0 = 0.3;
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         initial_bias: [b0, 0.0, 0.0, 0.0, 0.0, 0.0],
         bias_random_walk: [q; 6],
         bias_time_constant: f64::INFINITY,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let times = [1.0, 4.0, 16.0];
     let samples = bias_samples(&config, &times, 2000);
@@ -226,10 +226,10 @@ fn bias_drift_is_a_random_walk_with_variance_growing_linearly_in_time() {
 fn a_gauss_markov_bias_settles_at_its_stationary_spread() {
     let q = 0.01;
     let t_c = 1.0;
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         bias_random_walk: [q; 6],
         bias_time_constant: t_c,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let samples = bias_samples(&config, &[30.0], 2000);
     let variance = variance_about(&samples[0], 0.0);
@@ -239,9 +239,9 @@ fn a_gauss_markov_bias_settles_at_its_stationary_spread() {
 
 #[test]
 fn saturation_clips_and_flags_only_the_channels_beyond_full_scale() {
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         saturation: true,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let mut s = sensor(config.clone(), 7);
     let reading = read(&mut s, &wrench([0.0, -25.0, 1.0], [10.0, 0.0, 1000.0]), 0.0);
@@ -250,7 +250,7 @@ fn saturation_clips_and_flags_only_the_channels_beyond_full_scale() {
     assert!(reading.is_saturated());
 
     let mut unclipped = sensor(
-        FtSensorConfig {
+        FtSensorParams {
             saturation: false,
             ..config
         },
@@ -263,7 +263,7 @@ fn saturation_clips_and_flags_only_the_channels_beyond_full_scale() {
 
 #[test]
 fn samples_fall_on_the_next_clock_tick() {
-    let mut s = sensor(FtSensorConfig::ideal(), 8);
+    let mut s = sensor(FtSensorParams::ideal(), 8);
     let w = Wrench::default();
     let times: Vec<f64> = [0.0, 0.0003, 0.0003, 0.0105, 0.011, 0.5]
         .iter()
@@ -274,10 +274,10 @@ fn samples_fall_on_the_next_clock_tick() {
         assert_abs_diff_eq!(*t, e, epsilon = 1e-12);
     }
 
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         rate: 800.0,
         clock_offset: 2e-4,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let mut s = sensor(config, 8);
     let mut previous = f64::NEG_INFINITY;
@@ -295,9 +295,9 @@ fn samples_fall_on_the_next_clock_tick() {
 #[test]
 fn dropouts_happen_at_the_configured_rate_and_consume_their_tick() {
     let p = 0.05;
-    let config = FtSensorConfig {
+    let config = FtSensorParams {
         dropout_probability: p,
-        ..FtSensorConfig::ideal()
+        ..FtSensorParams::ideal()
     };
     let mut s = sensor(config, 9);
     let n = 100_000;
@@ -326,9 +326,9 @@ fn dropouts_happen_at_the_configured_rate_and_consume_their_tick() {
 fn the_same_seed_gives_the_same_readings_and_another_seed_does_not() {
     let run = |seed| {
         let mut s = sensor(
-            FtSensorConfig {
+            FtSensorParams {
                 dropout_probability: 0.01,
-                ..FtSensorConfig::default()
+                ..FtSensorParams::default()
             },
             seed,
         );
@@ -342,7 +342,7 @@ fn the_same_seed_gives_the_same_readings_and_another_seed_does_not() {
 
 #[test]
 fn bad_configurations_are_rejected_with_the_field_named() {
-    let field_of = |config: FtSensorConfig| match FtSensor::new(config, 0) {
+    let field_of = |config: FtSensorParams| match FtSensor::new(config, 0) {
         Err(SensingError::OutOfRange { field, .. }) => field,
         Err(SensingError::TimeConstant { field, .. }) => field,
         Err(SensingError::Core(CoreError::NonFinite { field, .. })) => field,
@@ -350,28 +350,28 @@ fn bad_configurations_are_rejected_with_the_field_named() {
         Err(SensingError::SingularGain { .. }) => "gain (singular)",
         other => panic!("expected an error, got {other:?}"),
     };
-    let d = FtSensorConfig::default;
+    let d = FtSensorParams::default;
     let mut singular = d();
     singular.gain[3] = [0.0; 6];
     let mut nan_gain = d();
     nan_gain.gain[1][4] = f64::NAN;
     let cases = [
         (
-            FtSensorConfig {
+            FtSensorParams {
                 clamp_position_in_sensor: [0.0, f64::NAN, 0.0],
                 ..d()
             },
             "clamp_position_in_sensor",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 clamp_rotation_in_sensor: [f64::INFINITY, 0.0, 0.0],
                 ..d()
             },
             "clamp_rotation_in_sensor",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 clamp_rotation_in_sensor: [0.0, 1e300, 0.0],
                 ..d()
             },
@@ -380,85 +380,85 @@ fn bad_configurations_are_rejected_with_the_field_named() {
         (nan_gain, "gain"),
         (singular, "gain (singular)"),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 cubic_nonlinearity: [0.0, 0.0, 0.2, 0.0, 0.0, 0.0],
                 ..d()
             },
             "cubic_nonlinearity",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 full_scale: [500.0, 0.0, 900.0, 20.0, 20.0, 20.0],
                 ..d()
             },
             "full_scale",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 initial_bias: [0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0],
                 ..d()
             },
             "initial_bias",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 bias_random_walk: [-1e-3; 6],
                 ..d()
             },
             "bias_random_walk",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 bias_time_constant: 0.0,
                 ..d()
             },
             "bias_time_constant",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 noise_std: [0.05, 0.05, -0.05, 0.0, 0.0, 0.0],
                 ..d()
             },
             "noise_std",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 bias_time_constant: 1e300,
                 ..d()
             },
             "bias_time_constant",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 rate: f64::INFINITY,
                 ..d()
             },
             "rate",
         ),
-        (FtSensorConfig { rate: 1e300, ..d() }, "rate"),
+        (FtSensorParams { rate: 1e300, ..d() }, "rate"),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 rate: 1e-300,
                 ..d()
             },
             "rate",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 clock_offset: -1e300,
                 ..d()
             },
             "clock_offset",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 clock_offset: f64::NAN,
                 ..d()
             },
             "clock_offset",
         ),
         (
-            FtSensorConfig {
+            FtSensorParams {
                 dropout_probability: 1.0,
                 ..d()
             },
@@ -472,7 +472,7 @@ fn bad_configurations_are_rejected_with_the_field_named() {
 
 #[test]
 fn bad_reads_and_inverses_give_errors_not_panics() {
-    let mut s = sensor(FtSensorConfig::default(), 10);
+    let mut s = sensor(FtSensorParams::default(), 10);
     let nan = wrench([0.0, f64::NAN, 0.0], [0.0; 3]);
     assert!(matches!(
         s.read(&nan, 0.0),
@@ -507,7 +507,7 @@ fn bad_reads_and_inverses_give_errors_not_panics() {
     );
 
     // A softening nonlinearity has no inverse beyond its monotone range.
-    let mut config = FtSensorConfig::ideal();
+    let mut config = FtSensorParams::ideal();
     config.cubic_nonlinearity[0] = -0.1;
     config.full_scale[0] = 1.0;
     let soft = sensor(config, 10);
@@ -526,22 +526,22 @@ fn bad_reads_and_inverses_give_errors_not_panics() {
 #[test]
 fn the_configuration_round_trips_through_toml() {
     for config in [
-        FtSensorConfig::default(),
-        FtSensorConfig::ideal(),
-        FtSensorConfig {
+        FtSensorParams::default(),
+        FtSensorParams::ideal(),
+        FtSensorParams {
             bias_time_constant: f64::INFINITY,
-            ..FtSensorConfig::default()
+            ..FtSensorParams::default()
         },
     ] {
         let text = match toml::to_string(&config) {
             Ok(text) => text,
             Err(e) => panic!("serialise: {e}"),
         };
-        let back: FtSensorConfig = match toml::from_str(&text) {
+        let back: FtSensorParams = match toml::from_str(&text) {
             Ok(back) => back,
             Err(e) => panic!("deserialise: {e}\n{text}"),
         };
         assert_eq!(back, config);
     }
-    assert!(toml::from_str::<FtSensorConfig>("noise = 1.0").is_err());
+    assert!(toml::from_str::<FtSensorParams>("noise = 1.0").is_err());
 }

@@ -3,7 +3,7 @@
 
 use ftwire_core::{Pose, Wrench};
 use ftwire_sim::{
-    ExecutionErrorConfig, ExecutionErrorModel, FtSensor, FtSensorConfig, MarkerConfig,
+    ExecutionErrorParams, ExecutionErrorModel, FtSensor, FtSensorParams, MarkerParams,
     MotionCapture,
 };
 use nalgebra::{Point3, Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
@@ -20,7 +20,7 @@ fn any_f64() -> impl Strategy<Value = f64> {
 proptest! {
     #[test]
     fn sensor_reads_never_panic(values in prop::array::uniform6(any_f64()), time in any_f64()) {
-        let Ok(mut sensor) = FtSensor::new(FtSensorConfig::default(), 1) else {
+        let Ok(mut sensor) = FtSensor::new(FtSensorParams::default(), 1) else {
             return Err(TestCaseError::fail("default configuration rejected"));
         };
         let w = Wrench::from_vector(&Vector6::from(values));
@@ -37,7 +37,7 @@ proptest! {
         force in prop::array::uniform3(-300.0..300.0),
         bias in prop::array::uniform6(-1.0..1.0),
     ) {
-        let Ok(sensor) = FtSensor::new(FtSensorConfig::default(), 2) else {
+        let Ok(sensor) = FtSensor::new(FtSensorParams::default(), 2) else {
             return Err(TestCaseError::fail("default configuration rejected"));
         };
         let w = Wrench::new(Vector3::from(torque), Vector3::from(force));
@@ -58,7 +58,7 @@ proptest! {
         length in any_f64(),
         time in any_f64(),
     ) {
-        let Ok(mut mocap) = MotionCapture::new(MarkerConfig::default(), 3) else {
+        let Ok(mut mocap) = MotionCapture::new(MarkerParams::default(), 3) else {
             return Err(TestCaseError::fail("default configuration rejected"));
         };
         let nodes: Vec<Point3<f64>> = points.iter().map(|&p| Point3::from(p)).collect();
@@ -73,7 +73,7 @@ proptest! {
         translation in prop::array::uniform3(any_f64()),
         quaternion in prop::array::uniform4(any_f64()),
     ) {
-        let Ok(mut model) = ExecutionErrorModel::new(ExecutionErrorConfig::paper(), 4) else {
+        let Ok(mut model) = ExecutionErrorModel::new(ExecutionErrorParams::paper(), 4) else {
             return Err(TestCaseError::fail("paper configuration rejected"));
         };
         let [w, i, j, k] = quaternion;
@@ -88,17 +88,17 @@ proptest! {
 #[test]
 fn overflowing_wrenches_give_errors_or_finite_readings() {
     for config in [
-        FtSensorConfig::default(),
-        FtSensorConfig {
+        FtSensorParams::default(),
+        FtSensorParams {
             saturation: false,
-            ..FtSensorConfig::default()
+            ..FtSensorParams::default()
         },
     ] {
         overflow(config);
     }
 }
 
-fn overflow(config: FtSensorConfig) {
+fn overflow(config: FtSensorParams) {
     let Ok(mut sensor) = FtSensor::new(config, 5) else {
         panic!("configuration rejected");
     };

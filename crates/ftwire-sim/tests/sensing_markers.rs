@@ -3,10 +3,10 @@
 use approx::assert_abs_diff_eq;
 use ftwire_core::CoreError;
 use ftwire_sim::markers::uniform_arc_lengths;
-use ftwire_sim::{MarkerConfig, MarkerFrame, MotionCapture, SensingError, point_at_arc_length};
+use ftwire_sim::{MarkerParams, MarkerFrame, MotionCapture, SensingError, point_at_arc_length};
 use nalgebra::{Point3, Vector3};
 
-fn mocap(config: MarkerConfig, seed: u64) -> MotionCapture {
+fn mocap(config: MarkerParams, seed: u64) -> MotionCapture {
     match MotionCapture::new(config, seed) {
         Ok(m) => m,
         Err(e) => panic!("valid configuration rejected: {e}"),
@@ -48,7 +48,7 @@ fn markers_sit_at_their_arc_lengths_on_a_straight_wire() {
         0.63,
     );
     let nodes = straight(start, direction, length, 100);
-    let mut m = mocap(MarkerConfig::ideal(), 1);
+    let mut m = mocap(MarkerParams::ideal(), 1);
     let frame = ok(m.observe_uniform(0.5, &nodes, length));
     assert_eq!(frame.time, 0.5);
     assert_eq!(frame.positions.len(), 11);
@@ -71,7 +71,7 @@ fn markers_sit_on_a_circular_arc() {
     let nodes: Vec<_> = arc_lengths.iter().map(|&s| arc_point(radius, s)).collect();
 
     // Fractions k/10 fall on nodes 10k: exact points of the circle.
-    let m = mocap(MarkerConfig::ideal(), 2);
+    let m = mocap(MarkerParams::ideal(), 2);
     let truth = ok(m.true_positions(&nodes, &arc_lengths, length));
     for (k, p) in truth.iter().enumerate() {
         assert_abs_diff_eq!(
@@ -86,9 +86,9 @@ fn markers_sit_on_a_circular_arc() {
     let h = length / edges as f64;
     let fractions = vec![0.0123, 0.2345, 0.5555, 0.7891, 0.999];
     let m = mocap(
-        MarkerConfig {
+        MarkerParams {
             fractions: fractions.clone(),
-            ..MarkerConfig::ideal()
+            ..MarkerParams::ideal()
         },
         2,
     );
@@ -120,14 +120,14 @@ fn arc_lengths_may_extend_beyond_the_clamps() {
         .iter()
         .map(|&s| Point3::new(0.0, s, 0.0))
         .collect();
-    let m = mocap(MarkerConfig::ideal(), 3);
+    let m = mocap(MarkerParams::ideal(), 3);
     let truth = ok(m.true_positions(&nodes, &arc_lengths, length));
     for (k, p) in truth.iter().enumerate() {
         assert_abs_diff_eq!(*p, Point3::new(0.0, k as f64 * 0.05, 0.0), epsilon = 1e-14);
     }
 }
 
-fn frames(config: MarkerConfig, seed: u64, count: usize) -> (Vec<Point3<f64>>, Vec<MarkerFrame>) {
+fn frames(config: MarkerParams, seed: u64, count: usize) -> (Vec<Point3<f64>>, Vec<MarkerFrame>) {
     let length = 0.63;
     let nodes = straight(Point3::origin(), Vector3::new(0.0, 0.0, 1.0), length, 63);
     let mut m = mocap(config, seed);
@@ -140,10 +140,10 @@ fn frames(config: MarkerConfig, seed: u64, count: usize) -> (Vec<Point3<f64>>, V
 
 #[test]
 fn marker_noise_has_the_configured_standard_deviation() {
-    let sigma = MarkerConfig::default().noise_std;
-    let config = MarkerConfig {
+    let sigma = MarkerParams::default().noise_std;
+    let config = MarkerParams {
         dropout_probability: 0.0,
-        ..MarkerConfig::default()
+        ..MarkerParams::default()
     };
     let (truth, frames) = frames(config, 4, 3000);
     let mut errors = Vec::new();
@@ -164,8 +164,8 @@ fn marker_noise_has_the_configured_standard_deviation() {
 
 #[test]
 fn markers_drop_out_at_the_configured_rate() {
-    let p = MarkerConfig::default().dropout_probability;
-    let (_, frames) = frames(MarkerConfig::default(), 5, 20_000);
+    let p = MarkerParams::default().dropout_probability;
+    let (_, frames) = frames(MarkerParams::default(), 5, 20_000);
     let total = frames.iter().map(|f| f.positions.len()).sum::<usize>() as f64;
     let dropped = frames
         .iter()
@@ -182,9 +182,9 @@ fn markers_drop_out_at_the_configured_rate() {
 
 #[test]
 fn the_same_seed_gives_the_same_frames_and_another_seed_does_not() {
-    let (_, a) = frames(MarkerConfig::default(), 6, 50);
-    let (_, b) = frames(MarkerConfig::default(), 6, 50);
-    let (_, c) = frames(MarkerConfig::default(), 7, 50);
+    let (_, a) = frames(MarkerParams::default(), 6, 50);
+    let (_, b) = frames(MarkerParams::default(), 6, 50);
+    let (_, c) = frames(MarkerParams::default(), 7, 50);
     assert_eq!(a, b);
     assert_ne!(a, c);
 }
@@ -193,30 +193,30 @@ fn the_same_seed_gives_the_same_frames_and_another_seed_does_not() {
 fn bad_inputs_give_clear_errors() {
     for (config, field) in [
         (
-            MarkerConfig {
+            MarkerParams {
                 fractions: vec![0.0, -0.1],
-                ..MarkerConfig::default()
+                ..MarkerParams::default()
             },
             "fractions",
         ),
         (
-            MarkerConfig {
+            MarkerParams {
                 fractions: vec![f64::NAN],
-                ..MarkerConfig::default()
+                ..MarkerParams::default()
             },
             "fractions",
         ),
         (
-            MarkerConfig {
+            MarkerParams {
                 noise_std: -1e-3,
-                ..MarkerConfig::default()
+                ..MarkerParams::default()
             },
             "noise_std",
         ),
         (
-            MarkerConfig {
+            MarkerParams {
                 dropout_probability: 1.5,
-                ..MarkerConfig::default()
+                ..MarkerParams::default()
             },
             "dropout_probability",
         ),
@@ -227,7 +227,7 @@ fn bad_inputs_give_clear_errors() {
         }
     }
 
-    let mut m = mocap(MarkerConfig::default(), 8);
+    let mut m = mocap(MarkerParams::default(), 8);
     let line = [Point3::origin(), Point3::new(1.0, 0.0, 0.0)];
     assert!(matches!(
         m.observe(0.0, &line[..1], &[0.0], 1.0),

@@ -8,7 +8,7 @@ use cli_support::{assert_success, ftwire};
 use ftwire_lab::experiment::calibration::run;
 use ftwire_lab::experiment::{Gravity, ModelKind};
 use ftwire_lab::wire::WireSpec;
-use ftwire_sim::{FtSensor, RigConfig};
+use ftwire_sim::{FtSensor, RigParams};
 use nalgebra::Vector6;
 
 /// Mean relative error of the torque and force parts of `a` against `truth`.
@@ -35,7 +35,7 @@ fn the_learnt_calibration_comes_close_to_the_exact_inverse()
         |_| {},
     )?;
     // The exact inverse of the sensor's deterministic response; the tare removed the bias.
-    let sensor = FtSensor::new(RigConfig::default().sensor, 0)?;
+    let sensor = FtSensor::new(RigParams::default().sensor, 0)?;
     let mut learnt = Vec::new();
     let mut exact = Vec::new();
     let mut mounting = Vec::new();

@@ -6,7 +6,7 @@ use ftwire_lab::experiment::Gravity;
 use ftwire_lab::experiment::rig::{measure, mounting, pipeline, place_wire, tare};
 use ftwire_lab::wire::WireSpec;
 use ftwire_rod::from_normalised;
-use ftwire_sim::RigConfig;
+use ftwire_sim::RigParams;
 use nalgebra::Vector6;
 
 #[test]
@@ -30,9 +30,9 @@ fn check(
     a0: &Vector6<f64>,
     seed: u64,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let config = RigConfig {
+    let config = RigParams {
         seed,
-        ..RigConfig::default()
+        ..RigParams::default()
     };
     let mut rig = place_wire(wire, Gravity::Off, a0, config.clone())?;
     let tared = pipeline(tare(&mut rig)?, mounting(&config)?)?;
@@ -85,7 +85,7 @@ fn the_loaded_placement_puts_the_heavy_cable_at_a0() -> Result<(), Box<dyn std::
         if !loaded.is_stable(&a0).unwrap_or(false) {
             continue;
         }
-        let config = RigConfig::default();
+        let config = RigParams::default();
         let Ok(rig) = place_among(
             &wire,
             Gravity::On,

@@ -8,7 +8,7 @@
 
 use serde::Serialize;
 
-use crate::{ControlSettings, NoiseModel, Outcome};
+use crate::{ControlParams, NoiseModel, Outcome};
 
 /// Success tolerance on the true final configuration, `‖a_true − a_g‖` \[normalised\], without
 /// noise and under `offset`: twice the controller's default stop `ε` (0.05).
@@ -46,7 +46,7 @@ pub const EPSILON_THROUGH_NOISY: f64 = 0.3;
 /// now and then does not stall the path.
 pub const MAX_ITERATIONS_THROUGH_NOISY: usize = 20;
 
-/// The shape stop \[m\] under `increment` and `absolute` (`ControlSettings::shape_tolerance`):
+/// The shape stop \[m\] under `increment` and `absolute` (`ControlParams::shape_tolerance`):
 /// a leg ends on a move that landed the model's shape at `ã` within this mean distance of the
 /// waypoint's, half the scatter of one landing. It must stay well above the error of that
 /// shape estimate (about 1 mm) for the measured shape to pick the true one.
@@ -58,7 +58,7 @@ pub const SHAPE_STOP_NOISY: f64 = 0.006;
 pub const SHAPE_STOP_NEAR_NOISY: f64 = 0.010;
 
 /// The controller's divergence stop under `increment` and `absolute` \[normalised\]
-/// (`ControlSettings::divergence`): a leg whose measured `‖a_g − ã‖` stays this far above its
+/// (`ControlParams::divergence`): a leg whose measured `‖a_g − ã‖` stays this far above its
 /// start's for two rests in a row is stopped and undone. One throw near a taut wire alone sets
 /// `ã` several units away and the next move brings it back; a run away keeps growing.
 pub const DIVERGENCE_NOISY: f64 = 20.0;
@@ -78,7 +78,7 @@ pub const MAX_RETREATS: usize = 4;
 pub const MAX_UNDOS: usize = 4;
 
 /// The fraction of a leg's move budget after which its shape stop loosens to
-/// [`TrackingPolicy::rerun_shape_stop`] (`ControlSettings::late_shape_tolerance`): with a
+/// [`TrackingPolicy::rerun_shape_stop`] (`ControlParams::late_shape_tolerance`): with a
 /// finite budget the best threshold rises as the moves left run out, instead of ending the
 /// leg on whatever landing came last.
 pub const LATE_FRACTION: f64 = 0.75;
@@ -105,15 +105,15 @@ pub const RELOCATION_STEPS: [f64; 4] = [0.01, 0.02, 0.03, 0.04];
 pub struct TrackingPolicy {
     /// The controller's settings on the last leg, to the goal, but for its gain and shape stop
     /// ([`TrackingPolicy::gain`], [`TrackingPolicy::shape_stop`]).
-    pub goal: ControlSettings,
+    pub goal: ControlParams,
     /// The controller's settings on the legs before the last, but for the gain and the shape
     /// stops; `max_iterations` is each leg's move budget (`--waypoint-moves`).
-    pub through: ControlSettings,
+    pub through: ControlParams,
     /// The controller's gain `K` on every leg (eq. 13): 1 under `increment` and `absolute`,
     /// where each move's error is independent and the wire's stationary spread about the path,
     /// `1/√(K(2 − K))` times one move's, is least at `K = 1`; 0.5 otherwise.
     pub gain: f64,
-    /// The shape stop \[m\] of every leg (`ControlSettings::shape_tolerance`; 0: the `ε`
+    /// The shape stop \[m\] of every leg (`ControlParams::shape_tolerance`; 0: the `ε`
     /// stops): [`SHAPE_STOP_NOISY`] under `increment` and `absolute`, 0 otherwise, where the
     /// loop converges and `ε` is tighter than any shape stop worth waiting for.
     pub shape_stop: f64,
@@ -171,28 +171,28 @@ impl TrackingPolicy {
     pub fn for_noise(noise: NoiseModel) -> Self {
         let scatters = matches!(noise, NoiseModel::Increment | NoiseModel::Absolute);
         let (goal, through, gain, shape_stop, near_stop_floor) = if scatters {
-            let goal = ControlSettings {
+            let goal = ControlParams {
                 epsilon: EPSILON_NOISY,
                 max_iterations: MAX_ITERATIONS_NOISY,
                 divergence: DIVERGENCE_NOISY,
-                ..ControlSettings::default()
+                ..ControlParams::default()
             };
-            let through = ControlSettings {
+            let through = ControlParams {
                 epsilon: EPSILON_THROUGH_NOISY,
                 max_iterations: MAX_ITERATIONS_THROUGH_NOISY,
                 divergence: DIVERGENCE_NOISY,
-                ..ControlSettings::default()
+                ..ControlParams::default()
             };
             (goal, through, 1.0, SHAPE_STOP_NOISY, SHAPE_STOP_NEAR_NOISY)
         } else {
-            let goal = ControlSettings {
+            let goal = ControlParams {
                 epsilon: EPSILON_GOAL,
-                ..ControlSettings::default()
+                ..ControlParams::default()
             };
-            let through = ControlSettings {
+            let through = ControlParams {
                 epsilon: EPSILON_THROUGH,
                 max_iterations: MAX_ITERATIONS_THROUGH,
-                ..ControlSettings::default()
+                ..ControlParams::default()
             };
             (goal, through, 0.5, 0.0, 0.0)
         };
@@ -375,7 +375,7 @@ mod tests {
         assert_eq!(policy.late_after(500), 375);
         assert_eq!(policy.late_after(20), 15);
         assert_eq!(policy.late_after(1), 1);
-        let settings = |stop: f64| ControlSettings {
+        let settings = |stop: f64| ControlParams {
             shape_tolerance: stop,
             late_shape_tolerance: policy.rerun_shape_stop(stop),
             late_after: policy.late_after(500),
@@ -489,7 +489,7 @@ mod tests {
         for noise in ALL {
             let policy = TrackingPolicy::for_noise(noise);
             for settings in [policy.goal, policy.through] {
-                let settings = ControlSettings {
+                let settings = ControlParams {
                     gain: policy.gain,
                     shape_tolerance: policy.shape_stop,
                     ..settings

@@ -13,7 +13,7 @@ use nalgebra::Vector6;
 use serde::Serialize;
 
 use crate::{
-    BiasObserver, BiasObserverSettings, CollisionDetector, ControlError, ControlSettings,
+    BiasObserver, BiasObserverParams, CollisionDetector, ControlError, ControlParams,
     Controller, FtFeedback, Outcome, ReachCheck, Run, StepRecord, TrackingPolicy,
 };
 
@@ -37,7 +37,7 @@ pub struct PathTracker<M> {
     model: M,
     policy: TrackingPolicy,
     detector: Option<CollisionDetector>,
-    bias: Option<BiasObserverSettings>,
+    bias: Option<BiasObserverParams>,
     near: Vec<bool>,
 }
 
@@ -230,7 +230,7 @@ impl<M: WireModel> PathTracker<M> {
     /// Steering by `ã` corrected for the sensor's bias drift by one [`BiasObserver`] with
     /// `settings` over the whole path.
     #[must_use]
-    pub fn with_bias_observer(mut self, settings: BiasObserverSettings) -> Self {
+    pub fn with_bias_observer(mut self, settings: BiasObserverParams) -> Self {
         self.bias = Some(settings);
         self
     }
@@ -355,14 +355,14 @@ impl<M: WireModel> PathTracker<M> {
     fn controllers(&self) -> Result<Controllers<M>, ControlError> {
         let p = &self.policy;
         let rerun_stop = p.rerun_shape_stop(p.shape_stop);
-        let through = ControlSettings {
+        let through = ControlParams {
             gain: p.gain,
             shape_tolerance: p.shape_stop,
             late_shape_tolerance: rerun_stop,
             late_after: p.late_after(p.through.max_iterations),
             ..p.through
         };
-        let end = ControlSettings {
+        let end = ControlParams {
             gain: p.gain,
             shape_tolerance: p.shape_stop,
             ..p.goal
@@ -374,13 +374,13 @@ impl<M: WireModel> PathTracker<M> {
                 None => controller,
             })
         };
-        let near = ControlSettings {
+        let near = ControlParams {
             shape_tolerance: p.near_shape_stop,
             ..through
         };
         let close = build(near)?;
-        let rerun = |settings: ControlSettings| {
-            build(ControlSettings {
+        let rerun = |settings: ControlParams| {
+            build(ControlParams {
                 shape_tolerance: settings.shape_tolerance.max(rerun_stop),
                 ..settings
             })
@@ -466,7 +466,7 @@ impl<M: WireModel, R: Rig, Q: ReachCheck, O: FnMut(&R, &Rest<'_>)> Pass<'_, '_, 
         };
         let leg = self.tracked.legs.len();
         let observe = &mut *self.observe;
-        let run = controller.run_estimated(
+        let run = controller.run_with_bias_observer(
             &mut *self.rig,
             feedback,
             &mut *self.reach,

@@ -3,7 +3,7 @@
 //! previous configuration, so the model is exact on it. Faults can be switched on.
 #![allow(dead_code)]
 
-use ftwire_control::{ControlSettings, FtFeedback};
+use ftwire_control::{ControlParams, FtFeedback};
 use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, WireParams};
 use ftwire_estimate::ft::{FtPipeline, Mounting, RestAverage, Tare};
 use ftwire_rod::{Rod, from_normalised, se3};
@@ -39,10 +39,10 @@ pub fn feedback() -> FtFeedback<Mounting> {
 }
 
 /// Default settings with a tight stop.
-pub fn settings() -> ControlSettings {
-    ControlSettings {
+pub fn settings() -> ControlParams {
+    ControlParams {
         epsilon: 1e-3,
-        ..ControlSettings::default()
+        ..ControlParams::default()
     }
 }
 

@@ -7,7 +7,7 @@ use super::{Affine, Mlp, Normaliser, TrainingRecord};
 /// A trained F/T calibration (paper §IV-A): raw reading (force first, sensor frame, tared) in,
 /// configuration `a` (torque first, base clamp frame) out.
 ///
-/// The map is `a = F(raw) − F(0)` (anchored, [`TrainConfig::anchored`](super::TrainConfig::anchored),
+/// The map is `a = F(raw) − F(0)` (anchored, [`TrainParams::anchored`](super::TrainParams::anchored),
 /// for tared readings) or `a = F(raw)`, with `F(raw) = μ_a + σ_a ⊙ (A z + c + f(z))` and
 /// `z = (raw − μ_raw) ⊘ σ_raw`: per-channel standardisation fitted on the training split, an
 /// optional least-squares affine part `A z + c` ([`Affine`]) and the network `f` ([`Mlp`]) that

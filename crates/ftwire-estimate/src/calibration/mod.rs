@@ -9,7 +9,7 @@
 //! Workflow:
 //! 1. Collect pairs into a [`Dataset`] (it rejects non-finite samples and unpaired lists,
 //!    naming the sample).
-//! 2. [`Calibration::train`] (or [`Calibration::train_with_progress`]) with a [`TrainConfig`]
+//! 2. [`Calibration::train`] (or [`Calibration::train_with_progress`]) with a [`TrainParams`]
 //!    and a seed: a seeded 70/15/15 split ([`SplitFractions`]), per-channel standardisation
 //!    fitted on the training split ([`Normaliser`]), a least-squares affine map ([`Affine`])
 //!    and an [`Mlp`] (default 6-64-64-6, tanh) trained on what the affine map leaves, by
@@ -50,4 +50,4 @@ pub use dataset::{Dataset, MIN_TRAINING_SAMPLES, Split, SplitFractions};
 pub use map::Calibration;
 pub use mlp::{Activation, MAX_HIDDEN_LAYERS, MAX_WIDTH, Mlp, parameter_count};
 pub use normalise::Normaliser;
-pub use train::{EpochLosses, EpochProgress, SplitSizes, StopReason, TrainConfig, TrainingRecord};
+pub use train::{EpochLosses, EpochProgress, SplitSizes, StopReason, TrainParams, TrainingRecord};

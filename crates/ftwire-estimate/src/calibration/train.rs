@@ -16,7 +16,7 @@ use crate::EstimateError;
 /// How to train a calibration. Public fields with [`Default`]; checked when training starts.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct TrainConfig {
+pub struct TrainParams {
     /// Hidden layer widths, each in `1..=MAX_WIDTH`, at most `MAX_HIDDEN_LAYERS` of them;
     /// empty gives an affine network (default `[64, 64]`).
     pub hidden: Vec<usize>,
@@ -56,7 +56,7 @@ pub struct TrainConfig {
     pub patience: usize,
 }
 
-impl Default for TrainConfig {
+impl Default for TrainParams {
     fn default() -> Self {
         Self {
             hidden: vec![64, 64],
@@ -74,7 +74,7 @@ impl Default for TrainConfig {
     }
 }
 
-impl TrainConfig {
+impl TrainParams {
     /// Checks the ranges documented on the fields (the split's are checked by the split).
     fn validate(&self) -> Result<(), EstimateError> {
         #[allow(clippy::cast_precision_loss)] // reported values only
@@ -177,7 +177,7 @@ pub struct TrainingRecord {
     /// The seed of the split, the initial weights and the batch order.
     pub seed: u64,
     /// The configuration trained with.
-    pub config: TrainConfig,
+    pub config: TrainParams,
     /// Samples in each split.
     pub samples: SplitSizes,
     /// Epochs run.
@@ -208,7 +208,7 @@ impl Calibration {
     ///
     /// # Example
     /// ```
-    /// use ftwire_estimate::calibration::{Calibration, Dataset, TrainConfig};
+    /// use ftwire_estimate::calibration::{Calibration, Dataset, TrainParams};
     /// use nalgebra::Vector6;
     ///
     /// // A sensor that reads a, force first and with gain 2.
@@ -217,13 +217,13 @@ impl Calibration {
     ///     .collect();
     /// let raw = labels.iter().map(|a| 2.0 * Vector6::new(a[3], a[4], a[5], a[0], a[1], a[2]));
     /// let data = Dataset::new(raw.collect(), labels.clone())?;
-    /// let config = TrainConfig { hidden: vec![8], max_epochs: 5, ..TrainConfig::default() };
+    /// let config = TrainParams { hidden: vec![8], max_epochs: 5, ..TrainParams::default() };
     /// let calibration = Calibration::train(&data, &config, 42)?;
     /// let a = calibration.apply(&data.raw()[0]);
     /// assert!((a - labels[0]).norm() < 1e-6 * labels[0].norm().max(1.0));
     /// # Ok::<(), ftwire_estimate::EstimateError>(())
     /// ```
-    pub fn train(data: &Dataset, config: &TrainConfig, seed: u64) -> Result<Self, EstimateError> {
+    pub fn train(data: &Dataset, config: &TrainParams, seed: u64) -> Result<Self, EstimateError> {
         Self::train_with_progress(data, config, seed, |_| {})
     }
 
@@ -234,7 +234,7 @@ impl Calibration {
     /// [`EstimateError::TooFewCalibrationSamples`] when `data` is too small for the split.
     pub fn train_with_progress(
         data: &Dataset,
-        config: &TrainConfig,
+        config: &TrainParams,
         seed: u64,
         mut progress: impl FnMut(&EpochProgress),
     ) -> Result<Self, EstimateError> {
@@ -357,7 +357,7 @@ fn descend(
     mut mlp: Mlp,
     train: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
     validation: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
-    config: &TrainConfig,
+    config: &TrainParams,
     rng: &mut ChaCha8Rng,
     progress: &mut impl FnMut(&EpochProgress),
 ) -> Result<Descent, EstimateError> {

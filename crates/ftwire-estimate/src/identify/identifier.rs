@@ -3,7 +3,7 @@
 //! One driver owns the loop:
 //! 1. **coarse**: a particle swarm ([`super::pso`]) finds the basin in the 2-D space
 //!    `(ln(c2/L), L)` of a round rod, `c3 = c2`, `c1 = ν0 c2` (`ν0` =
-//!    [`IdentifyConfig::coarse_torsion_ratio`], unless the configured constraints fix them),
+//!    [`IdentifierParams::coarse_torsion_ratio`], unless the configured constraints fix them),
 //!    on a cost without the twist of the second gripper about the wire's tangent, and
 //!    Levenberg–Marquardt ([`super::refine`]) polishes the few best distinct personal bests
 //!    there;
@@ -11,7 +11,7 @@
 //!    the lowest cost wins, and is checked for identifiability ([`Estimate`]);
 //! 3. **retry**: if that fit is far above the noise or on the box's edge (the wrong basin),
 //!    half the swarm is re-injected at random and steps 1–2 run again, up to
-//!    [`IdentifyConfig::search_rounds`] rounds; the best fit is kept;
+//!    [`IdentifierParams::search_rounds`] rounds; the best fit is kept;
 //! 4. **polish**: Levenberg–Marquardt from the best fit on the residuals whitened by the
 //!    noise's predicted covariance (generalised least squares, [`super::residual`]), which
 //!    the fixed weighting of steps 1–3 only approximates.
@@ -54,14 +54,14 @@ use super::parameters::{L_MAX, L_MIN, LAMBDA_MAX, LAMBDA_MIN};
 pub const DEFAULT_LINEAR_DENSITY: f64 = 0.03;
 use super::refine::Refined;
 use super::{
-    Estimate, LevenbergMarquardt, NoiseModel, ParameterConstraints, ParticleSwarm, ResidualForm,
+    Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints, ParticleSwarm, ResidualForm,
     Residuals, Sample, Swarm, Unidentified, Weights,
 };
 use crate::{EstimateError, WireModel};
 
 /// Identification settings (a parameter bundle; checked when identification starts).
 #[derive(Debug, Clone, PartialEq)]
-pub struct IdentifyConfig {
+pub struct IdentifierParams {
     /// The residual minimised (default [`ResidualForm::Absolute`]).
     pub form: ResidualForm,
     /// Known relations between the parameters (default none).
@@ -87,12 +87,12 @@ pub struct IdentifyConfig {
     pub refine_starts: usize,
     /// Search rounds at most (default `3`): when the refined fit is far above the noise or on
     /// the box's edge (most likely the wrong basin), the worse half of the swarm is re-injected
-    /// at random and the swarm runs [`IdentifyConfig::swarm_iterations`] more before refining
+    /// at random and the swarm runs [`IdentifierParams::swarm_iterations`] more before refining
     /// again; the best fit of all rounds is kept.
     pub search_rounds: usize,
     /// The measurement noise, to whiten the residuals of the final polish and to test the final
-    /// fit (default [`NoiseModel::default`]).
-    pub noise: NoiseModel,
+    /// fit (default [`MeasurementNoise::default`]).
+    pub noise: MeasurementNoise,
     /// Whether the search's best fit is polished on the noise-whitened residuals (step 4 of
     /// [`super::identifier`]; default `true`).
     pub polish: bool,
@@ -107,7 +107,7 @@ pub struct IdentifyConfig {
     pub min_condition: f64,
 }
 
-impl Default for IdentifyConfig {
+impl Default for IdentifierParams {
     fn default() -> Self {
         Self {
             form: ResidualForm::default(),
@@ -120,7 +120,7 @@ impl Default for IdentifyConfig {
             refine: LevenbergMarquardt::default(),
             refine_starts: 3,
             search_rounds: 3,
-            noise: NoiseModel::default(),
+            noise: MeasurementNoise::default(),
             polish: true,
             min_motion: 10.0,
             max_chi2_per_dof: 25.0,
@@ -129,7 +129,7 @@ impl Default for IdentifyConfig {
     }
 }
 
-impl IdentifyConfig {
+impl IdentifierParams {
     /// Checks every setting.
     ///
     /// # Errors
@@ -188,13 +188,13 @@ impl IdentifyConfig {
 ///   equations exceed the unknowns (6 per sample for the absolute form, 6 per pair for the
 ///   differential forms; two because identification needs motion, paper §III-B, and at least
 ///   one degree of freedom must remain to estimate the residual variance); a second gripper
-///   that moved less than [`IdentifyConfig::min_motion`] noise standard deviations (all `b̃`
+///   that moved less than [`IdentifierParams::min_motion`] noise standard deviations (all `b̃`
 ///   equal, or one sample);
 /// - **flags** ([`Estimate::unidentified`]): a residual Jacobian whose relative smallest
-///   singular value is below [`IdentifyConfig::min_condition`] (the LM normal matrix `JᵀJ` has
+///   singular value is below [`IdentifierParams::min_condition`] (the LM normal matrix `JᵀJ` has
 ///   the squares of these singular values); a parameter on the edge of the search box; a
-///   final `χ²/dof` above [`IdentifyConfig::max_chi2_per_dof`] under the configured
-///   [`NoiseModel`] (the fit explains the data far worse than the noise would).
+///   final `χ²/dof` above [`IdentifierParams::max_chi2_per_dof`] under the configured
+///   [`MeasurementNoise`] (the fit explains the data far worse than the noise would).
 ///
 /// The standard deviations ([`Estimate::c_std`], [`Estimate::length_std`]) are the first-order
 /// `s² (JᵀJ)⁻¹` with `s²` the weighted residual variance per degree of freedom.
@@ -207,7 +207,7 @@ impl IdentifyConfig {
 /// # Example
 /// ```
 /// use ftwire_core::WireParams;
-/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifyConfig, identify}};
+/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifierParams, identify}};
 /// use nalgebra::Vector6;
 /// use rand::SeedableRng;
 /// let truth = KirchhoffModel::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
@@ -216,7 +216,7 @@ impl IdentifyConfig {
 ///     (a, truth.tip(&a).expect("solvable"))
 /// });
 /// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-/// let estimate = identify(&truth, &samples, &IdentifyConfig::default(), &mut rng)?;
+/// let estimate = identify(&truth, &samples, &IdentifierParams::default(), &mut rng)?;
 /// assert!(estimate.is_identified());
 /// assert!((estimate.length - 0.63).abs() < 1e-3);
 /// # Ok::<(), ftwire_estimate::EstimateError>(())
@@ -224,7 +224,7 @@ impl IdentifyConfig {
 pub fn identify<M: WireModel, R: Rng + ?Sized>(
     model: &M,
     samples: &[(Vector6<f64>, Pose)],
-    config: &IdentifyConfig,
+    config: &IdentifierParams,
     rng: &mut R,
 ) -> Result<Estimate, EstimateError> {
     let mut identifier = Identifier::new(model.clone(), config.clone(), rng)?;
@@ -249,12 +249,12 @@ pub fn identify<M: WireModel, R: Rng + ?Sized>(
 /// ```
 /// use std::time::Duration;
 /// use ftwire_core::WireParams;
-/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifyConfig, Identifier}};
+/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifierParams, Identifier}};
 /// use nalgebra::Vector6;
 /// use rand::SeedableRng;
 /// let truth = KirchhoffModel::new(WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?);
 /// let rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
-/// let mut id = Identifier::new(truth, IdentifyConfig::default(), rng)?;
+/// let mut id = Identifier::new(truth, IdentifierParams::default(), rng)?;
 /// for d in [0.0, 0.5, -0.4] {
 ///     let a = Vector6::new(0.05 * d, 0.1, 0.05, -0.2 + 0.2 * d, 0.3, 0.1 * d);
 ///     id.push(a, truth.tip(&a)?)?;
@@ -267,7 +267,7 @@ pub fn identify<M: WireModel, R: Rng + ?Sized>(
 #[derive(Debug, Clone)]
 pub struct Identifier<M: WireModel, R: Rng> {
     model: M,
-    config: IdentifyConfig,
+    config: IdentifierParams,
     rng: R,
     samples: Vec<Sample>,
     swarm: Option<Swarm>,
@@ -287,7 +287,7 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     ///
     /// # Errors
     /// [`EstimateError::BadIdentifySetting`] for a bad setting.
-    pub fn new(model: M, config: IdentifyConfig, rng: R) -> Result<Self, EstimateError> {
+    pub fn new(model: M, config: IdentifierParams, rng: R) -> Result<Self, EstimateError> {
         config.validate()?;
         // With the linear density identified, the model's weight along `g` is the prior the
         // coarse search holds fixed and the fine fit starts from.

@@ -38,9 +38,9 @@ pub mod sample;
 pub mod unidentified;
 
 pub use estimate::Estimate;
-pub use identifier::{Identifier, IdentifyConfig, identify};
+pub use identifier::{Identifier, IdentifierParams, identify};
 pub use motion::MotionPlan;
-pub use noise::NoiseModel;
+pub use noise::MeasurementNoise;
 pub use parameters::ParameterConstraints;
 pub use pso::{CostFunction, Particle, ParticleSwarm, Swarm};
 pub use refine::{LevenbergMarquardt, Refined};

@@ -11,7 +11,7 @@ use crate::EstimateError;
 /// noise explains means the model does not fit the data (wrong basin, untared sensor, a load
 /// the model lacks), and the estimate is flagged not identified.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NoiseModel {
+pub struct MeasurementNoise {
     /// Orientation error of `b̃` per axis \[rad\] (default `0.05°`).
     pub rotation: f64,
     /// Position error of `b̃` per axis \[m\] (default `1e-4`, 0.1 mm).
@@ -22,7 +22,7 @@ pub struct NoiseModel {
     pub force: f64,
 }
 
-impl Default for NoiseModel {
+impl Default for MeasurementNoise {
     fn default() -> Self {
         Self {
             rotation: 0.05_f64.to_radians(),
@@ -33,7 +33,7 @@ impl Default for NoiseModel {
     }
 }
 
-impl NoiseModel {
+impl MeasurementNoise {
     /// Checks that every standard deviation is finite and positive.
     ///
     /// # Errors

@@ -38,7 +38,7 @@
 //! measured wrench `ã` is noisier than the commanded pose `b̃`, and `J(L)` maps its noise into
 //! pose residuals that are large along some directions and tiny along others. Once the search
 //! has found the basin, the driver polishes the estimate on the **whitened** residuals
-//! `L_i⁻¹ W r_i`, with `L_i L_iᵀ = W Σ_i W` the residual's covariance that the [`NoiseModel`]
+//! `L_i⁻¹ W r_i`, with `L_i L_iᵀ = W Σ_i W` the residual's covariance that the [`MeasurementNoise`]
 //! predicts (`Σ_i = Σ_b + J_i Σ_a J_iᵀ`, `J_i = J_η(ã_i)` frozen at the polish's start):
 //! generalised least squares, the maximum-likelihood fit for Gaussian noise, whose cost is
 //! the `χ²` the fit is judged by ([`Residuals::chi_squared`]), and it lowers the error of
@@ -51,7 +51,7 @@ use ftwire_core::Pose;
 use ftwire_rod::{perturbation::delta_b, se3, to_normalised};
 use nalgebra::{DVector, Matrix6, Vector6};
 
-use super::{NoiseModel, ParameterConstraints, Sample};
+use super::{MeasurementNoise, ParameterConstraints, Sample};
 use crate::{EstimateError, WireModel};
 
 /// The value of each component of a residual that cannot be evaluated: larger than any
@@ -248,11 +248,11 @@ impl<M: WireModel> Residuals<'_, M> {
     /// # Errors
     /// The model's error if it cannot be solved at `θ` or at a sample;
     /// [`EstimateError::BadIdentifySetting`] for a covariance that is not positive definite
-    /// (never for a valid [`NoiseModel`]).
+    /// (never for a valid [`MeasurementNoise`]).
     pub fn whitening(
         &self,
         theta: &[f64],
-        noise: &NoiseModel,
+        noise: &MeasurementNoise,
     ) -> Result<Vec<Matrix6<f64>>, EstimateError> {
         let model = self.try_model_at(theta)?;
         let w = self.weights.matrix();
@@ -291,7 +291,7 @@ impl<M: WireModel> Residuals<'_, M> {
     ///
     /// # Errors
     /// The model's error if it cannot be solved at `θ` or at a sample.
-    pub fn chi_squared(&self, theta: &[f64], noise: &NoiseModel) -> Result<f64, EstimateError> {
+    pub fn chi_squared(&self, theta: &[f64], noise: &MeasurementNoise) -> Result<f64, EstimateError> {
         let whitening = self.whitening(theta, noise)?;
         let whitened = Residuals {
             whitening: Some(&whitening),

@@ -16,7 +16,7 @@ use crate::{EstimateError, WireModel};
 
 /// Settings of the shape estimator.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EstimatorConfig {
+pub struct EstimatorParams {
     /// Shape nodes, uniformly spaced in arc length, both ends included (default `64`; at least
     /// 50 so that metrics can compare 50 arc lengths).
     pub nodes: usize,
@@ -28,7 +28,7 @@ pub struct EstimatorConfig {
     pub jump_threshold: f64,
 }
 
-impl Default for EstimatorConfig {
+impl Default for EstimatorParams {
     fn default() -> Self {
         Self {
             nodes: 64,
@@ -99,7 +99,7 @@ pub struct ShapeEstimate {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShapeEstimator<M> {
     model: M,
-    config: EstimatorConfig,
+    config: EstimatorParams,
     previous: Option<Vector6<f64>>,
 }
 
@@ -109,7 +109,7 @@ impl<M: WireModel> ShapeEstimator<M> {
     pub fn new(model: M) -> Self {
         Self {
             model,
-            config: EstimatorConfig::default(),
+            config: EstimatorParams::default(),
             previous: None,
         }
     }
@@ -119,7 +119,7 @@ impl<M: WireModel> ShapeEstimator<M> {
     /// # Errors
     /// [`EstimateError::BadShapeSetting`] if `nodes < 50` or above the model's limit of
     /// 1 000 000, or the jump threshold is not finite and positive.
-    pub fn with_config(self, config: EstimatorConfig) -> Result<Self, EstimateError> {
+    pub fn with_config(self, config: EstimatorParams) -> Result<Self, EstimateError> {
         setting::count(
             "nodes",
             config.nodes,
@@ -136,7 +136,7 @@ impl<M: WireModel> ShapeEstimator<M> {
     }
 
     /// The settings.
-    pub fn config(&self) -> &EstimatorConfig {
+    pub fn config(&self) -> &EstimatorParams {
         &self.config
     }
 

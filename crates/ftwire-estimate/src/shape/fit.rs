@@ -55,7 +55,7 @@ pub enum Correspondence {
 
 /// Settings of the shape fit.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FitConfig {
+pub struct FitParams {
     /// Marker-to-model matching (default [`Correspondence::ArcLength`]).
     pub correspondence: Correspondence,
     /// The local refinement (default [`LevenbergMarquardt::default`]).
@@ -73,7 +73,7 @@ pub struct FitConfig {
     pub closest_point_nodes: usize,
 }
 
-impl Default for FitConfig {
+impl Default for FitParams {
     fn default() -> Self {
         Self {
             correspondence: Correspondence::ArcLength,
@@ -86,7 +86,7 @@ impl Default for FitConfig {
     }
 }
 
-impl FitConfig {
+impl FitParams {
     fn validate(&self) -> Result<(), EstimateError> {
         self.local.validate()?;
         setting::positive("trusted_rms", self.trusted_rms, "finite and > 0 [m]")?;
@@ -146,7 +146,7 @@ pub struct ShapeFit {
 pub struct ShapeFitter<M, G = MultiStart> {
     model: M,
     global: G,
-    config: FitConfig,
+    config: FitParams,
 }
 
 impl<M: WireModel> ShapeFitter<M> {
@@ -156,7 +156,7 @@ impl<M: WireModel> ShapeFitter<M> {
         Self {
             model,
             global: MultiStart::default(),
-            config: FitConfig::default(),
+            config: FitParams::default(),
         }
     }
 }
@@ -166,7 +166,7 @@ impl<M: WireModel, G: GlobalSearch> ShapeFitter<M, G> {
     ///
     /// # Errors
     /// [`EstimateError::BadShapeSetting`] naming a setting out of range.
-    pub fn with_config(self, config: FitConfig) -> Result<Self, EstimateError> {
+    pub fn with_config(self, config: FitParams) -> Result<Self, EstimateError> {
         config.validate()?;
         Ok(Self { config, ..self })
     }
@@ -187,7 +187,7 @@ impl<M: WireModel, G: GlobalSearch> ShapeFitter<M, G> {
     }
 
     /// The settings.
-    pub fn config(&self) -> &FitConfig {
+    pub fn config(&self) -> &FitParams {
         &self.config
     }
 

@@ -26,9 +26,9 @@ mod setting;
 
 pub use centreline_point::{CentrelinePoint, centreline_point};
 pub use estimate::{
-    Confidence, EstimatorConfig, MIN_ESTIMATE_NODES, ShapeEstimate, ShapeEstimator,
+    Confidence, EstimatorParams, MIN_ESTIMATE_NODES, ShapeEstimate, ShapeEstimator,
 };
-pub use fit::{Correspondence, FitConfig, ShapeFit, ShapeFitter};
+pub use fit::{Correspondence, FitParams, ShapeFit, ShapeFitter};
 pub use global::{GlobalSearch, MultiStart, SwarmSearch};
 pub use levenberg_marquardt::{LevenbergMarquardt, Termination};
 pub use markers::{DEFAULT_MARKER_COUNT, MIN_MARKERS, Marker, Markers, evenly_spaced_fractions};

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use ftwire_core::{Pose, WireParams};
-use ftwire_estimate::identify::NoiseModel;
+use ftwire_estimate::identify::MeasurementNoise;
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::{from_normalised, sampling::Sampler, se3};
 use nalgebra::Vector6;
@@ -47,8 +47,8 @@ pub const SENSOR: Noise = Noise {
 };
 
 /// The identification's noise model matching `noise` on `wire`.
-pub fn noise_model(wire: &WireParams, noise: Noise) -> NoiseModel {
-    NoiseModel {
+pub fn noise_model(wire: &WireParams, noise: Noise) -> MeasurementNoise {
+    MeasurementNoise {
         rotation: noise.rotation,
         translation: noise.translation,
         torque: noise.wrench * wire.torque_scale(),

@@ -37,7 +37,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use ftwire_estimate::calibration::{Calibration, Dataset, Split, TrainConfig};
+use ftwire_estimate::calibration::{Calibration, Dataset, Split, TrainParams};
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, Markers, ShapeFitter, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::Rod;
@@ -301,7 +301,7 @@ pub fn map_errors(
 }
 
 /// Collects `count` configurations on `wire` in the rig `setup`, trains the network with the default
-/// [`TrainConfig`] and `seed`, and evaluates it (see the module docs).
+/// [`TrainParams`] and `seed`, and evaluates it (see the module docs).
 ///
 /// # Errors
 /// Bad input for a bad wire or too few usable samples for the split; no answer when the
@@ -322,10 +322,10 @@ pub fn run(
         samples.iter().map(|s| s.label).collect(),
     )
     .map_err(|e| from_estimate(e, "the calibration data"))?;
-    // Not anchored at zero (`TrainConfig::anchored`): with gravity on, the calibration wire's
+    // Not anchored at zero (`TrainParams::anchored`): with gravity on, the calibration wire's
     // readings never come near zero, and the trained map's value there is an extrapolation
     // (measured: up to 0.09 N, making the test error worse than the raw reading's on seed 2).
-    let config = TrainConfig::default();
+    let config = TrainParams::default();
     let start = Instant::now();
     let calibration = Calibration::train(&data, &config, seed).map_err(|e| {
         from_estimate(

@@ -1,11 +1,11 @@
 //! The simulated rig of an experiment: the true wire between the grippers, the sensor, the
 //! markers; and the measurements a real robot makes on it.
 
-use ftwire_control::{BiasObserverSettings, NoiseModel, NoiseSettings};
+use ftwire_control::{BiasObserverParams, NoiseModel, NoiseParams};
 use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
 use ftwire_rod::{Load, Rod};
-use ftwire_sim::{BoxObstacle, RigConfig, SimRig, Simulator, World};
+use ftwire_sim::{BoxObstacle, RigParams, SimRig, Simulator, World};
 use nalgebra::{Vector3, Vector6};
 
 use super::{Gravity, ModelKind, SIM_EDGES};
@@ -33,7 +33,7 @@ pub fn place_wire(
     wire: &WireSpec,
     gravity: Gravity,
     a0: &Vector6<f64>,
-    config: RigConfig,
+    config: RigParams,
 ) -> Result<SimRig, LabError> {
     place_among(wire, gravity, ModelKind::Weightless, a0, config, &[])
 }
@@ -54,7 +54,7 @@ pub fn place_among(
     gravity: Gravity,
     model: ModelKind,
     a0: &Vector6<f64>,
-    config: RigConfig,
+    config: RigParams,
     obstacles: &[BoxObstacle],
 ) -> Result<SimRig, LabError> {
     let world = world_among(wire, gravity, obstacles)?;
@@ -108,7 +108,7 @@ pub fn place_in_world(
     model: &Rod,
     base: &Pose,
     a0: &Vector6<f64>,
-    config: RigConfig,
+    config: RigParams,
 ) -> Result<SimRig, LabError> {
     let tip = base
         * model
@@ -159,11 +159,11 @@ pub fn bias_observer(
     setup: &SimSetup,
     noise: NoiseModel,
     on: bool,
-) -> Option<BiasObserverSettings> {
+) -> Option<BiasObserverParams> {
     if !on {
         return None;
     }
-    let execution = NoiseSettings::default();
+    let execution = NoiseParams::default();
     let (offset_position_std, offset_rotation_std) = match noise {
         NoiseModel::None | NoiseModel::Increment => (
             execution.repeat_position_std,
@@ -178,7 +178,7 @@ pub fn bias_observer(
     let lever = nalgebra::Vector3::from(sensor.clamp_position_in_sensor).norm();
     let torque_drift = max(&sensor.bias_random_walk[3..]).hypot(lever * force_drift);
     let tare = 2.0 / (TARE_SAMPLES as f64).sqrt();
-    Some(BiasObserverSettings {
+    Some(BiasObserverParams {
         force_drift,
         torque_drift,
         initial_force_std: tare * max(&sensor.noise_std[..3]),
@@ -188,12 +188,12 @@ pub fn bias_observer(
         repeat_position_std: execution.repeat_position_std,
         repeat_rotation_std: execution.repeat_orientation_std,
         fuse_rest: fuse_rest(noise),
-        ..BiasObserverSettings::default()
+        ..BiasObserverParams::default()
     })
 }
 
 /// Whether the bias observer also fuses each rest with the reported pose under `noise`
-/// (`BiasObserverSettings::fuse_rest`): where the robot knows where its gripper is to its
+/// (`BiasObserverParams::fuse_rest`): where the robot knows where its gripper is to its
 /// repeatability (no noise; `increment`, whose error the encoders see). Under `offset` the
 /// pose is off by the unknown calibration error, which the observer estimates slowly.
 pub fn fuse_rest(noise: NoiseModel) -> bool {
@@ -204,7 +204,7 @@ pub fn fuse_rest(noise: NoiseModel) -> bool {
 ///
 /// # Errors
 /// Bad input for a non-finite mounting in the rig's sensor settings.
-pub fn mounting(config: &RigConfig) -> Result<Mounting, LabError> {
+pub fn mounting(config: &RigParams) -> Result<Mounting, LabError> {
     Mounting::new(config.sensor.sensor_from_clamp())
         .map_err(|e| LabError::bad_input(format!("the sensor's mounting: {e}")))
 }

@@ -4,7 +4,7 @@
 
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::KirchhoffModel;
-use ftwire_estimate::identify::{Estimate, Identifier, IdentifyConfig, Unidentified, identify};
+use ftwire_estimate::identify::{Estimate, Identifier, IdentifierParams, Unidentified, identify};
 use nalgebra::Vector6;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -36,7 +36,7 @@ pub fn template_model() -> Result<KirchhoffModel, LabError> {
 /// sample outside `A`); no answer for anything else the library reports.
 pub fn run_identification(
     samples: &[(Vector6<f64>, Pose)],
-    config: &IdentifyConfig,
+    config: &IdentifierParams,
     seed: u64,
 ) -> Result<Estimate, LabError> {
     let model = template_model()?;
@@ -54,7 +54,7 @@ pub fn run_identification(
 /// As [`run_identification`].
 pub fn identifier(
     samples: &[(Vector6<f64>, Pose)],
-    config: &IdentifyConfig,
+    config: &IdentifierParams,
     seed: u64,
 ) -> Result<Identifier<KirchhoffModel, ChaCha8Rng>, LabError> {
     let failed = |e| from_estimate(e, "identifying the wire");
@@ -81,7 +81,7 @@ pub fn flag_name(reason: Option<&Unidentified>) -> Option<&'static str> {
 /// the experiment's gravity. The rig's base clamp sits at the world origin with the world's
 /// axes ([`crate::experiment::rig::place_wire`]), so gravity in the base clamp frame is the
 /// world's.
-pub fn loaded_config(config: &IdentifyConfig, gravity: Gravity) -> IdentifyConfig {
+pub fn loaded_config(config: &IdentifierParams, gravity: Gravity) -> IdentifierParams {
     let mut loaded = config.clone();
     if gravity == Gravity::On {
         loaded.constraints.weight = Some(gravity.vector());

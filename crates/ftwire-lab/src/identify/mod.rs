@@ -53,7 +53,7 @@ use std::time::Instant;
 
 use ftwire_core::Pose;
 use ftwire_estimate::calibration::Calibration;
-use ftwire_estimate::identify::{IdentifyConfig, ParameterConstraints, ResidualForm};
+use ftwire_estimate::identify::{IdentifierParams, ParameterConstraints, ResidualForm};
 use nalgebra::Vector6;
 use serde::Serialize;
 
@@ -128,7 +128,7 @@ impl Form {
 
 /// How to identify: the residual form and the known relations between the parameters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct IdentifySettings {
+pub struct ResidualParams {
     /// The residual minimised (default [`Form::Absolute`]).
     pub form: Form,
     /// Isotropic bending, `c3 = c2` (a wire of round cross-section).
@@ -138,13 +138,13 @@ pub struct IdentifySettings {
     pub torsion_ratio: Option<f64>,
 }
 
-impl IdentifySettings {
+impl ResidualParams {
     /// The library's settings: its defaults with these applied.
     ///
     /// # Errors
     /// Bad input (exit 2) for a torsion ratio that is not positive.
-    pub fn config(&self) -> Result<IdentifyConfig, LabError> {
-        let config = IdentifyConfig {
+    pub fn config(&self) -> Result<IdentifierParams, LabError> {
+        let config = IdentifierParams {
             form: self.form.residual(),
             constraints: ParameterConstraints {
                 isotropic: self.isotropic,
@@ -152,7 +152,7 @@ impl IdentifySettings {
                 stiffness_per_length: false,
                 weight: None,
             },
-            ..IdentifyConfig::default()
+            ..IdentifierParams::default()
         };
         config
             .validate()
@@ -186,7 +186,7 @@ pub struct IdentifyParams {
     /// `[2, MAX_SAMPLES]`; `None`: [`DEFAULT_SAMPLES`].
     pub samples: Option<Vec<usize>>,
     /// The residual form and the known relations between the parameters.
-    pub settings: IdentifySettings,
+    pub settings: ResidualParams,
     /// The twist of each identification move about the wire's tangent at the second gripper
     /// \[degrees\] (default [`DEFAULT_TWIST`]; see `MotionPlan`).
     pub twist: f64,
@@ -205,7 +205,7 @@ impl Default for IdentifyParams {
             common: CommonParams::default(),
             save_log: false,
             samples: None,
-            settings: IdentifySettings::default(),
+            settings: ResidualParams::default(),
             twist: DEFAULT_TWIST,
             rest_samples: REST_SAMPLES,
             pipeline: Pipeline::default(),
@@ -322,7 +322,7 @@ struct Prepared {
     wires: Vec<WireSpec>,
     counts: Vec<usize>,
     /// Each model run and its identification settings, the estimators' model first.
-    models: Vec<(ModelKind, IdentifyConfig)>,
+    models: Vec<(ModelKind, IdentifierParams)>,
     setup: SimSetup,
     /// The motion of every trial.
     plan: MotionPlan,
@@ -494,7 +494,7 @@ fn calibration(
 fn identify_trial(
     samples: &[Recorded],
     (counts, seed): (&[usize], u64),
-    (model, config): (ModelKind, &IdentifyConfig),
+    (model, config): (ModelKind, &IdentifierParams),
     (wire, trial): (usize, usize),
     rows: &mut Vec<Row>,
     progress: Progress<'_>,

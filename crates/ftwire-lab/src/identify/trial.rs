@@ -8,7 +8,7 @@ use ftwire_estimate::ft::{FtCalibration, FtPipeline};
 use ftwire_estimate::identify::MotionPlan;
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_rod::{Rod, from_normalised};
-use ftwire_sim::{RigConfig, SimRig};
+use ftwire_sim::{RigParams, SimRig};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -109,7 +109,7 @@ fn follow_plan(
     wire: &WireSpec,
     gravity: Gravity,
     a0: &Vector6<f64>,
-    config: RigConfig,
+    config: RigParams,
     map: Map<'_>,
     protocol: &Protocol,
     rng: &mut ChaCha8Rng,

@@ -3,7 +3,7 @@
 //!
 //! Every key, its unit, default and allowed range is in `docs/config.md`; `ftwire init DIR`
 //! writes a commented example of each file. Missing keys take the library's defaults
-//! (`ftwire_sim::FtSensorConfig::default`, `ftwire_sim::RigConfig::default`), unknown keys are
+//! (`ftwire_sim::FtSensorParams::default`, `ftwire_sim::RigParams::default`), unknown keys are
 //! errors, and every error names the file, and the line and the key where there is one. Files
 //! are UTF-8 text, a leading byte-order mark allowed (`ftwire_core::text::read_text`); a name
 //! that looks like a path is read as one (`names_a_file`), so that its read error is reported.
@@ -15,7 +15,7 @@ pub mod sensor;
 
 use std::path::Path;
 
-use ftwire_sim::RigConfig;
+use ftwire_sim::RigParams;
 use serde::de::DeserializeOwned;
 use thiserror::Error;
 
@@ -195,12 +195,12 @@ impl SimSetup {
     /// # Example
     /// ```
     /// use ftwire_lab::setup::SimSetup;
-    /// use ftwire_sim::RigConfig;
+    /// use ftwire_sim::RigParams;
     /// // Without files: the rig the experiments have always used.
-    /// assert_eq!(SimSetup::default().rig_config(7), RigConfig { seed: 7, ..RigConfig::default() });
+    /// assert_eq!(SimSetup::default().rig_config(7), RigParams { seed: 7, ..RigParams::default() });
     /// ```
-    pub fn rig_config(&self, seed: u64) -> RigConfig {
-        RigConfig {
+    pub fn rig_config(&self, seed: u64) -> RigParams {
+        RigParams {
             sensor: self.sensor.config.clone(),
             seed,
             ..self.rig.config()

@@ -2,7 +2,7 @@
 //! timing of its moves, from a TOML rig file.
 //!
 //! A rig file holds any of these keys; the ones it leaves out take the library's defaults
-//! (`ftwire_sim::RigConfig::default`), unknown keys are errors:
+//! (`ftwire_sim::RigParams::default`), unknown keys are errors:
 //!
 //! ```toml
 //! linear_speed = 0.05       # gripper speed that times a move [m/s], in [0.001, 10]
@@ -21,12 +21,12 @@
 
 use std::path::Path;
 
-use ftwire_sim::{ExecutionErrorConfig, MarkerConfig, RigConfig};
+use ftwire_sim::{ExecutionErrorParams, MarkerParams, RigParams};
 use serde::{Deserialize, Serialize};
 
 use super::{SetupError, parse_toml, read_toml, value_error};
 
-/// The rig file: `ftwire_sim::RigConfig` without its sensor (`--sensor`) and seed (`--seed`).
+/// The rig file: `ftwire_sim::RigParams` without its sensor (`--sensor`) and seed (`--seed`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RigSpec {
@@ -38,15 +38,15 @@ pub struct RigSpec {
     pub settle_time: f64,
     /// Motion capture: marker arc-length fractions, noise and dropouts (default: the
     /// library's, 11 markers, 0.3 mm, 2 %).
-    pub markers: MarkerConfig,
+    pub markers: MarkerParams,
     /// The simulator's own execution error of the grippers (default: none).
-    pub execution: ExecutionErrorConfig,
+    pub execution: ExecutionErrorParams,
 }
 
 impl Default for RigSpec {
-    /// The library's rig (`RigConfig::default`).
+    /// The library's rig (`RigParams::default`).
     fn default() -> Self {
-        let rig = RigConfig::default();
+        let rig = RigParams::default();
         Self {
             linear_speed: rig.linear_speed,
             angular_speed: rig.angular_speed,
@@ -83,14 +83,14 @@ impl RigSpec {
     }
 
     /// The simulator's rig settings with this rig, the default sensor and seed 0.
-    pub fn config(&self) -> RigConfig {
-        RigConfig {
+    pub fn config(&self) -> RigParams {
+        RigParams {
             markers: self.markers.clone(),
             execution: self.execution,
             linear_speed: self.linear_speed,
             angular_speed: self.angular_speed,
             settle_time: self.settle_time,
-            ..RigConfig::default()
+            ..RigParams::default()
         }
     }
 }
@@ -105,7 +105,7 @@ mod tests {
         assert_eq!(RigSpec::from_toml(&text, "r.toml")?, RigSpec::default());
         assert_eq!(
             RigSpec::from_toml("", "r.toml")?.config(),
-            RigConfig::default()
+            RigParams::default()
         );
         Ok(())
     }

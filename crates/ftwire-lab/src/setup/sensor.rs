@@ -1,6 +1,6 @@
 //! The simulated F/T sensor: a preset or a TOML sensor file.
 //!
-//! A sensor file holds any of `ftwire_sim::FtSensorConfig`'s keys (force first, sensor frame);
+//! A sensor file holds any of `ftwire_sim::FtSensorParams`'s keys (force first, sensor frame);
 //! the keys it leaves out take the library's defaults, unknown keys are errors:
 //!
 //! ```toml
@@ -13,7 +13,7 @@
 
 use std::path::Path;
 
-use ftwire_sim::{FtSensor, FtSensorConfig};
+use ftwire_sim::{FtSensor, FtSensorParams};
 
 use super::{SetupError, parse_toml, read_toml, value_error};
 
@@ -26,7 +26,7 @@ pub struct SensorSpec {
     /// The preset's name, or the path of the sensor file as given.
     pub name: String,
     /// The sensor model's settings, validated.
-    pub config: FtSensorConfig,
+    pub config: FtSensorParams,
 }
 
 impl Default for SensorSpec {
@@ -34,7 +34,7 @@ impl Default for SensorSpec {
     fn default() -> Self {
         Self {
             name: "distorted".to_owned(),
-            config: FtSensorConfig::default(),
+            config: FtSensorParams::default(),
         }
     }
 }
@@ -52,11 +52,11 @@ impl SensorSpec {
     /// assert!(SensorSpec::preset("perfect").is_none());
     /// ```
     pub fn preset(name: &str) -> Option<Self> {
-        let default = FtSensorConfig::default();
+        let default = FtSensorParams::default();
         let config = match name {
             "distorted" => default,
-            "undistorted" => FtSensorConfig {
-                gain: FtSensorConfig::ideal().gain,
+            "undistorted" => FtSensorParams {
+                gain: FtSensorParams::ideal().gain,
                 cubic_nonlinearity: [0.0; 6],
                 ..default
             },
@@ -93,7 +93,7 @@ impl SensorSpec {
                 ),
             });
         }
-        let (config, text): (FtSensorConfig, _) = read_toml("sensor", path)?;
+        let (config, text): (FtSensorParams, _) = read_toml("sensor", path)?;
         Self::checked(config, given, &text)
     }
 
@@ -105,12 +105,12 @@ impl SensorSpec {
         Self::checked(parse_toml("sensor", text, path)?, path, text)
     }
 
-    fn checked(config: FtSensorConfig, path: &str, text: &str) -> Result<Self, SetupError> {
+    fn checked(config: FtSensorParams, path: &str, text: &str) -> Result<Self, SetupError> {
         FtSensor::new(config.clone(), 0).map_err(|e| {
             value_error(
                 "sensor",
                 (path, text),
-                &FtSensorConfig::default(),
+                &FtSensorParams::default(),
                 e.to_string(),
             )
         })?;
@@ -135,10 +135,10 @@ mod tests {
     #[test]
     fn the_defaults_round_trip_and_an_empty_file_is_the_default()
     -> Result<(), Box<dyn std::error::Error>> {
-        let text = toml::to_string(&FtSensorConfig::default())?;
+        let text = toml::to_string(&FtSensorParams::default())?;
         assert_eq!(
             SensorSpec::from_toml(&text, "s.toml")?.config,
-            FtSensorConfig::default()
+            FtSensorParams::default()
         );
         assert_eq!(
             SensorSpec::from_toml("", "s.toml")?.config,

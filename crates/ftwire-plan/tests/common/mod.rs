@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use ftwire_plan::{
-    Checker, Config, FixedBase, Plan, Sample, Scene, ValidityParams, scene_endpoint,
+    Checker, ZPoint, FixedBase, Plan, Sample, Scene, ValidityParams, scene_endpoint,
 };
 use ftwire_robot::Robot;
 use ftwire_rod::{Rod, WireParams};
@@ -42,7 +42,7 @@ pub fn checker(scene: &Scene) -> Checker {
 }
 
 /// A plan's waypoints' configurations (to compare two plans' paths).
-pub fn configs(plan: &Plan) -> Vec<Config> {
+pub fn configs(plan: &Plan) -> Vec<ZPoint> {
     plan.path.waypoints.iter().map(|w| w.config).collect()
 }
 

@@ -6,7 +6,7 @@ mod wrench;
 
 pub use error::SensingError;
 pub use wrench::{
-    CLOCK_OFFSET_RANGE, FtSensor, FtSensorConfig, MAX_BIAS_TIME_CONSTANT, MAX_CUBIC_NONLINEARITY,
+    CLOCK_OFFSET_RANGE, FtSensor, FtSensorParams, MAX_BIAS_TIME_CONSTANT, MAX_CUBIC_NONLINEARITY,
     RATE_RANGE,
 };
 

@@ -5,8 +5,8 @@
 //!
 //! 1. **Mounting**: the wrench, given in the base clamp frame about the clamp point (torque
 //!    first), is re-expressed in the sensor frame about the sensor origin, with the pose
-//!    `sensor_from_clamp` ([`FtSensorConfig::clamp_position_in_sensor`],
-//!    [`FtSensorConfig::clamp_rotation_in_sensor`]), and reordered force first:
+//!    `sensor_from_clamp` ([`FtSensorParams::clamp_position_in_sensor`],
+//!    [`FtSensorParams::clamp_rotation_in_sensor`]), and reordered force first:
 //!    `s = (R f, R τ + t × R f)`.
 //! 2. **Gain and cross-talk**: `g = G s` with a 6×6 matrix `G` near the identity.
 //! 3. **Nonlinearity**: a small cubic term per channel, `n_i = g_i (1 + k_i (g_i / FS_i)²)`, so
@@ -37,17 +37,17 @@ use super::error::{all_in_range, in_range};
 /// nonlinearity: at most 10 % of full scale at full scale).
 pub const MAX_CUBIC_NONLINEARITY: f64 = 0.1;
 
-/// The allowed range of [`FtSensorConfig::rate`] \[Hz\]: a reading a second to 1 MHz (real F/T
+/// The allowed range of [`FtSensorParams::rate`] \[Hz\]: a reading a second to 1 MHz (real F/T
 /// sensors run at 100 Hz–10 kHz). Bounded so that a run's clock counts its ticks exactly: see
 /// `ftwire_sim::rig::SPEED_RANGE` for the run length the rig's bounds allow.
 pub const RATE_RANGE: RangeInclusive<f64> = 1.0..=1e6;
 
-/// The allowed range of [`FtSensorConfig::clock_offset`] \[s\]: within about 11 days of zero
+/// The allowed range of [`FtSensorParams::clock_offset`] \[s\]: within about 11 days of zero
 /// either way, so that the time of a tick (`clock_offset + k / rate`) keeps the clock's
 /// resolution over a run.
 pub const CLOCK_OFFSET_RANGE: RangeInclusive<f64> = -1e6..=1e6;
 
-/// The largest finite [`FtSensorConfig::bias_time_constant`] \[s\] (about 30 years): a longer
+/// The largest finite [`FtSensorParams::bias_time_constant`] \[s\] (about 30 years): a longer
 /// one is a random walk over any run; `inf` says so exactly.
 pub const MAX_BIAS_TIME_CONSTANT: f64 = 1e9;
 
@@ -59,23 +59,23 @@ const TICK_TOLERANCE: f64 = 1e-9;
 /// Six-channel arrays are ordered **force first**, `(f1, f2, f3, τ1, τ2, τ3)`, in the sensor
 /// frame, as the raw reading is. The defaults have the *character* of a small six-axis sensor of
 /// the Bota Systems SensONE class; they are plausible values, not a datasheet (see `SENSING.md`
-/// for where each one comes from). [`FtSensorConfig::ideal`] switches every distortion off.
+/// for where each one comes from). [`FtSensorParams::ideal`] switches every distortion off.
 ///
 /// The bundle is serde-(de)serialisable, so it can be read from a TOML file; missing fields take
 /// their defaults.
 ///
 /// # Example
 /// ```
-/// use ftwire_sim::FtSensorConfig;
+/// use ftwire_sim::FtSensorParams;
 ///
-/// let config: FtSensorConfig = toml::from_str("noise_std = [0.1, 0.1, 0.1, 0.004, 0.004, 0.004]")?;
+/// let config: FtSensorParams = toml::from_str("noise_std = [0.1, 0.1, 0.1, 0.004, 0.004, 0.004]")?;
 /// assert_eq!(config.noise_std[0], 0.1);
-/// assert_eq!(config.rate, FtSensorConfig::default().rate);
+/// assert_eq!(config.rate, FtSensorParams::default().rate);
 /// # Ok::<(), toml::de::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct FtSensorConfig {
+pub struct FtSensorParams {
     /// Position of the clamp point in the sensor frame \[m\]: the translation of
     /// `sensor_from_clamp` (default `[0, 0, 0.08]`, the clamp 80 mm out along the sensor's tool
     /// axis z).
@@ -125,7 +125,7 @@ pub struct FtSensorConfig {
     pub dropout_probability: f64,
 }
 
-impl Default for FtSensorConfig {
+impl Default for FtSensorParams {
     fn default() -> Self {
         let r = -2.0 * std::f64::consts::FRAC_PI_3 / 3f64.sqrt();
         Self {
@@ -153,7 +153,7 @@ impl Default for FtSensorConfig {
     }
 }
 
-impl FtSensorConfig {
+impl FtSensorParams {
     /// A sensor without distortions: identity mounting, identity gain, no nonlinearity, no bias,
     /// drift, noise, saturation or dropout. Its raw reading is the true wrench reordered force
     /// first. The clock keeps the default rate.
@@ -161,10 +161,10 @@ impl FtSensorConfig {
     /// # Example
     /// ```
     /// use ftwire_core::Wrench;
-    /// use ftwire_sim::{FtSensor, FtSensorConfig};
+    /// use ftwire_sim::{FtSensor, FtSensorParams};
     /// use nalgebra::{Vector3, Vector6};
     ///
-    /// let mut sensor = FtSensor::new(FtSensorConfig::ideal(), 7)?;
+    /// let mut sensor = FtSensor::new(FtSensorParams::ideal(), 7)?;
     /// let w = Wrench::new(Vector3::new(0.1, 0.2, 0.3), Vector3::new(1.0, 2.0, 3.0));
     /// let reading = sensor.read(&w, 0.0)?;
     /// assert_eq!(reading.raw, Vector6::new(1.0, 2.0, 3.0, 0.1, 0.2, 0.3));
@@ -253,13 +253,13 @@ impl FtSensorConfig {
     }
 }
 
-/// The F/T sensor on the base gripper: a validated [`FtSensorConfig`] plus the state of its bias
+/// The F/T sensor on the base gripper: a validated [`FtSensorParams`] plus the state of its bias
 /// and clock and its own seeded random number generator.
 ///
 /// Same configuration, same seed and same calls give the same readings.
 #[derive(Debug, Clone)]
 pub struct FtSensor {
-    config: FtSensorConfig,
+    config: FtSensorParams,
     sensor_from_clamp: Pose,
     gain: Matrix6<f64>,
     gain_inverse: Matrix6<f64>,
@@ -279,15 +279,15 @@ impl FtSensor {
     ///
     /// # Example
     /// ```
-    /// use ftwire_sim::{FtSensor, FtSensorConfig, SensingError};
+    /// use ftwire_sim::{FtSensor, FtSensorParams, SensingError};
     ///
-    /// let sensor = FtSensor::new(FtSensorConfig::default(), 42)?;
+    /// let sensor = FtSensor::new(FtSensorParams::default(), 42)?;
     /// assert_eq!(sensor.period(), 1e-3);
-    /// let bad = FtSensorConfig { rate: 0.0, ..FtSensorConfig::default() };
+    /// let bad = FtSensorParams { rate: 0.0, ..FtSensorParams::default() };
     /// assert!(matches!(FtSensor::new(bad, 42), Err(SensingError::OutOfRange { field: "rate", .. })));
     /// # Ok::<(), SensingError>(())
     /// ```
-    pub fn new(config: FtSensorConfig, seed: u64) -> Result<Self, SensingError> {
+    pub fn new(config: FtSensorParams, seed: u64) -> Result<Self, SensingError> {
         config.validate()?;
         let gain = config.gain_matrix();
         let singular_values = gain.singular_values();
@@ -313,7 +313,7 @@ impl FtSensor {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &FtSensorConfig {
+    pub fn config(&self) -> &FtSensorParams {
         &self.config
     }
 
@@ -328,9 +328,9 @@ impl FtSensor {
     /// # Example
     /// ```
     /// use ftwire_core::Wrench;
-    /// use ftwire_sim::{FtSensor, FtSensorConfig};
+    /// use ftwire_sim::{FtSensor, FtSensorParams};
     ///
-    /// let mut sensor = FtSensor::new(FtSensorConfig::ideal(), 0)?;
+    /// let mut sensor = FtSensor::new(FtSensorParams::ideal(), 0)?;
     /// assert_eq!(sensor.last_sample_time(), None);
     /// sensor.read(&Wrench::default(), 0.0101)?;
     /// assert!((sensor.last_sample_time().unwrap_or(0.0) - 0.011).abs() < 1e-12);
@@ -368,14 +368,14 @@ impl FtSensor {
     /// large (beyond 1e300 or so) that the reading overflows (field `raw`),
     /// [`SensingError::OutOfRange`] for a time beyond the clock's range (2⁵³ periods), and
     /// [`SensingError::Dropout`] when the sensor misses this tick (with probability
-    /// [`FtSensorConfig::dropout_probability`]); the tick is consumed either way.
+    /// [`FtSensorParams::dropout_probability`]); the tick is consumed either way.
     ///
     /// # Example
     /// ```
     /// use ftwire_core::Wrench;
-    /// use ftwire_sim::{FtSensor, FtSensorConfig};
+    /// use ftwire_sim::{FtSensor, FtSensorParams};
     ///
-    /// let mut sensor = FtSensor::new(FtSensorConfig::default(), 1)?;
+    /// let mut sensor = FtSensor::new(FtSensorParams::default(), 1)?;
     /// let reading = sensor.read(&Wrench::default(), 0.0123)?;
     /// assert!((reading.time - 0.013).abs() < 1e-12); // the next 1 kHz tick
     /// # Ok::<(), ftwire_sim::SensingError>(())
@@ -447,10 +447,10 @@ impl FtSensor {
     /// # Example
     /// ```
     /// use ftwire_core::Wrench;
-    /// use ftwire_sim::{FtSensor, FtSensorConfig};
+    /// use ftwire_sim::{FtSensor, FtSensorParams};
     /// use nalgebra::Vector3;
     ///
-    /// let sensor = FtSensor::new(FtSensorConfig::default(), 3)?;
+    /// let sensor = FtSensor::new(FtSensorParams::default(), 3)?;
     /// let w = Wrench::new(Vector3::new(0.05, -0.02, 0.01), Vector3::new(-0.3, 0.1, 0.2));
     /// let raw = sensor.deterministic_response(&w) + sensor.bias();
     /// let back = sensor.invert_deterministic(&raw, &sensor.bias())?;

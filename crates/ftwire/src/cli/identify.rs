@@ -6,9 +6,9 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
-use ftwire_estimate::identify::IdentifyConfig;
+use ftwire_estimate::identify::IdentifierParams;
 use ftwire_lab::error::LabError;
-use ftwire_lab::identify::{Form, IdentifySettings};
+use ftwire_lab::identify::{Form, ResidualParams};
 use serde::Serialize;
 
 /// The residual identification minimises (`--form`).
@@ -61,8 +61,8 @@ pub struct IdentifySettingsArgs {
 
 impl IdentifySettingsArgs {
     /// The lab's settings of these flags.
-    pub fn settings(&self) -> IdentifySettings {
-        IdentifySettings {
+    pub fn settings(&self) -> ResidualParams {
+        ResidualParams {
             form: self.form.form(),
             isotropic: self.isotropic,
             torsion_ratio: self.torsion_ratio,
@@ -70,11 +70,11 @@ impl IdentifySettingsArgs {
     }
 
     /// The library's settings: its defaults with these flags applied
-    /// ([`IdentifySettings::config`]).
+    /// ([`ResidualParams::config`]).
     ///
     /// # Errors
     /// Bad input (exit 2) for a torsion ratio that is not positive.
-    pub fn config(&self) -> Result<IdentifyConfig, LabError> {
+    pub fn config(&self) -> Result<IdentifierParams, LabError> {
         self.settings().config()
     }
 }

@@ -15,7 +15,7 @@ use ftwire::args::{
 pub const EDGES: CountRange = CountRange::new(12, 2000);
 
 /// The work limit of each motion of the solve, in Newton iterations times edges
-/// (`ftwire_sim::ContinuationSettings::work_limit`). An iteration's cost grows in proportion to
+/// (`ftwire_sim::ContinuationParams::work_limit`). An iteration's cost grows in proportion to
 /// the edges, so the limit bounds the time of a motion whatever `--edges` is, at about a second
 /// plus the Newton solve under way when it is reached, while a motion that reaches its target
 /// spends a fraction of it even at 2000 edges.

@@ -44,7 +44,7 @@ use ftwire_lab::experiment::rig::{measure, pipeline, place_wire, tare, true_cent
 use ftwire_lab::experiment::{Gravity, ModelKind};
 use ftwire_lab::header::RunHeader;
 use ftwire_lab::identify::{
-    IdentifySettings, Map, Protocol, REST_SAMPLES as IDENTIFY_REST_SAMPLES, flag_name,
+    ResidualParams, Map, Protocol, REST_SAMPLES as IDENTIFY_REST_SAMPLES, flag_name,
     linear_density, loaded_config, record_trial, run_identification, truth,
 };
 use ftwire_lab::results::OutGuard;
@@ -415,7 +415,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         seed,
         // The paper's gain, the policy's stops.
         policy: ftwire_control::TrackingPolicy {
-            gain: ftwire_control::ControlSettings::default().gain,
+            gain: ftwire_control::ControlParams::default().gain,
             ..ftwire_control::TrackingPolicy::for_noise(noise)
         },
         arms: true,
@@ -524,7 +524,7 @@ fn identify(
         &protocol,
     )?;
     let pairs: Vec<_> = samples.iter().map(|s| (s.a, s.b)).collect();
-    let config = loaded_config(&IdentifySettings::default().config()?, Gravity::On);
+    let config = loaded_config(&ResidualParams::default().config()?, Gravity::On);
     let estimate = run_identification(&pairs, &config, seed)?;
     let truth = truth(wire);
     let eta = [estimate.c[0], estimate.c[1], estimate.c[2], estimate.length];

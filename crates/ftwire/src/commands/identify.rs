@@ -16,7 +16,7 @@ use std::time::Duration;
 use ftwire::output::{self, Report};
 use ftwire_core::Pose;
 use ftwire_estimate::Calibration;
-use ftwire_estimate::identify::{Estimate, IdentifyConfig, Unidentified};
+use ftwire_estimate::identify::{Estimate, IdentifierParams, Unidentified};
 use ftwire_estimate::log::{LogRecord, read_log};
 use ftwire_lab::error::{LabError, from_estimate};
 use ftwire_lab::identify::{flag_name, identifier};
@@ -141,7 +141,7 @@ const PROGRESS_TICK: Duration = Duration::from_millis(200);
 /// As [`ftwire_lab::identify::run_identification`].
 pub fn identify_with_progress(
     samples: &[(Vector6<f64>, Pose)],
-    config: &IdentifyConfig,
+    config: &IdentifierParams,
     seed: u64,
 ) -> Result<Estimate, LabError> {
     let mut identifier = identifier(samples, config, seed)?;

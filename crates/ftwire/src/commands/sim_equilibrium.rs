@@ -16,7 +16,7 @@ use ftwire_core::Pose;
 use ftwire_lab::error::{LabError, from_rod, from_sim};
 use ftwire_lab::initial_guess::kirchhoff_guess;
 use ftwire_rod::to_normalised;
-use ftwire_sim::{ContinuationSettings, Equilibrium, RodParams, World};
+use ftwire_sim::{ContinuationParams, Equilibrium, RodParams, World};
 use nalgebra::Vector6;
 use serde::Serialize;
 
@@ -40,7 +40,7 @@ fn solve(args: &SimEquilibriumArgs) -> Result<Equilibrium, LabError> {
         ..RodParams::default()
     };
     let world = World::new(params).map_err(|e| from_sim(e, "invalid wire parameters"))?;
-    let settings = ContinuationSettings {
+    let settings = ContinuationParams {
         work_limit: Some(WORK_LIMIT),
         ..*world.continuation_settings()
     };

@@ -13,8 +13,8 @@
 //!   each waypoint.
 
 use ftwire_control::{
-    AnyPose, BiasObserverSettings, CollisionDetector, ControlError, FtFeedback, NoiseModel,
-    NoiseSettings, NoisyRig, PathTracker, Reach, ReachCheck, Relocate, Rest, RobotReach,
+    AnyPose, BiasObserverParams, CollisionDetector, ControlError, FtFeedback, NoiseModel,
+    NoiseParams, NoisyRig, PathTracker, Reach, ReachCheck, Relocate, Rest, RobotReach,
     TrackingPolicy, configuration_at,
 };
 use ftwire_core::{GripperPoses, Pose};
@@ -24,7 +24,7 @@ use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_plan::{PlanError, PlanPolicy, Scene, ValidityParams, Waypoint, near_obstacles};
 use ftwire_robot::Robot;
 use ftwire_rod::{Rod, to_normalised};
-use ftwire_sim::{RigConfig, SimRig, World};
+use ftwire_sim::{RigParams, SimRig, World};
 use nalgebra::{Point3, Vector6};
 use serde::Serialize;
 
@@ -48,12 +48,12 @@ pub const REHEARSALS: u64 = 5;
 
 /// The planning side's policy for a plan tracked under `noise`: where every move lands the
 /// gripper with fresh noise (`increment`, `absolute`), the wider margins, the polish and the
-/// choice for the scatter of [`NoiseSettings`]' default (the paper's noise); the planner's
+/// choice for the scatter of [`NoiseParams`]' default (the paper's noise); the planner's
 /// defaults otherwise, where the loop converges onto the plan.
 pub fn plan_policy(noise: NoiseModel) -> PlanPolicy {
     match noise {
         NoiseModel::Increment | NoiseModel::Absolute => {
-            let settings = NoiseSettings::default();
+            let settings = NoiseParams::default();
             PlanPolicy::scattered(settings.position_std, settings.orientation_std)
         }
         NoiseModel::None | NoiseModel::Offset => PlanPolicy::converging(),
@@ -147,7 +147,7 @@ pub fn place_in_scene(
     scene: &Scene,
     obstacles: bool,
     a0: &Vector6<f64>,
-    config: RigConfig,
+    config: RigParams,
 ) -> Result<SimRig, LabError> {
     let params = wire.rod_params(gravity.vector(), ftwire_lab::experiment::SIM_EDGES);
     let mut world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
@@ -400,7 +400,7 @@ impl Tracking<'_> {
         let noisy = NoisyRig::new(
             rig,
             self.noise,
-            NoiseSettings::default(),
+            NoiseParams::default(),
             self.seed.wrapping_add(stream),
         )
         .map_err(|e| LabError::bad_input(e.to_string()))?;
@@ -409,7 +409,7 @@ impl Tracking<'_> {
 
     /// The bias observer's settings of the closed loop; `None` where it steers by the tared
     /// `ã` alone (switched off, or under `absolute`).
-    pub fn observer_settings(&self) -> Option<BiasObserverSettings> {
+    pub fn observer_settings(&self) -> Option<BiasObserverParams> {
         bias_observer(self.setup, self.noise, self.bias_observer)
     }
 
@@ -698,7 +698,7 @@ mod tests {
             assert!(policy.polishes());
             assert_eq!(policy.validity(0.82).margin, ftwire_plan::MARGIN_NOISY);
             let scatter = policy.scatter.expect("a scatter");
-            assert_eq!(scatter.position_std, NoiseSettings::default().position_std);
+            assert_eq!(scatter.position_std, NoiseParams::default().position_std);
         }
         for noise in [NoiseModel::None, NoiseModel::Offset] {
             assert_eq!(plan_policy(noise).validity(0.91), ValidityParams::default());

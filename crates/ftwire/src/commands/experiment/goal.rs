@@ -73,8 +73,8 @@ use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
 };
 use ftwire_control::{
-    AnyPose, BiasObserver, BiasObserverSettings, CollisionDetector, ControlSettings, Controller,
-    FtFeedback, MoveCheck, NoiseModel, NoiseSettings, NoisyRig, Outcome, Run, retreat,
+    AnyPose, BiasObserver, BiasObserverParams, CollisionDetector, ControlParams, Controller,
+    FtFeedback, MoveCheck, NoiseModel, NoiseParams, NoisyRig, Outcome, Run, retreat,
 };
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::calibration::Calibration;
@@ -113,7 +113,7 @@ const EPSILON_NO_NOISE: f64 = 0.02;
 /// The ε of the free motions that calibrate the collision detector and of the contact runs.
 const DETECTOR_EPSILON: f64 = 0.05;
 /// The controller's settling radius \[normalised\] without noise and with `offset`: within it
-/// each rest averages [`SETTLE_SAMPLES`] samples (`ControlSettings::settle_radius`). It is
+/// each rest averages [`SETTLE_SAMPLES`] samples (`ControlParams::settle_radius`). It is
 /// larger than every ε of [`EPSILONS_NO_NOISE`], so each of their stops reads a settled `ã`.
 const SETTLE_RADIUS: f64 = 0.25;
 /// F/T samples per rest within [`SETTLE_RADIUS`] (0.4 s at 1 kHz, as tracking's last leg).
@@ -365,8 +365,8 @@ struct GoalSummary {
 /// The bias observers of a run's closed loops.
 #[derive(Serialize)]
 struct BiasObservers {
-    no_noise: Option<BiasObserverSettings>,
-    noise: Option<BiasObserverSettings>,
+    no_noise: Option<BiasObserverParams>,
+    noise: Option<BiasObserverParams>,
 }
 
 /// Means over the trials that did not fail; each trial is its final truth, whether it failed,
@@ -433,7 +433,7 @@ impl Context<'_> {
 
     /// The bias observer of a closed loop under `noise`, when `--bias-observer on` and the
     /// noise model uses one ([`bias_observer`]).
-    fn observer_settings(&self, noise: NoiseModel) -> Option<BiasObserverSettings> {
+    fn observer_settings(&self, noise: NoiseModel) -> Option<BiasObserverParams> {
         bias_observer(self.rig, noise, self.bias_observer)
     }
 
@@ -467,7 +467,7 @@ impl Context<'_> {
         let noisy = NoisyRig::new(
             sim,
             noise,
-            NoiseSettings::default(),
+            NoiseParams::default(),
             rig_seed(self.seed.wrapping_add(0x5EED), k as usize),
         )
         .map_err(|e| LabError::bad_input(e.to_string()))?;
@@ -514,14 +514,14 @@ impl Context<'_> {
         let Some((mut rig, feedback)) = self.rig(pair, k, noise, obstacles)? else {
             return Ok(failed("the simulator could not place the wire".into()));
         };
-        let settings = ControlSettings {
+        let settings = ControlParams {
             gain: GAIN,
             epsilon: epsilons.iter().copied().fold(f64::INFINITY, f64::min),
             max_iterations,
             settle_radius,
             settle_samples: SETTLE_SAMPLES,
             shape_tolerance: shape_stop,
-            ..ControlSettings::default()
+            ..ControlParams::default()
         };
         let mut controller = Controller::new(self.model, settings)
             .map_err(|e| LabError::bad_input(e.to_string()))?;
@@ -536,7 +536,7 @@ impl Context<'_> {
             .map(|settings| BiasObserver::new(self.model, settings))
             .transpose()
             .map_err(|e| LabError::bad_input(e.to_string()))?;
-        let run = controller.run_estimated(
+        let run = controller.run_with_bias_observer(
             &mut rig,
             &feedback,
             &mut reach,

@@ -230,7 +230,7 @@ struct Summary {
     /// Most moves toward each waypoint before the last (`--waypoint-moves`).
     waypoint_moves: usize,
     /// The bias observer's settings of the closed loop (`null`: off, or under `absolute`).
-    bias_observer: Option<ftwire_control::BiasObserverSettings>,
+    bias_observer: Option<ftwire_control::BiasObserverParams>,
     /// The success tolerance on the true final configuration \[normalised\].
     success_epsilon: f64,
     /// What `successes` counts under this noise model.

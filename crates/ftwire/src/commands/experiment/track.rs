@@ -47,7 +47,7 @@ use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
 use ftwire_lab::error::{LabError, from_plan, from_rod};
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_plan::{
-    Checker, Config, ConfigurationSpec, PLAN_RESTARTS, Scene, ValidityParams, WAYPOINTS, Waypoint,
+    Checker, ZPoint, ConfigurationSpec, PLAN_RESTARTS, Scene, ValidityParams, WAYPOINTS, Waypoint,
     plan_in_scene, waypoints_along,
 };
 use ftwire_report::{LineChart, Series};
@@ -128,7 +128,7 @@ struct Summary {
     /// Most moves toward each waypoint before the last (`--waypoint-moves`).
     waypoint_moves: usize,
     /// The bias observer's settings of the closed loop (`null`: off, or under `absolute`).
-    bias_observer: Option<ftwire_control::BiasObserverSettings>,
+    bias_observer: Option<ftwire_control::BiasObserverParams>,
     /// Whether the closed loop stopped at poses the arms cannot reach.
     reach: ReachArg,
     /// What the runs' `successes` count under this noise model.
@@ -400,7 +400,7 @@ fn unusable(
     }
     let reason = ends
         .iter()
-        .find_map(|a| checker.endpoint(&Config { a: *a, base: *base }).err())?;
+        .find_map(|a| checker.endpoint(&ZPoint { a: *a, base: *base }).err())?;
     Some(
         format!("{reason}")
             .split([':', '('])
