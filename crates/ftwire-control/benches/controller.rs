@@ -25,8 +25,7 @@ fn bench(c: &mut Criterion) {
         Load::from_gravity(6450.0, 0.0015, Vector3::new(0.0, 0.0, -9.81)).expect("valid load");
     let loaded = weightless.with_load(load);
     for (name, model) in [("weightless", weightless), ("loaded", loaded)] {
-        let controller =
-            Controller::new(model, ControlParams::default()).expect("valid settings");
+        let controller = Controller::new(model, ControlParams::default()).expect("valid settings");
         c.bench_function(&format!("controller step ({name})"), |b| {
             b.iter(|| {
                 controller

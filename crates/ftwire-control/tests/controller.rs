@@ -6,8 +6,8 @@ mod common;
 use common::{ModelRig, feedback, pair, settings, wire};
 use ftwire_control::open_loop::{a_connected, roll_out, straight_line_in_a, straight_line_in_b};
 use ftwire_control::{
-    AnyPose, CollisionDetector, ControlError, ControlParams, Controller, NoiseModel,
-    NoiseParams, NoisyRig, Outcome, Reach, ReachCheck, retreat,
+    AnyPose, CollisionDetector, ControlError, ControlParams, Controller, NoiseModel, NoiseParams,
+    NoisyRig, Outcome, Reach, ReachCheck, retreat,
 };
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
@@ -504,8 +504,8 @@ fn noisy_runs_are_deterministic_and_the_closed_loop_beats_the_offset() {
         )
         .expect("valid");
         let mut rig = rig;
-        let controller = Controller::new(KirchhoffModel::new(wire()), ControlParams::default())
-            .expect("valid");
+        let controller =
+            Controller::new(KirchhoffModel::new(wire()), ControlParams::default()).expect("valid");
         let run = controller
             .run(&mut rig, &feedback(), &mut AnyPose, &a_g)
             .expect("runs");

@@ -14,7 +14,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::validity::{Checker, Sample};
-use crate::{ZPoint, ConfigurationSpec, PlanError, Scene};
+use crate::{ConfigurationSpec, PlanError, Scene, ZPoint};
 
 /// Candidates drawn from `A_free` for the inverse problem.
 const CANDIDATES: usize = 400;

@@ -70,7 +70,7 @@ pub use polish::{
 pub use rrt_star::{Plan, PlannerParams, plan};
 pub use scene::{ConfigurationSpec, Scene, SceneBox};
 pub use space::{FixedBase, MovingBase, Space};
-pub use validity::{Checker, ZPoint, Edge, Invalid, Sample, ValidityParams, joint_distance};
+pub use validity::{Checker, Edge, Invalid, Sample, ValidityParams, ZPoint, joint_distance};
 pub use waypoint::{
     NEAR_CLEARANCE, PolishOut, Waypoint, expected_touches, near_obstacles, polish_waypoints,
     relocation, waypoints_along, waypoints_at,

@@ -4,7 +4,7 @@
 use nalgebra::SVector;
 
 use crate::validity::{Checker, Invalid, Sample};
-use crate::{ZPoint, Space};
+use crate::{Space, ZPoint};
 
 /// A path through `Z_free`: consecutive waypoints joined by straight edges that were checked
 /// at the resolution of [`crate::validity`].

@@ -40,7 +40,7 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::validity::{Checker, Edge, Sample, joint_distance};
-use crate::{ZPoint, Path, PlanError, Space};
+use crate::{Path, PlanError, Space, ZPoint};
 
 /// Settings of [`plan`] (public fields + `Default`).
 #[derive(Debug, Clone, Copy, PartialEq)]

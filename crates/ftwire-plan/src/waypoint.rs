@@ -9,7 +9,7 @@ use ftwire_rod::{Rod, to_normalised};
 use nalgebra::{Point3, Translation3, Vector3, Vector6};
 use serde::Serialize;
 
-use crate::{Checker, ZPoint, PlanError, PlanPolicy, Sample, Scene, ValidityParams};
+use crate::{Checker, PlanError, PlanPolicy, Sample, Scene, ValidityParams, ZPoint};
 
 /// The clearance \[m\] below which a waypoint's planned wire is near an obstacle: its surface
 /// closer than this to a box or the floor ([`near_obstacles`]). A 3 mm wire through the middle

@@ -7,8 +7,8 @@ mod common;
 use common::{rod, shipped_passage};
 use ftwire_core::{GripperPoses, Pose};
 use ftwire_plan::{
-    Checker, ZPoint, MARGIN_NOISY, MAX_SPAN_NOISY, PlanError, PlanPolicy, ScenePlan, WAYPOINTS,
-    Waypoint, candidate_seed, choose_plan, near_obstacles, plan_in_scene, relocation,
+    Checker, MARGIN_NOISY, MAX_SPAN_NOISY, PlanError, PlanPolicy, ScenePlan, WAYPOINTS, Waypoint,
+    ZPoint, candidate_seed, choose_plan, near_obstacles, plan_in_scene, relocation,
     scene_configuration, waypoints_along,
 };
 use ftwire_robot::Robot;

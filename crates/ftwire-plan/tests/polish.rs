@@ -8,7 +8,7 @@
 mod common;
 
 use ftwire_plan::{
-    ZPoint, Landing, PlannerParams, PolishParams, Sample, Scatter, landing_clearance, plan,
+    Landing, PlannerParams, PolishParams, Sample, Scatter, ZPoint, landing_clearance, plan,
     polish_clearance, touch_rate,
 };
 use ftwire_rod::{se3, to_normalised};

@@ -3,7 +3,7 @@
 
 mod common;
 
-use ftwire_plan::{ZPoint, Invalid, PlanError, Scene, scene_configuration, scene_endpoint};
+use ftwire_plan::{Invalid, PlanError, Scene, ZPoint, scene_configuration, scene_endpoint};
 use ftwire_rod::from_normalised;
 use nalgebra::Vector6;
 

@@ -16,8 +16,8 @@ use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
 
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
-use crate::execution::{ExecutionErrorParams, ExecutionErrorModel};
-use crate::markers::{MarkerParams, MarkerFrame, MotionCapture};
+use crate::execution::{ExecutionErrorModel, ExecutionErrorParams};
+use crate::markers::{MarkerFrame, MarkerParams, MotionCapture};
 use crate::motion::Motion;
 use crate::sensor::{FtSensor, FtSensorParams};
 use crate::simulator::Simulator;

@@ -2,7 +2,7 @@
 
 use approx::assert_abs_diff_eq;
 use ftwire_core::{Command, Pose};
-use ftwire_sim::{ExecutionErrorParams, ExecutionErrorModel, SensingError};
+use ftwire_sim::{ExecutionErrorModel, ExecutionErrorParams, SensingError};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
 
 fn model(config: ExecutionErrorParams, seed: u64) -> ExecutionErrorModel {

@@ -3,7 +3,7 @@
 
 use ftwire_core::{Pose, Wrench};
 use ftwire_sim::{
-    ExecutionErrorParams, ExecutionErrorModel, FtSensor, FtSensorParams, MarkerParams,
+    ExecutionErrorModel, ExecutionErrorParams, FtSensor, FtSensorParams, MarkerParams,
     MotionCapture,
 };
 use nalgebra::{Point3, Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};

@@ -3,7 +3,7 @@
 use approx::assert_abs_diff_eq;
 use ftwire_core::CoreError;
 use ftwire_sim::markers::uniform_arc_lengths;
-use ftwire_sim::{MarkerParams, MarkerFrame, MotionCapture, SensingError, point_at_arc_length};
+use ftwire_sim::{MarkerFrame, MarkerParams, MotionCapture, SensingError, point_at_arc_length};
 use nalgebra::{Point3, Vector3};
 
 fn mocap(config: MarkerParams, seed: u64) -> MotionCapture {

@@ -13,8 +13,8 @@ use nalgebra::Vector6;
 use serde::Serialize;
 
 use crate::{
-    BiasObserver, BiasObserverParams, CollisionDetector, ControlError, ControlParams,
-    Controller, FtFeedback, Outcome, ReachCheck, Run, StepRecord, TrackingPolicy,
+    BiasObserver, BiasObserverParams, CollisionDetector, ControlError, ControlParams, Controller,
+    FtFeedback, Outcome, ReachCheck, Run, StepRecord, TrackingPolicy,
 };
 
 /// Executes a list of waypoints closed loop (see the module docs).

@@ -54,8 +54,8 @@ use super::parameters::{L_MAX, L_MIN, LAMBDA_MAX, LAMBDA_MIN};
 pub const DEFAULT_LINEAR_DENSITY: f64 = 0.03;
 use super::refine::Refined;
 use super::{
-    Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints, ParticleSwarm, ResidualForm,
-    Residuals, Sample, Swarm, Unidentified, Weights,
+    Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints, ParticleSwarm,
+    ResidualForm, Residuals, Sample, Swarm, Unidentified, Weights,
 };
 use crate::{EstimateError, WireModel};
 

@@ -291,7 +291,11 @@ impl<M: WireModel> Residuals<'_, M> {
     ///
     /// # Errors
     /// The model's error if it cannot be solved at `θ` or at a sample.
-    pub fn chi_squared(&self, theta: &[f64], noise: &MeasurementNoise) -> Result<f64, EstimateError> {
+    pub fn chi_squared(
+        &self,
+        theta: &[f64],
+        noise: &MeasurementNoise,
+    ) -> Result<f64, EstimateError> {
         let whitening = self.whitening(theta, noise)?;
         let whitened = Residuals {
             whitening: Some(&whitening),

@@ -155,11 +155,7 @@ pub fn tare(rig: &mut SimRig) -> Result<Tare, LabError> {
 ///   `increment` the shape stop picks a landing by the fused estimate.
 /// - `None` under `absolute`: the reported pose is off by a new 10 mm / 3° at every rest, which
 ///   the observer would read as drift.
-pub fn bias_observer(
-    setup: &SimSetup,
-    noise: NoiseModel,
-    on: bool,
-) -> Option<BiasObserverParams> {
+pub fn bias_observer(setup: &SimSetup, noise: NoiseModel, on: bool) -> Option<BiasObserverParams> {
     if !on {
         return None;
     }

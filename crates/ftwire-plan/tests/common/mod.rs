@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use ftwire_plan::{
-    Checker, ZPoint, FixedBase, Plan, Sample, Scene, ValidityParams, scene_endpoint,
+    Checker, FixedBase, Plan, Sample, Scene, ValidityParams, ZPoint, scene_endpoint,
 };
 use ftwire_robot::Robot;
 use ftwire_rod::{Rod, WireParams};

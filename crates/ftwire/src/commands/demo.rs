@@ -44,7 +44,7 @@ use ftwire_lab::experiment::rig::{measure, pipeline, place_wire, tare, true_cent
 use ftwire_lab::experiment::{Gravity, ModelKind};
 use ftwire_lab::header::RunHeader;
 use ftwire_lab::identify::{
-    ResidualParams, Map, Protocol, REST_SAMPLES as IDENTIFY_REST_SAMPLES, flag_name,
+    Map, Protocol, REST_SAMPLES as IDENTIFY_REST_SAMPLES, ResidualParams, flag_name,
     linear_density, loaded_config, record_trial, run_identification, truth,
 };
 use ftwire_lab::results::OutGuard;

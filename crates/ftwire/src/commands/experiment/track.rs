@@ -47,7 +47,7 @@ use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
 use ftwire_lab::error::{LabError, from_plan, from_rod};
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_plan::{
-    Checker, ZPoint, ConfigurationSpec, PLAN_RESTARTS, Scene, ValidityParams, WAYPOINTS, Waypoint,
+    Checker, ConfigurationSpec, PLAN_RESTARTS, Scene, ValidityParams, WAYPOINTS, Waypoint, ZPoint,
     plan_in_scene, waypoints_along,
 };
 use ftwire_report::{LineChart, Series};
