@@ -10,6 +10,8 @@
 //! - [`results`]: the results folder of a run, replaced whole or not at all, never a folder
 //!   ftwire did not write;
 //! - [`report`]: the default `report.md` and `report.html` of a results folder;
+//! - [`paper`]: the paper's published tables; [`beside`]: ours beside them, from a
+//!   reproduction's summaries;
 //! - [`csv_table`]: the one CSV writer of the results folders (quoting, formula guard);
 //! - [`wire`]: wires by preset name or TOML file;
 //! - [`setup`]: the simulated F/T sensor and rig, by preset or TOML file;
@@ -23,8 +25,8 @@
 //! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
 //!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
-//! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
 
+pub mod beside;
 pub mod calibrate;
 pub mod csv_table;
 pub mod error;

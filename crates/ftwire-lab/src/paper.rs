@@ -1,5 +1,6 @@
 //! The paper's published results that the experiments print beside their own and that
-//! `ftwire reproduce` tabulates: Table I (identification) and Table II (shape from F/T). One
+//! `ftwire reproduce` tabulates: Table I (identification), Table II (shape from F/T), Table III
+//! (goal reaching) and Table IV (tracking). One
 //! copy, read by the experiments ([`crate::identify`], [`crate::shape`]) and by the front ends.
 
 /// One parameter's row of Table I: the true value, the estimated mean, its ±, and the relative
@@ -36,3 +37,14 @@ pub const TABLE_II: [(&str, f64); 4] = [
     ("nitinol-3mm-820", 6.55),
     ("cable-3mm-920", 52.3),
 ];
+
+/// Paper Table III: mean shape error \[mm\] at the end of a motion to a goal, `(open loop,
+/// closed loop)`, without and with the paper's noise (`None` where the paper gives none).
+pub const TABLE_III: [(&str, Option<f64>, Option<f64>); 2] = [
+    ("no noise", None, Some(9.67)),
+    ("noise", Some(17.35), Some(9.11)),
+];
+
+/// Paper Table IV: shape error along a tracked path \[mm\], `(open loop mean, closed loop
+/// mean ± std)`.
+pub const TABLE_IV: (f64, f64, f64) = (11.01, 6.22, 1.83);

@@ -78,7 +78,20 @@ fn every_command_accepts_the_examples_as_written() {
         (
             "plan",
             vec![
-                "plan", "--scene", scene, "--wire", wire, "--seed", "2", "--first", "--json",
+                "plan",
+                "--scene",
+                scene,
+                "--wire",
+                wire,
+                "--seed",
+                "2",
+                "--first",
+                "--json",
+                // An iteration budget, not the default 2 s: the same path on a loaded machine.
+                "--iterations",
+                "5000",
+                "--time-budget",
+                "600",
             ],
         ),
         (
