@@ -435,6 +435,21 @@ impl ResultsFolder {
         self.write(name, text)
     }
 
+    /// Ends a run: `timings.json` (the wall times, kept out of `summary.json` so that the same
+    /// seed gives the same summary), then [`ResultsFolder::finish`]. Every command ends so.
+    ///
+    /// # Errors
+    /// As [`ResultsFolder::write_json`] and [`ResultsFolder::finish`].
+    pub fn finish_run(
+        self,
+        header: &RunHeader,
+        summary: &impl Serialize,
+        timings: &impl Serialize,
+    ) -> Result<PathBuf, LabError> {
+        self.write_json("timings.json", timings)?;
+        self.finish(header, summary)
+    }
+
     /// Writes `summary.json` (`{"header": ..., "summary": ...}`) and moves the folder into
     /// place: an existing target is first renamed aside and removed only once the new folder
     /// is in place. Returns the target.

@@ -482,7 +482,6 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         track_s,
         total_s: total.elapsed().as_secs_f64(),
     };
-    folder.write_json("timings.json", &timings)?;
     let drawn = page::Drawn {
         scene: &scene,
         waypoints: &waypoints,
@@ -490,7 +489,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     };
     page::write(&folder, &summary, &drawn)?;
     let header = RunHeader::new("demo", Some(seed), &args)?;
-    let target = folder.finish(&header, &summary)?;
+    let target = folder.finish_run(&header, &summary, &timings)?;
     println!(
         "demo done in {:.0} s; results in {}",
         timings.total_s,

@@ -285,19 +285,16 @@ pub fn run(args: ReproduceArgs) -> Result<(), LabError> {
         .filter(|s| s.status != "ok")
         .map(|s| s.id)
         .collect();
-    folder.write_json(
-        "timings.json",
-        &Timings {
-            experiments: timings,
-            total_s: total.elapsed().as_secs_f64(),
-        },
-    )?;
     let header = RunHeader::new("reproduce", Some(seed), &args)?;
     let summary = Summary {
         quick: args.quick,
         experiments: statuses,
     };
-    let target = folder.finish(&header, &summary)?;
+    let timings = &Timings {
+        experiments: timings,
+        total_s: total.elapsed().as_secs_f64(),
+    };
+    let target = folder.finish_run(&header, &summary, &timings)?;
     println!(
         "reproduce: report in {}",
         target.join("report.md").display()

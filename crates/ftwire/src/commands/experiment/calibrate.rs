@@ -30,9 +30,8 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), LabError> {
     let folder = args.common.open_results("calibrate", OutGuard::default())?;
     let header = RunHeader::new("experiment calibrate", Some(args.common.seed.seed), &args)?;
     let run = calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
-    folder.write_json("timings.json", &run.timings)?;
+    let target = folder.finish_run(&header, &run.summary, &run.timings)?;
     let s = &run.summary;
-    let target = folder.finish(&header, s)?;
     println!(
         "calibration on {} ({} train, {} validation, {} test; skipped {:?})",
         s.wire.name, s.samples.train, s.samples.validation, s.samples.test, s.skipped

@@ -62,9 +62,8 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), LabError> {
         OutGuard::default().input_opt("--calibration", args.calibration.as_deref()),
     )?;
     let run = identify::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
-    folder.write_json("timings.json", &run.timings)?;
     let header = RunHeader::new("experiment identify", Some(args.common.seed.seed), &args)?;
-    let target = folder.finish(&header, &run.summary)?;
+    let target = folder.finish_run(&header, &run.summary, &run.timings)?;
     let summary = &run.summary;
     let median_ms = |w: usize, n: usize| {
         summary.wires.get(w).map_or(f64::NAN, |r| {

@@ -36,8 +36,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), LabError> {
     )?;
     let header = RunHeader::new("experiment shape", Some(args.common.seed.seed), &args)?;
     let run = shape::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
-    folder.write_json("timings.json", &run.timings)?;
-    let target = folder.finish(&header, &run.summary)?;
+    let target = folder.finish_run(&header, &run.summary, &run.timings)?;
     print_table(&run);
     println!(
         "calibration {:.1} s, experiment {:.1} s; results in {}",
