@@ -23,12 +23,14 @@
 //! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
 //!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
-//! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
+//! - [`goal`]: the goal experiment (Table III, Figs. 6–7, collision detection);
+//! - [`paper`]: the paper's Tables I to III, printed beside the experiments' results.
 
 pub mod calibrate;
 pub mod csv_table;
 pub mod error;
 pub mod experiment;
+pub mod goal;
 pub mod header;
 pub mod identify;
 pub mod initial_guess;
