@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
-use ftwire_lab::paper::{TABLE_I, TABLE_II};
+use ftwire_lab::paper::{TABLE_I, TABLE_II, TABLE_III};
 use ftwire_lab::results::OutGuard;
 use ftwire_report::html::{code_span, escape_markdown};
 use rayon::prelude::*;
@@ -562,13 +562,6 @@ fn identification_table(md: &mut String, s: &Value) {
     md.push('\n');
 }
 
-/// Paper Table III: mean shape error \[mm\] at the end of a motion to a goal, `(open loop,
-/// closed loop)`, without and with the paper's noise (`None` where the paper gives none).
-const TABLE_III: [(&str, Option<f64>, Option<f64>); 2] = [
-    ("no noise", None, Some(9.67)),
-    ("noise", Some(17.35), Some(9.11)),
-];
-
 /// Table III: goal reaching, ours beside the paper's.
 fn goal_table(md: &mut String, s: &Value) {
     let _ = writeln!(
@@ -591,15 +584,13 @@ fn goal_table(md: &mut String, s: &Value) {
             number(&v["mean_mm_without_snaps"], 2),
         )
     };
-    let paper = |v: Option<f64>| v.map_or_else(|| "–".to_owned(), |x| format!("{x:.2}"));
-    for (key, (label, open, closed)) in ["no_noise", "noise"].iter().zip(TABLE_III) {
+    for (key, open, closed) in TABLE_III {
         let _ = writeln!(
             md,
-            "| {label} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {open:.2} | {closed:.2} |",
+            key.replace('_', " "),
             cell(&s["results"]["open_loop"][key]),
             cell(&s["results"]["closed_loop"][key]),
-            paper(open),
-            paper(closed),
         );
     }
     let c = &s["collision"];
