@@ -263,15 +263,13 @@ fn goal_table(md: &mut String, s: &Value) {
             number(&v["mean_mm_without_snaps"], 2),
         )
     };
-    let paper = |v: Option<f64>| v.map_or_else(|| "–".to_owned(), |x| format!("{x:.2}"));
-    for (key, (label, open, closed)) in ["no_noise", "noise"].iter().zip(TABLE_III) {
+    for (key, open, closed) in TABLE_III {
         let _ = writeln!(
             md,
-            "| {label} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {open:.2} | {closed:.2} |",
+            key.replace('_', " "),
             cell(&s["results"]["open_loop"][key]),
             cell(&s["results"]["closed_loop"][key]),
-            paper(open),
-            paper(closed),
         );
     }
     let c = &s["collision"];

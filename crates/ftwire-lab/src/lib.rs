@@ -25,12 +25,14 @@
 //! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
 //!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
+//! - [`goal`]: the goal experiment (Table III, Figs. 6–7, collision detection);
 
 pub mod beside;
 pub mod calibrate;
 pub mod csv_table;
 pub mod error;
 pub mod experiment;
+pub mod goal;
 pub mod header;
 pub mod identify;
 pub mod initial_guess;

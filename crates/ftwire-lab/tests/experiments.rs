@@ -295,3 +295,82 @@ fn identify_refuses_bad_settings_before_any_work() {
         assert_eq!(e.exit_code(), 2, "{e}");
     }
 }
+
+#[test]
+fn goal_steers_one_pair_closed_and_open_loop_and_writes_its_files() {
+    let dir = TempDir::new("goal");
+    let calibrated = dir.results("calibrate");
+    let settings = ftwire_lab::calibrate::CalibrateParams {
+        common: common("nitinol-3mm-820", 40),
+    };
+    ftwire_lab::calibrate::run(&settings, &calibrated, &mut |_| {}).expect("calibrates");
+    let folder = dir.results("goal");
+    let settings = ftwire_lab::goal::GoalParams {
+        common: common("nitinol-3mm-820", 1),
+        pairs: 1,
+        noise_model: ftwire_control::NoiseModel::Offset,
+        calibration: Some(calibrated.dir().join("calibration.json")),
+        ..ftwire_lab::goal::GoalParams::default()
+    };
+    let mut lines = Vec::new();
+    let run =
+        ftwire_lab::goal::run(&settings, &folder, &mut |l| lines.push(l.to_owned())).expect("runs");
+    assert!(
+        lines.iter().any(|l| l.starts_with("1 pairs drawn")),
+        "{lines:?}"
+    );
+    let summary = serde_json::to_value(&run.summary).expect("serialises");
+    assert_eq!(summary["noise_model"], "offset");
+    assert_eq!(summary["pairs"], 1);
+    for loop_kind in ["open_loop", "closed_loop"] {
+        for variant in ["no_noise", "noise"] {
+            let m = &summary["results"][loop_kind][variant];
+            let counted = m["trials"].as_u64().zip(m["failed"].as_u64());
+            assert_eq!(
+                counted.map(|(t, f)| t + f),
+                Some(1),
+                "{loop_kind}.{variant}: {m}"
+            );
+        }
+    }
+    // Without noise the closed loop reaches the goal: the true shape within millimetres.
+    let free = &run.summary.results.closed_loop.no_noise;
+    assert_eq!(free.trials, 1, "{:?}", run.summary.failures);
+    assert!(free.mean_mm < 10.0, "{}", free.mean_mm);
+    assert_eq!(run.summary.epsilon_tradeoff.no_noise.len(), 3);
+    assert_eq!(run.summary.collision.free_motions, 1);
+    assert!(run.timings.controller_step_us_median > 0.0);
+    for file in [
+        "trials.csv",
+        "motion_in_a.png",
+        "shape_error_along_motion.svg",
+    ] {
+        assert!(exists(&folder, file), "{file}");
+    }
+    assert!(!exists(&folder, "calibration.json"));
+}
+
+#[test]
+fn goal_refuses_bad_settings_before_any_work() {
+    let bad = [
+        ftwire_lab::goal::GoalParams {
+            pairs: 0,
+            ..ftwire_lab::goal::GoalParams::default()
+        },
+        ftwire_lab::goal::GoalParams {
+            shape_stop_mm: Some(-2.0),
+            ..ftwire_lab::goal::GoalParams::default()
+        },
+        ftwire_lab::goal::GoalParams {
+            common: CommonParams {
+                wire: Some("no-such-wire".to_owned()),
+                ..CommonParams::default()
+            },
+            ..ftwire_lab::goal::GoalParams::default()
+        },
+    ];
+    for settings in bad {
+        let e = settings.check().expect_err("bad input");
+        assert_eq!(e.exit_code(), 2, "{e}");
+    }
+}

@@ -265,3 +265,32 @@ pub fn true_centreline(rig: &SimRig) -> Vec<Vector3<f64>> {
         .map(|p| p.coords)
         .collect()
 }
+
+/// Contact force \[N\] on a node of the simulated wire above which it touches an obstacle
+/// ([`touches`]).
+pub const CONTACT_FORCE: f64 = 1e-6;
+
+/// Whether the simulated wire touches an obstacle: a contact force (`contact_forces`, one per
+/// node, \[N\]) above [`CONTACT_FORCE`]. The one definition of a touch of every experiment
+/// that scores one (tracking, the passage, the demo, the goal experiment's contact runs).
+pub fn touches(contact_forces: &[Vector3<f64>]) -> bool {
+    contact_forces.iter().any(|f| f.norm() > CONTACT_FORCE)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_touch_is_a_contact_force_above_the_threshold_on_some_node() {
+        assert!(!touches(&[]));
+        assert!(!touches(&[
+            Vector3::zeros(),
+            Vector3::new(0.0, CONTACT_FORCE, 0.0)
+        ]));
+        assert!(touches(&[
+            Vector3::zeros(),
+            Vector3::new(0.0, 0.0, 2.0 * CONTACT_FORCE)
+        ]));
+    }
+}

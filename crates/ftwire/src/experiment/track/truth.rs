@@ -11,16 +11,8 @@ use nalgebra::{Point3, Vector3, Vector6};
 use super::{Attempt, Leg};
 use ftwire_lab::error::LabError;
 
-/// Contact force \[N\] on a node of the simulated wire above which it touches an obstacle
-/// ([`touches`]).
-pub const CONTACT_FORCE: f64 = 1e-6;
-
-/// Whether the simulated wire touches an obstacle: a contact force (`contact_forces`, one per
-/// node, \[N\]) above [`CONTACT_FORCE`]. The one definition of a touch of every experiment
-/// that scores one (tracking, the passage, the demo, `experiment goal`'s contact runs).
-pub fn touches(contact_forces: &[Vector3<f64>]) -> bool {
-    contact_forces.iter().any(|f| f.norm() > CONTACT_FORCE)
-}
+/// The one definition of a touch, the lab's (every experiment that scores one shares it).
+pub use ftwire_lab::experiment::rig::{CONTACT_FORCE, touches};
 
 /// Truth of the rig at a rest: contact, centreline, base wrench.
 pub(super) struct Truth {
@@ -151,22 +143,4 @@ pub(super) fn shape_mm(truth: &[Point3<f64>], planned: &[Point3<f64>]) -> Result
     centreline_distance(&a, &b, DEFAULT_METRIC_SAMPLES)
         .map(|d| 1e3 * d)
         .map_err(|e| LabError::no_answer(format!("the shape error: {e}")))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_touch_is_a_contact_force_above_the_threshold_on_some_node() {
-        assert!(!touches(&[]));
-        assert!(!touches(&[
-            Vector3::zeros(),
-            Vector3::new(0.0, CONTACT_FORCE, 0.0)
-        ]));
-        assert!(touches(&[
-            Vector3::zeros(),
-            Vector3::new(0.0, 0.0, 2.0 * CONTACT_FORCE)
-        ]));
-    }
 }
