@@ -2,6 +2,7 @@
 
 pub mod demo;
 pub mod experiment;
+pub mod groups;
 pub mod identify;
 pub mod init;
 pub mod plan;

@@ -1,7 +1,5 @@
 //! `ftwire demo`.
 
-use std::path::PathBuf;
-
 use clap::Args;
 use serde::Serialize;
 
@@ -25,15 +23,14 @@ pub struct DemoArgs {
     /// not told its stiffness, length or weight; only the simulator knows them.
     #[arg(long, value_name = "PRESET|FILE.toml", default_value = DEFAULT_DEMO_WIRE)]
     pub wire: String,
-    /// The scene to plan through (TOML) [default: the shipped 50 mm passage].
-    #[arg(long, value_name = "FILE.toml")]
-    pub scene: Option<PathBuf>,
-    /// Execution noise on the second gripper while tracking: `offset`, a real robot's, one
-    /// unknown 10 mm / 3° calibration error plus fine repeatability, which the closed loop
-    /// removes and the open loop cannot; `none`; `increment`, the paper's, 10 mm and 3° on each
-    /// step; `absolute`.
-    #[arg(long, value_enum, value_name = "MODEL", default_value_t = crate::cli::experiment::NoiseModelArg::Offset)]
-    pub noise_model: crate::cli::experiment::NoiseModelArg,
+    /// The scene to plan through (`--scene`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub scene: crate::cli::groups::SceneArgs,
+    /// Execution noise on the second gripper while tracking (`--noise-model`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub noise: crate::cli::groups::NoiseModelArgs,
     /// The results folder (`--out`, `--force`) [default: results/demo].
     #[command(flatten)]
     #[serde(flatten)]

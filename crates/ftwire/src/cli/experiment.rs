@@ -1,7 +1,5 @@
 //! Arguments of `ftwire experiment <id>`: the experiments of paper §IV, run in the simulator.
 
-use std::path::PathBuf;
-
 use ftwire_lab::error::LabError;
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 
@@ -9,6 +7,8 @@ use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire_control::TrackingPolicy;
 use ftwire_lab::experiment::Gravity;
+
+use super::groups::{CalibrationArgs, ClosedLoopArgs, SceneArgs};
 use serde::Serialize;
 
 /// `ftwire experiment <id>`.
@@ -144,11 +144,10 @@ pub struct IdentifyExperimentArgs {
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
     pub pipeline: IdentifyPipeline,
-    /// Learnt calibration weights (from `ftwire experiment calibrate`) for `--pipeline
-    /// calibrated`; without it, a calibration is first run on the default known wire (with
-    /// this run's `--gravity` and `--seed`) and cached in the results folder.
-    #[arg(long, value_name = "FILE")]
-    pub calibration: Option<PathBuf>,
+    /// The learnt calibration (`--calibration`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub calibration: CalibrationArgs,
 }
 
 pub use ftwire_lab::experiment::ModelKind as ModelArg;
@@ -205,10 +204,10 @@ pub struct ShapeExperimentArgs {
     /// Configurations of A_free per wire, 1 to 10000 (the paper: 50).
     #[arg(long, value_name = "N", value_parser = TRIALS)]
     pub configs: Option<usize>,
-    /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
-    /// calibration is first run on the default known wire and cached in the results folder.
-    #[arg(long, value_name = "FILE")]
-    pub calibration: Option<PathBuf>,
+    /// The learnt calibration (`--calibration`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub calibration: CalibrationArgs,
     /// Write the samples as a JSON Lines log into the results folder (`logs/`), in the format
     /// `ftwire shape --log` reads.
     #[arg(long)]
@@ -256,25 +255,11 @@ pub struct GoalExperimentArgs {
     /// Start–goal pairs, 1 to 1000 (the paper: 30).
     #[arg(long, value_name = "N", default_value_t = 30, value_parser = ROLLOUTS)]
     pub pairs: usize,
-    /// The gripper noise of the `noise` runs.
-    #[arg(long, value_enum, default_value_t = NoiseModelArg::Increment)]
-    pub noise_model: NoiseModelArg,
-    /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
-    /// calibration is first run on the default known wire and cached in the results folder.
-    #[arg(long, value_name = "FILE")]
-    pub calibration: Option<PathBuf>,
-    /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
-    /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, from the model and the
-    /// reported poses), and without noise and under `increment`, where the robot knows where
-    /// its gripper is, by each rest fused with that pose (`fuse_rest`); `off` steers by the
-    /// tared `ã` alone.
-    #[arg(long, value_enum, default_value_t = OnOff::On)]
-    pub bias_observer: OnOff,
-    /// The closed loop's shape stop in mm for the `noise` runs: a run ends once the model's
-    /// shape at the measured `ã` is within this mean distance of `Φ(a_g)` (instead of the `ε`
-    /// stop); 0 switches it off [default: 6 under `increment` and `absolute`, off otherwise].
-    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
-    pub shape_stop: Option<f64>,
+    /// The closed loop: `--noise-model` (of the `noise` runs), `--calibration`,
+    /// `--bias-observer`, `--shape-stop` (of the `noise` runs).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub closed_loop: ClosedLoopArgs,
 }
 
 /// A switch (`on|off`).
@@ -297,13 +282,11 @@ impl OnOff {
 /// The options of the experiments that roll a plan out (`track`, `passage`).
 #[derive(Debug, Clone, Args, Serialize)]
 pub struct RolloutArgs {
-    /// The gripper noise of the roll-outs (the paper's is `increment`).
-    #[arg(long, value_enum, default_value_t = NoiseModelArg::Increment)]
-    pub noise_model: NoiseModelArg,
-    /// Learnt calibration weights (from `ftwire experiment calibrate`); without it, a
-    /// calibration is first run on the default known wire and cached in the results folder.
-    #[arg(long, value_name = "FILE")]
-    pub calibration: Option<PathBuf>,
+    /// The closed loop: `--noise-model` (the roll-outs'), `--calibration`,
+    /// `--bias-observer`, `--shape-stop` (each leg's).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub closed_loop: ClosedLoopArgs,
     /// The controller's gain K of eq. 13, in (0, 1]: each closed-loop move corrects the
     /// fraction K of the remaining configuration error, `δa = K (a_goal − ã)` [default: 1
     /// under `increment` and `absolute`, 0.5 otherwise; the paper's is 0.2]. A larger gain
@@ -312,13 +295,6 @@ pub struct RolloutArgs {
     /// fewer moves, each of them a rest in which the sensor drifts (`docs/control-noise.md`).
     #[arg(long, value_name = "K", value_parser = ftwire::args::parse_finite)]
     pub gain: Option<f64>,
-    /// The closed loop's shape stop in mm: each leg ends once the model's shape at the
-    /// measured `ã` is within this mean distance of the waypoint's (instead of the `ε` stop);
-    /// 0 switches it off [default: 6 under `increment` and `absolute`, off otherwise]. Under
-    /// `increment` and `absolute` a leg from or to a waypoint whose planned wire is within
-    /// 25 mm of a box stops at no less than 10 mm (`passage`: fewer landings beside a box).
-    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
-    pub shape_stop: Option<f64>,
     /// Most moves of the closed loop toward each waypoint before the last, 1 to 1000
     /// [default: 20]. A tighter `--shape-stop` under `increment` needs more: every move lands
     /// the wire about 12 mm from where it was sent, and the stop waits for a landing within it.
@@ -329,12 +305,6 @@ pub struct RolloutArgs {
     /// `--shape-stop` and 10 under `increment` and `absolute`, `--shape-stop` otherwise].
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub near_shape_stop: Option<f64>,
-    /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
-    /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, one over the whole
-    /// path), and without noise and under `increment`, where the robot knows where its gripper
-    /// is, by each rest fused with that pose (`fuse_rest`); `off` steers by the tared `ã` alone.
-    #[arg(long, value_enum, default_value_t = OnOff::On)]
-    pub bias_observer: OnOff,
 }
 
 impl RolloutArgs {
@@ -349,7 +319,7 @@ impl RolloutArgs {
             gain: self.gain()?,
             shape_stop,
             near_shape_stop: self.near_shape_stop(shape_stop)?,
-            ..TrackingPolicy::for_noise(self.noise_model.model())
+            ..TrackingPolicy::for_noise(self.closed_loop.noise_model().model())
         };
         policy.through.max_iterations = self.waypoint_moves();
         Ok(policy)
@@ -361,7 +331,7 @@ impl RolloutArgs {
     /// # Errors
     /// Bad input for a gain outside `(0, 1]`.
     pub fn gain(&self) -> Result<f64, LabError> {
-        let noise = self.noise_model.model();
+        let noise = self.closed_loop.noise_model().model();
         match self.gain {
             None => Ok(TrackingPolicy::for_noise(noise).gain),
             Some(gain) if gain > 0.0 && gain <= 1.0 => Ok(gain),
@@ -376,14 +346,14 @@ impl RolloutArgs {
     /// # Errors
     /// Bad input for a negative distance.
     pub fn shape_stop(&self) -> Result<f64, LabError> {
-        shape_stop(self.shape_stop, self.noise_model)
+        shape_stop(self.closed_loop.shape_stop, self.closed_loop.noise_model())
     }
 
     /// `--waypoint-moves` (checked by its parser), or the default for the noise model
     /// (`ftwire_control::TrackingPolicy::through`).
     pub fn waypoint_moves(&self) -> usize {
         self.waypoint_moves.unwrap_or_else(|| {
-            TrackingPolicy::for_noise(self.noise_model.model())
+            TrackingPolicy::for_noise(self.closed_loop.noise_model().model())
                 .through
                 .max_iterations
         })
@@ -396,10 +366,10 @@ impl RolloutArgs {
     /// Bad input for a negative distance.
     pub fn near_shape_stop(&self, shape_stop: f64) -> Result<f64, LabError> {
         match self.near_shape_stop {
-            None => {
-                Ok(TrackingPolicy::for_noise(self.noise_model.model())
-                    .near_shape_stop_for(shape_stop))
-            }
+            None => Ok(
+                TrackingPolicy::for_noise(self.closed_loop.noise_model().model())
+                    .near_shape_stop_for(shape_stop),
+            ),
             Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
             Some(mm) => Err(LabError::bad_input(format!(
                 "--near-shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
@@ -451,9 +421,10 @@ pub struct PassageExperimentArgs {
     /// the shipped passage is made for).
     #[command(flatten)]
     pub common: CommonExperimentArgs,
-    /// The scene [default: the shipped 50 mm passage, `scenes/passage.toml`].
-    #[arg(long, value_name = "FILE")]
-    pub scene: Option<PathBuf>,
+    /// The scene (`--scene`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub scene: SceneArgs,
     /// Roll-outs of each of open and closed loop, 1 to 1000 (the paper: 10).
     #[arg(long, value_name = "N", default_value_t = 50, value_parser = ROLLOUTS)]
     pub attempts: usize,

@@ -97,10 +97,9 @@ pub struct IdentifyArgs {
     /// second gripper's pose relative to the base clamp.
     #[arg(long, value_name = "FILE.jsonl")]
     pub log: PathBuf,
-    /// Learnt calibration weights (from `ftwire experiment calibrate`), to turn `raw` records
-    /// into configurations; records with `a` are used as they are.
-    #[arg(long, value_name = "W")]
-    pub calibration: Option<PathBuf>,
+    /// The learnt calibration (`--calibration`).
+    #[command(flatten)]
+    pub calibration: crate::cli::groups::CalibrationArgs,
     /// Use only the first N records, 1 to 1000000 (default: all). The identification's time
     /// grows in proportion to the records it uses: a window of the first few hundred of a long
     /// log gives an estimate in seconds (on a terminal, progress is shown on stderr).

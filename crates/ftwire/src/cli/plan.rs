@@ -114,9 +114,9 @@ pub const RESAMPLE: CountRange = CountRange::new(1, 100_000);
     Exit codes: 0 a path, 1 no path within the budget, 2 bad input (a bad scene, a start or\n\
     goal outside Z_free).")]
 pub struct PlanArgs {
-    /// The scene file (TOML; see `scenes/passage.toml`).
-    #[arg(long, value_name = "FILE")]
-    pub scene: PathBuf,
+    /// The scene to plan in (`--scene`, required).
+    #[command(flatten)]
+    pub scene: crate::cli::groups::SceneArgs,
 
     /// The wire.
     #[command(flatten)]

@@ -20,10 +20,10 @@ pub struct ShapeArgs {
     /// identified c and L.
     #[arg(long, value_name = "PRESET|FILE.toml")]
     pub wire: String,
-    /// Learnt calibration weights (from `ftwire experiment calibrate`), needed when records
-    /// carry `raw`.
-    #[arg(long, value_name = "FILE")]
-    pub calibration: Option<PathBuf>,
+    /// The learnt calibration (`--calibration`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub calibration: crate::cli::groups::CalibrationArgs,
     /// Output: one JSON object per record (JSON Lines) with --json.
     #[command(flatten)]
     pub output: JsonArgs,

@@ -237,7 +237,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     // Every input is read and checked before any work: a bad one is exit 2 at once.
     let wire = WireSpec::load(&args.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
     let setup = args.setup.load()?;
-    let (scene, scene_name) = match &args.scene {
+    let (scene, scene_name) = match &args.scene.file {
         Some(path) => (
             Scene::load(path).map_err(|e| from_plan(e, "--scene"))?,
             path.display().to_string(),
@@ -258,7 +258,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         .ok_or_else(|| LabError::bad_input(format!("no preset {KNOWN_WIRE}")))?;
     let inputs = OutGuard::default()
         .input("--wire", &args.wire)
-        .input_opt("--scene", args.scene.as_deref())
+        .input_opt("--scene", args.scene.path())
         .input_opt("--sensor", args.setup.sensor.as_deref())
         .input_opt("--rig", args.setup.rig.as_deref());
     let folder = args.results.open("demo", inputs)?;
@@ -356,7 +356,9 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     // iteration budget can find no path for some identified wires. The wire sags a few
     // millimetres from those shapes; the controller tracks the configurations with the
     // loaded model.
-    let noise = args.noise_model.model();
+    let noise = args
+        .noise
+        .model_or(crate::cli::experiment::NoiseModelArg::Offset);
     let identified = Rod::new(*model.wire());
     // Under the noises that scatter every landing, the best of `ftwire_plan::PLAN_CANDIDATES`
     // plans by their expected touches, each with its tight waypoints polished away from the

@@ -38,7 +38,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), LabError> {
     let records = read(&args.log)?;
     let calibration = args
         .calibration
-        .as_deref()
+        .path()
         .map(|path| {
             Calibration::load(path)
                 .map_err(|e| LabError::bad_input(format!("--calibration {}: {e}", path.display())))

@@ -296,8 +296,11 @@ pub fn run(args: &PlanArgs) -> Result<(), LabError> {
                 args.time_budget
             ))
         })?;
-    let (scene, spec, checker) = setup(&args.scene, &args.wire)?;
-    let file = args.scene.display().to_string();
+    let scene_file = args.scene.path().ok_or_else(|| {
+        LabError::bad_input("--scene FILE.toml is required: the scene to plan in")
+    })?;
+    let (scene, spec, checker) = setup(scene_file, &args.wire)?;
+    let file = scene_file.display().to_string();
     let endpoint = |name: &str, role: &'static str| {
         ftwire_plan::scene_endpoint(&scene, &checker, name, role).map_err(|e| from_plan(e, &file))
     };

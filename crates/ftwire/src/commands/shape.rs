@@ -63,7 +63,7 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
     let records = read_log(BufReader::new(file))
         .map_err(|e| LabError::bad_input(format!("--log {}: {e}", args.log.display())))?;
     let calibration =
-        match &args.calibration {
+        match &args.calibration.file {
             Some(path) => Some(Calibration::load(path).map_err(|e| {
                 LabError::bad_input(format!("--calibration {}: {e}", path.display()))
             })?),

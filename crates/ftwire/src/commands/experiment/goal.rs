@@ -21,10 +21,10 @@ fn params(args: &GoalExperimentArgs) -> GoalParams {
     GoalParams {
         common: args.common.params(),
         pairs: args.pairs,
-        noise_model: args.noise_model.model(),
-        calibration: args.calibration.clone(),
-        bias_observer: args.bias_observer.on(),
-        shape_stop_mm: args.shape_stop,
+        noise_model: args.closed_loop.noise_model().model(),
+        calibration: args.closed_loop.calibration.file.clone(),
+        bias_observer: args.closed_loop.bias_observer.on(),
+        shape_stop_mm: args.closed_loop.shape_stop,
     }
 }
 
@@ -34,7 +34,7 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), LabError> {
     params.check()?;
     let folder = args.common.open_results(
         "goal",
-        OutGuard::default().input_opt("--calibration", args.calibration.as_deref()),
+        OutGuard::default().input_opt("--calibration", args.closed_loop.calibration.path()),
     )?;
     let header = RunHeader::new("experiment goal", Some(args.common.seed.seed), &args)?;
     let run = goal::run(&params, &folder, &mut |line| eprintln!("{line}"))?;

@@ -49,7 +49,7 @@ fn params(args: &IdentifyExperimentArgs) -> IdentifyParams {
             IdentifyPipeline::Calibrated => Pipeline::Calibrated,
             IdentifyPipeline::Mounting => Pipeline::Mounting,
         },
-        calibration: args.calibration.clone(),
+        calibration: args.calibration.file.clone(),
     }
 }
 
@@ -59,7 +59,7 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), LabError> {
     params.check()?;
     let folder = args.common.open_results(
         "identify",
-        OutGuard::default().input_opt("--calibration", args.calibration.as_deref()),
+        OutGuard::default().input_opt("--calibration", args.calibration.path()),
     )?;
     let run = identify::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
     let header = RunHeader::new("experiment identify", Some(args.common.seed.seed), &args)?;

@@ -283,7 +283,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
     let seed = common.seed.seed;
     let policy = args.rollout.policy()?;
     let wire = wire_or(common, DEFAULT_WIRE)?;
-    let (scene, scene_name) = load_scene(args.scene.as_deref())?;
+    let (scene, scene_name) = load_scene(args.scene.path())?;
     let setup = common.setup.load()?;
     let kind = common.model();
     let model = scene_model(&wire, common.gravity, kind, &scene)?;
@@ -296,15 +296,15 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
         "passage",
         common,
         &args,
-        args.rollout.calibration.as_deref(),
+        args.rollout.closed_loop.calibration.path(),
         &setup,
-        OutGuard::default().input_opt("--scene", args.scene.as_deref()),
+        OutGuard::default().input_opt("--scene", args.scene.path()),
     )?;
 
     // The plan, with the weightless model (see `plan_in_scene`'s callers in the demo); under
     // the noises that scatter every landing, the best of `--plan-candidates` plans by their
     // expected touches, each polished for clearance (unless `--no-polish`).
-    let noise = args.rollout.noise_model.model();
+    let noise = args.rollout.closed_loop.noise_model().model();
     let planner_rod = Rod::new(*model.wire());
     let plans = plan_policy(noise);
     let Chosen {
@@ -390,7 +390,7 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
         seed,
         policy,
         arms: true,
-        bias_observer: args.rollout.bias_observer.on(),
+        bias_observer: args.rollout.closed_loop.bias_observer.on(),
     };
     let started = Instant::now();
     let detector = tracking.detector(&model, &waypoints)?;

@@ -20,7 +20,7 @@ fn params(args: &ShapeExperimentArgs) -> ShapeParams {
     ShapeParams {
         common: args.common.params(),
         configs: args.configs,
-        calibration: args.calibration.clone(),
+        calibration: args.calibration.file.clone(),
         save_log: args.save_log,
         rest_samples: args.rest_samples,
     }
@@ -32,7 +32,7 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), LabError> {
     params.check()?;
     let folder = args.common.open_results(
         "shape",
-        OutGuard::default().input_opt("--calibration", args.calibration.as_deref()),
+        OutGuard::default().input_opt("--calibration", args.calibration.path()),
     )?;
     let header = RunHeader::new("experiment shape", Some(args.common.seed.seed), &args)?;
     let run = shape::run(&params, &folder, &mut |line| eprintln!("{line}"))?;

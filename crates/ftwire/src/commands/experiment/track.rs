@@ -190,14 +190,14 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
         "track",
         common,
         &args,
-        args.rollout.calibration.as_deref(),
+        args.rollout.closed_loop.calibration.path(),
         &setup,
         OutGuard::default(),
     )?;
 
     let planner_rod = Rod::new(*model.wire());
     let mut draws = PairDraws::default();
-    let noise = args.rollout.noise_model.model();
+    let noise = args.rollout.closed_loop.noise_model().model();
     let planned = draw_and_plan(
         &free,
         &planner_rod,
@@ -224,7 +224,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
                 seed,
                 policy,
                 arms: args.reach == ReachArg::Robot,
-                bias_observer: args.rollout.bias_observer.on(),
+                bias_observer: args.rollout.closed_loop.bias_observer.on(),
             };
             let stream = FIRST_STREAM + k as u64;
             let closed = tracking.closed_loop_unarmed(&model, &p.waypoints, stream)?;
@@ -288,7 +288,7 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
         bias_observer: ftwire_lab::experiment::rig::bias_observer(
             &setup,
             noise,
-            args.rollout.bias_observer.on(),
+            args.rollout.closed_loop.bias_observer.on(),
         ),
         success_rule: policy.success_rule(),
         reach: args.reach,

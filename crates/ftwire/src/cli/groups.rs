@@ -1,0 +1,115 @@
+//! Argument groups that several commands share, each declared once and flattened
+//! (`#[command(flatten)]`) where it is used, so an option means the same everywhere.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use ftwire_control::NoiseModel;
+use serde::Serialize;
+
+use super::experiment::{NoiseModelArg, OnOff};
+
+/// `--calibration FILE`: the learnt F/T calibration.
+#[derive(Debug, Clone, Default, Args, Serialize)]
+pub struct CalibrationArgs {
+    /// Learnt calibration weights (`calibration.json`, from `ftwire experiment calibrate`).
+    /// The experiments without it first run a calibration on the default known wire (this
+    /// run's `--gravity` and `--seed`) and cache it in the results folder; `identify --log`
+    /// and `shape --log` need it for records that carry `raw` (records with `a` are used as
+    /// they are).
+    #[arg(long = "calibration", id = "calibration", value_name = "FILE")]
+    #[serde(rename = "calibration")]
+    pub file: Option<PathBuf>,
+}
+
+impl CalibrationArgs {
+    /// The file, if given.
+    pub fn path(&self) -> Option<&Path> {
+        self.file.as_deref()
+    }
+}
+
+/// `--scene FILE.toml`: a planning scene.
+#[derive(Debug, Clone, Default, Args, Serialize)]
+pub struct SceneArgs {
+    /// The planning scene (TOML: boxes, base pose, start and goal; `docs/config.md`)
+    /// [default for `demo` and `experiment passage`: the shipped 50 mm passage,
+    /// `scenes/passage.toml`; `plan` needs one].
+    #[arg(long = "scene", id = "scene", value_name = "FILE.toml")]
+    #[serde(rename = "scene")]
+    pub file: Option<PathBuf>,
+}
+
+impl SceneArgs {
+    /// The file, if given.
+    pub fn path(&self) -> Option<&Path> {
+        self.file.as_deref()
+    }
+}
+
+/// `--noise-model`: execution noise on the second gripper.
+#[derive(Debug, Clone, Copy, Default, Args, Serialize)]
+pub struct NoiseModelArgs {
+    /// Execution noise on the second gripper (`ftwire_control::NoisyRig`): `increment`, the
+    /// paper's, 10 mm and 3° on each step; `absolute`, each commanded pose off by a new
+    /// 10 mm / 3°; `offset`, a real robot's, one unknown 10 mm / 3° calibration error plus
+    /// fine repeatability, which the closed loop removes and the open loop cannot; `none`
+    /// [default: `increment` in the experiments, `offset` in the demo].
+    #[arg(
+        long = "noise-model",
+        id = "noise-model",
+        value_enum,
+        value_name = "MODEL"
+    )]
+    #[serde(rename = "noise_model")]
+    pub model: Option<NoiseModelArg>,
+}
+
+impl NoiseModelArgs {
+    /// The given model, or the command's `default`.
+    pub fn or(&self, default: NoiseModelArg) -> NoiseModelArg {
+        self.model.unwrap_or(default)
+    }
+
+    /// The library's model of [`NoiseModelArgs::or`].
+    pub fn model_or(&self, default: NoiseModelArg) -> NoiseModel {
+        self.or(default).model()
+    }
+}
+
+/// The closed loop of the experiments that steer the wire (`goal`, `track`, `passage`): the
+/// noise it runs under, the calibration it reads F/T through, the bias observer and the shape
+/// stop.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct ClosedLoopArgs {
+    /// The gripper noise of the noisy runs.
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub noise: NoiseModelArgs,
+    /// The learnt calibration.
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub calibration: CalibrationArgs,
+    /// Steer the closed loop without noise and under `offset` and `increment` by `ã` corrected
+    /// for the F/T sensor's bias drift (`ftwire_control::BiasObserver`, from the model and the
+    /// reported poses, one over a whole path), and without noise and under `increment`, where
+    /// the robot knows where its gripper is, by each rest fused with that pose (`fuse_rest`);
+    /// `off` steers by the tared `ã` alone.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub bias_observer: OnOff,
+    /// The closed loop's shape stop in mm: a run (`goal`'s noisy runs) or a leg (`track`,
+    /// `passage`) ends once the model's shape at the measured `ã` is within this mean distance
+    /// of the goal's (instead of the `ε` stop); 0 switches it off [default: 6 under
+    /// `increment` and `absolute`, off otherwise]. Under `increment` and `absolute` a leg from
+    /// or to a waypoint whose planned wire is within 25 mm of a box stops at no less than
+    /// 10 mm (`--near-shape-stop`).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
+    pub shape_stop: Option<f64>,
+}
+
+impl ClosedLoopArgs {
+    /// `--noise-model`, `increment` (the paper's) by default.
+    pub fn noise_model(&self) -> NoiseModelArg {
+        self.noise.or(NoiseModelArg::Increment)
+    }
+}
