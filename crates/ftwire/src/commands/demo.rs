@@ -230,11 +230,17 @@ impl Phase {
     }
 }
 
-/// Runs the demo.
-pub fn run(args: DemoArgs) -> Result<(), LabError> {
-    let total = Instant::now();
-    let seed = args.seed.seed;
-    // Every input is read and checked before any work: a bad one is exit 2 at once.
+/// The demo's inputs, read and checked before any work: a bad one is exit 2 at once.
+struct Inputs {
+    wire: WireSpec,
+    setup: SimSetup,
+    scene: Scene,
+    scene_name: String,
+    known: WireSpec,
+    folder: ftwire_lab::results::ResultsFolder,
+}
+
+fn inputs(args: &DemoArgs) -> Result<Inputs, LabError> {
     let wire = WireSpec::load(&args.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
     let setup = args.setup.load()?;
     let (scene, scene_name) = match &args.scene.file {
@@ -262,14 +268,34 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         .input_opt("--sensor", args.setup.sensor.as_deref())
         .input_opt("--rig", args.setup.rig.as_deref());
     let folder = args.results.open("demo", inputs)?;
-    let gravity = Gravity::On;
+    Ok(Inputs {
+        wire,
+        setup,
+        scene,
+        scene_name,
+        known,
+        folder,
+    })
+}
 
-    // 1. Calibration on the known wire.
+/// Phase 1: the calibration on the known wire; its summary, the weights (also written to the
+/// folder) and the phase's seconds.
+fn calibrate(
+    inputs: &Inputs,
+    gravity: Gravity,
+    seed: u64,
+) -> Result<(CalibrationOut, Calibration, f64), LabError> {
+    let Inputs {
+        known,
+        setup,
+        folder,
+        ..
+    } = inputs;
     let phase = Phase::start(1, "calibrate the F/T sensor on the known wire", 300);
     let run = calibration::run(
-        &known,
+        known,
         (gravity, ModelKind::Loaded),
-        &setup,
+        setup,
         CALIBRATION_CONFIGS,
         seed,
         |k| phase.set(k + 1),
@@ -298,56 +324,29 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         100.0 * calibration_out.raw_torque_rel,
         100.0 * calibration_out.raw_force_rel,
     ));
-    let learnt = run.calibration;
+    Ok((calibration_out, run.calibration, calibrate_s))
+}
 
-    // 2. Identification of the unknown wire.
-    let phase = Phase::start(2, "identify the wire from F/T", IDENTIFY_SAMPLES as u64);
-    let (identification, model) = identify(&wire, &learnt, &setup, seed)?;
-    phase.set(IDENTIFY_SAMPLES);
-    let err = &identification.relative_error;
-    let identify_s = phase.finish(&format!(
-        "c = ({:.4}, {:.4}, {:.4}) N·m², L = {:.4} m against the truth ({:.4}, {:.4}, {:.4}), \
-         {:.4}: errors {:.2} / {:.2} / {:.2} / {:.2} %{}",
-        identification.estimate[0],
-        identification.estimate[1],
-        identification.estimate[2],
-        identification.estimate[3],
-        wire.c[0],
-        wire.c[1],
-        wire.c[2],
-        wire.length,
-        100.0 * err[0],
-        100.0 * err[1],
-        100.0 * err[2],
-        100.0 * err[3],
-        identification
-            .flag
-            .map_or_else(String::new, |f| format!(" (flagged: {f})")),
-    ));
-
-    // 3. Shape from F/T with the identified model.
-    let phase = Phase::start(3, "estimate the shape from F/T", SHAPE_CONFIGS as u64);
-    let (shape, first) = shapes(&wire, (&learnt, &setup), model, seed, |k| phase.set(k))?;
-    if let Some((estimate, truth)) = &first {
-        let chart = Chart3d::new(format!("{}: shape from F/T against the truth", wire.name))
-            .with_curve("truth (simulator)", truth.clone(), SeriesKind::Line)
-            .with_curve("estimate from F/T", estimate.clone(), SeriesKind::Line);
-        chart
-            .write(folder.dir(), "shape")
-            .map_err(|e| LabError::no_answer(format!("figure shape: {e}")))?;
-    }
-    let shape_s = phase.finish(&format!(
-        "{} configurations, mean distance to the true wire {:.2} mm",
-        shape.configurations, shape.mean_mm_overall
-    ));
-
-    // 4. Plan through the scene for the identified wire (read before phase 1).
+/// Phase 4: the plan through the scene for the identified wire, chosen among candidates
+/// where the noise scatters every landing; returns what the summary keeps, the chosen plan,
+/// the controller's model and the phase's seconds.
+fn plan(
+    inputs: &Inputs,
+    args: &DemoArgs,
+    model: &KirchhoffModel,
+    identification: &IdentificationOut,
+    seed: u64,
+) -> Result<(PlanOut, ftwire_plan::Chosen, KirchhoffModel, f64), LabError> {
+    let Inputs {
+        scene, scene_name, ..
+    } = inputs;
+    let gravity = Gravity::On;
     let phase = Phase::start(4, "plan through the passage", 1);
     // The controller's model: the identified one, with gravity in the base clamp frame. Where
     // the plan keeps a distance from the folds (under `increment` and `absolute`), it keeps it
     // on this model's, as `experiment passage` does.
     let g_clamp = scene.base.rotation.inverse() * gravity.vector();
-    let weight = summary_density(&identification) * g_clamp;
+    let weight = summary_density(identification) * g_clamp;
     let controller_model = model
         .with_weight_per_length(weight)
         .map_err(|e| from_estimate(e, "the identified wire's weight"))?;
@@ -367,7 +366,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     // and the shape error is against the wire that sags.
     let plan_policy = track::plan_policy(noise);
     let chosen = ftwire_plan::choose_plan(
-        &scene,
+        scene,
         &identified,
         controller_model.rod(),
         plan_policy.validity_tracked(controller_model.rod()),
@@ -382,7 +381,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     )?;
     let planned = &chosen.planned;
     let plan_out = PlanOut {
-        scene: scene_name,
+        scene: scene_name.clone(),
         iterations: planned.plan.iterations,
         nodes: planned.plan.nodes,
         cost: planned.plan.path.cost,
@@ -405,14 +404,37 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         1e3 * plan_out.min_clearance
     ));
 
-    // 5. Track the plan closed loop, then open loop.
+    Ok((plan_out, chosen, controller_model, plan_s))
+}
+
+/// Phase 5: the plan tracked closed loop, then open loop, under `noise`; returns what the
+/// summary keeps and the phase's seconds.
+fn track(
+    inputs: &Inputs,
+    args: &DemoArgs,
+    learnt: &Calibration,
+    controller_model: &KirchhoffModel,
+    waypoints: &[ftwire_plan::Waypoint],
+    seed: u64,
+) -> Result<(TrackingOut, f64), LabError> {
+    let Inputs {
+        wire,
+        setup,
+        scene,
+        folder,
+        ..
+    } = inputs;
+    let gravity = Gravity::On;
+    let noise = args
+        .noise
+        .model_or(crate::cli::experiment::NoiseModelArg::Offset);
     let phase = Phase::start(5, "track the plan, closed then open loop", 3);
     let tracking = Tracking {
-        wire: &wire,
+        wire,
         gravity,
-        scene: &scene,
-        calibration: &learnt,
-        setup: &setup,
+        scene,
+        calibration: learnt,
+        setup,
         noise,
         seed,
         // The paper's gain, the policy's stops.
@@ -423,14 +445,12 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         arms: true,
         bias_observer: true,
     };
-    let waypoints = chosen.waypoints;
-    let candidate_plan_ms = chosen.choice.as_ref().map(|_| chosen.candidate_plan_ms);
-    let detector = tracking.detector(&controller_model, &waypoints)?;
+    let detector = tracking.detector(controller_model, waypoints)?;
     phase.set(1);
-    let closed = tracking.closed_loop(&controller_model, &waypoints, detector, 2)?;
+    let closed = tracking.closed_loop(controller_model, waypoints, detector, 2)?;
     phase.set(2);
-    let open = tracking.open_loop(&controller_model, &waypoints, 2)?;
-    let chart = scene_chart(&scene, &closed);
+    let open = tracking.open_loop(controller_model, waypoints, 2)?;
+    let chart = scene_chart(scene, &closed);
     chart
         .write(folder.dir(), "tracking")
         .map_err(|e| LabError::no_answer(format!("figure tracking: {e}")))?;
@@ -462,12 +482,75 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         open_loop: open,
     };
 
+    Ok((tracking_out, track_s))
+}
+
+/// Runs the demo: the five phases in turn, then the summary, the page and the folder.
+pub fn run(args: DemoArgs) -> Result<(), LabError> {
+    let total = Instant::now();
+    let seed = args.seed.seed;
+    let inputs = inputs(&args)?;
+    let gravity = Gravity::On;
+    let (calibration_out, learnt, calibrate_s) = calibrate(&inputs, gravity, seed)?;
+    // 2. Identification of the unknown wire.
+    let phase = Phase::start(2, "identify the wire from F/T", IDENTIFY_SAMPLES as u64);
+    let (identification, model) = identify(&inputs.wire, &learnt, &inputs.setup, seed)?;
+    phase.set(IDENTIFY_SAMPLES);
+    let err = &identification.relative_error;
+    let identify_s = phase.finish(&format!(
+        "c = ({:.4}, {:.4}, {:.4}) N·m², L = {:.4} m against the truth ({:.4}, {:.4}, {:.4}), \
+         {:.4}: errors {:.2} / {:.2} / {:.2} / {:.2} %{}",
+        identification.estimate[0],
+        identification.estimate[1],
+        identification.estimate[2],
+        identification.estimate[3],
+        inputs.wire.c[0],
+        inputs.wire.c[1],
+        inputs.wire.c[2],
+        inputs.wire.length,
+        100.0 * err[0],
+        100.0 * err[1],
+        100.0 * err[2],
+        100.0 * err[3],
+        identification
+            .flag
+            .map_or_else(String::new, |f| format!(" (flagged: {f})")),
+    ));
+
+    // 3. Shape from F/T with the identified model.
+    let phase = Phase::start(3, "estimate the shape from F/T", SHAPE_CONFIGS as u64);
+    let (shape, first) = shapes(&inputs.wire, (&learnt, &inputs.setup), model, seed, |k| {
+        phase.set(k)
+    })?;
+    if let Some((estimate, truth)) = &first {
+        let chart = Chart3d::new(format!(
+            "{}: shape from F/T against the truth",
+            inputs.wire.name
+        ))
+        .with_curve("truth (simulator)", truth.clone(), SeriesKind::Line)
+        .with_curve("estimate from F/T", estimate.clone(), SeriesKind::Line);
+        chart
+            .write(inputs.folder.dir(), "shape")
+            .map_err(|e| LabError::no_answer(format!("figure shape: {e}")))?;
+    }
+    let shape_s = phase.finish(&format!(
+        "{} configurations, mean distance to the true wire {:.2} mm",
+        shape.configurations, shape.mean_mm_overall
+    ));
+
+    let (plan_out, chosen, controller_model, plan_s) =
+        plan(&inputs, &args, &model, &identification, seed)?;
+    let candidate_plan_ms = chosen.choice.as_ref().map(|_| chosen.candidate_plan_ms);
+    let waypoints = chosen.waypoints;
+    let (tracking_out, track_s) =
+        track(&inputs, &args, &learnt, &controller_model, &waypoints, seed)?;
+
     let summary = Summary {
         wire: WireTruth {
-            name: wire.name.clone(),
-            c: wire.c,
-            length: wire.length,
-            linear_density: linear_density(&wire),
+            name: inputs.wire.name.clone(),
+            c: inputs.wire.c,
+            length: inputs.wire.length,
+            linear_density: linear_density(&inputs.wire),
         },
         calibration: calibration_out,
         identification,
@@ -485,13 +568,13 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
         total_s: total.elapsed().as_secs_f64(),
     };
     let drawn = page::Drawn {
-        scene: &scene,
+        scene: &inputs.scene,
         waypoints: &waypoints,
         shape: first.as_ref(),
     };
-    page::write(&folder, &summary, &drawn)?;
+    page::write(&inputs.folder, &summary, &drawn)?;
     let header = RunHeader::new("demo", Some(seed), &args)?;
-    let target = folder.finish_run(&header, &summary, &timings)?;
+    let target = inputs.folder.finish_run(&header, &summary, &timings)?;
     println!(
         "demo done in {:.0} s; results in {}",
         timings.total_s,
