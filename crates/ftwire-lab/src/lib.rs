@@ -23,6 +23,9 @@
 //! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
 //!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
+//! - [`tracking`]: tracking a plan in the simulator (the rig placed in a scene, the
+//!   `ftwire_control::PathTracker` with the simulator's truth as its observer, open and closed
+//!   loop, each attempt scored on that truth), shared by the demo and the tracking experiments;
 //! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
 
 pub mod calibrate;
@@ -39,6 +42,7 @@ pub mod results;
 pub mod scene;
 pub mod setup;
 pub mod shape;
+pub mod tracking;
 pub mod wire;
 
 pub use error::LabError;

@@ -68,7 +68,6 @@
 
 use std::time::Instant;
 
-use ftwire::experiment::track::touches;
 use ftwire_control::open_loop::{
     a_connected, line_in_a, roll_out, straight_line_in_a, straight_line_in_b,
 };
@@ -87,6 +86,7 @@ use ftwire_lab::experiment::rig::{SAMPLES_PER_REST, bias_observer, pipeline, pla
 use ftwire_lab::experiment::{Gravity, ModelKind, known_model};
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::setup::SimSetup;
+use ftwire_lab::tracking::touches;
 use ftwire_lab::wire::WireSpec;
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::sampling::Sampler;

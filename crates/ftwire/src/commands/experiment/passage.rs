@@ -63,14 +63,14 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use ftwire::experiment::track::{
-    Attempt, PlanFailure, Tracking, plan_policy, scene_model, waypoints_csv,
-};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
 use ftwire_lab::error::{LabError, from_plan};
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_lab::scene::{PASSAGE, box_outline};
+use ftwire_lab::tracking::{
+    Attempt, PlanFailure, Tracking, plan_policy, scene_model, waypoints_csv,
+};
 use ftwire_plan::{
     ChoiceOut, Chosen, PolishOut, Scene, WAYPOINTS, Waypoint, choose_plan, near_obstacles,
     waypoints_along,

@@ -40,12 +40,12 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use ftwire::experiment::track::{Attempt, Tracking, plan_policy, scene_model, waypoints_csv};
 use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
 use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
 use ftwire_lab::error::{LabError, from_plan, from_rod};
 use ftwire_lab::results::{OutGuard, ResultsFolder};
+use ftwire_lab::tracking::{Attempt, Tracking, plan_policy, scene_model, waypoints_csv};
 use ftwire_plan::{
     Checker, ConfigurationSpec, PLAN_RESTARTS, Scene, ValidityParams, WAYPOINTS, Waypoint, ZPoint,
     plan_in_scene, waypoints_along,

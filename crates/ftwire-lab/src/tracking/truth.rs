@@ -9,7 +9,7 @@ use ftwire_sim::SimRig;
 use nalgebra::{Point3, Vector3, Vector6};
 
 use super::{Attempt, Leg};
-use ftwire_lab::error::LabError;
+use crate::error::LabError;
 
 /// Contact force \[N\] on a node of the simulated wire above which it touches an obstacle
 /// ([`touches`]).
