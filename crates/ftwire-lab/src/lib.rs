@@ -23,9 +23,12 @@
 //! - [`identify`]: the identification experiment (Table I, Figs. 3–4), and the one
 //!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
+//! - [`track`]: the tracking experiment (Table IV, Figs. 8–9);
+//! - [`passage`]: the passage experiment (§IV-E, Figs. 11–13);
 //! - [`tracking`]: tracking a plan in the simulator (the rig placed in a scene, the
 //!   `ftwire_control::PathTracker` with the simulator's truth as its observer, open and closed
-//!   loop, each attempt scored on that truth), shared by the demo and the tracking experiments;
+//!   loop, each attempt scored on that truth) and the roll-out settings, shared by the demo,
+//!   [`track`] and [`passage`];
 //! - [`paper`]: the paper's Tables I and II, printed beside the experiments' results.
 
 pub mod calibrate;
@@ -36,12 +39,14 @@ pub mod header;
 pub mod identify;
 pub mod initial_guess;
 pub mod paper;
+pub mod passage;
 pub mod provenance;
 pub mod report;
 pub mod results;
 pub mod scene;
 pub mod setup;
 pub mod shape;
+pub mod track;
 pub mod tracking;
 pub mod wire;
 

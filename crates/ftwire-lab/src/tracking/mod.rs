@@ -11,6 +11,7 @@
 //!   execution noise of [`NoiseModel`], both scored on the simulator's truth: whether the true
 //!   wire touched an obstacle at any rest ([`touches`]), and its shape against `Φ(γ_A)` at
 //!   each waypoint.
+//! - [`RolloutParams`]: the settings of the experiments that roll a plan out.
 
 use ftwire_control::{
     AnyPose, BiasObserverParams, CollisionDetector, ControlError, FtFeedback, NoiseModel,
@@ -28,8 +29,10 @@ use ftwire_sim::{RigParams, SimRig, World};
 use nalgebra::{Point3, Vector6};
 use serde::Serialize;
 
+mod rollout;
 mod truth;
 
+pub use rollout::RolloutParams;
 pub use truth::{CONTACT_FORCE, touches};
 use truth::{TruthLog, shape_mm, to_points, truth_of};
 

@@ -423,10 +423,6 @@ fn report(dir: &Path, statuses: &[Status], quick: bool, sensor: &str) -> String 
     md
 }
 
-/// Paper Table IV: shape error along a tracked path \[mm\], `(open loop mean, closed loop
-/// mean ± std)`.
-const TABLE_IV: (f64, f64, f64) = (11.01, 6.22, 1.83);
-
 /// Table IV: tracking planned paths, ours beside the paper's.
 fn track_table(md: &mut String, s: &Value) {
     let _ = writeln!(
@@ -439,7 +435,7 @@ fn track_table(md: &mut String, s: &Value) {
         code_span(s["noise_model"].as_str().unwrap_or("?")),
         number(&s["gain"], 2),
     );
-    let (open, closed, closed_std) = TABLE_IV;
+    let (open, closed, closed_std) = ftwire_lab::paper::TABLE_IV;
     for (key, label, paper) in [
         ("open_loop", "open loop", format!("{open:.2}")),
         (
@@ -461,9 +457,10 @@ fn track_table(md: &mut String, s: &Value) {
     md.push('\n');
 }
 
-/// §IV-E: the passage success rates, ours beside the paper's (10 attempts each, with the
-/// paper's noise: open loop 3/10, closed loop 9/10).
+/// §IV-E: the passage success rates, ours beside the paper's
+/// (`ftwire_lab::paper::PASSAGE_SUCCESSES`, with the paper's noise).
 fn passage_table(md: &mut String, runs: &[Value]) {
+    use ftwire_lab::paper::{PASSAGE_ATTEMPTS, PASSAGE_SUCCESSES};
     let _ = writeln!(
         md,
         "## §IV-E: through the 50 mm passage\n\nSuccess: the whole path executed and the true \
@@ -475,11 +472,13 @@ fn passage_table(md: &mut String, runs: &[Value]) {
          | noise model | mode | successes | at goal | collisions | detected | false alarms | paper |\n\
          | --- | --- | --- | --- | --- | --- | --- | --- |"
     );
+    let rate = |successes: usize| format!("{successes}/{PASSAGE_ATTEMPTS} (increment)");
+    let (open, closed) = (rate(PASSAGE_SUCCESSES.0), rate(PASSAGE_SUCCESSES.1));
     for s in runs {
         let noise = s["noise_model"].as_str().unwrap_or("?");
         for (key, label, paper) in [
-            ("open_loop", "open loop", "3/10 (increment)"),
-            ("closed_loop", "closed loop", "9/10 (increment)"),
+            ("open_loop", "open loop", open.as_str()),
+            ("closed_loop", "closed loop", closed.as_str()),
         ] {
             let r = &s["results"][key];
             let _ = writeln!(

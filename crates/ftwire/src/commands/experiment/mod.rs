@@ -14,10 +14,10 @@ use ftwire_lab::experiment::calibration::load_or_run_into;
 use ftwire_lab::header::RunHeader;
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 use ftwire_lab::setup::SimSetup;
-use ftwire_lab::wire::WireSpec;
+use ftwire_lab::tracking::RolloutParams;
 use serde::Serialize;
 
-use crate::cli::experiment::{CommonExperimentArgs, ExperimentArgs, ExperimentId};
+use crate::cli::experiment::{CommonExperimentArgs, ExperimentArgs, ExperimentId, RolloutArgs};
 
 /// Runs the chosen experiment.
 pub fn run(args: ExperimentArgs) -> Result<(), LabError> {
@@ -31,13 +31,18 @@ pub fn run(args: ExperimentArgs) -> Result<(), LabError> {
     }
 }
 
-/// `--wire`, or the experiment's `default` wire.
+/// The lab's roll-out settings of `track` and `passage` (the tracking policy of
+/// `--noise-model` with `--gain`, `--shape-stop`, `--waypoint-moves` and `--near-shape-stop`).
 ///
 /// # Errors
-/// Bad input for an unknown preset or a bad wire file.
-pub fn wire_or(common: &CommonExperimentArgs, default: &str) -> Result<WireSpec, LabError> {
-    let name = common.wire.as_deref().unwrap_or(default);
-    WireSpec::load(name).map_err(|e| LabError::bad_input(e.to_string()))
+/// Bad input for a bad gain or a negative distance, naming the option.
+fn rollout_params(args: &RolloutArgs) -> Result<RolloutParams, LabError> {
+    Ok(RolloutParams {
+        noise: args.noise_model.model(),
+        calibration: args.calibration.clone(),
+        policy: args.policy()?,
+        bias_observer: args.bias_observer.on(),
+    })
 }
 
 /// A started run that reads F/T through a learnt calibration: its results folder, its
