@@ -64,7 +64,6 @@
 //! `timings.json` ([`PassageRun::timings`]). Guarded by `tests/tracking.rs` and the recorded
 //! summary of `crates/ftwire/tests/tracking_experiments.rs`.
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -74,23 +73,27 @@ use ftwire_plan::{
     ChoiceOut, Chosen, PolishOut, Scene, WAYPOINTS, Waypoint, choose_plan, near_obstacles,
     waypoints_along,
 };
-use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
-use ftwire_rod::{Rod, to_normalised};
-use nalgebra::Vector6;
+use ftwire_rod::Rod;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::csv_table::{CsvTable, fixed, text, value};
 use crate::error::{LabError, from_plan};
 use crate::experiment::calibration::load_or_run_reporting;
-use crate::experiment::stats::{mean_std, median};
+use crate::experiment::stats::mean_std;
 use crate::experiment::{CommonParams, ModelKind, Progress};
 use crate::results::ResultsFolder;
-use crate::scene::{PASSAGE, box_outline};
+use crate::scene::PASSAGE;
 use crate::tracking::{
     Attempt, PlanFailure, RolloutParams, Tracking, plan_policy, scene_model, waypoints_csv,
 };
 use crate::wire::WireSpec;
+
+mod figures;
+mod rates;
+
+pub(crate) use figures::{component, main_axes};
+pub use rates::Rates;
 
 /// The wire by default: the one the shipped passage is made for.
 pub const DEFAULT_WIRE: &str = "nitinol-3mm-820";
@@ -100,12 +103,6 @@ pub const DEFAULT_ATTEMPTS: usize = 50;
 
 /// Noise stream of attempt 0 (streams below it are the detector's rehearsals).
 const FIRST_STREAM: u64 = 100;
-
-/// Roll-outs of each mode drawn in the figures.
-const FIGURE_ATTEMPTS: usize = 5;
-
-/// Every how many waypoints the planned wire is drawn in `passage_scene`.
-const FIGURE_WAYPOINT_STRIDE: usize = 3;
 
 /// The settings of the passage experiment.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -172,88 +169,6 @@ impl PassageParams {
         self.common.setup()?;
         scene_model(&wire, self.common.gravity, self.common.model(), &scene)?;
         Ok(())
-    }
-}
-/// The outcome counts of one mode.
-#[derive(Debug, Clone, Serialize)]
-pub struct Rates {
-    /// Roll-outs.
-    pub attempts: usize,
-    /// Successes by the summary's `success_rule`.
-    pub successes: usize,
-    /// Completed the whole path (see `ended_early`).
-    pub completed: usize,
-    /// Completed within `success_epsilon` of the goal (whatever the rule).
-    pub at_goal: usize,
-    /// The true wire touched a box.
-    pub collisions: usize,
-    /// Collisions the detector flagged.
-    pub detected: usize,
-    /// Attempts the detector flagged with no contact.
-    pub false_alarms: usize,
-    /// Retreats over all attempts (`TrackingPolicy::max_retreats` per attempt at most): after a detection the
-    /// gripper moved back one move and the leg ran again.
-    pub retreats: usize,
-    /// Attempts the detector flagged that still completed the path after their retreats.
-    pub recovered: usize,
-    /// Legs undone over all attempts (`TrackingPolicy::max_undos` per attempt at most): a leg the
-    /// controller stopped because its measured configuration ran away from the waypoint (under
-    /// `increment` and `absolute` noise), that ended on a sensor fault, or (under those noises)
-    /// whose waypoint the arms could not reach or that was flagged again after a retreat; the
-    /// gripper went back to the leg's start and the leg ran again.
-    pub undone: usize,
-    /// Intermediate waypoints passed over over all attempts because the arms could not reach
-    /// them (at most one in a row per attempt).
-    pub skipped: usize,
-    /// Attempts that moved both grippers by one translation to bring a goal, or a leg's start,
-    /// out of the arms' reach back into it (`ftwire_plan::relocation`).
-    pub relocated: usize,
-    /// Attempts that ended early for another reason than a detection (a waypoint the
-    /// controller refused, a failed move, a sensor fault).
-    pub ended_early: usize,
-    /// Median of the final `‖N(a_true − a_g)‖`.
-    pub final_error_median: f64,
-    /// Mean and largest shape error against `Φ(γ_A)` over every waypoint reached \[mm\].
-    pub shape_mean_mm: f64,
-    /// See `shape_mean_mm`.
-    pub shape_max_mm: f64,
-    /// Median moves.
-    pub steps_median: f64,
-    /// How the attempts ended, by outcome name.
-    pub outcomes: BTreeMap<String, usize>,
-}
-
-impl Rates {
-    /// The counts of `attempts`.
-    pub fn of(attempts: &[Attempt]) -> Self {
-        let count = |f: &dyn Fn(&Attempt) -> bool| attempts.iter().filter(|a| f(a)).count();
-        let shapes: Vec<f64> = attempts.iter().flat_map(|a| a.shape_mm.clone()).collect();
-        let mut outcomes = BTreeMap::new();
-        for a in attempts {
-            // A refusal's reason carries its waypoint; count by kind.
-            let kind = a.outcome.split(':').next().unwrap_or_default().to_owned();
-            *outcomes.entry(kind).or_insert(0) += 1;
-        }
-        Self {
-            attempts: attempts.len(),
-            successes: count(&|a| a.success),
-            completed: count(&|a| a.completed),
-            at_goal: count(&|a| a.at_goal),
-            collisions: count(&|a| a.touched),
-            detected: count(&|a| a.touched && a.detected),
-            false_alarms: count(&|a| !a.touched && a.detected),
-            retreats: attempts.iter().map(|a| a.retreats).sum(),
-            recovered: count(&|a| a.detected && a.completed),
-            undone: attempts.iter().map(|a| a.undone).sum(),
-            skipped: attempts.iter().map(|a| a.skipped).sum(),
-            relocated: count(&|a| a.relocated),
-            ended_early: count(&|a| !a.detected && !a.completed),
-            final_error_median: median(&attempts.iter().map(|a| a.final_error).collect::<Vec<_>>()),
-            shape_mean_mm: mean_std(&shapes).0,
-            shape_max_mm: shapes.iter().copied().fold(f64::NAN, f64::max),
-            steps_median: median(&attempts.iter().map(|a| a.steps as f64).collect::<Vec<_>>()),
-            outcomes,
-        }
     }
 }
 /// Both modes' outcome counts.
@@ -428,7 +343,7 @@ pub fn run(
     report_results(&results, progress);
     folder.write("attempts.csv", attempts_csv(&closed, &open)?)?;
     folder.write("waypoints.csv", waypoints_csv("attempt", &closed)?)?;
-    write_figures(folder, &scene, &model, waypoints, &closed, &open)?;
+    figures::write_figures(folder, &scene, &model, waypoints, &closed, &open)?;
     let timings = PassageTimings {
         calibration_s,
         plan_ms: 1e3 * tracked.seconds,
@@ -649,112 +564,6 @@ pub fn attempts_csv(closed: &[Attempt], open: &[Attempt]) -> Result<Vec<u8>, Lab
     csv.into_bytes()
 }
 
-/// The two components of normalised `A` along which the plan moves most.
-pub(crate) fn main_axes(normalised: &[Vector6<f64>]) -> (usize, usize) {
-    let mut range: Vec<(usize, f64)> = (0..6)
-        .map(|i| {
-            let (lo, hi) = normalised.iter().fold((f64::MAX, f64::MIN), |(lo, hi), a| {
-                (lo.min(a[i]), hi.max(a[i]))
-            });
-            (i, hi - lo)
-        })
-        .collect();
-    range.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));
-    (range[0].0, range[1].0)
-}
-
-/// The name of component `i` of `a`.
-pub(crate) fn component(i: usize) -> &'static str {
-    ["τ1", "τ2", "τ3", "f1", "f2", "f3"][i.min(5)]
-}
-
-/// Figs. 11–12 and the scene.
-fn write_figures(
-    folder: &ResultsFolder,
-    scene: &Scene,
-    model: &KirchhoffModel,
-    waypoints: &[Waypoint],
-    closed: &[Attempt],
-    open: &[Attempt],
-) -> Result<(), LabError> {
-    let wire = model.wire();
-    let planned: Vec<Vector6<f64>> = waypoints
-        .iter()
-        .map(|w| to_normalised(wire, &w.a))
-        .collect();
-    let (i, j) = main_axes(&planned);
-    let project = |a: &Vector6<f64>| (a[i], a[j]);
-    let mut path = LineChart::new(
-        "the plan in A and the roll-outs (true configuration)",
-        format!("{} (normalised)", component(i)),
-        format!("{} (normalised)", component(j)),
-    )
-    .with_series(Series::line_points(
-        "plan γ_A",
-        planned.iter().map(project).collect(),
-    ));
-    let rollout = |a: &Attempt| -> Vec<(f64, f64)> {
-        a.a_true
-            .iter()
-            .map(|x| project(&to_normalised(wire, &Vector6::from(*x))))
-            .collect()
-    };
-    for (k, a) in closed.iter().take(FIGURE_ATTEMPTS).enumerate() {
-        path = path.with_series(Series::line(format!("closed loop {k}"), rollout(a)));
-    }
-    for (k, a) in open.iter().take(FIGURE_ATTEMPTS).enumerate() {
-        path = path.with_series(Series::line(format!("open loop {k}"), rollout(a)));
-    }
-    folder.write_figure("passage_path_in_a", |dir| {
-        path.write(dir, "passage_path_in_a")
-    })?;
-
-    let per_waypoint = |attempts: &[Attempt]| -> (Vec<(f64, f64)>, Vec<f64>) {
-        let most = attempts.iter().map(|a| a.shape_mm.len()).max().unwrap_or(0);
-        (0..most)
-            .map(|w| {
-                let at: Vec<f64> = attempts
-                    .iter()
-                    .filter_map(|a| a.shape_mm.get(w).copied())
-                    .collect();
-                let (mean, std) = mean_std(&at);
-                ((w as f64 + 1.0, mean), std)
-            })
-            .unzip()
-    };
-    let (closed_points, closed_std) = per_waypoint(closed);
-    let (open_points, open_std) = per_waypoint(open);
-    let errors = LineChart::new(
-        "shape error along the path (mean ± std over the attempts that got there)",
-        "waypoint",
-        "mean distance to Φ(γ_A) [mm]",
-    )
-    .with_series(Series::line_points("closed loop", closed_points).with_error_bars(closed_std))
-    .with_series(Series::line_points("open loop", open_points).with_error_bars(open_std));
-    folder.write_figure("passage_shape_error", |dir| {
-        errors.write(dir, "passage_shape_error")
-    })?;
-
-    let mut chart = Chart3d::new("the passage: the plan and the first closed-loop attempt");
-    for b in &scene.boxes {
-        chart = chart.with_curve(b.name.clone(), box_outline(b), SeriesKind::Line);
-    }
-    for (k, w) in waypoints.iter().enumerate() {
-        if k % FIGURE_WAYPOINT_STRIDE == 0 || k + 1 == waypoints.len() {
-            let points = w.centreline.iter().map(|p| [p.x, p.y, p.z]).collect();
-            chart = chart.with_curve(format!("plan, waypoint {k}"), points, SeriesKind::Line);
-        }
-    }
-    if let Some(last) = closed.first().and_then(|a| a.centrelines.last()) {
-        chart = chart.with_curve(
-            "closed loop 0, true wire at the end",
-            last.clone(),
-            SeriesKind::LinePoints,
-        );
-    }
-    folder.write_figure("passage_scene", |dir| chart.write(dir, "passage_scene"))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -833,14 +642,5 @@ mod tests {
                 .nth(1)
                 .is_some_and(|l| l.starts_with("closed_loop,0,"))
         );
-    }
-
-    #[test]
-    fn the_main_axes_are_those_the_plan_moves_along_most() {
-        let path = [
-            Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-            Vector6::new(0.1, 0.0, 3.0, 0.0, -5.0, 0.0),
-        ];
-        assert_eq!(main_axes(&path), (4, 2));
     }
 }
