@@ -8,7 +8,7 @@ use std::path::Path;
 use ftwire_report::html::{code_span, escape_markdown};
 use serde_json::Value;
 
-use crate::paper::{TABLE_I, TABLE_II, TABLE_III, TABLE_IV};
+use crate::paper::{PASSAGE_ATTEMPTS, PASSAGE_SUCCESSES, TABLE_I, TABLE_II, TABLE_III, TABLE_IV};
 
 /// An experiment's `summary` object, if it ran.
 fn summary_of(dir: &Path, id: &str) -> Option<Value> {
@@ -140,8 +140,8 @@ fn track_table(md: &mut String, s: &Value) {
     md.push('\n');
 }
 
-/// §IV-E: the passage success rates, ours beside the paper's (10 attempts each, with the
-/// paper's noise: open loop 3/10, closed loop 9/10).
+/// §IV-E: the passage success rates, ours beside the paper's ([`PASSAGE_SUCCESSES`] of
+/// [`PASSAGE_ATTEMPTS`], with the paper's noise).
 fn passage_table(md: &mut String, runs: &[Value]) {
     let _ = writeln!(
         md,
@@ -154,11 +154,13 @@ fn passage_table(md: &mut String, runs: &[Value]) {
          | noise model | mode | successes | at goal | collisions | detected | false alarms | paper |\n\
          | --- | --- | --- | --- | --- | --- | --- | --- |"
     );
+    let rate = |successes: usize| format!("{successes}/{PASSAGE_ATTEMPTS} (increment)");
+    let (open, closed) = (rate(PASSAGE_SUCCESSES.0), rate(PASSAGE_SUCCESSES.1));
     for s in runs {
         let noise = s["noise_model"].as_str().unwrap_or("?");
         for (key, label, paper) in [
-            ("open_loop", "open loop", "3/10 (increment)"),
-            ("closed_loop", "closed loop", "9/10 (increment)"),
+            ("open_loop", "open loop", open.as_str()),
+            ("closed_loop", "closed loop", closed.as_str()),
         ] {
             let r = &s["results"][key];
             let _ = writeln!(

@@ -26,6 +26,12 @@
 //!   identification that `ftwire identify --log` and the demo share with it;
 //! - [`shape`]: the shape experiment (Table II, Fig. 5);
 //! - [`goal`]: the goal experiment (Table III, Figs. 6–7, collision detection);
+//! - [`track`]: the tracking experiment (Table IV, Figs. 8–9);
+//! - [`passage`]: the passage experiment (§IV-E, Figs. 11–13);
+//! - [`tracking`]: tracking a plan in the simulator (the rig placed in a scene, the
+//!   `ftwire_control::PathTracker` with the simulator's truth as its observer, open and closed
+//!   loop, each attempt scored on that truth) and the roll-out settings, shared by the demo,
+//!   [`track`] and [`passage`];
 
 pub mod beside;
 pub mod calibrate;
@@ -37,12 +43,15 @@ pub mod header;
 pub mod identify;
 pub mod initial_guess;
 pub mod paper;
+pub mod passage;
 pub mod provenance;
 pub mod report;
 pub mod results;
 pub mod scene;
 pub mod setup;
 pub mod shape;
+pub mod track;
+pub mod tracking;
 pub mod wire;
 
 pub use error::LabError;

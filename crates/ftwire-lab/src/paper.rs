@@ -43,6 +43,15 @@ pub const TABLE_II: [(&str, f64); 4] = [
 /// summary (`no_noise`, `noise`: the paper's gripper noise, `increment`).
 pub const TABLE_III: [(&str, f64, f64); 2] = [("no_noise", 4.80, 9.67), ("noise", 17.35, 9.11)];
 
-/// Paper Table IV: shape error along a tracked path \[mm\], `(open loop mean, closed loop
-/// mean ± std)`.
+/// Table IV of the paper: the shape error \[mm\] along a path planned with RRT* and tracked
+/// under its noise, `(open loop mean, closed loop mean, closed loop std)`; beside
+/// [`crate::track`]'s results.
 pub const TABLE_IV: (f64, f64, f64) = (11.01, 6.22, 1.83);
+
+/// The passage of the paper's §IV-E: successes of [`PASSAGE_ATTEMPTS`] attempts of each mode
+/// under its noise (`increment`), `(open loop, closed loop)`; beside [`crate::passage`]'s
+/// results.
+pub const PASSAGE_SUCCESSES: (usize, usize) = (3, 9);
+
+/// Attempts of each mode in the paper's passage (§IV-E).
+pub const PASSAGE_ATTEMPTS: usize = 10;

@@ -400,25 +400,9 @@ pub fn load_or_run(
     Ok((run.calibration.clone(), Some(run)))
 }
 
-/// [`load_or_run`] for an experiment writing `folder`: says when it calibrates first (on
-/// stderr), and caches a fresh run's weights there as `calibration.json`. Returns the
+/// [`load_or_run`] for an experiment writing `folder`: says when it calibrates first to
+/// `progress`, and caches a fresh run's weights there as `calibration.json`. Returns the
 /// calibration and the time it took \[s\].
-///
-/// # Errors
-/// As [`load_or_run`], and the folder's write errors.
-pub fn load_or_run_into(
-    folder: &crate::results::ResultsFolder,
-    file: Option<&Path>,
-    (gravity, kind): (Gravity, ModelKind),
-    setup: &SimSetup,
-    seed: u64,
-) -> Result<(Calibration, f64), LabError> {
-    load_or_run_reporting(folder, file, (gravity, kind), (setup, seed), &mut |line| {
-        eprintln!("{line}")
-    })
-}
-
-/// [`load_or_run_into`] that says when it calibrates first to `progress` instead of stderr.
 ///
 /// # Errors
 /// As [`load_or_run`], and the folder's write errors.

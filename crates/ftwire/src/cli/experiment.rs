@@ -76,11 +76,6 @@ pub struct CommonExperimentArgs {
 }
 
 impl CommonExperimentArgs {
-    /// `--model`, or its default for `--gravity`.
-    pub fn model(&self) -> ModelArg {
-        ModelArg::resolve(self.model, self.gravity)
-    }
-
     /// The lab's common settings of these options.
     pub fn params(&self) -> ftwire_lab::experiment::CommonParams {
         ftwire_lab::experiment::CommonParams {

@@ -32,7 +32,6 @@
 use std::io::IsTerminal as _;
 use std::time::{Duration, Instant};
 
-use ftwire::experiment::track::{self, Attempt, PlanFailure, Tracking};
 use ftwire_core::WireParams;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::identify::MotionPlan;
@@ -49,6 +48,7 @@ use ftwire_lab::identify::{
 };
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::setup::SimSetup;
+use ftwire_lab::tracking::{Attempt, PlanFailure, Tracking, plan_policy, reexpress};
 use ftwire_lab::wire::WireSpec;
 use ftwire_plan::Scene;
 use ftwire_plan::{ChoiceOut, PolishOut};
@@ -364,19 +364,18 @@ fn plan(
     // boxes (as `experiment passage` does). The plan's poses take the loaded model's
     // configurations and shapes: the controller steers to where the plan puts the grippers,
     // and the shape error is against the wire that sags.
-    let plan_policy = track::plan_policy(noise);
+    let plans = plan_policy(noise);
     let chosen = ftwire_plan::choose_plan(
         scene,
         &identified,
         controller_model.rod(),
-        plan_policy.validity_tracked(controller_model.rod()),
-        &plan_policy,
+        plans.validity_tracked(controller_model.rod()),
+        &plans,
         seed,
         ftwire_plan::PLAN_CANDIDATES,
-        plan_policy.polishes(),
+        plans.polishes(),
         |planned| {
-            track::reexpress(&planned.waypoints, &controller_model, &scene.base)
-                .map_err(PlanFailure)
+            reexpress(&planned.waypoints, &controller_model, &scene.base).map_err(PlanFailure)
         },
     )?;
     let planned = &chosen.planned;

@@ -5,10 +5,10 @@
 
 use std::fmt::Write as _;
 
-use ftwire::experiment::track::Attempt;
 use ftwire_core::Pose;
 use ftwire_lab::error::LabError;
 use ftwire_lab::results::ResultsFolder;
+use ftwire_lab::tracking::Attempt;
 use ftwire_plan::Scene;
 use ftwire_plan::Waypoint;
 use ftwire_report::html::{code_span, escape_markdown};

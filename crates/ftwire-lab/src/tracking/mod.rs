@@ -11,6 +11,7 @@
 //!   execution noise of [`NoiseModel`], both scored on the simulator's truth: whether the true
 //!   wire touched an obstacle at any rest ([`touches`]), and its shape against `Φ(γ_A)` at
 //!   each waypoint.
+//! - [`RolloutParams`]: the settings of the experiments that roll a plan out.
 
 use ftwire_control::{
     AnyPose, BiasObserverParams, CollisionDetector, ControlError, FtFeedback, NoiseModel,
@@ -28,20 +29,22 @@ use ftwire_sim::{RigParams, SimRig, World};
 use nalgebra::{Point3, Vector6};
 use serde::Serialize;
 
+mod rollout;
 mod truth;
 
+pub use rollout::RolloutParams;
 pub use truth::{CONTACT_FORCE, touches};
 use truth::{TruthLog, shape_mm, to_points, truth_of};
 
-use ftwire_lab::csv_table::{CsvTable, fixed, text, value};
-use ftwire_lab::error::{LabError, from_plan, from_sim};
-use ftwire_lab::experiment::Gravity;
-use ftwire_lab::experiment::rig::{
+use crate::csv_table::{CsvTable, fixed, text, value};
+use crate::error::{LabError, from_plan, from_sim};
+use crate::experiment::rig::{
     SAMPLES_PER_REST, bias_observer, pipeline, place_in_world, tare, true_rod,
 };
-use ftwire_lab::scene::with_scene;
-use ftwire_lab::setup::SimSetup;
-use ftwire_lab::wire::WireSpec;
+use crate::experiment::{Gravity, ModelKind, SIM_EDGES, known_model_under};
+use crate::scene::with_scene;
+use crate::setup::SimSetup;
+use crate::wire::WireSpec;
 
 /// Most rehearsals [`Tracking::detector`] runs.
 pub const REHEARSALS: u64 = 5;
@@ -149,7 +152,7 @@ pub fn place_in_scene(
     a0: &Vector6<f64>,
     config: RigParams,
 ) -> Result<SimRig, LabError> {
-    let params = wire.rod_params(gravity.vector(), ftwire_lab::experiment::SIM_EDGES);
+    let params = wire.rod_params(gravity.vector(), SIM_EDGES);
     let mut world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
     if obstacles {
         world = with_scene(world, scene).map_err(|e| from_sim(e, "the scene's obstacles"))?;
@@ -159,22 +162,18 @@ pub fn place_in_scene(
     place_in_world(world, &model, &scene.base, a0, config)
 }
 
-/// The model of a known wire held in `scene`: as [`ftwire_lab::experiment::known_model`], with the wire's
-/// weight under `gravity` expressed in the scene's base clamp frame.
+/// The model of a known wire held in `scene`: as [`crate::experiment::known_model`], with the
+/// wire's weight under `gravity` expressed in the scene's base clamp frame.
 ///
 /// # Errors
 /// Bad input for a wire whose parameters are not valid.
 pub fn scene_model(
     wire: &WireSpec,
     gravity: Gravity,
-    kind: ftwire_lab::experiment::ModelKind,
+    kind: ModelKind,
     scene: &Scene,
 ) -> Result<KirchhoffModel, LabError> {
-    ftwire_lab::experiment::known_model_under(
-        wire,
-        scene.base.rotation.inverse() * gravity.vector(),
-        kind,
-    )
+    known_model_under(wire, scene.base.rotation.inverse() * gravity.vector(), kind)
 }
 
 /// What one tracking attempt did, scored on the simulator's truth.

@@ -9,10 +9,10 @@ use ftwire_sim::SimRig;
 use nalgebra::{Point3, Vector3, Vector6};
 
 use super::{Attempt, Leg};
-use ftwire_lab::error::LabError;
+use crate::error::LabError;
 
 /// The one definition of a touch, the lab's (every experiment that scores one shares it).
-pub use ftwire_lab::experiment::rig::{CONTACT_FORCE, touches};
+pub use crate::experiment::rig::{CONTACT_FORCE, touches};
 
 /// Truth of the rig at a rest: contact, centreline, base wrench.
 pub(super) struct Truth {

@@ -1,3 +1,0 @@
-//! Planning in a scene and tracking the plan in the simulator.
-
-pub mod track;
