@@ -59,10 +59,8 @@
 //! `â`: started at `Γ⁻¹(b_i Δ̂₀)` by Newton from `â` (the wire moves one step between rests),
 //! iterated and gated exactly as before ([`BiasObserver::recovered`] counts these). A rest
 //! beyond the gate from both (a contact, or no branch near either) is returned as `ã − β̂`,
-//! unfused, and counted in [`BiasObserver::rejected`]. On the cable's seed-0 pair whose path
-//! used to end after a fifth divergence (33 of 97 rests beyond the gate, each steering by an
-//! `ã − β̂` 0.4–4.3 normalised units off), 154 of 583 rests were used this way, 17 rejected, and
-//! it reached its goal (`docs/cable.md`).
+//! unfused, and counted in [`BiasObserver::rejected`]. The cable's paths need it
+//! (`docs/cable.md`).
 //!
 //! The corrected configuration is `ã − β̂` (`− ŵ` when fusing). It is only as good as the
 //! model: the observer trusts `Γ` to the [`BiasObserverParams::model_std`] floor, so on a

@@ -1,5 +1,5 @@
-//! The default `report.md` and `report.html` of a results folder: every run's folder gets both
-//! (issue 17), and a command with a report of its own (`demo`, `reproduce`) writes it before
+//! The default `report.md` and `report.html` of a results folder: every run's folder gets both,
+//! and a command with a report of its own (`demo`, `reproduce`) writes it before
 //! [`crate::results::ResultsFolder::finish`], which then leaves it alone.
 //!
 //! The default report is the run header, the summary as a table of its values (nested keys

@@ -1,5 +1,5 @@
 //! Time to the first path in the passage scene (`scenes/passage.toml`, the 3 mm / 820 mm
-//! nitinol wire; issue 15's target ≤ 0.5 s): RRT* in A_free stopped at its first path, no
+//! nitinol wire; the target ≤ 0.5 s): RRT* in A_free stopped at its first path, no
 //! shortcutting, the endpoints' IK done once outside the timing. Each iteration takes the next
 //! seed of 0–15 in turn, so the mean is over the planner's randomness, not one lucky seed.
 //!

@@ -1,4 +1,4 @@
-//! Planning for the elastic wire (paper §III-D; issue 15): scenes, validity in `Z_free`, and
+//! Planning for the elastic wire (paper §III-D): scenes, validity in `Z_free`, and
 //! RRT* in `A_free` (the base gripper fixed) and in `Z = A × Q` (the base gripper moving too).
 //!
 //! Workflow:

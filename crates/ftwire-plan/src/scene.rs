@@ -1,5 +1,5 @@
 //! Scenes: where the base gripper is, the obstacles, and the named start and goal
-//! configurations, read from a TOML file (issue 15 §1).
+//! configurations, read from a TOML file.
 //!
 //! Every pose is in the robot's world frame, the SDA10F's base frame (`torso_base_link`),
 //! in metres and radians (rotation vectors). A scene file:

@@ -1,4 +1,4 @@
-//! Validity of a configuration and of an edge: what `Z_free` means here (issue 15 §2).
+//! Validity of a configuration and of an edge: what `Z_free` means here.
 //!
 //! A configuration `z = (a, base)` (the wire's `a` and the base gripper's world pose) is valid
 //! when all of these hold ([`Checker::sample`]):

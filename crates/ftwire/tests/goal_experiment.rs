@@ -1,4 +1,4 @@
-//! `ftwire experiment goal` (issue 14): a small run writes the summary keys the issue names,
+//! `ftwire experiment goal`: a small run writes the summary keys it promises,
 //! the same results for the same seed, and refuses bad input.
 
 mod cli_support;

@@ -1,4 +1,4 @@
-//! Identification of wires the project was not shown, in the simulator (issue 13's target):
+//! Identification of wires the project was not shown, in the simulator:
 //! gravity off, the default sensor through the learnt calibration, three samples, the mean
 //! absolute relative error of each of `c1, c2, c3, L` at most 0.5 % over 10 trials, for wires
 //! drawn at random from `c2 ∈ [0.03, 0.5]` N·m², `c1/c2 ∈ [0.6, 0.9]`, `c3 = c2`,

@@ -1,4 +1,4 @@
-//! The Kirchhoff model against the independent discrete-elastic-rod simulator (issue 3).
+//! The Kirchhoff model against the independent discrete-elastic-rod simulator.
 //!
 //! Setup: configurations `a` sampled in `A_stable` (uniform in normalised units, torque · L/c2
 //! and force · L²/c2), gravity off, straight rest shape; the simulated wire (N = 100 edges, the
@@ -32,7 +32,7 @@
 //! - [`the_gap_is_second_order_discretisation_error`]: over strongly bent configurations
 //!   (`[−10, 10]⁶`), doubling N divides the wrench and shape gaps by about 4.
 //!
-//! - The loaded model (issue 16), gravity on and rest strains, the simulator's base clamp at
+//! - The loaded model, gravity on and rest strains, the simulator's base clamp at
 //!   the identity so that its world gravity is in the base clamp frame:
 //!   [`loaded_bounds_at_moderate_loads`] (every sample of the loaded model's
 //!   `A_stable ∩ [−5, 5]⁶`, 20 random gravity directions × 10, both wires, with and without
@@ -277,7 +277,7 @@ fn the_gap_is_second_order_discretisation_error() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The loaded model (issue 16): gravity on and rest curvature.
+// The loaded model: gravity on and rest curvature.
 
 /// Model and simulator for one wire at `edges` edges, with gravity `gravity` \[m/s²\] and rest
 /// strains `rest` \[1/m\]. The simulator's gravity is in its world frame; the base clamp sits

@@ -1,4 +1,4 @@
-//! `ftwire experiment track` and `ftwire experiment passage` (issue 15): small runs write the
+//! `ftwire experiment track` and `ftwire experiment passage`: small runs write the
 //! summary keys the issue names, the same results for the same seed, and bad input is refused
 //! with exit 2 before any work.
 

@@ -139,7 +139,7 @@ pub fn label_disagrees(label: &Vector6<f64>, mounting: &Vector6<f64>) -> bool {
     part(0, LABEL_SLACK.0) || part(3, LABEL_SLACK.1)
 }
 
-/// `summary.json` of `ftwire experiment calibrate` (issue 13).
+/// `summary.json` of `ftwire experiment calibrate`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CalibrationSummary {
     /// The known wire.
