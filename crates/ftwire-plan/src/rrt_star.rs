@@ -283,9 +283,8 @@ fn add_node<const D: usize>(
 
 /// Plans from a valid `start` sample to the `goal` configuration with RRT* in `space`.
 ///
-/// Each iteration samples a state ([`Search::sample`]), extends the tree toward it
-/// ([`Search::extend`]), rewires the neighbours through the new node ([`Search::rewire`]) and
-/// tries to connect it to the goal ([`Search::connect_goal`]); at the end the best path is
+/// Each iteration samples a state, extends the tree toward it, rewires the neighbours through
+/// the new node and tries to connect it to the goal (module docs); at the end the best path is
 /// shortcut.
 ///
 /// # Errors
