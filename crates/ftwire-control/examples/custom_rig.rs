@@ -8,7 +8,7 @@
 //! robot's driver would be called is marked `REAL ROBOT:`. Replace those bodies, keep the rest:
 //! this file is the template for a real robot.
 //!
-//! The workflow, one step per block of `main`:
+//! The workflow, one function per step, called in order from `main`:
 //! 1. **tare** the sensor before the second gripper closes on the wire;
 //! 2. **identify** the wire's stiffnesses `c` and length `L` from a few small random moves;
 //! 3. **shape**: estimate the wire's centreline from the F/T reading alone;
@@ -166,13 +166,28 @@ fn check(ok: bool, message: String) -> Result<(), Box<dyn Error>> {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    // The wire the robot holds: a 3 mm, 820 mm nitinol wire. Only `MyRobot` knows it.
+    // The wire the robot holds: a 3 mm, 820 mm nitinol wire. Only `MyRobot` knows it; the
+    // steps below read it only to check what they found.
     let true_wire = WireParams::new([0.214, 0.278, 0.278], 0.82, 0.0015)?;
     let a_start = from_normalised(&true_wire, &Vector6::new(0.4, 2.2, 0.8, -1.8, 2.8, 0.6));
     let mut robot = MyRobot::new(true_wire, a_start, 7)?;
     let mut rng = ChaCha8Rng::seed_from_u64(1);
 
-    // 1. Tare: average the sensor at rest before the second gripper closes on the wire.
+    let feedback = tare(&mut robot, &true_wire)?;
+    let wire = identify_wire(&mut robot, &feedback, &true_wire, &mut rng)?;
+    let model = KirchhoffModel::new(wire);
+    estimate_shape(&mut robot, &feedback, model)?;
+    control(&mut robot, &feedback, model, &true_wire)?;
+    track_plan(&mut robot, &feedback, model, &true_wire)
+}
+
+/// Step 1, tare: average the sensor at rest before the second gripper closes on the wire,
+/// then grip. Returns the feedback (tared pipeline, rests of [`REST_SAMPLES`]) every later
+/// step measures `ã` through.
+fn tare(
+    robot: &mut MyRobot,
+    true_wire: &WireParams,
+) -> Result<FtFeedback<Mounting>, Box<dyn Error>> {
     let rest = RestAverage::new(TARE_SAMPLES)?;
     let unloaded: Vec<FtSample> = (0..TARE_SAMPLES)
         .map(|_| robot.read_ft())
@@ -180,7 +195,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let tare = Tare::from_rest(&rest.average(unloaded.iter().map(Some))?, &Vector6::zeros());
     let tare_error = (tare.offset - robot.bias).abs().max();
     let untared = to_normalised(
-        &true_wire,
+        true_wire,
         &Mounting::default().to_configuration(&robot.bias),
     );
     println!(
@@ -197,23 +212,30 @@ fn main() -> Result<(), Box<dyn Error>> {
         tare,
         Mounting::default(),
     );
-    let feedback = FtFeedback::new(pipeline, REST_SAMPLES);
+    Ok(FtFeedback::new(pipeline, REST_SAMPLES))
+}
 
-    // 2. Identify c and L: measure ã at the start and after each small random move from it.
+/// Step 2, identify `c` and `L`: measure `ã` at the start and after each small random move
+/// from it, return to the start, and fit. Returns the identified wire.
+fn identify_wire(
+    robot: &mut MyRobot,
+    feedback: &FtFeedback<Mounting>,
+    true_wire: &WireParams,
+    rng: &mut ChaCha8Rng,
+) -> Result<WireParams, Box<dyn Error>> {
     let b0 = robot.gripper_poses()?.relative();
-    let mut samples = vec![(feedback.measure(&mut robot)?.a, b0)];
-    for b in MotionPlan::default().poses(&b0, &mut rng) {
+    let mut samples = vec![(feedback.measure(robot)?.a, b0)];
+    for b in MotionPlan::default().poses(&b0, rng) {
         robot.move_tip(b)?;
         samples.push((
-            feedback.measure(&mut robot)?.a,
+            feedback.measure(robot)?.a,
             robot.gripper_poses()?.relative(),
         ));
     }
     robot.move_tip(b0)?;
     // A nominal guess of the wire: only its radius and load matter, the search box is wide.
     let guess = KirchhoffModel::new(WireParams::new([0.1, 0.1, 0.1], 1.0, 0.0015)?);
-    let estimate =
-        identify(&guess, &samples, &IdentifierParams::default(), &mut rng)?.identified()?;
+    let estimate = identify(&guess, &samples, &IdentifierParams::default(), rng)?.identified()?;
     let wire = estimate.wire(true_wire.radius())?;
     let c_error = (0..3)
         .map(|i| (wire.c()[i] / true_wire.c()[i] - 1.0).abs())
@@ -232,10 +254,16 @@ fn main() -> Result<(), Box<dyn Error>> {
         length_error < 0.02,
         format!("L off by {:.1} %", 100.0 * length_error),
     )?;
-    let model = KirchhoffModel::new(wire);
+    Ok(wire)
+}
 
-    // 3. Shape: the centreline from one F/T measurement, against the true one.
-    let measured = feedback.measure(&mut robot)?;
+/// Step 3, shape: the centreline from one F/T measurement, against the true one.
+fn estimate_shape(
+    robot: &mut MyRobot,
+    feedback: &FtFeedback<Mounting>,
+    model: KirchhoffModel,
+) -> Result<(), Box<dyn Error>> {
+    let measured = feedback.measure(robot)?;
     let shape = ShapeEstimator::new(model).estimate(&measured.a)?;
     let shape_error = centreline_distance(
         &shape.shape.positions,
@@ -250,19 +278,26 @@ fn main() -> Result<(), Box<dyn Error>> {
     check(
         shape_error < 5e-3,
         format!("shape off by {:.1} mm", 1e3 * shape_error),
-    )?;
+    )
+}
 
-    // 4. Controller: steer to a goal configuration, given in the identified wire's normalised
-    //    units (torque in c2/L, force in c2/L²).
+/// Step 4, controller: steer to a goal configuration, given in the identified wire's
+/// normalised units (torque in c2/L, force in c2/L²).
+fn control(
+    robot: &mut MyRobot,
+    feedback: &FtFeedback<Mounting>,
+    model: KirchhoffModel,
+    true_wire: &WireParams,
+) -> Result<(), Box<dyn Error>> {
     let settings = ControlParams {
         epsilon: 0.02,
         max_iterations: 150,
         ..ControlParams::default()
     };
     let controller = Controller::new(model, settings)?;
-    let goal = from_normalised(&wire, &Vector6::new(0.3, 2.6, 0.6, -1.4, 2.4, 0.8));
-    let run = controller.run(&mut robot, &feedback, &mut AnyPose, &goal)?;
-    let truth_error = to_normalised(&true_wire, &(robot.a - goal)).norm();
+    let goal = from_normalised(model.wire(), &Vector6::new(0.3, 2.6, 0.6, -1.4, 2.4, 0.8));
+    let run = controller.run(robot, feedback, &mut AnyPose, &goal)?;
+    let truth_error = to_normalised(true_wire, &(robot.a - goal)).norm();
     println!(
         "control:  {} after {} steps, true error {truth_error:.3} (normalised)",
         run.outcome.name(),
@@ -274,14 +309,21 @@ fn main() -> Result<(), Box<dyn Error>> {
             "control ended {:?}, true error {truth_error:.3}",
             run.outcome
         ),
-    )?;
+    )
+}
 
-    // 5. Track a plan: waypoints on the straight line in A from here to a second goal, the
-    //    whole line checked stable and free of self-contact first, executed by the
-    //    `PathTracker` under the policy of a robot that goes where it is told (no execution
-    //    noise): the legs' stops, the retreats and undos, the success rule.
-    let start = feedback.measure(&mut robot)?.a;
-    let end = from_normalised(&wire, &Vector6::new(0.1, 3.0, 0.4, -1.0, 2.0, 1.0));
+/// Step 5, track a plan: waypoints on the straight line in A from here to a second goal, the
+/// whole line checked stable and free of self-contact first, executed by the `PathTracker`
+/// under the policy of a robot that goes where it is told (no execution noise): the legs'
+/// stops, the retreats and undos, the success rule.
+fn track_plan(
+    robot: &mut MyRobot,
+    feedback: &FtFeedback<Mounting>,
+    model: KirchhoffModel,
+    true_wire: &WireParams,
+) -> Result<(), Box<dyn Error>> {
+    let start = feedback.measure(robot)?.a;
+    let end = from_normalised(model.wire(), &Vector6::new(0.1, 3.0, 0.4, -1.0, 2.0, 1.0));
     check(
         a_connected(model.rod(), &start, &end, 20)?,
         "the plan leaves A_free".into(),
@@ -293,8 +335,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut rests = 0;
     let mut leg_errors = Vec::new();
     let tracked = tracker.track(
-        &mut robot,
-        &feedback,
+        robot,
+        feedback,
         &mut AnyPose,
         &waypoints,
         |robot: &MyRobot, rest: &Rest<'_>| {
@@ -302,7 +344,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             if rest.kind == RestKind::LegEnd
                 && let Some(waypoint) = waypoints.get(rest.waypoint)
             {
-                leg_errors.push(to_normalised(&true_wire, &(robot.a - waypoint)).norm());
+                leg_errors.push(to_normalised(true_wire, &(robot.a - waypoint)).norm());
             }
         },
     )?;
@@ -323,7 +365,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         rests == 1 + tracked.moves + tracked.legs.len(),
         format!("{rests} rests observed for {} moves", tracked.moves),
     )?;
-    let final_error = to_normalised(&true_wire, &(robot.a - end)).norm();
+    let final_error = to_normalised(true_wire, &(robot.a - end)).norm();
     let final_shape = centreline_distance(
         &model.shape(&end, NODES)?.positions,
         &robot.true_shape()?,
@@ -343,6 +385,5 @@ fn main() -> Result<(), Box<dyn Error>> {
     check(
         final_shape < 3e-3,
         format!("final shape off by {:.1} mm", 1e3 * final_shape),
-    )?;
-    Ok(())
+    )
 }

@@ -21,6 +21,7 @@
 //! corrected for the sensor's bias drift. A [`CollisionDetector`] can watch
 //! the residual of every move (see [`crate::collision`]).
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use ftwire_core::{Pose, Rig};
@@ -36,62 +37,8 @@ use crate::{
     AnyPose, BiasObserver, CollisionDetector, ControlError, FtFeedback, Reach, ReachCheck,
 };
 
-/// Settings of the controller (public fields + `Default`; checked by [`Controller::new`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ControlParams {
-    /// The gain `K` of eq. 13 (default `0.2`, the paper's), in `(0, 1]`.
-    pub gain: f64,
-    /// Stop threshold `ε` on `‖a_g − ã‖` in normalised units (torque in `c2/L`, force in
-    /// `c2/L²`) of the measured `ã` (default `0.05`).
-    pub epsilon: f64,
-    /// Largest translation of one step, `|δx|` \[m\] (default `0.05`).
-    pub max_translation: f64,
-    /// Largest rotation of one step, `|δθ|` \[rad\] (default `0.3`).
-    pub max_rotation: f64,
-    /// Most steps of one run (default `100`).
-    pub max_iterations: usize,
-    /// Most halvings of a step whose predicted configuration leaves `A_stable` or whose pose
-    /// the robot cannot reach (default `6`).
-    pub max_shrinks: usize,
-    /// Settling radius \[normalised\]: once the measured `ã` is within it of the goal, each
-    /// rest averages at least [`ControlParams::settle_samples`] F/T samples (default `0`:
-    /// off). Near the goal the steps `K (a_g − ã)` shrink below the noise of a rest's mean, so
-    /// the loop steers by noise and the stop rule fires on a lucky reading; a longer average
-    /// there halves the noise for each fourfold of samples, at the cost of only the last few
-    /// rests, and lets the loop stop at an ε below that noise (`tests/controller.rs`,
-    /// `longer_rests_near_the_goal_let_the_loop_stop_at_a_small_epsilon`).
-    pub settle_radius: f64,
-    /// F/T samples averaged per rest inside [`ControlParams::settle_radius`] (default `0`;
-    /// the feedback's own count when that is larger).
-    pub settle_samples: usize,
-    /// Shape stop \[m\] (default `0`: off, the stop is `ε`'s). When positive, it replaces `ε`:
-    /// the run stops once the model's shape at the `a` it steers by, `Φ(ã)`, is within this
-    /// mean distance of the goal's, `Φ(a_g)` (at [`SHAPE_STOP_SAMPLES`] matched arc lengths:
-    /// the distance Tables III–IV score). Where every move scatters the wire by the full
-    /// execution noise, the stop picks a move that landed the *wire* near its goal, which `ε`
-    /// on the six wrench components does only loosely (`docs/control-noise.md`).
-    pub shape_tolerance: f64,
-    /// The shape stop \[m\] once [`ControlParams::late_after`] steps are spent (default
-    /// `0`: the same as [`ControlParams::shape_tolerance`]; never tighter than it). A tight
-    /// shape stop waits for a lucky landing of the noisy moves; where landings near the goal
-    /// are rare, the run would end at [`ControlParams::max_iterations`] on whatever landing
-    /// came last. A looser stop for the last moves of the budget ends it on a landing near the
-    /// goal instead (optimal stopping with a finite budget: the threshold rises as the moves
-    /// left run out).
-    pub late_shape_tolerance: f64,
-    /// Steps after which [`ControlParams::late_shape_tolerance`] applies (default
-    /// `usize::MAX`: never).
-    pub late_after: usize,
-    /// Divergence stop \[normalised\] (default `0`: off). When positive, the run stops with
-    /// [`Outcome::Diverged`] once the measured `‖a_g − ã‖` has exceeded its value at the
-    /// run's start by more than this at [`DIVERGED_RESTS`] rests in a row. Under the paper's
-    /// `increment` noise one move can throw the gripper 40 mm; near a taut wire the next
-    /// measurement is then far from the goal. One such throw is noise the next step corrects;
-    /// a second in a row is a run away from the region where eq. 13's linear step helps,
-    /// where every further move only adds its own noise. Stopping there lets the caller undo
-    /// the run from a pose it knows.
-    pub divergence: f64,
-}
+mod params;
+pub use params::ControlParams;
 
 /// Rests in a row beyond [`ControlParams::divergence`] that stop a run as diverged.
 pub const DIVERGED_RESTS: usize = 2;
@@ -99,90 +46,6 @@ pub const DIVERGED_RESTS: usize = 2;
 /// Nodes of the model shapes the shape stop compares, and their matched arc lengths
 /// ([`ControlParams::shape_tolerance`]).
 pub const SHAPE_STOP_SAMPLES: usize = 50;
-
-impl Default for ControlParams {
-    fn default() -> Self {
-        Self {
-            gain: 0.2,
-            epsilon: 0.05,
-            max_translation: 0.05,
-            max_rotation: 0.3,
-            max_iterations: 100,
-            max_shrinks: 6,
-            settle_radius: 0.0,
-            settle_samples: 0,
-            shape_tolerance: 0.0,
-            late_shape_tolerance: 0.0,
-            late_after: usize::MAX,
-            divergence: 0.0,
-        }
-    }
-}
-
-impl ControlParams {
-    fn validate(&self) -> Result<(), ControlError> {
-        let bad = |name, value, allowed| ControlError::BadSetting {
-            name,
-            value,
-            allowed,
-        };
-        if !(self.gain.is_finite() && self.gain > 0.0 && self.gain <= 1.0) {
-            return Err(bad("gain", self.gain, "a gain K in (0, 1]"));
-        }
-        for (name, value) in [
-            ("epsilon", self.epsilon),
-            ("max_translation", self.max_translation),
-            ("max_rotation", self.max_rotation),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(bad(name, value, "a finite number > 0"));
-            }
-        }
-        if self.max_iterations == 0 {
-            return Err(bad("max_iterations", 0.0, "at least 1 step"));
-        }
-        if !(self.settle_radius.is_finite() && self.settle_radius >= 0.0) {
-            return Err(bad(
-                "settle_radius",
-                self.settle_radius,
-                "a finite number ≥ 0 (0: off)",
-            ));
-        }
-        if !(self.divergence.is_finite() && self.divergence >= 0.0) {
-            return Err(bad(
-                "divergence",
-                self.divergence,
-                "a finite number ≥ 0 (0: off)",
-            ));
-        }
-        if !(self.shape_tolerance.is_finite() && self.shape_tolerance >= 0.0) {
-            return Err(bad(
-                "shape_tolerance",
-                self.shape_tolerance,
-                "a finite distance ≥ 0 m (0: off)",
-            ));
-        }
-        if !(self.late_shape_tolerance.is_finite() && self.late_shape_tolerance >= 0.0) {
-            return Err(bad(
-                "late_shape_tolerance",
-                self.late_shape_tolerance,
-                "a finite distance ≥ 0 m (0: the shape stop's)",
-            ));
-        }
-        Ok(())
-    }
-
-    /// The shape stop \[m\] at step `step` of a run: [`ControlParams::shape_tolerance`], or
-    /// the looser [`ControlParams::late_shape_tolerance`] from step
-    /// [`ControlParams::late_after`] on.
-    pub fn shape_stop_at(&self, step: usize) -> f64 {
-        if step >= self.late_after {
-            self.shape_tolerance.max(self.late_shape_tolerance)
-        } else {
-            self.shape_tolerance
-        }
-    }
-}
 
 /// One planned step: what the controller will command, and what the model expects.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -618,7 +481,7 @@ impl<M: WireModel> Controller<M> {
         reach: &mut Q,
         goal: &Vector6<f64>,
         mut observer: Option<&mut BiasObserver<M>>,
-        mut observe: impl FnMut(&R, &StepRecord),
+        observe: impl FnMut(&R, &StepRecord),
     ) -> Result<Run, ControlError> {
         self.check_goal(goal)?;
         let poses = rig.gripper_poses().map_err(|e| ControlError::Rig {
@@ -636,12 +499,11 @@ impl<M: WireModel> Controller<M> {
             start_tip,
             steps: Vec::new(),
         };
-        let mut estimate = |m: &Measurement, tip: &Pose, time: f64| match observer.as_deref_mut() {
-            Some(o) => o.update(&m.a, &m.a_std_error, tip, time),
-            None => m.a,
-        };
-        let (mut raw, mut a) = match feedback.measure(rig) {
-            Ok(m) => (m.a, estimate(&m, &start_tip, rig.time())),
+        match feedback.measure(rig) {
+            Ok(m) => {
+                run.start = m.a;
+                run.start_estimate = corrected(&mut observer, &m, &start_tip, rig.time());
+            }
             Err(e) => {
                 run.outcome = Outcome::SensorFault {
                     step: 0,
@@ -649,85 +511,62 @@ impl<M: WireModel> Controller<M> {
                 };
                 return Ok(run);
             }
+        }
+        let steering = Steering {
+            rig,
+            feedback,
+            reach,
+            base,
+            observer,
         };
-        run.start = raw;
-        run.start_estimate = a;
-        let mut tip = start_tip;
+        run.outcome = self.steer(steering, goal, &mut run, observe)?;
+        Ok(run)
+    }
+
+    /// The control loop from the start measured in `run`: each step checks the stop rules
+    /// ([`Controller::is_reached`], divergence), plans ([`Controller::timed_step`]), moves and
+    /// measures ([`Controller::execute`]), and records the move with its collision residual in
+    /// `run.steps` (after `observe`). Returns how the motion ended.
+    ///
+    /// # Errors
+    /// [`ControlError::Model`] when the model cannot be solved at the goal for the shape stop.
+    fn steer<R: Rig, C: FtCalibration, Q: ReachCheck>(
+        &self,
+        mut steering: Steering<'_, '_, R, C, Q, M>,
+        goal: &Vector6<f64>,
+        run: &mut Run,
+        mut observe: impl FnMut(&R, &StepRecord),
+    ) -> Result<Outcome, ControlError> {
+        let (mut raw, mut a, mut tip) = (run.start, run.start_estimate, run.start_tip);
         let mut checks = Vec::new();
         let goal_shape = self.stop_shape(goal)?;
         let start_error = self.distance(&a, goal);
         let mut beyond = 0;
         for step in 0..self.settings.max_iterations {
             let error = self.distance(&a, goal);
-            let reached = match &goal_shape {
-                Some(g) => self
-                    .shape_distance(&a, g)
-                    .is_ok_and(|d| d < self.settings.shape_stop_at(step)),
-                None => error < self.settings.epsilon,
-            };
-            if reached {
-                run.outcome = Outcome::Reached { error };
-                return Ok(run);
+            if self.is_reached(&a, error, goal_shape.as_deref(), step) {
+                return Ok(Outcome::Reached { error });
             }
             let diverging =
                 self.settings.divergence > 0.0 && error > start_error + self.settings.divergence;
             beyond = if diverging { beyond + 1 } else { 0 };
             if beyond >= DIVERGED_RESTS {
-                run.outcome = Outcome::Diverged {
+                return Ok(Outcome::Diverged {
                     step: step - 1,
                     error,
-                };
-                return Ok(run);
+                });
             }
-            let clock = Instant::now();
-            let (plan, reach_s) = match self.plan_reachable_step(&a, goal, &tip, reach) {
-                Ok((Planned::Step(plan), reach_s)) => (plan, reach_s),
-                Ok((Planned::Unstable, _)) => {
-                    run.outcome = Outcome::PredictedInstability { step };
-                    return Ok(run);
-                }
-                Ok((Planned::Unreachable(reason), _)) => {
-                    run.outcome = Outcome::Unreachable { step, reason };
-                    return Ok(run);
-                }
-                Err(e) => {
-                    run.outcome = Outcome::ModelFailed {
-                        step,
-                        message: e.to_string(),
-                    };
-                    return Ok(run);
-                }
-            };
-            let plan_s = (clock.elapsed().as_secs_f64() - reach_s).max(0.0);
-            if let Err(e) = rig.move_tip(base * plan.next_tip) {
-                run.outcome = Outcome::CommandFailed {
-                    step,
-                    message: e.to_string(),
+            let (plan, plan_s, reach_s) =
+                match self.timed_step(&a, goal, &tip, steering.reach, step) {
+                    ControlFlow::Continue(planned) => planned,
+                    ControlFlow::Break(outcome) => return Ok(outcome),
                 };
-                return Ok(run);
-            }
-            // The next step starts from where the robot reports it is, eq. 14's `b_i`.
-            let reported = match rig.gripper_poses() {
-                Ok(poses) => poses.relative(),
-                Err(e) => {
-                    run.outcome = Outcome::CommandFailed {
-                        step,
-                        message: format!("the robot cannot report its pose after the move: {e}"),
-                    };
-                    return Ok(run);
-                }
+            let (reported, m) = match self.execute(&mut steering, &plan, error, step) {
+                ControlFlow::Continue(moved) => moved,
+                ControlFlow::Break(outcome) => return Ok(outcome),
             };
-            let samples = self.rest_samples(feedback.samples(), error);
-            let (measured, next) = match feedback.measure_samples(rig, samples) {
-                Ok(m) => (m.a, estimate(&m, &reported, rig.time())),
-                Err(e) => {
-                    run.outcome = Outcome::SensorFault {
-                        step: step + 1,
-                        message: e.to_string(),
-                    };
-                    return Ok(run);
-                }
-            };
+            let next = corrected(&mut steering.observer, &m, &reported, steering.rig.time());
+            let measured = m.a;
             let check = MoveCheck::of_move(
                 &self.model,
                 &raw,
@@ -752,21 +591,128 @@ impl<M: WireModel> Controller<M> {
                 reach_s,
                 tip: reported,
             };
-            observe(rig, &record);
+            observe(steering.rig, &record);
             run.steps.push(record);
             if let Some(detector) = &self.detector
                 && detector.is_contact(residual)
             {
-                run.outcome = Outcome::CollisionDetected { step, residual };
-                return Ok(run);
+                return Ok(Outcome::CollisionDetected { step, residual });
             }
             raw = measured;
             a = next;
             tip = reported;
         }
-        run.outcome = Outcome::IterationLimit {
+        Ok(Outcome::IterationLimit {
             error: self.distance(&a, goal),
+        })
+    }
+
+    /// The stop rule at `a`, `error` from the goal: within the shape stop of step `step` of
+    /// the goal's shape when there is one, else within `ε`.
+    fn is_reached(
+        &self,
+        a: &Vector6<f64>,
+        error: f64,
+        goal_shape: Option<&[Vector3<f64>]>,
+        step: usize,
+    ) -> bool {
+        match goal_shape {
+            Some(g) => self
+                .shape_distance(a, g)
+                .is_ok_and(|d| d < self.settings.shape_stop_at(step)),
+            None => error < self.settings.epsilon,
+        }
+    }
+
+    /// Plans step `step` with the reach guard ([`Controller::plan_reachable_step`]); returns
+    /// the plan with its compute time and its reach-check time \[s\], or breaks with the
+    /// outcome when no step passes the guards or the model fails.
+    fn timed_step<Q: ReachCheck>(
+        &self,
+        a: &Vector6<f64>,
+        goal: &Vector6<f64>,
+        tip: &Pose,
+        reach: &mut Q,
+        step: usize,
+    ) -> ControlFlow<Outcome, (StepPlan, f64, f64)> {
+        let clock = Instant::now();
+        let (plan, reach_s) = match self.plan_reachable_step(a, goal, tip, reach) {
+            Ok((Planned::Step(plan), reach_s)) => (plan, reach_s),
+            Ok((Planned::Unstable, _)) => {
+                return ControlFlow::Break(Outcome::PredictedInstability { step });
+            }
+            Ok((Planned::Unreachable(reason), _)) => {
+                return ControlFlow::Break(Outcome::Unreachable { step, reason });
+            }
+            Err(e) => {
+                return ControlFlow::Break(Outcome::ModelFailed {
+                    step,
+                    message: e.to_string(),
+                });
+            }
         };
-        Ok(run)
+        let plan_s = (clock.elapsed().as_secs_f64() - reach_s).max(0.0);
+        ControlFlow::Continue((plan, plan_s, reach_s))
+    }
+
+    /// Moves the second gripper to the plan's pose and rests: returns the pose the robot
+    /// reports after the move (eq. 14's next `b_i`) and the measurement there, over
+    /// [`Controller::rest_samples`] samples for a step `error` from the goal; or breaks with
+    /// the outcome when the rig refuses the move, cannot report its pose, or the sensor fails.
+    fn execute<R: Rig, C: FtCalibration, Q: ReachCheck>(
+        &self,
+        steering: &mut Steering<'_, '_, R, C, Q, M>,
+        plan: &StepPlan,
+        error: f64,
+        step: usize,
+    ) -> ControlFlow<Outcome, (Pose, Measurement)> {
+        let rig = &mut *steering.rig;
+        if let Err(e) = rig.move_tip(steering.base * plan.next_tip) {
+            return ControlFlow::Break(Outcome::CommandFailed {
+                step,
+                message: e.to_string(),
+            });
+        }
+        let reported = match rig.gripper_poses() {
+            Ok(poses) => poses.relative(),
+            Err(e) => {
+                return ControlFlow::Break(Outcome::CommandFailed {
+                    step,
+                    message: format!("the robot cannot report its pose after the move: {e}"),
+                });
+            }
+        };
+        let samples = self.rest_samples(steering.feedback.samples(), error);
+        match steering.feedback.measure_samples(rig, samples) {
+            Ok(m) => ControlFlow::Continue((reported, m)),
+            Err(e) => ControlFlow::Break(Outcome::SensorFault {
+                step: step + 1,
+                message: e.to_string(),
+            }),
+        }
+    }
+}
+
+/// What a run steers with: the rig, its F/T pipeline and reach check, the base gripper's pose
+/// (the robot frame of the commands), and the bias observer when the run has one.
+struct Steering<'r, 'o, R, C, Q, M> {
+    rig: &'r mut R,
+    feedback: &'r FtFeedback<C>,
+    reach: &'r mut Q,
+    base: Pose,
+    observer: Option<&'o mut BiasObserver<M>>,
+}
+
+/// The `a` the controller steers by: the measured `ã`, corrected by the bias observer (which
+/// this rest at `tip` and `time` \[s\] updates) when there is one.
+fn corrected<M: WireModel>(
+    observer: &mut Option<&mut BiasObserver<M>>,
+    m: &Measurement,
+    tip: &Pose,
+    time: f64,
+) -> Vector6<f64> {
+    match observer.as_deref_mut() {
+        Some(o) => o.update(&m.a, &m.a_std_error, tip, time),
+        None => m.a,
     }
 }

@@ -283,6 +283,10 @@ fn add_node<const D: usize>(
 
 /// Plans from a valid `start` sample to the `goal` configuration with RRT* in `space`.
 ///
+/// Each iteration samples a state, extends the tree toward it, rewires the neighbours through
+/// the new node and tries to connect it to the goal (module docs); at the end the best path is
+/// shortcut.
+///
 /// # Errors
 /// [`PlanError::InvalidParameter`] for a bad setting; [`PlanError::NoPath`] when the budget
 /// ends without a path.
@@ -296,165 +300,42 @@ pub fn plan<const D: usize, S: Space<D>>(
     check_params(params)?;
     let clock = Instant::now();
     let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
-    let (lo, hi) = (space.lower(), space.upper());
-    let x_start = space.state(&start.config);
-    let x_goal = space.state(goal);
-    let informed = Informed::new(&x_start, &x_goal);
-
-    let mut nodes: Vec<Node<D>> = vec![Node {
-        x: x_start,
-        parent: None,
-        cost: 0.0,
-        edge: Link {
-            cost: 0.0,
-            clearance: start.clearance,
-        },
-        sample: start.clone(),
-        children: Vec::new(),
-    }];
-    let mut tree: KdTree<f64, D> = KdTree::new();
-    tree.add(&key(&x_start), 0);
-    let mut goals: Vec<usize> = Vec::new();
-    let mut failed = FailedEdges::default();
+    let mut search = Search::new(space, checker, start, goal, params);
     let mut first: Option<(usize, f64, f64)> = None;
     let mut iterations = 0;
 
     let out_of_time = |clock: &Instant| params.time_budget.is_some_and(|b| clock.elapsed() >= b);
     while iterations < params.max_iterations && !out_of_time(&clock) {
         iterations += 1;
-        let best = goals
-            .iter()
-            .map(|&g| nodes[g].cost)
-            .fold(f64::INFINITY, f64::min);
-        let x_rand = if rng.random::<f64>() < params.goal_bias {
-            x_goal
-        } else if best.is_finite() {
-            let mut x = uniform(&mut rng, &lo, &hi);
-            for _ in 0..100 {
-                let y = informed.sample(&mut rng, best);
-                if (0..D).all(|i| y[i] >= lo[i] && y[i] <= hi[i]) {
-                    x = y;
-                    break;
-                }
-            }
-            x
-        } else {
-            uniform(&mut rng, &lo, &hi)
-        };
-        let nearest = tree.nearest_one::<SquaredEuclidean>(&key(&x_rand)).item as usize;
-        let d = x_rand - nodes[nearest].x;
-        let dist = d.norm();
-        let x_new = if dist > params.step {
-            nodes[nearest].x + d * (params.step / dist)
-        } else {
-            x_rand
-        };
-        if dist == 0.0 {
-            continue;
-        }
-        let config = space.config(&x_new);
-        // Candidate parents: the k nearest, by cost-to-come plus distance.
-        let n = nodes.len();
-        let k = ((2.0 * std::f64::consts::E * (n as f64 + 1.0).ln()).ceil() as usize).clamp(1, n);
-        let mut near: Vec<(usize, f64)> = tree
-            .nearest_n::<SquaredEuclidean>(&key(&x_new), k)
-            .into_iter()
-            .map(|nb| (nb.item as usize, nb.distance.sqrt()))
-            .collect();
-        // A state already in the tree is not added twice (kiddo's buckets cannot split more
-        // than their size of identical points).
-        if near.iter().any(|&(_, d)| d < 1e-12) {
-            continue;
-        }
-        near.sort_by(|a, b| {
-            (nodes[a.0].cost + a.1)
-                .total_cmp(&(nodes[b.0].cost + b.1))
-                .then(a.0.cmp(&b.0))
-        });
-        // Informed pruning: no parent could bring the new state under the best path's cost.
-        if near.first().is_none_or(|&(i, d)| nodes[i].cost + d >= best) {
-            continue;
-        }
-        // The extension from the nearest node gates the iteration (Karaman & Frazzoli 2011,
-        // Alg. 6 line 5); only then are cheaper parents tried.
-        let step_length = dist.min(params.step);
-        let Some(edge) = failed.check(checker, nearest, &nodes[nearest].sample, &x_new, &config)
-        else {
+        let best = search.best_cost();
+        let x_rand = search.sample(&mut rng, best);
+        let Some(extension) = search.extend(&x_rand, best) else {
             continue;
         };
-        let mut chosen = (
-            nearest,
-            Link::new(params, step_length, edge.min_clearance),
-            edge.end,
-        );
-        for &(i, d) in near.iter().take(params.parent_attempts) {
-            if i == nearest || nodes[i].cost + d >= nodes[nearest].cost + chosen.1.cost {
-                break;
-            }
-            if let Some(edge) = failed.check(checker, i, &nodes[i].sample, &x_new, &config) {
-                chosen = (i, Link::new(params, d, edge.min_clearance), edge.end);
-                break;
-            }
-        }
-        let (parent, link, sample) = chosen;
-        if nodes[parent].cost + link.cost >= best {
-            continue;
-        }
-        let id = add_node(&mut nodes, x_new, parent, link, sample);
-        tree.add(&key(&x_new), id as u64);
-
-        // Rewire the neighbours through the new node where that is cheaper.
-        for &(i, d) in &near {
-            if i == parent || nodes[id].cost + d >= nodes[i].cost {
-                continue;
-            }
-            let target = space.config(&nodes[i].x);
-            let Ok(edge) = checker.edge(&nodes[id].sample, &target) else {
-                continue;
-            };
-            let c = Link::new(params, d, edge.min_clearance);
-            if nodes[id].cost + c.cost < nodes[i].cost
-                && joints_close(checker, &edge.end, &nodes[i].sample)
-            {
-                reparent(&mut nodes, i, id, c);
-            }
-        }
-
-        // Try the goal.
-        if (x_goal - x_new).norm() <= params.goal_radius
-            && let Ok(edge) = checker.edge(&nodes[id].sample, goal)
+        search.rewire(&extension);
+        if let Some(g) = search.connect_goal(extension.id)
+            && first.is_none()
         {
-            let d = (x_goal - x_new).norm();
-            let c = Link::new(params, d, edge.min_clearance);
-            let g = add_node(&mut nodes, x_goal, id, c, edge.end);
-            goals.push(g);
-            if first.is_none() {
-                first = Some((iterations, clock.elapsed().as_secs_f64(), nodes[g].cost));
-                if params.stop_at_first {
-                    break;
-                }
+            first = Some((
+                iterations,
+                clock.elapsed().as_secs_f64(),
+                search.nodes[g].cost,
+            ));
+            if params.stop_at_first {
+                break;
             }
         }
     }
 
-    let Some(&best_goal) = goals
-        .iter()
-        .min_by(|&&a, &&b| nodes[a].cost.total_cmp(&nodes[b].cost))
-    else {
+    let Some(best_goal) = search.best_goal() else {
         return Err(PlanError::NoPath {
             iterations,
-            nodes: nodes.len(),
+            nodes: search.nodes.len(),
             seconds: clock.elapsed().as_secs_f64(),
         });
     };
-    let best_cost = nodes[best_goal].cost;
-    let mut chain = Vec::new();
-    let mut at = Some(best_goal);
-    while let Some(i) = at {
-        chain.push((nodes[i].x, nodes[i].sample.clone(), nodes[i].edge));
-        at = nodes[i].parent;
-    }
-    chain.reverse();
+    let best_cost = search.nodes[best_goal].cost;
+    let mut chain = search.chain_to(best_goal);
     shortcut(space, checker, params, &mut rng, &mut chain);
     let (first_iteration, first_seconds, first_cost) =
         first.unwrap_or((iterations, 0.0, best_cost));
@@ -465,13 +346,269 @@ pub fn plan<const D: usize, S: Space<D>>(
             waypoints: chain.into_iter().map(|c| c.1).collect(),
         },
         iterations,
-        nodes: nodes.len(),
+        nodes: search.nodes.len(),
         first_path_iteration: first_iteration,
         first_path_seconds: first_seconds,
         first_path_cost: first_cost,
         best_cost_before_shortcut: best_cost,
         seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// A node just added to the tree, with its parent and the candidate parents found for it
+/// (index and distance, cheapest cost-to-come first), which are its neighbours to rewire.
+struct Extension {
+    id: usize,
+    parent: usize,
+    near: Vec<(usize, f64)>,
+}
+
+/// The state of one RRT* run: the tree (nodes and their kd-tree), the goal nodes reached and
+/// the extensions found invalid.
+struct Search<'a, const D: usize, S: Space<D>> {
+    space: &'a S,
+    checker: &'a Checker,
+    params: &'a PlannerParams,
+    goal: &'a ZPoint,
+    x_goal: SVector<f64, D>,
+    lo: SVector<f64, D>,
+    hi: SVector<f64, D>,
+    informed: Informed<D>,
+    nodes: Vec<Node<D>>,
+    tree: KdTree<f64, D>,
+    /// Nodes at the goal state, each the end of a path.
+    goals: Vec<usize>,
+    failed: FailedEdges<D>,
+}
+
+impl<'a, const D: usize, S: Space<D>> Search<'a, D, S> {
+    /// A tree holding only the start.
+    fn new(
+        space: &'a S,
+        checker: &'a Checker,
+        start: &Sample,
+        goal: &'a ZPoint,
+        params: &'a PlannerParams,
+    ) -> Self {
+        let (lo, hi) = (space.lower(), space.upper());
+        let x_start = space.state(&start.config);
+        let x_goal = space.state(goal);
+        let informed = Informed::new(&x_start, &x_goal);
+        let nodes: Vec<Node<D>> = vec![Node {
+            x: x_start,
+            parent: None,
+            cost: 0.0,
+            edge: Link {
+                cost: 0.0,
+                clearance: start.clearance,
+            },
+            sample: start.clone(),
+            children: Vec::new(),
+        }];
+        let mut tree: KdTree<f64, D> = KdTree::new();
+        tree.add(&key(&x_start), 0);
+        Self {
+            space,
+            checker,
+            params,
+            goal,
+            x_goal,
+            lo,
+            hi,
+            informed,
+            nodes,
+            tree,
+            goals: Vec::new(),
+            failed: FailedEdges::default(),
+        }
+    }
+
+    /// The cost of the best path so far (infinite before the first).
+    fn best_cost(&self) -> f64 {
+        self.goals
+            .iter()
+            .map(|&g| self.nodes[g].cost)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The goal node of the cheapest path, if any.
+    fn best_goal(&self) -> Option<usize> {
+        self.goals
+            .iter()
+            .min_by(|&&a, &&b| self.nodes[a].cost.total_cmp(&self.nodes[b].cost))
+            .copied()
+    }
+
+    /// The state to extend toward: the goal with probability [`PlannerParams::goal_bias`],
+    /// else uniform in the box before the first path and informed after it (up to 100
+    /// rejections of points outside the box, then the uniform draw made first).
+    fn sample(&self, rng: &mut ChaCha8Rng, best: f64) -> SVector<f64, D> {
+        if rng.random::<f64>() < self.params.goal_bias {
+            self.x_goal
+        } else if best.is_finite() {
+            let mut x = uniform(rng, &self.lo, &self.hi);
+            for _ in 0..100 {
+                let y = self.informed.sample(rng, best);
+                if (0..D).all(|i| y[i] >= self.lo[i] && y[i] <= self.hi[i]) {
+                    x = y;
+                    break;
+                }
+            }
+            x
+        } else {
+            uniform(rng, &self.lo, &self.hi)
+        }
+    }
+
+    /// Adds a node toward `x_rand`: at most [`PlannerParams::step`] from the nearest node, with
+    /// the cheapest parent whose edge is valid. `None` when `x_rand` is a node, the new state
+    /// is already in the tree, no parent could bring it under the `best` path's cost, or the
+    /// nearest node's edge to it is invalid (module docs: the extension gates the iteration).
+    fn extend(&mut self, x_rand: &SVector<f64, D>, best: f64) -> Option<Extension> {
+        let nearest = self.tree.nearest_one::<SquaredEuclidean>(&key(x_rand)).item as usize;
+        let d = x_rand - self.nodes[nearest].x;
+        let dist = d.norm();
+        let x_new = if dist > self.params.step {
+            self.nodes[nearest].x + d * (self.params.step / dist)
+        } else {
+            *x_rand
+        };
+        if dist == 0.0 {
+            return None;
+        }
+        let config = self.space.config(&x_new);
+        let near = self.near_by_cost(&x_new)?;
+        // Informed pruning: no parent could bring the new state under the best path's cost.
+        if near
+            .first()
+            .is_none_or(|&(i, d)| self.nodes[i].cost + d >= best)
+        {
+            return None;
+        }
+        let step_length = dist.min(self.params.step);
+        let (parent, link, sample) =
+            self.choose_parent(nearest, step_length, &near, &x_new, &config)?;
+        if self.nodes[parent].cost + link.cost >= best {
+            return None;
+        }
+        let id = add_node(&mut self.nodes, x_new, parent, link, sample);
+        self.tree.add(&key(&x_new), id as u64);
+        Some(Extension { id, parent, near })
+    }
+
+    /// The candidate parents of `x_new`: the `k = ⌈2e · ln(n + 1)⌉` nearest nodes with their
+    /// distances, sorted by cost-to-come plus distance. `None` if `x_new` is already in the
+    /// tree (kiddo's buckets cannot split more than their size of identical points).
+    fn near_by_cost(&self, x_new: &SVector<f64, D>) -> Option<Vec<(usize, f64)>> {
+        let n = self.nodes.len();
+        let k = ((2.0 * std::f64::consts::E * (n as f64 + 1.0).ln()).ceil() as usize).clamp(1, n);
+        let mut near: Vec<(usize, f64)> = self
+            .tree
+            .nearest_n::<SquaredEuclidean>(&key(x_new), k)
+            .into_iter()
+            .map(|nb| (nb.item as usize, nb.distance.sqrt()))
+            .collect();
+        if near.iter().any(|&(_, d)| d < 1e-12) {
+            return None;
+        }
+        let nodes = &self.nodes;
+        near.sort_by(|a, b| {
+            (nodes[a.0].cost + a.1)
+                .total_cmp(&(nodes[b.0].cost + b.1))
+                .then(a.0.cmp(&b.0))
+        });
+        Some(near)
+    }
+
+    /// The parent of `x_new`, the edge's cost and the sample it arrives at: the nearest node's
+    /// edge is checked first (`None` if invalid, Karaman & Frazzoli 2011, Alg. 6 line 5), then
+    /// up to [`PlannerParams::parent_attempts`] cheaper candidates in order of cost, the first
+    /// valid one taken.
+    fn choose_parent(
+        &mut self,
+        nearest: usize,
+        step_length: f64,
+        near: &[(usize, f64)],
+        x_new: &SVector<f64, D>,
+        config: &ZPoint,
+    ) -> Option<(usize, Link, Sample)> {
+        let params = self.params;
+        let nodes = &self.nodes;
+        let edge =
+            self.failed
+                .check(self.checker, nearest, &nodes[nearest].sample, x_new, config)?;
+        let mut chosen = (
+            nearest,
+            Link::new(params, step_length, edge.min_clearance),
+            edge.end,
+        );
+        for &(i, d) in near.iter().take(params.parent_attempts) {
+            if i == nearest || nodes[i].cost + d >= nodes[nearest].cost + chosen.1.cost {
+                break;
+            }
+            if let Some(edge) = self
+                .failed
+                .check(self.checker, i, &nodes[i].sample, x_new, config)
+            {
+                chosen = (i, Link::new(params, d, edge.min_clearance), edge.end);
+                break;
+            }
+        }
+        Some(chosen)
+    }
+
+    /// Rewires the neighbours of the new node through it where that is cheaper and the edge
+    /// arrives at the neighbour's joints.
+    fn rewire(&mut self, extension: &Extension) {
+        let id = extension.id;
+        for &(i, d) in &extension.near {
+            if i == extension.parent || self.nodes[id].cost + d >= self.nodes[i].cost {
+                continue;
+            }
+            let target = self.space.config(&self.nodes[i].x);
+            let Ok(edge) = self.checker.edge(&self.nodes[id].sample, &target) else {
+                continue;
+            };
+            let c = Link::new(self.params, d, edge.min_clearance);
+            if self.nodes[id].cost + c.cost < self.nodes[i].cost
+                && joints_close(self.checker, &edge.end, &self.nodes[i].sample)
+            {
+                reparent(&mut self.nodes, i, id, c);
+            }
+        }
+    }
+
+    /// Connects node `id` to the goal if it lies within [`PlannerParams::goal_radius`] and the
+    /// edge is valid; returns the new goal node.
+    fn connect_goal(&mut self, id: usize) -> Option<usize> {
+        let x_new = self.nodes[id].x;
+        let within = (self.x_goal - x_new).norm() <= self.params.goal_radius;
+        if !within {
+            return None;
+        }
+        let edge = self.checker.edge(&self.nodes[id].sample, self.goal).ok()?;
+        let d = (self.x_goal - x_new).norm();
+        let c = Link::new(self.params, d, edge.min_clearance);
+        let g = add_node(&mut self.nodes, self.x_goal, id, c, edge.end);
+        self.goals.push(g);
+        Some(g)
+    }
+
+    /// The path from the start to node `end`: each node's state, sample and incoming edge.
+    fn chain_to(&self, end: usize) -> Vec<(SVector<f64, D>, Sample, Link)> {
+        let mut chain = Vec::new();
+        let mut at = Some(end);
+        while let Some(i) = at {
+            chain.push((
+                self.nodes[i].x,
+                self.nodes[i].sample.clone(),
+                self.nodes[i].edge,
+            ));
+            at = self.nodes[i].parent;
+        }
+        chain.reverse();
+        chain
+    }
 }
 
 /// Moves node `i` under `parent` by edge `c`, and updates the costs of its subtree.

@@ -54,128 +54,13 @@ use super::parameters::{L_MAX, L_MIN, LAMBDA_MAX, LAMBDA_MIN};
 pub const DEFAULT_LINEAR_DENSITY: f64 = 0.03;
 use super::refine::Refined;
 use super::{
-    Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints, ParticleSwarm,
-    ResidualForm, Residuals, Sample, Swarm, Unidentified, Weights,
+    CostFunction, Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints,
+    ParticleSwarm, ResidualForm, Residuals, Sample, Swarm, Unidentified, Weights,
 };
 use crate::{EstimateError, WireModel};
 
-/// Identification settings (a parameter bundle; checked when identification starts).
-#[derive(Debug, Clone, PartialEq)]
-pub struct IdentifierParams {
-    /// The residual minimised (default [`ResidualForm::Absolute`]).
-    pub form: ResidualForm,
-    /// Known relations between the parameters (default none).
-    pub constraints: ParameterConstraints,
-    /// The reference length `ℓ` \[m\] that divides translation residuals (see
-    /// [`super::residual`]), or `None` for the gripper distance of the first sample, at least
-    /// 5 cm (default `None`).
-    pub length_scale: Option<f64>,
-    /// How much longer than the largest gripper distance `|p(b̃_i)|` the wire must be \[m\]
-    /// (default `5e-4`): the lower bound of `L` is `max(0.2, max_i |p(b̃_i)| + margin)`.
-    pub length_margin: f64,
-    /// The swarm settings (20 particles, `ω = φp = φg = 0.5`, 2 re-injected; its box is
-    /// replaced by the search box).
-    pub swarm: ParticleSwarm,
-    /// Swarm iterations on each new set of samples before refinement (default `20`).
-    pub swarm_iterations: usize,
-    /// The torsion ratio `c1/c2` of the swarm's coarse search (default `0.8`, a round rod of
-    /// Poisson's ratio 0.25), where the fine fit starts `c1` from; see [`super::identifier`].
-    pub coarse_torsion_ratio: f64,
-    /// The local refinement (default [`LevenbergMarquardt::default`]).
-    pub refine: LevenbergMarquardt,
-    /// Distinct swarm personal bests to refine from, best first (default `3`).
-    pub refine_starts: usize,
-    /// Search rounds at most (default `3`): when the refined fit is far above the noise or on
-    /// the box's edge (most likely the wrong basin), the worse half of the swarm is re-injected
-    /// at random and the swarm runs [`IdentifierParams::swarm_iterations`] more before refining
-    /// again; the best fit of all rounds is kept.
-    pub search_rounds: usize,
-    /// The measurement noise, to whiten the residuals of the final polish and to test the final
-    /// fit (default [`MeasurementNoise::default`]).
-    pub noise: MeasurementNoise,
-    /// Whether the search's best fit is polished on the noise-whitened residuals (step 4 of
-    /// [`super::identifier`]; default `true`).
-    pub polish: bool,
-    /// The smallest motion of the second gripper accepted, in noise standard deviations of the
-    /// largest pose component (default `10`).
-    pub min_motion: f64,
-    /// The largest `χ²/dof` accepted (default `25`: a residual RMS 5× the noise).
-    pub max_chi2_per_dof: f64,
-    /// The smallest `σ_min/σ_max` of the residual's Jacobian in `(ln c, ln L)` accepted
-    /// (default `1e-4`: a parameter combination `1e4` times less visible than the best
-    /// one is determined `1e4` times less precisely, tens of per cent at this noise).
-    pub min_condition: f64,
-}
-
-impl Default for IdentifierParams {
-    fn default() -> Self {
-        Self {
-            form: ResidualForm::default(),
-            constraints: ParameterConstraints::default(),
-            length_scale: None,
-            length_margin: 5e-4,
-            swarm: ParticleSwarm::default(),
-            swarm_iterations: 20,
-            coarse_torsion_ratio: 0.8,
-            refine: LevenbergMarquardt::default(),
-            refine_starts: 3,
-            search_rounds: 3,
-            noise: MeasurementNoise::default(),
-            polish: true,
-            min_motion: 10.0,
-            max_chi2_per_dof: 25.0,
-            min_condition: 1e-4,
-        }
-    }
-}
-
-impl IdentifierParams {
-    /// Checks every setting.
-    ///
-    /// # Errors
-    /// [`EstimateError::BadIdentifySetting`] naming the first bad one.
-    pub fn validate(&self) -> Result<(), EstimateError> {
-        self.constraints.validate()?;
-        self.noise.validate()?;
-        self.refine.validate()?;
-        let bad = |field, value: f64, allowed| {
-            Err(EstimateError::BadIdentifySetting {
-                field,
-                value,
-                allowed,
-            })
-        };
-        if let Some(l) = self.length_scale.filter(|l| !(l.is_finite() && *l > 0.0)) {
-            return bad("length_scale", l, "finite and > 0");
-        }
-        if !(self.length_margin.is_finite() && self.length_margin >= 0.0) {
-            return bad("length_margin", self.length_margin, "finite and >= 0");
-        }
-        if !(self.coarse_torsion_ratio.is_finite() && self.coarse_torsion_ratio > 0.0) {
-            return bad(
-                "coarse_torsion_ratio",
-                self.coarse_torsion_ratio,
-                "finite and > 0",
-            );
-        }
-        if self.refine_starts == 0 {
-            return bad("refine_starts", 0.0, "at least 1");
-        }
-        if self.search_rounds == 0 {
-            return bad("search_rounds", 0.0, "at least 1");
-        }
-        for (field, value) in [
-            ("min_motion", self.min_motion),
-            ("max_chi2_per_dof", self.max_chi2_per_dof),
-            ("min_condition", self.min_condition),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return bad(field, value, "finite and >= 0");
-            }
-        }
-        Ok(())
-    }
-}
+mod params;
+pub use params::IdentifierParams;
 
 /// Identifies `η = (c, L)` from a batch of samples: the streaming [`Identifier`] run to
 /// completion.
@@ -410,134 +295,52 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         })
     }
 
+    /// The driver (module docs): the coarse swarm's iterations of the current round while
+    /// `more` allows, then the fine fits from its distinct bests, then a retry round or the
+    /// polish. An unfinished round returns the swarm's best, flagged.
     fn run(&mut self, mut more: impl FnMut() -> bool) -> Result<Estimate, EstimateError> {
         if let Some(done) = self.refined {
             return Ok(done);
         }
         let space = self.search_space()?;
-        let full = self.config.constraints;
-        let coarse = self.coarse_constraints();
-        let residuals = |constraints| Residuals {
-            model: &self.model,
-            samples: &self.samples,
-            form: self.config.form,
-            weights: space.weights,
-            constraints,
-            whitening: None,
-        };
-        let coarse_weights = Weights {
-            tangent_rotation: 0.0,
-            ..space.weights
-        };
-        let unweighed = ParameterConstraints {
-            weight: None,
-            ..full
-        };
-        let (fine_residuals, coarse_residuals) = (
-            residuals(full),
-            Residuals {
-                weights: coarse_weights,
-                ..residuals(coarse)
-            },
+        let objectives = Objectives::new(
+            &self.model,
+            &self.samples,
+            &self.config,
+            &space,
+            self.coarse_constraints(),
         );
-        let unweighed_residuals = residuals(unweighed);
-        let cost = |theta: &[f64]| coarse_residuals.cost(theta);
-        let (lower, upper) = (&space.coarse_lower, &space.coarse_upper);
+        let cost = |theta: &[f64]| objectives.coarse.cost(theta);
         let pso = self
             .config
             .swarm
             .clone()
-            .with_bounds(lower.clone(), upper.clone())?;
-        let mut swarm = match self.swarm.take() {
-            Some(mut swarm) => {
-                if self.stale {
-                    pso.refresh(&cost, &mut swarm, &mut self.rng);
-                }
-                swarm
-            }
-            None => pso.init(&cost, &mut self.rng),
-        };
+            .with_bounds(space.coarse_lower.clone(), space.coarse_upper.clone())?;
+        let mut swarm = resume_swarm(&pso, &cost, self.swarm.take(), self.stale, &mut self.rng);
         if self.stale {
             self.round = 0;
             self.best = None;
         }
         self.stale = false;
-        let span = lower
-            .iter()
-            .zip(upper)
-            .map(|(l, u)| u - l)
-            .fold(f64::INFINITY, f64::min);
-        let coarse_residual = |theta: &[f64]| coarse_residuals.evaluate(theta);
-        let fine_residual = |theta: &[f64]| fine_residuals.evaluate(theta);
-        let unweighed_residual = |theta: &[f64]| unweighed_residuals.evaluate(theta);
-        loop {
+        let outcome = loop {
+            // Step 1, coarse: this round's swarm iterations, each started while `more` allows.
             let target = (self.round + 1) * self.config.swarm_iterations;
             while swarm.iterations < target && more() {
                 pso.iterate(&cost, &mut swarm, &mut self.rng);
             }
             if swarm.iterations < target || !more() {
-                let estimate = provisional(
-                    &coarse_residuals,
+                break Ok(provisional(
+                    &objectives.coarse,
                     &swarm.best_position,
                     swarm.evaluations + self.refine_evaluations,
                     Unidentified::Unfinished {
                         iterations: swarm.iterations,
                         required: target,
                     },
-                );
-                self.swarm = Some(swarm);
-                return Ok(estimate);
+                ));
             }
-            let mut evaluations = 0;
-            let mut round_best: Option<(Refined, f64)> = None;
-            for start in swarm.distinct_bests(self.config.refine_starts, 0.01 * span) {
-                let mut refined =
-                    self.config
-                        .refine
-                        .minimise(&coarse_residual, &start, lower, upper);
-                evaluations += refined.evaluations;
-                if coarse != full {
-                    let (mut c, mut length) = coarse.eta(&refined.theta);
-                    if full.weight.is_some() {
-                        // Free c and L with the weight at its prior first: the fit with the
-                        // weight free then starts in the right basin (from the coarse optimum
-                        // it could trade torsion for weight and wander off).
-                        let start = clamp(
-                            unweighed.theta(c, length, 0.0),
-                            &space.unweighed_lower,
-                            &space.unweighed_upper,
-                        );
-                        let step = self.config.refine.minimise(
-                            &unweighed_residual,
-                            &start,
-                            &space.unweighed_lower,
-                            &space.unweighed_upper,
-                        );
-                        evaluations += step.evaluations;
-                        (c, length) = unweighed.eta(&step.theta);
-                    }
-                    let lambda = full
-                        .weight
-                        .map_or(0.0, |g| prior_linear_density(&self.model, &g));
-                    let start = clamp(full.theta(c, length, lambda), &space.lower, &space.upper);
-                    refined = self.config.refine.minimise(
-                        &fine_residual,
-                        &start,
-                        &space.lower,
-                        &space.upper,
-                    );
-                    evaluations += refined.evaluations;
-                }
-                // Fits are compared by χ², not by the fixed weighting's cost: a wrong basin can
-                // leave small pose residuals where the noise predicts even smaller ones (a
-                // far too stiff wire barely moves with the wrench).
-                let chi2 = fine_residuals
-                    .chi_squared(&refined.theta, &self.config.noise)
-                    .unwrap_or(f64::INFINITY);
-                if round_best.as_ref().is_none_or(|(_, b)| chi2 < *b) {
-                    round_best = Some((refined, chi2));
-                }
-            }
+            // Step 2, fine: the best fit of this round, kept if it beats the earlier rounds'.
+            let (round_best, evaluations) = self.refine_round(&objectives, &swarm, &space);
             self.refine_evaluations += evaluations;
             if let Some(candidate) = round_best
                 && self.best.as_ref().is_none_or(|(_, b)| candidate.1 < *b)
@@ -545,44 +348,138 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
                 self.best = Some(candidate);
             }
             let Some((best, _)) = self.best.as_ref() else {
-                self.swarm = Some(swarm);
-                return Err(EstimateError::BadIdentifySetting {
+                break Err(EstimateError::BadIdentifySetting {
                     field: "refine_starts",
                     value: 0.0,
                     allowed: "at least 1",
                 });
             };
             let total = swarm.evaluations + self.refine_evaluations;
-            let estimate = match self.assess(&fine_residuals, best, &space, total, None) {
+            let estimate = match self.assess(&objectives.fine, best, &space, total, None) {
                 Ok(estimate) => estimate,
-                Err(e) => {
-                    self.swarm = Some(swarm);
-                    return Err(e);
-                }
+                Err(e) => break Err(e),
             };
-            // A fit far above the noise is the wrong basin whatever else is wrong with it (a
-            // wrong basin is often ill-conditioned too).
-            let retry = estimate.chi2_per_dof > self.config.max_chi2_per_dof
-                || matches!(
-                    estimate.unidentified,
-                    Some(Unidentified::ResidualAboveNoise { .. } | Unidentified::AtBound { .. })
-                );
-            if !retry || self.round + 1 >= self.config.search_rounds {
-                self.swarm = Some(swarm);
+            if !self.is_wrong_basin(&estimate) || self.round + 1 >= self.config.search_rounds {
+                // Step 4, polish.
                 let polished = self
                     .config
                     .polish
-                    .then(|| self.polish(&fine_residuals, best, &space, total));
+                    .then(|| self.polish(&objectives.fine, best, &space, total));
                 let estimate = polished.flatten().unwrap_or(estimate);
                 self.refined = Some(estimate);
-                return Ok(estimate);
+                break Ok(estimate);
             }
-            // A fit the noise cannot explain: most likely the wrong basin. Scatter the worse
-            // half of the swarm and search on.
+            // Step 3, retry: a fit the noise cannot explain is most likely the wrong basin.
+            // Scatter the worse half of the swarm and search on.
             self.round += 1;
             let half = swarm.particles.len() / 2;
             pso.reinject(&cost, &mut swarm, &mut self.rng, half);
+        };
+        self.swarm = Some(swarm);
+        outcome
+    }
+
+    /// Step 2 of the driver for one round: the fine fit from each of the swarm's distinct
+    /// personal bests ([`IdentifierParams::refine_starts`], at least 1 % of the box's
+    /// narrowest side apart), and the one of lowest `χ²` with its `χ²`; also the residual
+    /// evaluations spent.
+    ///
+    /// Fits are compared by `χ²`, not by the fixed weighting's cost: a wrong basin can leave
+    /// small pose residuals where the noise predicts even smaller ones (a far too stiff wire
+    /// barely moves with the wrench).
+    fn refine_round(
+        &self,
+        objectives: &Objectives<'_, M>,
+        swarm: &Swarm,
+        space: &SearchSpace,
+    ) -> (Option<(Refined, f64)>, usize) {
+        let span = space
+            .coarse_lower
+            .iter()
+            .zip(&space.coarse_upper)
+            .map(|(l, u)| u - l)
+            .fold(f64::INFINITY, f64::min);
+        let mut evaluations = 0;
+        let mut round_best: Option<(Refined, f64)> = None;
+        for start in swarm.distinct_bests(self.config.refine_starts, 0.01 * span) {
+            let (refined, spent) = self.refine_from(objectives, &start, space);
+            evaluations += spent;
+            let chi2 = objectives
+                .fine
+                .chi_squared(&refined.theta, &self.config.noise)
+                .unwrap_or(f64::INFINITY);
+            if round_best.as_ref().is_none_or(|(_, b)| chi2 < *b) {
+                round_best = Some((refined, chi2));
+            }
         }
+        (round_best, evaluations)
+    }
+
+    /// The fine fit from one coarse start: Levenberg–Marquardt in the coarse parameters, then,
+    /// when the configured parameters differ, in those from the coarse optimum (through the
+    /// fit without the weight first when the weight is identified); also the residual
+    /// evaluations spent.
+    fn refine_from(
+        &self,
+        objectives: &Objectives<'_, M>,
+        start: &[f64],
+        space: &SearchSpace,
+    ) -> (Refined, usize) {
+        let coarse = objectives.coarse.constraints;
+        let full = objectives.fine.constraints;
+        let unweighed = objectives.unweighed.constraints;
+        let coarse_residual = |theta: &[f64]| objectives.coarse.evaluate(theta);
+        let fine_residual = |theta: &[f64]| objectives.fine.evaluate(theta);
+        let unweighed_residual = |theta: &[f64]| objectives.unweighed.evaluate(theta);
+        let mut refined = self.config.refine.minimise(
+            &coarse_residual,
+            start,
+            &space.coarse_lower,
+            &space.coarse_upper,
+        );
+        let mut evaluations = refined.evaluations;
+        if coarse != full {
+            let (mut c, mut length) = coarse.eta(&refined.theta);
+            if full.weight.is_some() {
+                // Free c and L with the weight at its prior first: the fit with the weight free
+                // then starts in the right basin (from the coarse optimum it could trade
+                // torsion for weight and wander off).
+                let start = clamp(
+                    unweighed.theta(c, length, 0.0),
+                    &space.unweighed_lower,
+                    &space.unweighed_upper,
+                );
+                let step = self.config.refine.minimise(
+                    &unweighed_residual,
+                    &start,
+                    &space.unweighed_lower,
+                    &space.unweighed_upper,
+                );
+                evaluations += step.evaluations;
+                (c, length) = unweighed.eta(&step.theta);
+            }
+            let lambda = full
+                .weight
+                .map_or(0.0, |g| prior_linear_density(&self.model, &g));
+            let start = clamp(full.theta(c, length, lambda), &space.lower, &space.upper);
+            refined =
+                self.config
+                    .refine
+                    .minimise(&fine_residual, &start, &space.lower, &space.upper);
+            evaluations += refined.evaluations;
+        }
+        (refined, evaluations)
+    }
+
+    /// Whether a fit is most likely in the wrong basin, to be searched again (step 3): far
+    /// above the noise whatever else is wrong with it (a wrong basin is often ill-conditioned
+    /// too), or flagged above the noise or at the box's edge.
+    fn is_wrong_basin(&self, estimate: &Estimate) -> bool {
+        estimate.chi2_per_dof > self.config.max_chi2_per_dof
+            || matches!(
+                estimate.unidentified,
+                Some(Unidentified::ResidualAboveNoise { .. } | Unidentified::AtBound { .. })
+            )
     }
 
     /// The constraints of the swarm's coarse search: the configured ones, plus isotropic
@@ -747,6 +644,70 @@ struct SearchSpace {
     unweighed_lower: Vec<f64>,
     unweighed_upper: Vec<f64>,
     weights: Weights,
+}
+
+/// The residuals of one search: the coarse swarm's (coarse parameters, no twist about the
+/// tangent), the configured parameters' (the fine fit's), and the configured ones without the
+/// weight.
+struct Objectives<'a, M: WireModel> {
+    coarse: Residuals<'a, M>,
+    fine: Residuals<'a, M>,
+    unweighed: Residuals<'a, M>,
+}
+
+impl<'a, M: WireModel> Objectives<'a, M> {
+    fn new(
+        model: &'a M,
+        samples: &'a [Sample],
+        config: &IdentifierParams,
+        space: &SearchSpace,
+        coarse: ParameterConstraints,
+    ) -> Self {
+        let residuals = |constraints| Residuals {
+            model,
+            samples,
+            form: config.form,
+            weights: space.weights,
+            constraints,
+            whitening: None,
+        };
+        let full = config.constraints;
+        let coarse_weights = Weights {
+            tangent_rotation: 0.0,
+            ..space.weights
+        };
+        Self {
+            coarse: Residuals {
+                weights: coarse_weights,
+                ..residuals(coarse)
+            },
+            fine: residuals(full),
+            unweighed: residuals(ParameterConstraints {
+                weight: None,
+                ..full
+            }),
+        }
+    }
+}
+
+/// The swarm to search on: the kept one, refreshed on the samples when they changed
+/// (`stale`), or a new one.
+fn resume_swarm<F: CostFunction, R: Rng + ?Sized>(
+    pso: &ParticleSwarm,
+    cost: &F,
+    kept: Option<Swarm>,
+    stale: bool,
+    rng: &mut R,
+) -> Swarm {
+    match kept {
+        Some(mut swarm) => {
+            if stale {
+                pso.refresh(cost, &mut swarm, rng);
+            }
+            swarm
+        }
+        None => pso.init(cost, rng),
+    }
 }
 
 /// `theta` clamped into the box.

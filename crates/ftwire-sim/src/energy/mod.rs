@@ -97,192 +97,268 @@ fn stencil_map(i: usize) -> [[(usize, f64); 2]; 8] {
 }
 
 /// Evaluates the total energy of `state` in `world`, with derivatives up to `order`.
+///
+/// The terms are assembled in a fixed order (stretching, bending and twisting, gravity,
+/// contact), so that the gradient's sums, and the equilibria that depend on them, are
+/// reproducible to the bit.
 pub(crate) fn evaluate(world: &World, state: &RodState, order: Order) -> Evaluation {
+    let ndof = dof_count(world.rod().edges());
+    let mut sum = Assembly::new(ndof, order);
+    sum.add_stretch(world, state);
+    match order {
+        Order::Energy => sum.add_bend_twist_energy(world, state),
+        Order::Gradient => sum.add_bend_twist_gradient(world, state),
+        Order::Hessian => sum.add_bend_twist_hessian(world, state),
+    }
+    sum.add_gravity(world, state);
+    let contact_forces = sum.add_contact(world, state);
+    Evaluation {
+        energies: sum.energies,
+        grad: sum.grad,
+        hess: sum.hess,
+        contact_forces,
+    }
+}
+
+/// The bending–twisting constants of interior vertex `i`.
+#[inline]
+fn vertex_stencil<'a>(world: &'a World, state: &RodState, i: usize) -> bend_twist::Stencil<'a> {
     let rod = world.rod();
     let p = rod.params();
-    let n = rod.edges();
-    let h = rod.edge_length();
-    let ndof = dof_count(n);
-    let mut en = Energies::default();
-    let mut grad = vec![0.0; if order == Order::Energy { 0 } else { ndof }];
-    let mut hess = (order == Order::Hessian).then(|| BandedSym::zeros(ndof, BANDWIDTH));
-    let nodes = &state.nodes;
-
-    // Stretching.
-    for j in 0..n {
-        let e = nodes[j + 1] - nodes[j];
-        if order == Order::Energy {
-            en.stretch += stretch::energy(&e, h, rod.axial_stiffness());
-            continue;
-        }
-        let (v, g, hs) = stretch::energy_derivatives(&e, h, rod.axial_stiffness());
-        en.stretch += v;
-        for c in 0..3 {
-            grad[x_dof(j, c)] -= g[c];
-            grad[x_dof(j + 1, c)] += g[c];
-        }
-        if let Some(hm) = hess.as_mut() {
-            add_pair_block(hm, j, j + 1, &hs, -1.0, 1.0);
-        }
-    }
-
-    // Bending and twisting at the interior vertices 1..N−1. Each edge's directors are computed
-    // (and differentiated, with its own 3 variables) once and shared by its two vertices.
-    let vertex = |i: usize| bend_twist::Stencil {
+    bend_twist::Stencil {
         c: &p.stiffness,
         rest: &p.rest_strain,
-        voronoi: h,
+        voronoi: rod.edge_length(),
         ref_twist: state.ref_twist[i],
-    };
-    let edge = |j: usize| nodes[j + 1] - nodes[j];
-    let (rt, rd) = (&state.ref_tangent, &state.ref_d1);
-    match order {
-        Order::Energy => {
-            let dirs: Vec<bend_twist::Directors<f64>> = (0..n)
-                .map(|j| bend_twist::directors(&edge(j).into(), &rt[j], &rd[j]))
-                .collect();
-            for i in 1..n {
-                let dots = bend_twist::dots(&dirs[i - 1], &dirs[i]);
-                let st = vertex(i);
-                let (b, t) = bend_twist::energy(&dots, state.theta[i - 1], state.theta[i], &st);
-                en.bend += b;
-                en.twist += t;
-            }
-        }
-        Order::Gradient => {
-            let dirs: Vec<bend_twist::Directors<Dual1<3>>> = (0..n)
-                .map(|j| {
-                    let e = edge(j);
-                    let ed = [Dual1::var(e.x, 0), Dual1::var(e.y, 1), Dual1::var(e.z, 2)];
-                    bend_twist::directors(&ed, &rt[j], &rd[j])
-                })
-                .collect();
-            for i in 1..n {
-                let dots = bend_twist::dots1(&dirs[i - 1], &dirs[i]);
-                let (b, t) = bend_twist::energy(
-                    &dots,
-                    Dual1::var(state.theta[i - 1], 6),
-                    Dual1::var(state.theta[i], 7),
-                    &vertex(i),
-                );
-                en.bend += b.re();
-                en.twist += t.re();
-                let total = b + t;
-                for (a, ma) in stencil_map(i).iter().enumerate() {
-                    for &(ga, ca) in ma {
-                        grad[ga] += ca * total.g[a];
-                    }
-                }
-            }
-        }
-        Order::Hessian => {
-            let dirs: Vec<bend_twist::Directors<Dual2<3>>> = (0..n)
-                .map(|j| bend_twist::directors(&dual_edge(&edge(j), 0), &rt[j], &rd[j]))
-                .collect();
-            for i in 1..n {
-                let dots = bend_twist::dots2(&dirs[i - 1], &dirs[i]);
-                let (b, t) = bend_twist::energy(
-                    &dots,
-                    Dual2::var(state.theta[i - 1], 6),
-                    Dual2::var(state.theta[i], 7),
-                    &vertex(i),
-                );
-                en.bend += b.re();
-                en.twist += t.re();
-                let total = b + t;
-                let map = stencil_map(i);
-                for (a, ma) in map.iter().enumerate() {
-                    for &(ga, ca) in ma {
-                        grad[ga] += ca * total.g[a];
-                    }
-                }
-                if let Some(hm) = hess.as_mut() {
-                    for (a, ma) in map.iter().enumerate() {
-                        for (b2, mb) in map.iter().enumerate() {
-                            let v = total.hess(a, b2);
-                            for &(ga, ca) in ma {
-                                for &(gb, cb) in mb {
-                                    if ga >= gb && ca != 0.0 && cb != 0.0 {
-                                        hm.add_lower(ga, gb, ca * cb * v);
-                                    }
-                                }
-                            }
-                        }
-                    }
-                }
-            }
+    }
+}
+
+/// The vector of edge `j`, `x_{j+1} − x_j` \[m\].
+#[inline]
+fn edge(state: &RodState, j: usize) -> Vector3<f64> {
+    state.nodes[j + 1] - state.nodes[j]
+}
+
+/// The energy, gradient and Hessian of one [`evaluate`], summed term by term. The gradient is
+/// empty for [`Order::Energy`], the Hessian present only for [`Order::Hessian`].
+struct Assembly {
+    order: Order,
+    energies: Energies,
+    grad: Vec<f64>,
+    hess: Option<BandedSym>,
+}
+
+impl Assembly {
+    fn new(ndof: usize, order: Order) -> Self {
+        Self {
+            order,
+            energies: Energies::default(),
+            grad: vec![0.0; if order == Order::Energy { 0 } else { ndof }],
+            hess: (order == Order::Hessian).then(|| BandedSym::zeros(ndof, BANDWIDTH)),
         }
     }
 
-    // Gravity on the lumped node masses.
-    let g = p.gravity;
-    for (k, x) in nodes.iter().enumerate() {
-        let m = rod.node_mass(k);
-        if m == 0.0 {
-            continue;
-        }
-        en.gravity -= m * g.dot(x);
-        if order != Order::Energy {
-            for c in 0..3 {
-                grad[x_dof(k, c)] -= m * g[c];
-            }
-        }
-    }
-
-    // Contact.
-    let mut contact_forces = vec![Vector3::zeros(); world.obstacles().len()];
-    let radius = p.radius;
-    let stiffness = world.contact_stiffness();
-    let count = world.samples_per_edge();
-    for (o, obstacle) in world.obstacles().iter().enumerate() {
+    /// Adds the stretching energy of every edge, a function of its vector `e_j = x_{j+1} − x_j`.
+    #[inline]
+    fn add_stretch(&mut self, world: &World, state: &RodState) {
+        let rod = world.rod();
+        let n = rod.edges();
+        let h = rod.edge_length();
         for j in 0..n {
-            let (lo, hi) = if j == 0 {
-                (0.5, 1.0)
-            } else if j == n - 1 {
-                (0.0, 0.5)
-            } else {
-                (0.0, 1.0)
-            };
-            let (xa, xb) = (nodes[j], nodes[j + 1]);
-            // Cheap rejection: the edge's bounding sphere is clear of the obstacle.
-            let mid = Point3::from((xa + xb) * 0.5);
-            let reach = 0.5 * (xb - xa).norm() + radius;
-            if obstacle.distance_derivatives(&mid).0 > reach {
+            let e = edge(state, j);
+            if self.order == Order::Energy {
+                self.energies.stretch += stretch::energy(&e, h, rod.axial_stiffness());
                 continue;
             }
-            for (s, w) in contact::samples(lo, hi, count, h) {
-                let pt = Point3::from(xa * (1.0 - s) + xb * s);
-                let Some((v, gp, hp)) = contact::sample_penalty(
-                    obstacle,
-                    &pt,
-                    radius,
-                    stiffness,
-                    w,
-                    order == Order::Hessian,
-                ) else {
-                    continue;
-                };
-                en.contact += v;
-                if order == Order::Energy {
-                    continue;
-                }
-                contact_forces[o] -= gp;
-                for c in 0..3 {
-                    grad[x_dof(j, c)] += (1.0 - s) * gp[c];
-                    grad[x_dof(j + 1, c)] += s * gp[c];
-                }
-                if let Some(hm) = hess.as_mut() {
-                    add_pair_block(hm, j, j + 1, &hp, 1.0 - s, s);
+            let (v, g, hs) = stretch::energy_derivatives(&e, h, rod.axial_stiffness());
+            self.energies.stretch += v;
+            for c in 0..3 {
+                self.grad[x_dof(j, c)] -= g[c];
+                self.grad[x_dof(j + 1, c)] += g[c];
+            }
+            if let Some(hm) = self.hess.as_mut() {
+                add_pair_block(hm, j, j + 1, &hs, -1.0, 1.0);
+            }
+        }
+    }
+
+    /// Adds the bending and twisting energies at the interior vertices `1..N−1`, values only.
+    /// Each edge's directors are computed once and shared by its two vertices.
+    #[inline]
+    fn add_bend_twist_energy(&mut self, world: &World, state: &RodState) {
+        let n = world.rod().edges();
+        let (rt, rd) = (&state.ref_tangent, &state.ref_d1);
+        let dirs: Vec<bend_twist::Directors<f64>> = (0..n)
+            .map(|j| bend_twist::directors(&edge(state, j).into(), &rt[j], &rd[j]))
+            .collect();
+        for i in 1..n {
+            let dots = bend_twist::dots(&dirs[i - 1], &dirs[i]);
+            let st = vertex_stencil(world, state, i);
+            let (b, t) = bend_twist::energy(&dots, state.theta[i - 1], state.theta[i], &st);
+            self.energies.bend += b;
+            self.energies.twist += t;
+        }
+    }
+
+    /// As [`Self::add_bend_twist_energy`], with the gradient: each edge's directors are
+    /// differentiated in its own 3 variables, each vertex's energy in its 8 stencil variables
+    /// ([`stencil_map`]).
+    #[inline]
+    fn add_bend_twist_gradient(&mut self, world: &World, state: &RodState) {
+        let n = world.rod().edges();
+        let (rt, rd) = (&state.ref_tangent, &state.ref_d1);
+        let dirs: Vec<bend_twist::Directors<Dual1<3>>> = (0..n)
+            .map(|j| {
+                let e = edge(state, j);
+                let ed = [Dual1::var(e.x, 0), Dual1::var(e.y, 1), Dual1::var(e.z, 2)];
+                bend_twist::directors(&ed, &rt[j], &rd[j])
+            })
+            .collect();
+        for i in 1..n {
+            let dots = bend_twist::dots1(&dirs[i - 1], &dirs[i]);
+            let (b, t) = bend_twist::energy(
+                &dots,
+                Dual1::var(state.theta[i - 1], 6),
+                Dual1::var(state.theta[i], 7),
+                &vertex_stencil(world, state, i),
+            );
+            self.energies.bend += b.re();
+            self.energies.twist += t.re();
+            let total = b + t;
+            for (a, ma) in stencil_map(i).iter().enumerate() {
+                for &(ga, ca) in ma {
+                    self.grad[ga] += ca * total.g[a];
                 }
             }
         }
     }
 
-    Evaluation {
-        energies: en,
-        grad,
-        hess,
-        contact_forces,
+    /// As [`Self::add_bend_twist_gradient`], with the Hessian: the 8 × 8 stencil Hessian is
+    /// scattered to the global degrees of freedom through [`stencil_map`].
+    #[inline]
+    fn add_bend_twist_hessian(&mut self, world: &World, state: &RodState) {
+        let n = world.rod().edges();
+        let (rt, rd) = (&state.ref_tangent, &state.ref_d1);
+        let dirs: Vec<bend_twist::Directors<Dual2<3>>> = (0..n)
+            .map(|j| bend_twist::directors(&dual_edge(&edge(state, j), 0), &rt[j], &rd[j]))
+            .collect();
+        for i in 1..n {
+            let dots = bend_twist::dots2(&dirs[i - 1], &dirs[i]);
+            let (b, t) = bend_twist::energy(
+                &dots,
+                Dual2::var(state.theta[i - 1], 6),
+                Dual2::var(state.theta[i], 7),
+                &vertex_stencil(world, state, i),
+            );
+            self.energies.bend += b.re();
+            self.energies.twist += t.re();
+            let total = b + t;
+            let map = stencil_map(i);
+            for (a, ma) in map.iter().enumerate() {
+                for &(ga, ca) in ma {
+                    self.grad[ga] += ca * total.g[a];
+                }
+            }
+            if let Some(hm) = self.hess.as_mut() {
+                add_stencil_hessian(hm, &map, &total);
+            }
+        }
+    }
+
+    /// Adds the gravitational energy of the lumped node masses, `−m_k·g·x_k`.
+    #[inline]
+    fn add_gravity(&mut self, world: &World, state: &RodState) {
+        let rod = world.rod();
+        let g = rod.params().gravity;
+        for (k, x) in state.nodes.iter().enumerate() {
+            let m = rod.node_mass(k);
+            if m == 0.0 {
+                continue;
+            }
+            self.energies.gravity -= m * g.dot(x);
+            if self.order != Order::Energy {
+                for c in 0..3 {
+                    self.grad[x_dof(k, c)] -= m * g[c];
+                }
+            }
+        }
+    }
+
+    /// Adds the contact penalty of every obstacle on the wire's samples (the clamped half
+    /// edges excluded) and returns the force \[N\] each obstacle exerts on the wire, world
+    /// frame (zero for [`Order::Energy`]).
+    #[inline]
+    fn add_contact(&mut self, world: &World, state: &RodState) -> Vec<Vector3<f64>> {
+        let rod = world.rod();
+        let n = rod.edges();
+        let h = rod.edge_length();
+        let nodes = &state.nodes;
+        let mut contact_forces = vec![Vector3::zeros(); world.obstacles().len()];
+        let radius = rod.params().radius;
+        let stiffness = world.contact_stiffness();
+        let count = world.samples_per_edge();
+        for (o, obstacle) in world.obstacles().iter().enumerate() {
+            for j in 0..n {
+                let (lo, hi) = if j == 0 {
+                    (0.5, 1.0)
+                } else if j == n - 1 {
+                    (0.0, 0.5)
+                } else {
+                    (0.0, 1.0)
+                };
+                let (xa, xb) = (nodes[j], nodes[j + 1]);
+                // Cheap rejection: the edge's bounding sphere is clear of the obstacle.
+                let mid = Point3::from((xa + xb) * 0.5);
+                let reach = 0.5 * (xb - xa).norm() + radius;
+                if obstacle.distance_derivatives(&mid).0 > reach {
+                    continue;
+                }
+                for (s, w) in contact::samples(lo, hi, count, h) {
+                    let pt = Point3::from(xa * (1.0 - s) + xb * s);
+                    let Some((v, gp, hp)) = contact::sample_penalty(
+                        obstacle,
+                        &pt,
+                        radius,
+                        stiffness,
+                        w,
+                        self.order == Order::Hessian,
+                    ) else {
+                        continue;
+                    };
+                    self.energies.contact += v;
+                    if self.order == Order::Energy {
+                        continue;
+                    }
+                    contact_forces[o] -= gp;
+                    for c in 0..3 {
+                        self.grad[x_dof(j, c)] += (1.0 - s) * gp[c];
+                        self.grad[x_dof(j + 1, c)] += s * gp[c];
+                    }
+                    if let Some(hm) = self.hess.as_mut() {
+                        add_pair_block(hm, j, j + 1, &hp, 1.0 - s, s);
+                    }
+                }
+            }
+        }
+        contact_forces
+    }
+}
+
+/// Adds `Mᵀ·H·M` for the stencil map `M` of one vertex ([`stencil_map`]) and the 8 × 8 Hessian
+/// `H` of its energy in the stencil variables, lower triangle only.
+#[inline]
+fn add_stencil_hessian(hm: &mut BandedSym, map: &[[(usize, f64); 2]; 8], total: &Dual2<8>) {
+    for (a, ma) in map.iter().enumerate() {
+        for (b2, mb) in map.iter().enumerate() {
+            let v = total.hess(a, b2);
+            for &(ga, ca) in ma {
+                for &(gb, cb) in mb {
+                    if ga >= gb && ca != 0.0 && cb != 0.0 {
+                        hm.add_lower(ga, gb, ca * cb * v);
+                    }
+                }
+            }
+        }
     }
 }
 
