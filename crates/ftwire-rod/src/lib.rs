@@ -15,7 +15,6 @@ pub mod perturbation;
 pub mod rod;
 pub mod sampling;
 pub mod se3;
-mod shape;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 pub mod stability;

@@ -44,9 +44,9 @@ use crate::arith::{MulAdd, Separate, V2, V4};
 use crate::hermite::septic_hermite;
 use crate::integrator::{Integrator, Rhs, Workspace};
 use crate::kirchhoff::{FrameArray, FrameJet, determinant6, jet_of_strains};
+use crate::rod::rotation_from_columns;
 use crate::rod::{DEFAULT_NODES, JacobianSolution, Rod, Shape, Solution};
 use crate::se3::hat;
-use crate::shape::rotation_from_columns;
 use crate::stability::SignTracker;
 use crate::{Load, RodError, intersection::self_contact, validate_configuration};
 

@@ -6,8 +6,7 @@ use ftwire_control::{BiasObserver, CollisionDetector, ControlParams, Controller,
 use ftwire_estimate::KirchhoffModel;
 use ftwire_sim::BoxObstacle;
 
-use super::pairs::Pair;
-use super::trial::{Context, TrialRig, Truth};
+use super::trial::{Context, Pair, TrialRig, Truth};
 use super::{GAIN, SETTLE_SAMPLES};
 use crate::error::LabError;
 

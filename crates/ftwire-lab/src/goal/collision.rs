@@ -4,15 +4,54 @@
 
 use ftwire_control::{CollisionDetector, MoveCheck, NoiseModel, Outcome, Run, retreat};
 use ftwire_rod::to_normalised;
+use serde::Serialize;
 
 use super::MAX_ITERATIONS_NO_NOISE;
 use super::closed::{ClosedSetup, ClosedTrial};
-use super::pairs::{Pair, obstacle_for};
-use super::summary::Collision;
+use super::pairs::obstacle_for;
 use super::trial::Context;
+use super::trial::Pair;
 use crate::error::LabError;
 use crate::experiment::Progress;
 use crate::experiment::stats::median;
+
+/// Collision detection: false alarms on free motions, and the contact runs.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Collision {
+    /// Free motions on which the detector would have fired.
+    pub false_alarms: usize,
+    /// Of the false alarms, those raised on a step where the simulator's wire snapped to
+    /// another branch (a real disagreement with the model, though no contact).
+    pub false_alarms_at_snaps: usize,
+    /// Contact runs that touched the box after no earlier alarm (detected or missed).
+    pub trials: usize,
+    /// Median of `delays` \[steps\].
+    pub detection_delay_steps_median: f64,
+    /// Free motions checked for false alarms.
+    pub free_motions: usize,
+    /// Contacts detected on the obstacle motions.
+    pub detected: usize,
+    /// Contacts missed on the obstacle motions.
+    pub missed: usize,
+    /// Alarms before any contact on the obstacle motions.
+    pub early_alarms: usize,
+    /// Obstacle motions that never touched the box, or could not be run.
+    pub no_contact: usize,
+    /// Detected step minus the first step with a contact force, per detected contact.
+    pub delays: Vec<usize>,
+    /// The simulator's total contact force at each detection \[N\] (in the order of `delays`).
+    pub detection_force_n: Vec<f64>,
+    /// The detector's threshold on the residual (see `ftwire_control::CollisionDetector`).
+    pub threshold: f64,
+    /// The detector's floor \[normalised\].
+    pub floor: f64,
+    /// The detector's slope \[-\].
+    pub slope: f64,
+    /// The detector's window \[moves\].
+    pub window: usize,
+    /// Retreats that found a pose agreeing with the way out.
+    pub retreat_agreed: usize,
+}
 
 /// Free motions that calibrate the collision detector.
 pub(super) const DETECTOR_MOTIONS: usize = 5;

@@ -9,8 +9,7 @@ use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::to_normalised;
 use nalgebra::Vector6;
 
-use super::pairs::Pair;
-use super::trial::{Context, Truth};
+use super::trial::{Context, Pair, Truth};
 use super::{Variant, VariantTrials};
 use crate::error::{LabError, from_estimate};
 use crate::results::ResultsFolder;

@@ -86,13 +86,16 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use self::closed::{ClosedSetup, ClosedTrial};
+pub use self::collision::Collision;
 use self::collision::{DetectorSetup, calibrate_detector, contact_runs, count_false_alarm};
-use self::pairs::{Pair, draw_pairs};
+pub use self::pairs::PairDraws;
+use self::pairs::draw_pairs;
 pub use self::summary::{
-    BiasObservers, Collision, Epsilons, Failure, GoalSummary, Metrics, PairDraws, Results,
-    Tradeoff, TradeoffRow, Variants,
+    BiasObservers, Epsilons, Failure, GoalSummary, Metrics, Results, Tradeoff, TradeoffRow,
+    Variants,
 };
 use self::summary::{Outcomes, failure_cell, summarise};
+use self::trial::Pair;
 use self::trial::{Context, OpenTrial};
 use crate::csv_table::{Cell, CsvTable, text, value};
 use crate::error::LabError;

@@ -9,10 +9,24 @@ use ftwire_rod::{Rod, from_normalised};
 use ftwire_sim::BoxObstacle;
 use nalgebra::{Vector3, Vector6};
 use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
 
-use super::summary::PairDraws;
 use super::trial::Context;
+use super::trial::Pair;
 use crate::error::{LabError, from_rod, from_sim};
+
+/// How the pairs were drawn.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize)]
+pub struct PairDraws {
+    /// Draws in all.
+    pub drawn: usize,
+    /// Draws whose segment left `A_free`.
+    pub not_connected: usize,
+    /// Draws whose start or goal is unstable under the steering model.
+    pub unstable_for_model: usize,
+    /// Segments that come within the stability margin of the boundary.
+    pub near_boundary: usize,
+}
 
 /// Half-width of the normalised box the pairs are drawn from. In the sampler's default box
 /// most draws sit near the stability boundary, where the true wire and the model disagree
@@ -29,16 +43,6 @@ const MAX_DRAWS_PER_PAIR: usize = 200;
 const BOX_HALF: f64 = 0.01;
 /// Least distance \[m\] from the start shape to the box centre.
 const BOX_CLEARANCE: f64 = 0.04;
-
-/// One start–goal pair.
-pub(super) struct Pair {
-    pub(super) a_s: Vector6<f64>,
-    pub(super) a_g: Vector6<f64>,
-    /// The steering model's `Φ(a_g)` \[m\].
-    pub(super) goal_shape: Vec<Vector3<f64>>,
-    /// The steering model's `Φ(a_s)` \[m\].
-    pub(super) start_shape: Vec<Vector3<f64>>,
-}
 
 /// Draws `count` pairs (see the module docs), counting the draws in `draws`.
 pub(super) fn draw_pairs(

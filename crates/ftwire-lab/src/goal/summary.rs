@@ -5,7 +5,8 @@ use ftwire_control::{BiasObserverParams, NoiseModel};
 use serde::Serialize;
 
 use super::closed::{ClosedTrial, Stop};
-use super::collision::DetectorSetup;
+use super::collision::{Collision, DetectorSetup};
+use super::pairs::PairDraws;
 use super::trial::{Context, Truth};
 use super::{GAIN, Variant};
 use crate::csv_table::{Cell, text};
@@ -76,57 +77,6 @@ pub struct Tradeoff {
     pub no_noise: Vec<TradeoffRow>,
     /// One row per ε of the noise table.
     pub noise: Vec<TradeoffRow>,
-}
-
-/// Collision detection: false alarms on free motions, and the contact runs.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct Collision {
-    /// Free motions on which the detector would have fired.
-    pub false_alarms: usize,
-    /// Of the false alarms, those raised on a step where the simulator's wire snapped to
-    /// another branch (a real disagreement with the model, though no contact).
-    pub false_alarms_at_snaps: usize,
-    /// Contact runs that touched the box after no earlier alarm (detected or missed).
-    pub trials: usize,
-    /// Median of `delays` \[steps\].
-    pub detection_delay_steps_median: f64,
-    /// Free motions checked for false alarms.
-    pub free_motions: usize,
-    /// Contacts detected on the obstacle motions.
-    pub detected: usize,
-    /// Contacts missed on the obstacle motions.
-    pub missed: usize,
-    /// Alarms before any contact on the obstacle motions.
-    pub early_alarms: usize,
-    /// Obstacle motions that never touched the box, or could not be run.
-    pub no_contact: usize,
-    /// Detected step minus the first step with a contact force, per detected contact.
-    pub delays: Vec<usize>,
-    /// The simulator's total contact force at each detection \[N\] (in the order of `delays`).
-    pub detection_force_n: Vec<f64>,
-    /// The detector's threshold on the residual (see `ftwire_control::CollisionDetector`).
-    pub threshold: f64,
-    /// The detector's floor \[normalised\].
-    pub floor: f64,
-    /// The detector's slope \[-\].
-    pub slope: f64,
-    /// The detector's window \[moves\].
-    pub window: usize,
-    /// Retreats that found a pose agreeing with the way out.
-    pub retreat_agreed: usize,
-}
-
-/// How the pairs were drawn.
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize)]
-pub struct PairDraws {
-    /// Draws in all.
-    pub drawn: usize,
-    /// Draws whose segment left `A_free`.
-    pub not_connected: usize,
-    /// Draws whose start or goal is unstable under the steering model.
-    pub unstable_for_model: usize,
-    /// Segments that come within the stability margin of the boundary.
-    pub near_boundary: usize,
 }
 
 /// A trial left out of the means.

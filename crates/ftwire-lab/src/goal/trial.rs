@@ -12,7 +12,6 @@ use ftwire_rod::to_normalised;
 use ftwire_sim::{BoxObstacle, SimRig};
 use nalgebra::{Vector3, Vector6};
 
-use super::pairs::Pair;
 use crate::error::{LabError, from_estimate};
 use crate::experiment::calibration::rig_seed;
 use crate::experiment::rig::{
@@ -21,6 +20,16 @@ use crate::experiment::rig::{
 use crate::experiment::{Gravity, ModelKind};
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
+
+/// One start–goal pair.
+pub(super) struct Pair {
+    pub(super) a_s: Vector6<f64>,
+    pub(super) a_g: Vector6<f64>,
+    /// The steering model's `Φ(a_g)` \[m\].
+    pub(super) goal_shape: Vec<Vector3<f64>>,
+    /// The steering model's `Φ(a_s)` \[m\].
+    pub(super) start_shape: Vec<Vector3<f64>>,
+}
 
 /// Nodes of the model shapes.
 const SHAPE_NODES: usize = 64;

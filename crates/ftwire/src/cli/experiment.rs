@@ -8,6 +8,7 @@ use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire_control::TrackingPolicy;
 use ftwire_lab::experiment::Gravity;
 
+pub use super::groups::NoiseModelArg;
 use super::groups::{CalibrationArgs, ClosedLoopArgs, SceneArgs};
 use serde::Serialize;
 
@@ -214,33 +215,6 @@ pub struct ShapeExperimentArgs {
     pub rest_samples: usize,
 }
 
-/// The execution noise of `ftwire experiment goal` (`--noise-model`; see
-/// `ftwire_control::NoisyRig`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum NoiseModelArg {
-    /// The paper's: N(0, 10 mm) and N(0, 3°) on each control output δb; accumulates.
-    Increment,
-    /// Each commanded pose perturbed independently by 10 mm / 3°.
-    Absolute,
-    /// One 10 mm / 3° offset per run plus 0.1 mm / 0.05° repeatability per move.
-    Offset,
-    /// None: the grippers go where they are commanded.
-    None,
-}
-
-impl NoiseModelArg {
-    /// The library's model.
-    pub fn model(self) -> ftwire_control::NoiseModel {
-        match self {
-            Self::Increment => ftwire_control::NoiseModel::Increment,
-            Self::Absolute => ftwire_control::NoiseModel::Absolute,
-            Self::Offset => ftwire_control::NoiseModel::Offset,
-            Self::None => ftwire_control::NoiseModel::None,
-        }
-    }
-}
-
 /// `ftwire experiment goal`.
 #[derive(Debug, Clone, Args, Serialize)]
 pub struct GoalExperimentArgs {
@@ -255,23 +229,6 @@ pub struct GoalExperimentArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub closed_loop: ClosedLoopArgs,
-}
-
-/// A switch (`on|off`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum OnOff {
-    /// Switched on.
-    On,
-    /// Switched off.
-    Off,
-}
-
-impl OnOff {
-    /// Whether it is on.
-    pub fn on(self) -> bool {
-        self == Self::On
-    }
 }
 
 /// The options of the experiments that roll a plan out (`track`, `passage`).

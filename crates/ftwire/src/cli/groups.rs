@@ -3,11 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use ftwire_control::NoiseModel;
 use serde::Serialize;
-
-use super::experiment::{NoiseModelArg, OnOff};
 
 /// `--calibration FILE`: the learnt F/T calibration.
 #[derive(Debug, Clone, Default, Args, Serialize)]
@@ -111,5 +109,49 @@ impl ClosedLoopArgs {
     /// `--noise-model`, `increment` (the paper's) by default.
     pub fn noise_model(&self) -> NoiseModelArg {
         self.noise.or(NoiseModelArg::Increment)
+    }
+}
+
+/// The execution noise of `ftwire experiment goal` (`--noise-model`; see
+/// `ftwire_control::NoisyRig`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NoiseModelArg {
+    /// The paper's: N(0, 10 mm) and N(0, 3°) on each control output δb; accumulates.
+    Increment,
+    /// Each commanded pose perturbed independently by 10 mm / 3°.
+    Absolute,
+    /// One 10 mm / 3° offset per run plus 0.1 mm / 0.05° repeatability per move.
+    Offset,
+    /// None: the grippers go where they are commanded.
+    None,
+}
+
+impl NoiseModelArg {
+    /// The library's model.
+    pub fn model(self) -> ftwire_control::NoiseModel {
+        match self {
+            Self::Increment => ftwire_control::NoiseModel::Increment,
+            Self::Absolute => ftwire_control::NoiseModel::Absolute,
+            Self::Offset => ftwire_control::NoiseModel::Offset,
+            Self::None => ftwire_control::NoiseModel::None,
+        }
+    }
+}
+
+/// A switch (`on|off`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OnOff {
+    /// Switched on.
+    On,
+    /// Switched off.
+    Off,
+}
+
+impl OnOff {
+    /// Whether it is on.
+    pub fn on(self) -> bool {
+        self == Self::On
     }
 }

@@ -20,11 +20,14 @@ use crate::kirchhoff::{
     FrameArray, FrameJet, FrameState, FullArray, FullRhs, Kirchhoff, ShapeArray, ShapeRhs,
     frame_of, jacobian_determinant, jacobian_of, shape_initial,
 };
-use crate::shape::orthonormalise;
+mod shape;
+
 use crate::stability::{SignTracker, Stability};
 use crate::{Load, RodError, validate_configuration};
+use shape::orthonormalise;
 
-pub use crate::shape::Shape;
+pub use shape::Shape;
+pub(crate) use shape::rotation_from_columns;
 
 /// Default number of shape nodes (both ends included).
 pub const DEFAULT_NODES: usize = 64;
@@ -527,10 +530,10 @@ fn pose_of(q: &FrameState) -> Pose {
 
 #[cfg(test)]
 mod tests {
+    use super::shape::interpolate_rows;
     use super::*;
     use crate::arith::Fused;
     use crate::sampling::Sampler;
-    use crate::shape::interpolate_rows;
     use nalgebra::Matrix3;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;

@@ -6,7 +6,7 @@
 use ftwire_core::Pose;
 use nalgebra::{Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-use crate::Rod;
+use super::Rod;
 use crate::arith::{MulAdd, Separate};
 use crate::hermite::septic_hermite;
 use crate::kirchhoff::FrameJet;
