@@ -2,36 +2,14 @@
 //! folder, writes its files there and returns a summary with every key and finite values.
 //! (The full summaries are compared with their recordings by the `ftwire` binary's tests.)
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use ftwire_lab::experiment::{CommonParams, Gravity};
-use ftwire_lab::results::{OutGuard, ResultsFolder};
+use ftwire_lab::results::ResultsFolder;
 
-/// A unique empty folder under the system's temporary folder, removed on drop.
-struct TempDir(PathBuf);
+mod common;
 
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        let path =
-            std::env::temp_dir().join(format!("ftwire-lab-{tag}-{}-{nanos}", std::process::id()));
-        std::fs::create_dir_all(&path).expect("a temporary folder");
-        Self(path)
-    }
-
-    /// A results folder `name` inside.
-    fn results(&self, name: &str) -> ResultsFolder {
-        ResultsFolder::create(&self.0.join(name), &OutGuard::default()).expect("a results folder")
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use common::TempDir;
 
 /// The settings every test starts from: one wire, gravity off, a fixed seed.
 fn common(wire: &str, trials: usize) -> CommonParams {

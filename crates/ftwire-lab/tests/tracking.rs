@@ -8,53 +8,14 @@ use std::path::{Path, PathBuf};
 use ftwire_control::{NoiseModel, TrackingPolicy};
 use ftwire_lab::experiment::{CommonParams, Gravity};
 use ftwire_lab::passage::{self, PassageParams};
-use ftwire_lab::results::{OutGuard, ResultsFolder};
+use ftwire_lab::results::ResultsFolder;
 use ftwire_lab::track::{self, TrackParams};
 use ftwire_lab::tracking::RolloutParams;
 use serde::Serialize;
 
-/// A unique empty folder under the system's temporary folder, removed on drop.
-struct TempDir(PathBuf);
+mod common;
 
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        let path =
-            std::env::temp_dir().join(format!("ftwire-lab-{tag}-{}-{nanos}", std::process::id()));
-        std::fs::create_dir_all(&path).expect("a temporary folder");
-        Self(path)
-    }
-
-    /// A results folder `name` inside.
-    fn results(&self, name: &str) -> ResultsFolder {
-        ResultsFolder::create(&self.0.join(name), &OutGuard::default()).expect("a results folder")
-    }
-
-    /// The small calibration the binary's tests use (`experiment calibrate --trials 40
-    /// --gravity off`): its results folder (its files live as long as it does) and its
-    /// weights' file.
-    fn calibration(&self) -> (ResultsFolder, PathBuf) {
-        let folder = self.results("calibrate");
-        let settings = ftwire_lab::calibrate::CalibrateParams {
-            common: CommonParams {
-                trials: Some(40),
-                gravity: Gravity::Off,
-                ..CommonParams::default()
-            },
-        };
-        ftwire_lab::calibrate::run(&settings, &folder, &mut |_| {}).expect("calibrates");
-        let weights = folder.dir().join("calibration.json");
-        (folder, weights)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use common::TempDir;
 
 /// The roll-out settings of `--noise-model offset --calibration FILE`, the rest by default.
 fn offset(calibration: PathBuf) -> RolloutParams {
