@@ -545,3 +545,25 @@ fn the_configuration_round_trips_through_toml() {
     }
     assert!(toml::from_str::<FtSensorParams>("noise = 1.0").is_err());
 }
+
+#[test]
+fn a_deterministic_drift_adds_its_rate_times_time() {
+    let mut config = FtSensorParams::ideal();
+    config.initial_bias = [1.0, 0.0, 0.0, -0.25, 0.0, 0.0];
+    config.bias_drift_rate = [0.0, 2e-3, 0.0, -1e-4, 0.0, 0.0];
+    let mut s = sensor(config, 9);
+    let zero = wrench([0.0; 3], [0.0; 3]);
+    for t in [0.0, 10.0, 1400.0] {
+        let reading = read(&mut s, &zero, t);
+        let expected = [1.0, 2e-3 * t, 0.0, -0.25 - 1e-4 * t, 0.0, 0.0];
+        for (i, e) in expected.iter().enumerate() {
+            assert_abs_diff_eq!(reading.raw[i], e, epsilon = 1e-9);
+            assert_abs_diff_eq!(s.bias()[i], e, epsilon = 1e-9);
+        }
+    }
+    let bad = FtSensorParams {
+        bias_drift_rate: [0.0, f64::NAN, 0.0, 0.0, 0.0, 0.0],
+        ..FtSensorParams::default()
+    };
+    assert!(FtSensor::new(bad, 0).is_err());
+}

@@ -112,6 +112,10 @@ pub struct FtSensorParams {
     /// with stationary standard deviation `q_i √(T/2)`; `f64::INFINITY` (TOML `inf`) gives a
     /// pure random walk (default `600`).
     pub bias_time_constant: f64,
+    /// Deterministic bias drift `ḃ_i` per channel \[N/s, N·m/s\]: the bias at time `t` is the
+    /// Gauss–Markov process above plus `ḃ t`, a slow creep such as a real sensor's warm-up or a
+    /// temperature change that the random walk does not model (default all `0`).
+    pub bias_drift_rate: [f64; 6],
     /// White-noise standard deviation `σ_i` per channel \[N, N·m\]
     /// (default `[0.05, 0.05, 0.05, 0.002, 0.002, 0.002]`).
     pub noise_std: [f64; 6],
@@ -145,6 +149,7 @@ impl Default for FtSensorParams {
             initial_bias: [0.35, -0.22, 0.61, 0.012, -0.008, 0.005],
             bias_random_walk: [0.002, 0.002, 0.002, 8e-5, 8e-5, 8e-5],
             bias_time_constant: 600.0,
+            bias_drift_rate: [0.0; 6],
             noise_std: [0.05, 0.05, 0.05, 0.002, 0.002, 0.002],
             rate: 1000.0,
             clock_offset: 0.0,
@@ -186,6 +191,7 @@ impl FtSensorParams {
             saturation: false,
             initial_bias: [0.0; 6],
             bias_random_walk: [0.0; 6],
+            bias_drift_rate: [0.0; 6],
             noise_std: [0.0; 6],
             dropout_probability: 0.0,
             ..Self::default()
@@ -225,6 +231,7 @@ impl FtSensorParams {
         all_in_range("full_scale", &self.full_scale, f64::MIN_POSITIVE, f64::MAX)?;
         ensure_finite("initial_bias", &self.initial_bias)?;
         all_in_range("bias_random_walk", &self.bias_random_walk, 0.0, f64::MAX)?;
+        ensure_finite("bias_drift_rate", &self.bias_drift_rate)?;
         let t = self.bias_time_constant;
         if !(t == f64::INFINITY || (t > 0.0 && t <= MAX_BIAS_TIME_CONSTANT)) {
             return Err(SensingError::TimeConstant {
@@ -343,7 +350,13 @@ impl FtSensor {
     /// The true bias \[N, N·m\], force first, at the last sample (or the initial bias before the
     /// first). Ground truth for tests and experiments; algorithms must not use it.
     pub fn bias(&self) -> Vector6<f64> {
-        self.bias
+        self.bias + self.drift(self.bias_time)
+    }
+
+    /// The deterministic part of the bias at `time` \[s\]: `ḃ t`
+    /// ([`FtSensorParams::bias_drift_rate`]).
+    fn drift(&self, time: f64) -> Vector6<f64> {
+        Vector6::from(self.config.bias_drift_rate) * time
     }
 
     /// The time of the sample that a read at `time` would return: the first clock tick at or
@@ -396,7 +409,8 @@ impl FtSensor {
             return Err(SensingError::Dropout { time: tick_time });
         }
 
-        let mut raw = self.deterministic_response(wrench) + self.bias + noise;
+        let mut raw =
+            self.deterministic_response(wrench) + self.bias + self.drift(tick_time) + noise;
         let mut saturated = [false; 6];
         if self.config.saturation {
             for ((value, flag), &full_scale) in raw
