@@ -26,6 +26,7 @@
 
 mod average;
 mod mounting;
+mod mounting_spec;
 mod pipeline;
 pub mod report;
 mod screen;
@@ -33,6 +34,7 @@ mod tare;
 
 pub use average::{Averaged, RestAverage};
 pub use mounting::Mounting;
+pub use mounting_spec::{MAX_TOOL_MASS, MountingSpec};
 pub use pipeline::{FtCalibration, FtPipeline, Measurement};
 pub use report::{ScreenReport, SkipReason};
 pub use screen::Screen;
