@@ -2,7 +2,9 @@
 //! bit-identical weights, early stopping keeps the best weights, progress is reported.
 
 use ftwire_estimate::EstimateError;
-use ftwire_estimate::calibration::{Calibration, Dataset, SplitFractions, StopReason, TrainParams};
+use ftwire_estimate::calibration::{
+    Calibration, Dataset, SplitFractions, SplitOrder, StopReason, TrainParams,
+};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -93,6 +95,7 @@ fn too_few_samples_name_the_split() {
         split: SplitFractions {
             train: 0.95,
             validation: 0.04,
+            ..SplitFractions::default()
         },
         ..small()
     };
@@ -143,6 +146,7 @@ fn bad_settings_are_rejected() {
             split: SplitFractions {
                 train: 0.8,
                 validation: 0.3,
+                ..SplitFractions::default()
             },
             ..small()
         },
@@ -150,6 +154,7 @@ fn bad_settings_are_rejected() {
             split: SplitFractions {
                 train: -0.1,
                 validation: 0.3,
+                ..SplitFractions::default()
             },
             ..small()
         },
@@ -237,4 +242,24 @@ fn learns_a_nonlinear_sensor() {
         test_loss < 0.3 * record.initial_validation_loss,
         "test loss {test_loss}"
     );
+}
+
+#[test]
+fn a_time_split_keeps_the_order_of_the_samples() -> Result<(), EstimateError> {
+    let d = data(40, 4);
+    let fractions = SplitFractions {
+        order: SplitOrder::Time,
+        ..SplitFractions::default()
+    };
+    let split = d.split(&fractions, &mut ChaCha8Rng::seed_from_u64(1))?;
+    assert_eq!(split.train, (0..28).collect::<Vec<_>>());
+    assert_eq!(split.validation, (28..34).collect::<Vec<_>>());
+    assert_eq!(split.test, (34..40).collect::<Vec<_>>());
+    // The random split of the same data is not in order.
+    let random = d.split(
+        &SplitFractions::default(),
+        &mut ChaCha8Rng::seed_from_u64(1),
+    )?;
+    assert_ne!(random.train, split.train);
+    Ok(())
 }

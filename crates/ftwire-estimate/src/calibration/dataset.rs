@@ -92,7 +92,9 @@ impl Dataset {
             .filter_map(|&i| Some((self.raw.get(i)?, self.labels.get(i)?)))
     }
 
-    /// A random partition of the sample indices by `fractions`, drawn from `rng`.
+    /// A partition of the sample indices by `fractions`: drawn at random from `rng`, or, with
+    /// [`SplitOrder::Time`], in the samples' order (their time order on a recording): the
+    /// first `⌊n · train⌋` samples train, the next `⌊n · validation⌋` validate, the rest test.
     ///
     /// The training split gets `⌊n · train⌋` samples, the validation split `⌊n · validation⌋`,
     /// the test split the rest (possibly none).
@@ -130,7 +132,9 @@ impl Dataset {
             }
         }
         let mut indices: Vec<usize> = (0..n).collect();
-        indices.shuffle(rng);
+        if fractions.order == SplitOrder::Random {
+            indices.shuffle(rng);
+        }
         let test = indices.split_off(train + validation);
         let validation = indices.split_off(train);
         Ok(Split {
@@ -150,6 +154,10 @@ pub struct SplitFractions {
     /// Fraction for validation (early stopping), in `(0, 1]`, with `train + validation ≤ 1`
     /// (default `0.15`).
     pub validation: f64,
+    /// How samples are assigned to the splits (default [`SplitOrder::Random`]; weight files
+    /// without this setting read as random, and a random order is not written).
+    #[serde(default, skip_serializing_if = "SplitOrder::is_random")]
+    pub order: SplitOrder,
 }
 
 impl Default for SplitFractions {
@@ -157,7 +165,29 @@ impl Default for SplitFractions {
         Self {
             train: 0.7,
             validation: 0.15,
+            order: SplitOrder::Random,
         }
+    }
+}
+
+/// How a data set is split into training, validation and test samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SplitOrder {
+    /// A seeded random partition: right for independent samples, such as the simulator's
+    /// re-placed wire with a fresh sensor each time.
+    #[default]
+    Random,
+    /// Blocks of time, in the samples' order: training first, then validation, then test.
+    /// Right for a recording, whose sensor drifts: a random split puts neighbours in time on
+    /// both sides and hides the drift; this one tests the map as it will be used, later.
+    Time,
+}
+
+impl SplitOrder {
+    /// Whether this is [`SplitOrder::Random`].
+    pub fn is_random(&self) -> bool {
+        *self == Self::Random
     }
 }
 

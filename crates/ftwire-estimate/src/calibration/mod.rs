@@ -46,7 +46,7 @@ mod normalise;
 mod train;
 
 pub use affine::Affine;
-pub use dataset::{Dataset, MIN_TRAINING_SAMPLES, Split, SplitFractions};
+pub use dataset::{Dataset, MIN_TRAINING_SAMPLES, Split, SplitFractions, SplitOrder};
 pub use map::Calibration;
 pub use mlp::{Activation, MAX_HIDDEN_LAYERS, MAX_WIDTH, Mlp, parameter_count};
 pub use normalise::Normaliser;
