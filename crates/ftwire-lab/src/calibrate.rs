@@ -15,6 +15,7 @@ use crate::csv_table::{CsvTable, text, value};
 use crate::error::{LabError, from_estimate};
 use crate::experiment::calibration::{
     self, CalibrationRun, CalibrationSummary, CalibrationTimings, DEFAULT_SAMPLES, KNOWN_WIRE,
+    RecordedRest,
 };
 use crate::experiment::{CommonParams, Progress};
 use crate::results::ResultsFolder;
@@ -30,6 +31,10 @@ const PROGRESS_EVERY: usize = 50;
 pub struct CalibrateParams {
     /// The settings every experiment takes.
     pub common: CommonParams,
+    /// Also write the session as a rig records it: `logs/recording.jsonl` (the log format of
+    /// `ftwire_estimate::log`: `time`, the raw reading not tared, the markers; no `b`) and
+    /// `logs/truth.jsonl` (the simulator's centreline of each of its lines).
+    pub save_log: bool,
 }
 
 impl CalibrateParams {
@@ -106,10 +111,63 @@ pub fn run(
         .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
     folder.write("calibration.json", json)?;
     folder.write("samples.csv", samples_csv(&result)?)?;
+    if settings.save_log {
+        let (log, truth) = recording_lines(&result.recording)?;
+        folder.write("logs/recording.jsonl", log)?;
+        folder.write("logs/truth.jsonl", truth)?;
+    }
     Ok(CalibrateRun {
         summary: result.summary,
         timings: result.timings,
     })
+}
+
+/// One line of `logs/recording.jsonl`, in the log format of `ftwire_estimate::log`.
+#[derive(Serialize)]
+struct RecordLine<'a> {
+    time: f64,
+    raw: [f64; 6],
+    markers: &'a [Option<[f64; 3]>],
+}
+
+/// One line of `logs/truth.jsonl`: the recording's line (1-based) and the true centreline
+/// \[m\], base clamp frame.
+#[derive(Serialize)]
+struct TruthLine {
+    line: usize,
+    points: Vec<[f64; 3]>,
+}
+
+/// The recording and its truth as JSON Lines.
+fn recording_lines(recording: &[RecordedRest]) -> Result<(Vec<u8>, Vec<u8>), LabError> {
+    let json =
+        |e: serde_json::Error| LabError::bad_input(format!("cannot serialise the recording: {e}"));
+    let (mut log, mut truth) = (Vec::new(), Vec::new());
+    for (i, rest) in recording.iter().enumerate() {
+        let markers: Vec<Option<[f64; 3]>> = rest
+            .markers
+            .iter()
+            .map(|m| m.map(|p| [p.x, p.y, p.z]))
+            .collect();
+        let line = RecordLine {
+            time: rest.time,
+            raw: rest.raw.into(),
+            markers: &markers,
+        };
+        serde_json::to_writer(&mut log, &line).map_err(json)?;
+        log.push(b'\n');
+        let points = rest.truth.iter().map(|p| [p.x, p.y, p.z]).collect();
+        serde_json::to_writer(
+            &mut truth,
+            &TruthLine {
+                line: i + 1,
+                points,
+            },
+        )
+        .map_err(json)?;
+        truth.push(b'\n');
+    }
+    Ok((log, truth))
 }
 
 /// `samples.csv`: one row per used configuration, its split, the label's marker residual,

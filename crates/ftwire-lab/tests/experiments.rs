@@ -53,6 +53,7 @@ fn calibrate_writes_the_weights_and_reports_both_maps() {
     let folder = dir.results("calibrate");
     let settings = ftwire_lab::calibrate::CalibrateParams {
         common: common("nitinol-3mm-820", 40),
+        save_log: false,
     };
     let mut lines = Vec::new();
     let run = ftwire_lab::calibrate::run(&settings, &folder, &mut |l| lines.push(l.to_owned()))
@@ -86,6 +87,7 @@ fn shape_from_a_calibration_file_reports_every_metric_and_writes_its_files() {
     let calibrated = dir.results("calibrate");
     let settings = ftwire_lab::calibrate::CalibrateParams {
         common: common("nitinol-3mm-820", 40),
+        save_log: false,
     };
     ftwire_lab::calibrate::run(&settings, &calibrated, &mut |_| {}).expect("calibrates");
     let weights = calibrated.dir().join("calibration.json");
@@ -280,6 +282,7 @@ fn goal_steers_one_pair_closed_and_open_loop_and_writes_its_files() {
     let calibrated = dir.results("calibrate");
     let settings = ftwire_lab::calibrate::CalibrateParams {
         common: common("nitinol-3mm-820", 40),
+        save_log: false,
     };
     ftwire_lab::calibrate::run(&settings, &calibrated, &mut |_| {}).expect("calibrates");
     let folder = dir.results("goal");

@@ -454,8 +454,10 @@ impl ResultsArgs {
 pub struct SimSetupArgs {
     /// The simulated F/T sensor: `distorted` (the default sensor: gain, cross-talk and
     /// nonlinearity of about 1 %, noise, bias, drift and dropouts), `undistorted` (the same
-    /// without gain, cross-talk and nonlinearity: what a perfect calibration gives), or a
-    /// sensor file (TOML; `ftwire init` writes an example) [default: distorted].
+    /// without gain, cross-talk and nonlinearity: what a perfect calibration gives),
+    /// `real-like` (as a real recording shows a sensor: the clamp 0.11 m out, offsets of
+    /// 1–2 N and 0.1–0.4 N·m no tare removes, a creeping torque offset, a weak torsion
+    /// channel), or a sensor file (TOML; `ftwire init` writes an example) [default: distorted].
     #[arg(long, value_name = "PRESET|FILE.toml")]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensor: Option<String>,

@@ -177,6 +177,8 @@ pub struct CalibrationRun {
     pub calibration: Calibration,
     /// Every used configuration, in collection order.
     pub samples: Vec<CalibrationSample>,
+    /// Every rest measured, labelled or not, as a rig logs it ([`RecordedRest`]).
+    pub recording: Vec<RecordedRest>,
     /// The train/validation/test split (indices into `samples`), as training drew it.
     pub split: Split,
     /// The summary.
@@ -185,13 +187,47 @@ pub struct CalibrationRun {
     pub timings: CalibrationTimings,
 }
 
+/// Seconds between two rests of a recorded session (placing the wire, settling, averaging):
+/// the session clock of [`RecordedRest::time`] and of the sensor's deterministic drift.
+pub const REST_INTERVAL: f64 = 3.0;
+
+/// One rest as a rig records it: the time on the session clock, the raw reading averaged at
+/// rest (not tared: a real log carries the sensor's offsets), and the marker frame; with the
+/// simulator's true centreline beside it for tests (a rig has none).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedRest {
+    /// Time \[s\] on the session clock: `k` [`REST_INTERVAL`]s plus the rig's time at the rest.
+    pub time: f64,
+    /// The raw reading averaged at rest, force first, sensor frame \[N, N·m\], not tared.
+    pub raw: Vector6<f64>,
+    /// The markers, base clamp frame \[m\] (`None` for a dropout).
+    pub markers: Vec<Option<Vector3<f64>>>,
+    /// Ground truth: the simulator's centreline \[m\], base clamp frame.
+    pub truth: Vec<Vector3<f64>>,
+}
+
+/// The rig settings of configuration `k` of a session: the sensor's deterministic drift
+/// (`bias_drift_rate`) carried over the session as an initial bias of `ḃ t_k`, `t_k = k`
+/// [`REST_INTERVAL`], since every configuration is placed in a rig of its own.
+fn session_config(mut config: ftwire_sim::RigParams, k: usize) -> ftwire_sim::RigParams {
+    #[allow(clippy::cast_precision_loss)] // k far below 2⁵²
+    let t = k as f64 * REST_INTERVAL;
+    let sensor = &mut config.sensor;
+    for (bias, rate) in sensor.initial_bias.iter_mut().zip(sensor.bias_drift_rate) {
+        *bias += rate * t;
+    }
+    sensor.bias_drift_rate = [0.0; 6];
+    config
+}
+
 /// The seed of the simulated rig of configuration `k` of a run seeded `seed`.
 pub fn rig_seed(seed: u64, k: usize) -> u64 {
     seed.wrapping_mul(1_000_003).wrapping_add(k as u64)
 }
 
 /// Collects `count` configurations on `wire` in the rig `setup` (see the module docs);
-/// `progress(k)` is called after each.
+/// `progress(k)` is called after each. Returns the labelled samples, the skips, and the
+/// recording of every rest measured (labelled or not), as a rig would log it.
 ///
 /// # Errors
 /// Bad input for a bad wire; no answer when `A_free` cannot be sampled.
@@ -202,7 +238,7 @@ pub fn collect(
     count: usize,
     seed: u64,
     mut progress: impl FnMut(usize),
-) -> Result<(Vec<CalibrationSample>, Skipped), LabError> {
+) -> Result<(Vec<CalibrationSample>, Skipped, Vec<RecordedRest>), LabError> {
     let model = known_model(wire, gravity, kind)?;
     // The configurations are placed as the weight-free model gives them, whatever the labels'
     // model, so that both models label the same collection.
@@ -212,12 +248,13 @@ pub fn collect(
     let sampler = Sampler::default();
     let mut samples = Vec::with_capacity(count);
     let mut skipped = Skipped::default();
+    let mut recording = Vec::with_capacity(count);
     for k in 0..count {
         let placed = sampler
             .sample_free(&rod, &mut rng)
             .map_err(|e| from_rod(e, "sampling A_free of the known wire"))?;
         progress(k);
-        let config = setup.rig_config(rig_seed(seed, k));
+        let config = session_config(setup.rig_config(rig_seed(seed, k)), k);
         let Ok(mut rig) = place_wire(wire, gravity, &placed, config.clone()) else {
             skipped.placement += 1;
             continue;
@@ -230,6 +267,17 @@ pub fn collect(
         let frame = rig
             .observe_markers()
             .map_err(|e| crate::error::from_sim(e, "observing the markers"))?;
+        #[allow(clippy::cast_precision_loss)] // k far below 2⁵²
+        recording.push(RecordedRest {
+            time: k as f64 * REST_INTERVAL + measured.raw.time,
+            raw: measured.raw.mean,
+            markers: frame
+                .positions
+                .iter()
+                .map(|p| p.map(|p| p.coords))
+                .collect(),
+            truth: true_centreline(&rig),
+        });
         let fit = Markers::new(&config.markers.fractions, &frame.positions)
             .and_then(|markers| fitter.fit(&markers, &mut rng));
         let Ok(fit) = fit else {
@@ -251,7 +299,7 @@ pub fn collect(
             label_rms: fit.rms,
         });
     }
-    Ok((samples, skipped))
+    Ok((samples, skipped, recording))
 }
 
 /// The mean distance \[m\] between `Φ(a)` of `model` and a true centreline (100 matched arc
@@ -315,7 +363,8 @@ pub fn run(
     progress: impl FnMut(usize),
 ) -> Result<CalibrationRun, LabError> {
     let start = Instant::now();
-    let (samples, skipped) = collect(wire, (gravity, kind), setup, count, seed, progress)?;
+    let (samples, skipped, recording) =
+        collect(wire, (gravity, kind), setup, count, seed, progress)?;
     let collect_s = start.elapsed().as_secs_f64();
     let data = Dataset::new(
         samples.iter().map(|s| s.raw).collect(),
@@ -362,6 +411,7 @@ pub fn run(
     Ok(CalibrationRun {
         calibration,
         samples,
+        recording,
         split,
         summary,
         timings: CalibrationTimings { collect_s, train_s },

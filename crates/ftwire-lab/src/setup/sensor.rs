@@ -18,7 +18,14 @@ use ftwire_sim::{FtSensor, FtSensorParams};
 use super::{SetupError, parse_toml, read_toml, value_error};
 
 /// The names of the preset sensors, as `--sensor` takes them.
-pub const PRESETS: [&str; 2] = ["distorted", "undistorted"];
+pub const PRESETS: [&str; 3] = ["distorted", "undistorted", "real-like"];
+
+/// The deterministic torque drift of the `real-like` preset \[N·m/s\] on the sensor's τx:
+/// 0.14 N·m over a session of 600 rests of
+/// [`crate::experiment::calibration::REST_INTERVAL`] (the size of the drift `shared/DESIGN.md`
+/// records on a real recording).
+pub const REAL_LIKE_TORQUE_DRIFT: f64 =
+    -0.14 / (600.0 * crate::experiment::calibration::REST_INTERVAL);
 
 /// A simulated F/T sensor: its name (a preset's, or the file as given) and its settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,7 +49,12 @@ impl Default for SensorSpec {
 impl SensorSpec {
     /// A preset by name: `distorted`, the library's default sensor (gain and cross-talk of
     /// 1–1.5 %, a mild cubic nonlinearity, noise, bias, drift and dropouts); `undistorted`, the
-    /// same without gain, cross-talk and nonlinearity (what a perfect calibration gives).
+    /// same without gain, cross-talk and nonlinearity (what a perfect calibration gives);
+    /// `real-like`, a sensor as a real recording shows it (`shared/DESIGN.md`, "Real
+    /// recordings"): the clamp 0.11 m along the sensor's z, offsets of 1–2 N and 0.1–0.4 N·m
+    /// that no tare removes (a rig's log carries them), a torque offset creeping by
+    /// [`REAL_LIKE_TORQUE_DRIFT`], and a torsion channel (sensor τz, the wire's axis) that
+    /// reads a fifth of the torque about it.
     ///
     /// # Example
     /// ```
@@ -60,6 +72,7 @@ impl SensorSpec {
                 cubic_nonlinearity: [0.0; 6],
                 ..default
             },
+            "real-like" => real_like(default),
             _ => return None,
         };
         Some(Self {
@@ -68,7 +81,7 @@ impl SensorSpec {
         })
     }
 
-    /// Whether this is the `undistorted` preset.
+    /// Whether this is the `undistorted` preset (the only one without gain errors).
     pub fn is_undistorted(&self) -> bool {
         self.name == "undistorted"
     }
@@ -171,5 +184,21 @@ mod tests {
             SensorSpec::load("no-such-sensor"),
             Err(SetupError::Unknown { .. })
         ));
+    }
+}
+
+/// The `real-like` preset (see [`SensorSpec::preset`]).
+fn real_like(default: FtSensorParams) -> FtSensorParams {
+    let mut gain = default.gain;
+    // Sensor τz is the torque about the clamp's x, the wire's axis (default rotation).
+    gain[5][5] = 0.2;
+    let mut drift = [0.0; 6];
+    drift[3] = REAL_LIKE_TORQUE_DRIFT;
+    FtSensorParams {
+        clamp_position_in_sensor: [0.0, 0.0, 0.11],
+        gain,
+        initial_bias: [-1.8, 1.3, 1.8, -0.25, 0.12, 0.35],
+        bias_drift_rate: drift,
+        ..default
     }
 }

@@ -37,6 +37,7 @@ impl TempDir {
                 gravity: Gravity::Off,
                 ..CommonParams::default()
             },
+            save_log: false,
         };
         ftwire_lab::calibrate::run(&settings, &folder, &mut |_| {}).expect("calibrates");
         let weights = folder.dir().join("calibration.json");

@@ -189,6 +189,13 @@ pub struct CalibrateExperimentArgs {
     /// The options every experiment takes.
     #[command(flatten)]
     pub common: CommonExperimentArgs,
+    /// Also write the session as a rig records it, into the results folder:
+    /// `logs/recording.jsonl` (time, the raw reading not tared, the markers; no `b`), the input
+    /// of `ftwire calibrate --log` and `ftwire shape --log`, and `logs/truth.jsonl` (the
+    /// simulator's centreline of each line, for checking their shapes).
+    #[arg(long)]
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub save_log: bool,
 }
 
 /// `ftwire experiment shape`.

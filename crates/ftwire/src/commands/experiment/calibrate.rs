@@ -20,6 +20,7 @@ use crate::cli::experiment::CalibrateExperimentArgs;
 fn params(args: &CalibrateExperimentArgs) -> CalibrateParams {
     CalibrateParams {
         common: args.common.params(),
+        save_log: args.save_log,
     }
 }
 
