@@ -134,6 +134,22 @@ impl SensorSpec {
     }
 }
 
+/// The `real-like` preset (see [`SensorSpec::preset`]).
+fn real_like(default: FtSensorParams) -> FtSensorParams {
+    let mut gain = default.gain;
+    // Sensor τz is the torque about the clamp's x, the wire's axis (default rotation).
+    gain[5][5] = 0.2;
+    let mut drift = [0.0; 6];
+    drift[3] = REAL_LIKE_TORQUE_DRIFT;
+    FtSensorParams {
+        clamp_position_in_sensor: [0.0, 0.0, 0.11],
+        gain,
+        initial_bias: [-1.8, 1.3, 1.8, -0.25, 0.12, 0.35],
+        bias_drift_rate: drift,
+        ..default
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,21 +200,5 @@ mod tests {
             SensorSpec::load("no-such-sensor"),
             Err(SetupError::Unknown { .. })
         ));
-    }
-}
-
-/// The `real-like` preset (see [`SensorSpec::preset`]).
-fn real_like(default: FtSensorParams) -> FtSensorParams {
-    let mut gain = default.gain;
-    // Sensor τz is the torque about the clamp's x, the wire's axis (default rotation).
-    gain[5][5] = 0.2;
-    let mut drift = [0.0; 6];
-    drift[3] = REAL_LIKE_TORQUE_DRIFT;
-    FtSensorParams {
-        clamp_position_in_sensor: [0.0, 0.0, 0.11],
-        gain,
-        initial_bias: [-1.8, 1.3, 1.8, -0.25, 0.12, 0.35],
-        bias_drift_rate: drift,
-        ..default
     }
 }
