@@ -175,7 +175,7 @@ mod tests {
         };
         assert!(
             bad.validate()
-                .unwrap_err()
+                .expect_err("refused")
                 .to_string()
                 .contains("tool_mass")
         );
@@ -185,7 +185,7 @@ mod tests {
         };
         assert!(
             bad.validate()
-                .unwrap_err()
+                .expect_err("refused")
                 .to_string()
                 .contains("clamp_position_in_sensor")
         );
