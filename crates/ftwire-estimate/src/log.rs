@@ -12,8 +12,9 @@
 //! | `time` | s, the rig's clock, non-decreasing | yes |
 //! | `raw` | the F/T reading averaged over the rest period, **force first** `(f1, f2, f3, τ1, τ2, τ3)`, N and N·m, sensor frame | one of `raw` and `a` |
 //! | `a` | the configuration, already tared and calibrated, **torque first** `(τ1, τ2, τ3, f1, f2, f3)`, base clamp frame | one of `raw` and `a` |
-//! | `b` | the second gripper's clamp pose relative to the base clamp frame: `position` in m, `rotation` a rotation vector (axis × angle) in rad | yes |
+//! | `b` | the second gripper's clamp pose relative to the base clamp frame: `position` in m, `rotation` a rotation vector (axis × angle) in rad | for identification |
 //! | `markers` | motion-capture markers in the base clamp frame, m, in the order of the marker arc lengths; `null` for a missing marker | no |
+//! | `gravity` | the gravity vector in the sensor frame at this record, m/s² (it turns with the wrist); needed with `raw` when the mounting has a tool whose weight is taken out | no |
 //!
 //! Unknown keys are errors (a typo never passes silently). Blank lines and lines starting with
 //! `#` are skipped. A rotation vector's angle is at most `ftwire_core::MAX_ROTATION_ANGLE`. The
@@ -71,11 +72,17 @@ pub struct LogRecord {
     /// Calibrated configuration, torque first, base clamp frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub a: Option<[f64; 6]>,
-    /// The second gripper's pose relative to the base clamp frame.
-    pub b: LogPose,
+    /// The second gripper's pose relative to the base clamp frame (identification needs it;
+    /// shape estimation and calibration do not).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub b: Option<LogPose>,
     /// Marker positions in the base clamp frame; `None` for a missing marker.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub markers: Option<Vec<Option<[f64; 3]>>>,
+    /// The gravity vector in the sensor frame \[m/s²\] at this record (it turns with the
+    /// wrist), for taking a tool's weight out of `raw` (`crate::ft::MountingSpec`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<[f64; 3]>,
 }
 
 impl LogRecord {
@@ -131,8 +138,9 @@ impl LogRecord {
         let vectors = [
             ("raw", self.raw.as_ref().map(|v| v.as_slice())),
             ("a", self.a.as_ref().map(|v| v.as_slice())),
-            ("b.position", Some(self.b.position.as_slice())),
-            ("b.rotation", Some(self.b.rotation.as_slice())),
+            ("b.position", self.b.as_ref().map(|b| b.position.as_slice())),
+            ("b.rotation", self.b.as_ref().map(|b| b.rotation.as_slice())),
+            ("gravity", self.gravity.as_ref().map(|v| v.as_slice())),
         ];
         for (key, values) in vectors {
             if let Some(values) = values
@@ -141,12 +149,14 @@ impl LogRecord {
                 return Err(bad(format!("{key}[{i}]"), values[i], "a finite number"));
             }
         }
-        ensure_rotation_vector("b.rotation", &self.b.rotation).map_err(|e| {
-            EstimateError::BadLogLine {
-                line,
-                message: e.to_string(),
-            }
-        })?;
+        if let Some(b) = &self.b {
+            ensure_rotation_vector("b.rotation", &b.rotation).map_err(|e| {
+                EstimateError::BadLogLine {
+                    line,
+                    message: e.to_string(),
+                }
+            })?;
+        }
         for (k, marker) in self.markers.iter().flatten().enumerate() {
             if let Some(p) = marker
                 && let Some(i) = p.iter().position(|v| !v.is_finite())
@@ -259,20 +269,31 @@ mod tests {
             time: 1.25,
             raw: Some([0.41, -0.2, 0.63, 0.015, -0.006, 0.004]),
             a: None,
-            b: LogPose::from_pose(&Pose::from_parts(
+            b: Some(LogPose::from_pose(&Pose::from_parts(
                 Translation3::new(0.6, 0.05, -0.01),
                 UnitQuaternion::from_euler_angles(0.1, -0.2, 0.3),
-            )),
+            ))),
             markers: Some(vec![Some([0.0, 0.0, 0.0]), None, Some([0.3, 0.01, 0.0])]),
+            gravity: Some([0.0, -9.81, 0.0]),
         };
         let text = to_line(&record)?;
         let back = read_log(text.as_bytes())?;
         assert_eq!(back, vec![record.clone()]);
-        let pose = record.b.to_pose();
-        let again = LogPose::from_pose(&pose);
+        let Some(b) = record.b else {
+            panic!("the record has a pose");
+        };
+        let again = LogPose::from_pose(&b.to_pose());
         for i in 0..3 {
-            assert!((again.rotation[i] - record.b.rotation[i]).abs() < 1e-15);
+            assert!((again.rotation[i] - b.rotation[i]).abs() < 1e-15);
         }
+        Ok(())
+    }
+
+    #[test]
+    fn a_record_without_the_grippers_pose_is_read() -> Result<(), EstimateError> {
+        let text = r#"{"time": 0, "raw": [1, 2, 3, 0.1, 0.2, 0.3], "markers": [[0, 0, 0], null]}"#;
+        let log = read_log(text.as_bytes())?;
+        assert_eq!(log.first().map(|r| r.b), Some(None));
         Ok(())
     }
 
@@ -286,6 +307,10 @@ mod tests {
                 "invalid length",
             ),
             (line(r#", "a": [0, 0, 0.01, 0, 0, 1e999]"#), "1e999"),
+            (
+                line(r#", "raw": [0, 0, 0.01, 0, 0, 0], "gravity": [0, 1e999, 0]"#),
+                "gravity[1]",
+            ),
             ("{not json".to_string(), "key must be a string"),
         ];
         for (text, needle) in cases {

@@ -2,7 +2,7 @@
 //! files.
 
 use ftwire_estimate::EstimateError;
-use ftwire_estimate::calibration::{Activation, Calibration, Dataset, TrainParams};
+use ftwire_estimate::calibration::{Activation, Calibration, Dataset, Drift, TrainParams};
 use nalgebra::Vector6;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -191,4 +191,36 @@ fn malformed_files_are_rejected_with_the_reason() {
     value["affine"]["offset"][0] = 12345.5.into();
     let overflow = value.to_string().replace("12345.5", "1e999");
     assert!(Calibration::from_json(&overflow).is_err());
+}
+
+#[test]
+fn a_drift_term_round_trips_and_moves_the_map_with_time() {
+    let drift = Drift {
+        reference_time: 100.0,
+        rate: Vector6::new(1e-4, 0.0, -2e-4, 0.0, 3e-3, 0.0),
+    };
+    let calibration = trained(true).with_drift(drift).expect("finite");
+    let json = calibration.to_json().expect("serialises");
+    let loaded = Calibration::from_json(&json).expect("loads");
+    assert_eq!(loaded, calibration);
+    let raw = Vector6::new(0.3, -0.2, 0.1, 0.5, -0.7, 0.05);
+    assert_eq!(loaded.apply_at(&raw, 100.0), loaded.apply(&raw));
+    let later = loaded.apply_at(&raw, 110.0) - loaded.apply(&raw);
+    assert!((later - drift.rate * 10.0).norm() < 1e-15);
+    // A map without a drift term ignores the time, and its file has no `drift` key.
+    let plain = trained(true);
+    assert_eq!(plain.apply_at(&raw, 1e4), plain.apply(&raw));
+    assert!(!plain.to_json().expect("serialises").contains("\"drift\""));
+    let bad = load_edited(|v| {
+        v["drift"] = serde_json::json!({"reference_time": 0.0, "rate": [0, 0, 0, 0, 0, "x"]})
+    });
+    assert!(bad.is_err());
+    assert!(
+        trained(true)
+            .with_drift(Drift {
+                reference_time: f64::NAN,
+                ..drift
+            })
+            .is_err()
+    );
 }

@@ -325,7 +325,8 @@ fn run_config(
         time: rig.time(),
         raw: Some(raw.into()),
         a: None,
-        b: LogPose::from_pose(&believed_tip(&rig)?),
+        b: Some(LogPose::from_pose(&believed_tip(&rig)?)),
+        gravity: None,
         markers: Some(
             frame
                 .positions

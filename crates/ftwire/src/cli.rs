@@ -1,5 +1,6 @@
 //! Command-line types (clap). One submodule per subcommand.
 
+pub mod calibrate;
 pub mod demo;
 pub mod experiment;
 pub mod groups;
@@ -39,6 +40,9 @@ pub enum Command {
     Robot(robot::RobotArgs),
     /// Run an experiment of paper §IV in the simulator; writes a results folder.
     Experiment(experiment::ExperimentArgs),
+    /// Learn the F/T calibration from a rig's recording (raw readings and markers on a known
+    /// wire).
+    Calibrate(calibrate::CalibrateArgs),
     /// Identify a wire's stiffnesses and length from a recorded JSON Lines log.
     Identify(identify::IdentifyArgs),
     /// Estimate the wire's shape for every record of a rig log (JSON Lines), from F/T alone.

@@ -18,8 +18,10 @@
 //!   "layers": [                              // first hidden layer to output layer
 //!     { "weights": [outputs rows of inputs numbers], "bias": [outputs numbers] }, ...
 //!   ],
-//!   "training": { ... }                      // TrainingRecord: seed, config, split sizes,
-//! }                                          // epochs, losses, test RMSE, history
+//!   "training": { ... },                     // TrainingRecord: seed, config, split sizes,
+//!                                            // epochs, losses, test RMSE, history
+//!   "drift": { "reference_time": s, "rate": [6] }   // optional: the offset's drift in a's
+//! }                                                 // units per second (`Drift`)
 //! ```
 //!
 //! The map is `a = F(raw) − F(0)` when `training.config.anchored` (absent: `false`), else
@@ -61,6 +63,15 @@ struct CalibrationFile {
     affine: Option<AffineFile>,
     layers: Vec<LayerFile>,
     training: TrainingRecord,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    drift: Option<DriftFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DriftFile {
+    reference_time: f64,
+    rate: [f64; 6],
 }
 
 #[derive(Serialize, Deserialize)]
@@ -193,6 +204,10 @@ impl Calibration {
             }),
             layers,
             training: self.record().clone(),
+            drift: self.drift().map(|d| DriftFile {
+                reference_time: d.reference_time,
+                rate: d.rate.into(),
+            }),
         }
     }
 
@@ -257,7 +272,18 @@ impl Calibration {
                 })
             }
         };
-        Ok(Self::from_parts(input, output, affine, mlp, file.training))
+        let calibration = Self::from_parts(input, output, affine, mlp, file.training);
+        match &file.drift {
+            None => Ok(calibration),
+            Some(d) => {
+                check_finite("drift.rate", &d.rate)?;
+                check_finite("drift.reference_time", &[d.reference_time])?;
+                calibration.with_drift(super::Drift {
+                    reference_time: d.reference_time,
+                    rate: Vector6::from(d.rate),
+                })
+            }
+        }
     }
 }
 

@@ -23,7 +23,22 @@ pub struct Calibration {
     mlp: Mlp,
     /// `F(0)` when anchored (zero otherwise): subtracted from every output.
     anchor: Vector6<f64>,
+    /// The sensor's offset drift, learnt from a recording (`None`: no drift term).
+    drift: Option<Drift>,
     pub(crate) record: TrainingRecord,
+}
+
+/// A drift of the map's offset over time, learnt from a recording: a real sensor's offsets
+/// creep (warm-up, temperature), so that a map learnt early is off later by
+/// `rate · (t − reference_time)`, in `a`'s units. For a linear map this is exact for an
+/// offset drifting linearly in the sensor frame: `A (raw − o − ȯ t) = A raw − A o − (A ȯ) t`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drift {
+    /// The time the map is exact at \[s\] (on the recording's clock): [`Calibration::apply`]
+    /// gives `a` as of this time.
+    pub reference_time: f64,
+    /// The drift of `a` per second, torque first \[N·m/s, N/s\].
+    pub rate: Vector6<f64>,
 }
 
 impl Calibration {
@@ -41,6 +56,7 @@ impl Calibration {
             affine,
             mlp,
             anchor: Vector6::zeros(),
+            drift: None,
             record,
         };
         if calibration.record.config.anchored {
@@ -72,6 +88,48 @@ impl Calibration {
     /// (for example saturated ones) are extrapolated and not to be trusted.
     pub fn apply(&self, raw: &Vector6<f64>) -> Vector6<f64> {
         self.unanchored(raw) - self.anchor
+    }
+
+    /// [`Calibration::apply`] for a reading taken at `time` \[s\] on the recording's clock:
+    /// plus the drift term `rate · (time − reference_time)` when the map has one
+    /// ([`Calibration::drift`]), the same as `apply` otherwise.
+    pub fn apply_at(&self, raw: &Vector6<f64>, time: f64) -> Vector6<f64> {
+        let a = self.apply(raw);
+        match &self.drift {
+            Some(d) => a + d.rate * (time - d.reference_time),
+            None => a,
+        }
+    }
+
+    /// The drift term, if the map has one.
+    pub fn drift(&self) -> Option<&Drift> {
+        self.drift.as_ref()
+    }
+
+    /// The map with a drift term (trained on labels brought back to `drift.reference_time`).
+    ///
+    /// # Errors
+    /// [`crate::EstimateError::CalibrationValue`] for a non-finite time or rate.
+    pub fn with_drift(mut self, drift: Drift) -> Result<Self, crate::EstimateError> {
+        let values = std::iter::once(("drift.reference_time", 0, drift.reference_time)).chain(
+            drift
+                .rate
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| ("drift.rate", i, v)),
+        );
+        for (what, index, value) in values {
+            if !value.is_finite() {
+                return Err(crate::EstimateError::CalibrationValue {
+                    what: what.into(),
+                    index,
+                    value,
+                    allowed: "a finite number",
+                });
+            }
+        }
+        self.drift = Some(drift);
+        Ok(self)
     }
 
     /// Per-component RMS error `√(mean (apply(raw) − a)²)` over `(raw, a)` pairs, torque first

@@ -179,8 +179,9 @@ pub(super) fn log_text(samples: &[Recorded]) -> Result<String, LabError> {
             time: sample.time,
             raw: None,
             a: Some(sample.a.into()),
-            b: LogPose::from_pose(&sample.b),
+            b: Some(LogPose::from_pose(&sample.b)),
             markers: None,
+            gravity: None,
         };
         let line = to_line(&record).map_err(|e| LabError::no_answer(e.to_string()))?;
         text.push_str(&line);

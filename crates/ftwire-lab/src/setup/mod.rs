@@ -10,6 +10,7 @@
 //! With neither file, [`SimSetup::default`] is exactly the rig the experiments have always
 //! run against.
 
+pub mod mounting;
 pub mod rig;
 pub mod sensor;
 

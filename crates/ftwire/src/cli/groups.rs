@@ -27,6 +27,29 @@ impl CalibrationArgs {
     }
 }
 
+/// `--mounting FILE.toml`: a real sensor's mounting (and tool weight).
+#[derive(Debug, Clone, Default, Args, Serialize)]
+pub struct MountingArgs {
+    /// The sensor's mounting (TOML: `clamp_position_in_sensor` [m], `clamp_rotation_in_sensor`
+    /// [rad], optionally `tool_mass` [kg] and `tool_centre_of_mass` [m] for the tool's weight,
+    /// taken out with each record's `gravity`; `ftwire init` writes an example,
+    /// `docs/config.md` lists the keys) [default: the simulated sensor's mounting].
+    #[arg(long = "mounting", id = "mounting", value_name = "FILE.toml")]
+    #[serde(rename = "mounting", skip_serializing_if = "Option::is_none")]
+    pub file: Option<PathBuf>,
+}
+
+impl MountingArgs {
+    /// The mounting: the file's, or the default.
+    ///
+    /// # Errors
+    /// Bad input naming the file, the line and the key.
+    pub fn load(&self) -> Result<ftwire_estimate::ft::MountingSpec, ftwire_lab::LabError> {
+        ftwire_lab::setup::mounting::load(self.file.as_deref())
+            .map_err(|e| ftwire_lab::LabError::bad_input(format!("--mounting: {e}")))
+    }
+}
+
 /// `--scene FILE.toml`: a planning scene.
 #[derive(Debug, Clone, Default, Args, Serialize)]
 pub struct SceneArgs {

@@ -122,7 +122,16 @@ fn samples_of(
                     )));
                 }
             };
-            Ok((a, record.b.to_pose()))
+            let b = record.b.ok_or_else(|| {
+                LabError::bad_input(format!(
+                    "log {}: record {} (time {}) has no `b`: identification needs the second \
+                     gripper's pose on every record",
+                    path.display(),
+                    index + 1,
+                    record.time
+                ))
+            })?;
+            Ok((a, b.to_pose()))
         })
         .collect()
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand; each exposes `run(args) -> Result<(), LabError>` and `main` maps
 //! the error to the exit code.
 
+pub mod calibrate;
 pub mod demo;
 pub mod experiment;
 pub mod identify;
@@ -25,6 +26,7 @@ pub fn run(cli: Cli) -> Result<(), LabError> {
         Command::SimEquilibrium(args) => sim_equilibrium::run(args),
         Command::Robot(args) => robot::run(args),
         Command::Experiment(args) => experiment::run(args),
+        Command::Calibrate(args) => calibrate::run(args),
         Command::Identify(args) => identify::run(args),
         Command::Shape(args) => shape::run(args),
         Command::Plan(args) => plan::run(&args),

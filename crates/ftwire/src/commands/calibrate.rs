@@ -1,0 +1,76 @@
+//! `ftwire calibrate --log`: the F/T calibration learnt from a rig's recording
+//! ([`ftwire_lab::log_calibrate`]: labels by shape fitting the markers, a split by blocks of
+//! time, the affine map and a small network, the test block's marker errors). Writes
+//! `calibration.json`, `summary.json`, `labels.csv`, `test.csv`, the figures and the report.
+
+use ftwire_lab::error::LabError;
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::log_calibrate::{self, DEFAULT_MAX_LABEL_RMS, LogCalibrateParams};
+use ftwire_lab::results::OutGuard;
+use ftwire_lab::wire::WireSpec;
+
+use crate::cli::calibrate::CalibrateArgs;
+
+/// The lab's settings of `args`.
+fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
+    let mut train = log_calibrate::default_train_params();
+    train.hidden = args.hidden.iter().copied().filter(|&w| w > 0).collect();
+    train.max_epochs = args.epochs;
+    train.patience = args.patience;
+    let max_label_rms = if args.max_label_rms_mm > 0.0 {
+        1e-3 * args.max_label_rms_mm
+    } else {
+        return Err(LabError::bad_input(format!(
+            "--max-label-rms-mm {}: must be > 0 (default {} mm)",
+            args.max_label_rms_mm,
+            1e3 * DEFAULT_MAX_LABEL_RMS
+        )));
+    };
+    Ok(LogCalibrateParams {
+        log: args.log.clone(),
+        wire: WireSpec::load(&args.wire)
+            .map_err(|e| LabError::bad_input(format!("--wire: {e}")))?,
+        mounting: args.mounting.load()?,
+        gravity: args.gravity_in_clamp.map(|g| g.0),
+        marker_fractions: (!args.marker_fractions.is_empty())
+            .then(|| args.marker_fractions.clone()),
+        max_label_rms,
+        train,
+        drift: !args.no_drift,
+        seed: args.seed.seed,
+    })
+}
+
+/// Runs `calibrate --log`.
+pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
+    let params = params(&args)?;
+    params.check()?;
+    let guard = OutGuard::default()
+        .input("--log", &args.log)
+        .input_opt("--mounting", args.mounting.file.as_ref());
+    let folder = args.results.open("calibrate-log", guard)?;
+    let header = RunHeader::new("calibrate", Some(args.seed.seed), &args)?;
+    let run = log_calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let target = folder.finish_run(&header, &run.summary, &run.timings)?;
+    let s = &run.summary;
+    println!(
+        "labels: {} of {} records fitted ({} rejected), marker RMS {:.2} mm",
+        s.labels.fitted, s.labels.records, s.labels.rejected, s.labels.marker_rms_mm
+    );
+    println!(
+        "split by time: {} train, {} validation, {} test",
+        s.split.train, s.split.validation, s.split.test
+    );
+    println!(
+        "test block, mean inner-marker distance: {:.2} mm uncalibrated, {:.2} mm calibrated \
+         (labels {:.2} mm)",
+        s.test.raw_marker_mean_mm, s.test.calibrated_marker_mean_mm, s.test.label_marker_mean_mm
+    );
+    println!(
+        "labels {:.1} s, training {:.1} s; results in {}",
+        run.timings.label_s,
+        run.timings.train_s,
+        target.display()
+    );
+    Ok(())
+}
