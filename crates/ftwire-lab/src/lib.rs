@@ -9,6 +9,7 @@ pub mod goal;
 pub mod header;
 pub mod identify;
 pub mod initial_guess;
+pub mod log;
 pub mod paper;
 pub mod passage;
 pub mod provenance;
