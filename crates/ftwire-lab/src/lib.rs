@@ -18,6 +18,7 @@ pub mod results;
 pub mod scene;
 pub mod setup;
 pub mod shape;
+pub mod solve;
 pub mod track;
 pub mod tracking;
 pub mod wire;
