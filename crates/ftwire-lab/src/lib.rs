@@ -16,6 +16,7 @@ pub mod passage;
 pub mod provenance;
 pub mod report;
 pub mod results;
+pub mod robot;
 pub mod scene;
 pub mod setup;
 pub mod shape;
