@@ -281,37 +281,8 @@ impl WireArgs {
     }
 }
 
-/// The rule of wire files (`ftwire_lab::wire`) for a wire given otherwise: a radius below half the
-/// length (a wire, not a disc). `radius` and `length` name the two values in the message, e.g.
-/// `--radius` and `--length`.
-///
-/// # Errors
-/// The message, naming both values and the largest radius allowed.
-///
-/// # Example
-/// ```
-/// use ftwire::args::check_radius;
-/// let disc = ftwire_core::WireParams::new([0.1; 3], 0.63, 1.0)?;
-/// let e = check_radius(&disc, "--radius", "--length").unwrap_err();
-/// assert!(e.starts_with("--radius 1: "));
-/// let wire = ftwire_core::WireParams::new([0.1; 3], 0.63, 0.001)?;
-/// assert!(check_radius(&wire, "--radius", "--length").is_ok());
-/// # Ok::<(), ftwire_core::CoreError>(())
-/// ```
-pub fn check_radius(
-    wire: &ftwire_core::WireParams,
-    radius: &str,
-    length: &str,
-) -> Result<(), String> {
-    if 2.0 * wire.radius() < wire.length() {
-        return Ok(());
-    }
-    Err(format!(
-        "{radius} {}: give less than half the wire's length ({length} {} m), a wire, not a disc",
-        wire.radius(),
-        wire.length()
-    ))
-}
+/// The rule of a wire's radius for a wire given by options: [`ftwire_lab::wire::check_radius`].
+pub use ftwire_lab::wire::check_radius;
 
 /// The wire's weight: its density (the radius is in [`WireArgs`]).
 #[derive(Debug, Clone, Args, Serialize)]

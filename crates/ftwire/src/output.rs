@@ -1,6 +1,7 @@
 //! The one output writer of the `ftwire` binary: a result as JSON or as human text, JSON Lines
 //! flushed per line, and the run header of a results folder.
 
+use std::fmt::Display;
 use std::io::{self, Write};
 
 use serde::Serialize;
@@ -41,6 +42,26 @@ pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(
     written
         .and_then(|()| out.flush())
         .map_err(|e| LabError::io("writing the result", e))
+}
+
+/// Prints `value` as [`print()`] does, with its [`Display`] as the text: the lab's answers
+/// (`ftwire_lab::log::identify::EstimateReport`, ...) carry their human text so.
+///
+/// # Errors
+/// As [`print()`].
+pub fn print_display(value: &(impl Serialize + Display), json: bool) -> Result<(), LabError> {
+    print(&Displayed(value), json)
+}
+
+/// A value whose [`Display`] is its report's text.
+#[derive(Serialize)]
+#[serde(transparent)]
+struct Displayed<'a, T>(&'a T);
+
+impl<T: Serialize + Display> Report for Displayed<'_, T> {
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        write!(out, "{}", self.0)
+    }
 }
 
 /// JSON Lines: one object per line, each flushed as soon as it is written, so that a process

@@ -6,8 +6,6 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
-use ftwire_estimate::identify::IdentifierParams;
-use ftwire_lab::error::LabError;
 use ftwire_lab::identify::{Form, ResidualParams};
 use serde::Serialize;
 
@@ -67,15 +65,6 @@ impl IdentifySettingsArgs {
             isotropic: self.isotropic,
             torsion_ratio: self.torsion_ratio,
         }
-    }
-
-    /// The library's settings: its defaults with these flags applied
-    /// ([`ResidualParams::config`]).
-    ///
-    /// # Errors
-    /// Bad input (exit 2) for a torsion ratio that is not positive.
-    pub fn config(&self) -> Result<IdentifierParams, LabError> {
-        self.settings().config()
     }
 }
 

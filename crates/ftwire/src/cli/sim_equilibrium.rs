@@ -14,20 +14,6 @@ use ftwire::args::{
 /// resolves.
 pub const EDGES: CountRange = CountRange::new(12, 2000);
 
-/// The work limit of each motion of the solve, in Newton iterations times edges
-/// (`ftwire_sim::ContinuationParams::work_limit`). An iteration's cost grows in proportion to
-/// the edges, so the limit bounds the time of a motion whatever `--edges` is, at about a second
-/// plus the Newton solve under way when it is reached, while a motion that reaches its target
-/// spends a fraction of it even at 2000 edges.
-pub const WORK_LIMIT: usize = 200_000;
-
-/// The largest load `--initial-a` may ask for, in normalised units of the wire (`|τ| L/c2`,
-/// `|f| L²/c2`, each component): a normalised torque of 100 bends the wire through about
-/// 100 rad (16 turns), never a wire held between two clamps (the planners sample stable
-/// configurations within 30), and beyond it the Kirchhoff model's integration needs ever more
-/// steps and overflows.
-pub const MAX_INITIAL_A_NORMALISED: f64 = 100.0;
-
 /// Default `--edges`: that of `ftwire_sim::RodParams::default()`.
 pub fn default_edges() -> usize {
     ftwire_sim::RodParams::default().edges

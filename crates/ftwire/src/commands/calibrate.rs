@@ -1,11 +1,11 @@
 //! `ftwire calibrate --log`: the F/T calibration learnt from a rig's recording
-//! ([`ftwire_lab::log_calibrate`]: labels by shape fitting the markers, a split by blocks of
+//! ([`ftwire_lab::log::calibrate`]: labels by shape fitting the markers, a split by blocks of
 //! time, the affine map and a small network, the test block's marker errors). Writes
 //! `calibration.json`, `summary.json`, `labels.csv`, `test.csv`, the figures and the report.
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
-use ftwire_lab::log_calibrate::{self, DEFAULT_MAX_LABEL_RMS, LogCalibrateParams};
+use ftwire_lab::log::calibrate::{self, DEFAULT_MAX_LABEL_RMS, LogCalibrateParams};
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::wire::WireSpec;
 
@@ -13,7 +13,7 @@ use crate::cli::calibrate::CalibrateArgs;
 
 /// The lab's settings of `args`.
 fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
-    let mut train = log_calibrate::default_train_params();
+    let mut train = calibrate::default_train_params();
     train.hidden = args.hidden.iter().copied().filter(|&w| w > 0).collect();
     train.max_epochs = args.epochs;
     train.patience = args.patience;
@@ -50,7 +50,7 @@ pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
         .input_opt("--mounting", args.mounting.file.as_ref());
     let folder = args.results.open("calibrate-log", guard)?;
     let header = RunHeader::new("calibrate", Some(args.seed.seed), &args)?;
-    let run = log_calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
     let s = &run.summary;
     println!(

@@ -1,0 +1,371 @@
+//! Identify a wire's `η = (c1, c2, c3, L)` from a recorded log (paper §III-B, eq. 12; the
+//! library's `ftwire_estimate::identify`), through the one identification the live experiment
+//! makes ([`crate::identify::run_identification`]: the model template, the swarm's random
+//! generator), so that both give the same answer on the same data and seed.
+//!
+//! Records with `a` (tared and calibrated) are used as they are; records with `raw` need the
+//! learnt calibration ([`IdentifyLogParams::calibration`]), which maps the tared raw reading
+//! to `a`. [`samples`] reads the log into `(ã, b̃)` pairs, [`estimate`] identifies from them
+//! and gives the [`EstimateReport`] that `ftwire identify --log` prints. Guarded by this
+//! module's tests and `crates/ftwire/tests/identify_log.rs` (a saved log gives the live
+//! run's estimate).
+
+use std::fmt;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use ftwire_core::Pose;
+use ftwire_estimate::Calibration;
+use ftwire_estimate::identify::{Estimate, IdentifierParams, Unidentified};
+use nalgebra::{Vector3, Vector6};
+use serde::Serialize;
+
+use super::{LogRecord, a_tilde, load_calibration, read_log};
+use crate::error::{LabError, from_estimate};
+use crate::experiment::Progress;
+use crate::identify::{Form, ResidualParams, flag_name, identifier};
+
+/// What to identify from: the log, how its records become `ã`, and how to identify.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IdentifyLogParams {
+    /// The JSON Lines log ([`ftwire_estimate::log`]).
+    pub log: PathBuf,
+    /// The learnt calibration's weights file, for records with `raw`; `None`: every record
+    /// must hold `a`.
+    pub calibration: Option<PathBuf>,
+    /// Use only the first `n` records; `None`: all.
+    pub samples: Option<usize>,
+    /// The residual form and the known relations between the parameters.
+    pub residual: ResidualParams,
+    /// Gravity in the base clamp frame \[m/s²\]: identify with the loaded model, the wire's
+    /// linear density as well as `c` and `L`; `None`: the paper's weightless model.
+    pub gravity: Option<Vector3<f64>>,
+    /// The seed of the particle swarm.
+    pub seed: u64,
+}
+
+impl IdentifyLogParams {
+    /// The library's settings: [`ResidualParams::config`] with the loaded model's weight when
+    /// [`Self::gravity`] is given.
+    ///
+    /// # Errors
+    /// Bad input for a torsion ratio that is not positive, or a gravity the library refuses.
+    pub fn config(&self) -> Result<IdentifierParams, LabError> {
+        let mut config = self.residual.config()?;
+        if let Some(g) = self.gravity {
+            config.constraints.weight = Some(g);
+            config
+                .validate()
+                .map_err(|e| LabError::bad_input(format!("--gravity: {e}")))?;
+        }
+        Ok(config)
+    }
+
+    /// Bad settings refused before the log is read ([`Self::config`]).
+    ///
+    /// # Errors
+    /// As [`Self::config`].
+    pub fn check(&self) -> Result<(), LabError> {
+        self.config().map(|_| ())
+    }
+}
+
+/// The `(ã, b̃)` pairs of the log, in order, the first [`IdentifyLogParams::samples`] of
+/// them.
+///
+/// # Errors
+/// Bad input for a log [`read_log`] refuses, a calibration [`load_calibration`] refuses, a
+/// record [`samples_of`] refuses, or more samples asked for than the log holds.
+pub fn samples(params: &IdentifyLogParams) -> Result<Vec<(Vector6<f64>, Pose)>, LabError> {
+    let records = read_log(&params.log)?;
+    let calibration = params
+        .calibration
+        .as_deref()
+        .map(load_calibration)
+        .transpose()?;
+    let mut samples = samples_of(&records, calibration.as_ref(), &params.log)?;
+    if let Some(n) = params.samples {
+        if n > samples.len() {
+            return Err(LabError::bad_input(format!(
+                "--samples {n}: the log {} holds only {} records",
+                params.log.display(),
+                samples.len()
+            )));
+        }
+        samples.truncate(n);
+    }
+    Ok(samples)
+}
+
+/// The `(ã, b̃)` pairs of `records` (read from the log at `path`, which the errors name), in
+/// order: `ã` by [`a_tilde`].
+///
+/// # Errors
+/// Bad input naming the record (from 1) and its time for a `raw` record without a
+/// calibration, or one that the calibration maps to a value that is not finite.
+pub fn samples_of(
+    records: &[LogRecord],
+    calibration: Option<&Calibration>,
+    path: &std::path::Path,
+) -> Result<Vec<(Vector6<f64>, Pose)>, LabError> {
+    records
+        .iter()
+        .enumerate()
+        .map(|(index, record)| {
+            let Some(a) = a_tilde(record, calibration) else {
+                return Err(LabError::bad_input(match calibration {
+                    None => format!(
+                        "log {}: record {} (time {}) holds `raw`, not `a`: give the learnt \
+                         calibration with --calibration W to turn raw readings into \
+                         configurations",
+                        path.display(),
+                        index + 1,
+                        record.time
+                    ),
+                    Some(_) => format!(
+                        "log {}: record {} has neither `raw` nor `a`",
+                        path.display(),
+                        index + 1
+                    ),
+                }));
+            };
+            // A record's own `a` is used as it is; the calibration's output may not be finite.
+            if record.a.is_none()
+                && let Some(i) = a.iter().position(|v| !v.is_finite())
+            {
+                return Err(LabError::bad_input(format!(
+                    "log {}: record {} (time {}): the calibration maps raw = {:?} to a[{i}] = {}, \
+                     not a finite number",
+                    path.display(),
+                    index + 1,
+                    record.time,
+                    record.raw,
+                    a[i]
+                )));
+            }
+            let b = record.b.ok_or_else(|| {
+                LabError::bad_input(format!(
+                    "log {}: record {} (time {}) has no `b`: identification needs the second \
+                     gripper's pose on every record",
+                    path.display(),
+                    index + 1,
+                    record.time
+                ))
+            })?;
+            Ok((a, b.to_pose()))
+        })
+        .collect()
+}
+
+/// How long the search runs between two progress lines.
+pub const PROGRESS_TICK: Duration = Duration::from_millis(200);
+
+/// Identifies the wire from `samples` ([`samples`]) with the swarm seeded by
+/// [`IdentifyLogParams::seed`]: the same estimate as
+/// [`crate::identify::run_identification`] for the same samples and seed (the search is cut
+/// into steps of [`PROGRESS_TICK`] by [`crate::identify::identifier`], which the library's
+/// streaming identifier makes independent of the cut). After each step `progress` gets where
+/// the search is: the search round and the swarm iteration, or the refinement.
+///
+/// An estimate that does not identify the wire is an answer too: its report says why
+/// ([`EstimateReport::reason`]).
+///
+/// # Errors
+/// As [`IdentifyLogParams::config`] and [`crate::identify::run_identification`], with the
+/// log named.
+pub fn estimate(
+    params: &IdentifyLogParams,
+    samples: &[(Vector6<f64>, Pose)],
+    progress: Progress,
+) -> Result<EstimateReport, LabError> {
+    let config = params.config()?;
+    let estimate = search(samples, &config, params.seed, progress)
+        .map_err(|e| e.context(format!("identifying from {}", params.log.display())))?;
+    Ok(EstimateReport::new(&estimate, params.residual.form))
+}
+
+/// The streaming search of [`estimate`], stepped until it is no longer unfinished.
+fn search(
+    samples: &[(Vector6<f64>, Pose)],
+    config: &IdentifierParams,
+    seed: u64,
+    progress: Progress,
+) -> Result<Estimate, LabError> {
+    let mut identifier = identifier(samples, config, seed)?;
+    loop {
+        let estimate = identifier.step(PROGRESS_TICK);
+        let Ok(Estimate {
+            unidentified:
+                Some(Unidentified::Unfinished {
+                    iterations,
+                    required,
+                }),
+            ..
+        }) = &estimate
+        else {
+            return estimate.map_err(|e| from_estimate(e, "identifying the wire"));
+        };
+        let round = required / config.swarm_iterations.max(1);
+        progress(&if iterations < required {
+            format!("search round {round}, swarm iteration {iterations}/{required}")
+        } else {
+            format!("search round {round}, refining the best fits")
+        });
+    }
+}
+
+/// The estimate as `ftwire identify --log` prints it: with `--json` one object of these
+/// fields; the text is its [`fmt::Display`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EstimateReport {
+    /// Samples used.
+    pub samples: usize,
+    /// The residual form.
+    pub form: Form,
+    /// Stiffnesses `(c1, c2, c3)` \[N·m²\].
+    pub c: [f64; 3],
+    /// Length \[m\].
+    pub length: f64,
+    /// Standard deviations of `c` \[N·m²\] (first order).
+    pub c_std: [f64; 3],
+    /// Standard deviation of `L` \[m\].
+    pub length_std: f64,
+    /// The linear density `λ` \[kg/m\] (with gravity; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_density: Option<f64>,
+    /// Standard deviation of `λ` \[kg/m\] (with gravity).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_density_std: Option<f64>,
+    /// `χ²` per degree of freedom under the assumed noise.
+    pub chi2_per_dof: f64,
+    /// `σ_min/σ_max` of the residual's Jacobian.
+    pub condition: f64,
+    /// Whether the data identify the wire.
+    pub identified: bool,
+    /// Why not ([`flag_name`]), or `null`.
+    pub flag: Option<&'static str>,
+    /// The reason in words, or `null`.
+    pub reason: Option<String>,
+}
+
+impl EstimateReport {
+    /// The report of `estimate`, identified with the residual `form`.
+    pub fn new(estimate: &Estimate, form: Form) -> Self {
+        Self {
+            samples: estimate.samples,
+            form,
+            c: estimate.c,
+            length: estimate.length,
+            c_std: estimate.c_std,
+            length_std: estimate.length_std,
+            linear_density: estimate.linear_density,
+            linear_density_std: estimate.linear_density_std,
+            chi2_per_dof: estimate.chi2_per_dof,
+            condition: estimate.condition,
+            identified: estimate.is_identified(),
+            flag: flag_name(estimate.unidentified.as_ref()),
+            reason: estimate.unidentified.as_ref().map(ToString::to_string),
+        }
+    }
+}
+
+/// The human text: each parameter with its standard deviation, `χ²/dof`, the condition and
+/// the verdict.
+impl fmt::Display for EstimateReport {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            out,
+            "identified from {} samples ({:?} residual):",
+            self.samples, self.form
+        )?;
+        let names = ["c1 [N·m²]", "c2 [N·m²]", "c3 [N·m²]"];
+        for ((name, value), std) in names.iter().zip(self.c).zip(self.c_std) {
+            writeln!(out, "  {name:<10} {value:.6} ± {std:.2e}")?;
+        }
+        writeln!(
+            out,
+            "  {:<10} {:.6} ± {:.2e}",
+            "L [m]", self.length, self.length_std
+        )?;
+        if let (Some(lambda), Some(std)) = (self.linear_density, self.linear_density_std) {
+            writeln!(out, "  {:<10} {lambda:.6} ± {std:.2e}", "λ [kg/m]")?;
+        }
+        writeln!(
+            out,
+            "  χ²/dof {:.3}, condition {:.2e}",
+            self.chi2_per_dof, self.condition
+        )?;
+        match &self.reason {
+            None => writeln!(out, "  identified: yes"),
+            Some(reason) => writeln!(out, "  identified: NO: {reason}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(time: f64, a: Option<[f64; 6]>, raw: Option<[f64; 6]>) -> LogRecord {
+        LogRecord {
+            time,
+            raw,
+            a,
+            b: super::super::LogPose {
+                position: [0.5, 0.1, 0.0],
+                rotation: [0.0, 0.0, 0.3],
+            },
+            markers: None,
+        }
+    }
+
+    #[test]
+    fn a_raw_record_without_a_calibration_is_bad_input_naming_it() {
+        let records = [
+            record(0.0, Some([0.01, 0.02, -0.03, -0.1, 0.2, 0.05]), None),
+            record(0.5, None, Some([0.1; 6])),
+        ];
+        let path = std::path::Path::new("rig.jsonl");
+        let error = samples_of(&records, None, path).expect_err("raw needs a calibration");
+        assert_eq!(error.kind(), "bad_input");
+        let message = error.to_string();
+        assert!(
+            message.starts_with("log rig.jsonl: record 2 (time 0.5) holds `raw`"),
+            "{message}"
+        );
+        assert!(message.contains("--calibration"), "{message}");
+        let pairs = samples_of(&records[..1], None, path).expect("`a` is used as it is");
+        assert_eq!(pairs.len(), 1);
+        assert_eq!(pairs[0].0[5].to_bits(), 0.05_f64.to_bits());
+        assert!((pairs[0].1.translation.vector.x - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_settings_and_more_samples_than_records_are_bad_input() {
+        let dir = std::env::temp_dir().join(format!(
+            "ftwire-lab-identify-log-{}.jsonl",
+            std::process::id()
+        ));
+        let line = r#"{"time": 0.0, "a": [0.01, 0.02, -0.03, -0.1, 0.2, 0.05], "b": {"position": [0.5, 0.1, 0.0], "rotation": [0.0, 0.0, 0.3]}}"#;
+        std::fs::write(&dir, format!("{line}\n")).expect("writes");
+        let mut params = IdentifyLogParams {
+            log: dir.clone(),
+            calibration: None,
+            samples: Some(2),
+            residual: ResidualParams::default(),
+            gravity: None,
+            seed: 0,
+        };
+        let error = samples(&params).expect_err("one record, two asked for");
+        assert!(
+            error.to_string().starts_with("--samples 2: the log "),
+            "{error}"
+        );
+        params.samples = Some(1);
+        let pairs = samples(&params);
+        let _ = std::fs::remove_file(&dir);
+        assert_eq!(pairs.expect("one record").len(), 1);
+        params.residual.torsion_ratio = Some(-1.0);
+        assert_eq!(params.check().expect_err("ν < 0").kind(), "bad_input");
+    }
+}
