@@ -3,6 +3,7 @@
 pub mod beside;
 pub mod calibrate;
 pub mod csv_table;
+pub mod demo;
 pub mod equilibrium;
 pub mod error;
 pub mod experiment;

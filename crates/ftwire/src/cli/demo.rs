@@ -21,7 +21,7 @@ pub struct DemoArgs {
     pub seed: SeedArgs,
     /// The wire to pick up, identify and steer: a preset or a wire file (TOML). The demo is
     /// not told its stiffness, length or weight; only the simulator knows them.
-    #[arg(long, value_name = "PRESET|FILE.toml", default_value = DEFAULT_DEMO_WIRE)]
+    #[arg(long, value_name = "PRESET|FILE.toml", default_value = ftwire_lab::demo::DEFAULT_WIRE)]
     pub wire: String,
     /// The scene to plan through (`--scene`).
     #[command(flatten)]
@@ -40,6 +40,3 @@ pub struct DemoArgs {
     #[serde(flatten)]
     pub setup: SimSetupArgs,
 }
-
-/// The demo's wire by default.
-pub const DEFAULT_DEMO_WIRE: &str = "nitinol-3mm-910";

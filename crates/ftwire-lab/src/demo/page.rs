@@ -6,23 +6,23 @@
 use std::fmt::Write as _;
 
 use ftwire_core::Pose;
-use ftwire_lab::error::LabError;
-use ftwire_lab::results::ResultsFolder;
-use ftwire_lab::tracking::Attempt;
 use ftwire_plan::Scene;
 use ftwire_plan::Waypoint;
 use ftwire_report::html::{code_span, escape_markdown};
 use ftwire_report::{HtmlReport, Rotation, Scene3d, Step3};
 use nalgebra::Point3;
 
-use super::{Points, Summary};
+use super::{DemoSummary, FirstShape, Points};
+use crate::error::LabError;
+use crate::results::ResultsFolder;
+use crate::tracking::Attempt;
 
 /// What the page draws besides the summary.
 pub(super) struct Drawn<'a> {
     pub scene: &'a Scene,
     pub waypoints: &'a [Waypoint],
     /// The first shape configuration: the estimate from F/T and the truth (world frame).
-    pub shape: Option<&'a (Points, Points)>,
+    pub shape: Option<&'a FirstShape>,
 }
 
 fn rotation(pose: &Pose) -> Rotation {
@@ -109,7 +109,7 @@ fn open_loop_view(scene: &Scene, waypoints: &[Waypoint], open: &Attempt) -> Scen
 }
 
 /// The summary's headline numbers as Markdown.
-fn numbers(summary: &Summary) -> String {
+fn numbers(summary: &DemoSummary) -> String {
     let mut md = String::new();
     let id = &summary.identification;
     let _ = writeln!(
@@ -171,7 +171,7 @@ fn numbers(summary: &Summary) -> String {
 /// Writes `report.html` into the demo's results folder (after its figures).
 pub(super) fn write(
     folder: &ResultsFolder,
-    summary: &Summary,
+    summary: &DemoSummary,
     drawn: &Drawn<'_>,
 ) -> Result<(), LabError> {
     let figure = |report: HtmlReport, caption: &str, stem: &str| {
