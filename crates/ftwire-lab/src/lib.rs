@@ -11,6 +11,7 @@ pub mod identify;
 pub mod initial_guess;
 pub mod paper;
 pub mod passage;
+pub mod plan;
 pub mod provenance;
 pub mod report;
 pub mod results;
