@@ -14,6 +14,7 @@ pub mod passage;
 pub mod plan;
 pub mod provenance;
 pub mod report;
+pub mod reproduce;
 pub mod results;
 pub mod scene;
 pub mod setup;
