@@ -93,11 +93,6 @@ pub enum PlannerArg {
     Moving,
 }
 
-/// Largest `--time-budget` \[s\]. The tree keeps every node's sample, its wire's centreline
-/// among it (a few kilobytes), and grows by a few hundred nodes a second at most, so ten
-/// minutes keep it under a gigabyte.
-pub const MAX_TIME_BUDGET: f64 = 600.0;
-
 /// `--iterations`: its default, which `--time-budget` ends first on any machine at the
 /// default budget; both bound the tree.
 pub const ITERATIONS: CountRange = CountRange::new(1, 1_000_000);

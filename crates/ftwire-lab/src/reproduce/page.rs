@@ -3,9 +3,10 @@
 
 use std::path::Path;
 
-use ftwire_lab::error::LabError;
-use ftwire_lab::results::ResultsFolder;
 use ftwire_report::HtmlReport;
+
+use crate::error::LabError;
+use crate::results::ResultsFolder;
 
 /// Writes `report.html` beside `report.md`: `markdown` (the report), then the figures of the
 /// experiments `ids` from their subfolders of `dir`.
@@ -17,7 +18,7 @@ pub(super) fn write(
 ) -> Result<(), LabError> {
     let mut report = HtmlReport::new("ftwire reproduce").with_markdown(markdown);
     for id in ids {
-        let files = ftwire_lab::report::pngs(&dir.join(id));
+        let files = crate::report::pngs(&dir.join(id));
         if files.is_empty() {
             continue;
         }

@@ -1,4 +1,4 @@
-//! `ftwire reproduce --docs DIR`: the results page of the documentation, `DIR/results.md`,
+//! The results page of the documentation (`ftwire reproduce --docs DIR`): `DIR/results.md`
 //! and its figures, `DIR/results/<experiment>/*.png`, written from a finished reproduction
 //! with the commit, date and machine it was measured on.
 //!
@@ -10,15 +10,15 @@ use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use ftwire_lab::error::LabError;
-use ftwire_lab::provenance::Provenance;
+use crate::error::LabError;
+use crate::provenance::Provenance;
 
 /// The first line of a page this command wrote.
-pub(super) const MARKER: &str =
+pub const MARKER: &str =
     "<!-- Written by `ftwire reproduce --docs`: run it again rather than edit this page. -->";
 
 /// The file that marks the figures folder as written by this command.
-pub(super) const FOLDER_MARK: &str = ".ftwire-docs";
+pub const FOLDER_MARK: &str = ".ftwire-docs";
 
 /// The page and the figures folder inside `dir`.
 fn paths(dir: &Path) -> (PathBuf, PathBuf) {
@@ -30,7 +30,7 @@ fn paths(dir: &Path) -> (PathBuf, PathBuf) {
 ///
 /// # Errors
 /// Bad input naming the path and what would be lost.
-pub(super) fn check(dir: &Path, force: bool) -> Result<(), LabError> {
+pub fn check(dir: &Path, force: bool) -> Result<(), LabError> {
     if !dir.is_dir() {
         return Err(LabError::bad_input(format!(
             "--docs {}: not an existing folder (create it first)",
@@ -74,7 +74,7 @@ pub(super) fn check(dir: &Path, force: bool) -> Result<(), LabError> {
 ///
 /// # Errors
 /// I/O errors naming the path.
-pub(super) fn write(
+pub fn write(
     dir: &Path,
     results: &Path,
     report: &str,
@@ -107,7 +107,7 @@ pub(super) fn write(
     // The report's own title becomes a section of this page.
     md.push_str(&report.replacen("# ", "## ", 1));
     for id in ids {
-        let pngs = ftwire_lab::report::pngs(&results.join(id));
+        let pngs = crate::report::pngs(&results.join(id));
         if pngs.is_empty() {
             continue;
         }

@@ -1,0 +1,268 @@
+//! A reproduction of the paper's §IV (`ftwire reproduce`): every experiment ftwire has, in the
+//! simulator, and one report that sets the paper's tables beside ours.
+//!
+//! The calibration runs first ([`ReproduceParams::calibration_job`]); the experiments that
+//! use it ([`ReproduceParams::experiment_jobs`]) then run in parallel, [`ReproduceParams::jobs`]
+//! at a time on a rayon pool, each through the caller's [`Runner`] (the `ftwire` binary runs
+//! each as an `ftwire experiment` process of its own, so their printed tables do not
+//! interleave and one failure does not take the others down) with its own results folder and
+//! log. Every experiment is seeded by [`ReproduceParams::seed`] alone, so the results do not
+//! depend on the number of jobs.
+//!
+//! [`run`] writes into the reproduction's results folder one subfolder per experiment (its
+//! own `summary.json`, figures and `log.txt`), `report.md` (the tables, [`crate::beside`]) and
+//! `report.html` (the tables and every experiment's figures in one self-contained page); the
+//! caller writes `summary.json` ([`ReproduceRun::summary`]: `quick`, then each experiment's
+//! `{id, status}`) and `timings.json` ([`ReproduceRun::timings`]), and with `--docs` the
+//! documentation's page ([`docs`]). Guarded by the `ftwire` binary's `tests/reproduce_cli.rs`.
+
+pub mod docs;
+mod jobs;
+mod page;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use ftwire_report::html::code_span;
+use rayon::prelude::*;
+use serde::Serialize;
+
+pub use jobs::Job;
+
+use crate::error::LabError;
+use crate::results::ResultsFolder;
+use crate::setup::SimSetup;
+
+/// The status of an experiment that ran to its end.
+pub const OK: &str = "ok";
+
+/// Runs one job to its end: `Ok` when the experiment succeeded, otherwise why not (e.g. its
+/// exit code and its log's last line). Called from the pool's threads.
+pub type Runner<'a> = &'a (dyn Fn(&Job) -> Result<(), String> + Sync);
+
+/// Where a reproduction reports its progress (one line per call: the plan, each experiment's
+/// end). Called from the pool's threads.
+pub type SharedProgress<'a> = &'a (dyn Fn(&str) + Sync);
+
+/// The settings of a reproduction.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ReproduceParams {
+    /// The seed of every random choice (each experiment gets it).
+    pub seed: u64,
+    /// Reduced trial counts: a few minutes instead of the full run.
+    pub quick: bool,
+    /// Experiments run at once, at least 1; `None`: the machine's cores.
+    pub jobs: Option<usize>,
+    /// The simulated F/T sensor passed on to every experiment (a preset or a sensor file);
+    /// `None`: the default sensor.
+    pub sensor: Option<String>,
+    /// The simulated rig file passed on to every experiment; `None`: the library's rig.
+    pub rig: Option<PathBuf>,
+    /// The folder of the documentation's results page to write after the run ([`docs`]).
+    pub docs: Option<PathBuf>,
+    /// Replace a results page or folder there that ftwire did not write.
+    pub force: bool,
+}
+
+impl ReproduceParams {
+    /// Experiments run at once: [`ReproduceParams::jobs`], or the machine's cores.
+    pub fn jobs(&self) -> usize {
+        self.jobs.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+        })
+    }
+
+    /// Checks, before anything runs or is written, the sensor and rig files and that the
+    /// documentation's page may be written ([`docs::check`]).
+    ///
+    /// # Errors
+    /// Bad input naming the file, the line and the key, or the page or folder that is not
+    /// ftwire's, or no jobs.
+    pub fn check(&self) -> Result<(), LabError> {
+        SimSetup::load(self.sensor.as_deref(), self.rig.as_deref())
+            .map_err(|e| LabError::bad_input(e.to_string()))?;
+        if let Some(dir) = &self.docs {
+            docs::check(dir, self.force)?;
+        }
+        if self.jobs == Some(0) {
+            return Err(LabError::bad_input("--jobs 0: at least 1"));
+        }
+        Ok(())
+    }
+
+    /// The sensor and rig as the report names them (Markdown).
+    fn sensor_words(&self) -> String {
+        match (&self.sensor, &self.rig) {
+            (None, None) => "the default F/T sensor".to_owned(),
+            (sensor, rig) => format!(
+                "the F/T sensor {} and the rig {}",
+                code_span(sensor.as_deref().unwrap_or("distorted")),
+                code_span(
+                    &rig.as_ref()
+                        .map_or_else(|| "default".to_owned(), |r| r.display().to_string())
+                ),
+            ),
+        }
+    }
+}
+
+/// One experiment's result in `summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Status {
+    /// The experiment's id.
+    pub id: &'static str,
+    /// [`OK`], or the failure (e.g. the exit code and the log's last line).
+    pub status: String,
+}
+
+/// `summary.json`'s body of a reproduction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReproduceSummary {
+    /// Whether the trial counts were reduced.
+    pub quick: bool,
+    /// Each experiment's status, in report order (the calibration first).
+    pub experiments: Vec<Status>,
+}
+
+/// `timings.json` of a reproduction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReproduceTimings {
+    /// Each experiment's wall time \[s\] (those that ran).
+    pub experiments: Vec<(&'static str, f64)>,
+    /// The reproduction's wall time \[s\].
+    pub total_s: f64,
+}
+
+/// A finished reproduction.
+#[derive(Debug, Clone)]
+pub struct ReproduceRun {
+    /// `summary.json`'s body (after the run header).
+    pub summary: ReproduceSummary,
+    /// `timings.json`.
+    pub timings: ReproduceTimings,
+    /// `report.md`: the statuses and the paper's tables beside ours.
+    pub report: String,
+}
+
+impl ReproduceRun {
+    /// The experiments' ids, in report order.
+    pub fn ids(&self) -> Vec<&'static str> {
+        self.summary.experiments.iter().map(|s| s.id).collect()
+    }
+
+    /// Whether every experiment ran to its end.
+    ///
+    /// # Errors
+    /// No answer naming the experiments that failed and where their logs are (`results`, the
+    /// reproduction's folder).
+    pub fn require_all_ok(&self, results: &Path) -> Result<(), LabError> {
+        let failed: Vec<&str> = self
+            .summary
+            .experiments
+            .iter()
+            .filter(|s| s.status != OK)
+            .map(|s| s.id)
+            .collect();
+        if failed.is_empty() {
+            Ok(())
+        } else {
+            Err(LabError::no_answer(format!(
+                "experiments that failed: {} (their logs are in {})",
+                failed.join(", "),
+                results.display()
+            )))
+        }
+    }
+}
+
+/// Runs one job through `runner`, moves its log into its folder when it has one, and reports
+/// its end; returns its status and wall time \[s\].
+fn run_job(job: &Job, runner: Runner, progress: SharedProgress) -> (Status, f64) {
+    let start = Instant::now();
+    let status = runner(job);
+    if job.out.is_dir() {
+        let _ = std::fs::rename(&job.log, job.out.join("log.txt"));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    progress(&format!(
+        "reproduce: {} {} ({seconds:.0} s)",
+        job.id,
+        status
+            .as_ref()
+            .map_or_else(|e| format!("failed: {e}"), |()| "done".to_owned())
+    ));
+    let status = status.map_or_else(|e| e, |()| OK.to_owned());
+    (Status { id: job.id, status }, seconds)
+}
+
+/// Runs the calibration, then every other experiment on a pool of [`ReproduceParams::jobs`]
+/// threads (none when the calibration failed: each is then "not run"), each into its subfolder
+/// of `folder` through `runner`; writes `report.md` and `report.html`, and returns the summary,
+/// timings and report for the caller to write (it does not finish the folder).
+///
+/// # Errors
+/// Bad input when the pool cannot be built; I/O errors writing the folder. A failed
+/// experiment is a status, not an error ([`ReproduceRun::require_all_ok`]).
+pub fn run(
+    params: &ReproduceParams,
+    folder: &ResultsFolder,
+    runner: Runner,
+    progress: SharedProgress,
+) -> Result<ReproduceRun, LabError> {
+    let total = Instant::now();
+    let jobs = params.jobs();
+    let dir = folder.dir().to_path_buf();
+    let calibration = params.calibration_job(&dir);
+    let rest = params.experiment_jobs(&dir);
+    let quick = params.quick;
+    let parallel: f64 = rest.iter().map(|j| j.expected(quick)).sum::<f64>() / jobs as f64;
+    let longest = rest.iter().map(|j| j.expected(quick)).fold(0.0, f64::max);
+    progress(&format!(
+        "reproduce: {} experiments{}, {jobs} at a time; expected time about {:.0} min on a \
+         2-core machine",
+        rest.len() + 1,
+        if quick { " (quick)" } else { "" },
+        ((calibration.expected(quick) + parallel.max(longest)) / 60.0).ceil()
+    ));
+    let (first, first_s) = run_job(&calibration, runner, progress);
+    let mut statuses = vec![first];
+    let mut timings = vec![(calibration.id, first_s)];
+    if statuses[0].status == OK {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs)
+            .build()
+            .map_err(|e| LabError::bad_input(format!("--jobs {jobs}: {e}")))?;
+        let results: Vec<(Status, f64)> = pool.install(|| {
+            rest.par_iter()
+                .map(|job| run_job(job, runner, progress))
+                .collect()
+        });
+        for (job, (status, seconds)) in rest.iter().zip(results) {
+            statuses.push(status);
+            timings.push((job.id, seconds));
+        }
+    } else {
+        for job in &rest {
+            statuses.push(Status {
+                id: job.id,
+                status: "not run: the calibration failed".to_owned(),
+            });
+        }
+    }
+    let pairs: Vec<(&str, &str)> = statuses.iter().map(|s| (s.id, s.status.as_str())).collect();
+    let report = crate::beside::report(&dir, &pairs, quick, &params.sensor_words());
+    folder.write("report.md", &report)?;
+    let ids: Vec<&str> = statuses.iter().map(|s| s.id).collect();
+    page::write(folder, &dir, &report, &ids)?;
+    Ok(ReproduceRun {
+        summary: ReproduceSummary {
+            quick,
+            experiments: statuses,
+        },
+        timings: ReproduceTimings {
+            experiments: timings,
+            total_s: total.elapsed().as_secs_f64(),
+        },
+        report,
+    })
+}
