@@ -311,11 +311,12 @@ mod tests {
             time,
             raw,
             a,
-            b: super::super::LogPose {
+            b: Some(super::super::LogPose {
                 position: [0.5, 0.1, 0.0],
                 rotation: [0.0, 0.0, 0.3],
-            },
+            }),
             markers: None,
+            gravity: None,
         }
     }
 

@@ -1,0 +1,143 @@
+//! `ftwire calibrate --log`: a small synthetic recording (the model's shapes as markers, the
+//! wrench through a mounting with the clamp 0.11 m out and a constant offset, as a sensor
+//! reads it) gives `calibration.json` and the summary keys the issue names; bad logs are bad
+//! input (exit 2).
+
+mod cli_support;
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use cli_support::{TempDir, assert_exit, assert_success, ftwire};
+use ftwire_estimate::ft::MountingSpec;
+use ftwire_estimate::{KirchhoffModel, WireModel};
+use ftwire_rod::sampling::Sampler;
+use nalgebra::Vector6;
+use rand::SeedableRng;
+
+fn text(path: &Path) -> &str {
+    path.to_str().expect("a UTF-8 path")
+}
+
+/// 40 rests of the 3 mm / 820 mm nitinol wire: markers from the model's shape (11, evenly
+/// spaced), the reading through a mounting 0.11 m out plus an offset.
+fn synthetic_log(path: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let wire = ftwire_lab::wire::WireSpec::preset("nitinol-3mm-820").ok_or("preset")?;
+    let params = wire.wire_params()?;
+    let model = KirchhoffModel::new(params);
+    let rod = ftwire_rod::Rod::new(params);
+    let mounting = MountingSpec {
+        clamp_position_in_sensor: [0.0, 0.0, 0.11],
+        ..MountingSpec::default()
+    }
+    .mounting()?;
+    let offset = Vector6::new(-1.8, 1.3, 1.8, -0.25, 0.12, 0.35);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let mut log = String::new();
+    for k in 0..40 {
+        let a = Sampler::default().sample_free(&rod, &mut rng)?;
+        let shape = model.shape(&a, 11)?;
+        let raw = mounting.to_sensor(&a) + offset;
+        let markers: Vec<[f64; 3]> = shape.positions.iter().map(|p| [p.x, p.y, p.z]).collect();
+        writeln!(
+            log,
+            r#"{{"time": {}, "raw": {:?}, "markers": {:?}}}"#,
+            3 * k,
+            raw.as_slice(),
+            markers
+        )?;
+    }
+    std::fs::write(path, log)?;
+    Ok(())
+}
+
+#[test]
+fn a_recording_gives_a_calibration_and_the_summary_keys() -> Result<(), Box<dyn std::error::Error>>
+{
+    let tmp = TempDir::new("calibrate-log");
+    let log = tmp.0.join("recording.jsonl");
+    synthetic_log(&log)?;
+    let mounting = tmp.0.join("mounting.toml");
+    std::fs::write(&mounting, "clamp_position_in_sensor = [0.0, 0.0, 0.11]\n")?;
+    let out = tmp.0.join("cal");
+    let output = ftwire(&[
+        "calibrate",
+        "--log",
+        text(&log),
+        "--wire",
+        "nitinol-3mm-820",
+        "--mounting",
+        text(&mounting),
+        "--hidden",
+        "0",
+        "--out",
+        text(&out),
+    ]);
+    assert_success(&output, "calibrate --log");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json"))?)?;
+    let s = &summary["summary"];
+    for key in ["records", "fitted", "rejected", "marker_rms_mm"] {
+        assert!(s["labels"][key].is_number(), "labels.{key}");
+    }
+    for key in ["train", "validation", "test"] {
+        assert!(s["split"][key].is_u64(), "split.{key}");
+    }
+    for key in ["raw_marker_mean_mm", "calibrated_marker_mean_mm"] {
+        assert!(s["test"][key].is_number(), "test.{key}");
+    }
+    assert_eq!(s["labels"]["records"], 40);
+    // The offsets put the raw shapes far off; the affine map takes them out.
+    let raw = s["test"]["raw_marker_mean_mm"].as_f64().ok_or("raw")?;
+    let calibrated = s["test"]["calibrated_marker_mean_mm"]
+        .as_f64()
+        .ok_or("calibrated")?;
+    assert!(raw > 10.0 && calibrated < 1.0, "{raw} {calibrated}");
+    // The weights load as every --calibration does.
+    ftwire_estimate::calibration::Calibration::load(&out.join("calibration.json"))?;
+    Ok(())
+}
+
+#[test]
+fn bad_input_is_exit_2() {
+    let tmp = TempDir::new("calibrate-log-bad");
+    let empty = tmp.0.join("empty.jsonl");
+    std::fs::write(&empty, "").expect("written");
+    let bad_mounting = tmp.0.join("m.toml");
+    std::fs::write(&bad_mounting, "tool_mass = -1\n").expect("written");
+    let no_markers = tmp.0.join("nm.jsonl");
+    std::fs::write(&no_markers, "{\"time\": 0, \"raw\": [1, 2, 3, 0, 0, 0]}\n").expect("written");
+    for (args, needle) in [
+        (
+            vec!["--log", text(&empty), "--wire", "nitinol-3mm-820"],
+            "empty",
+        ),
+        (
+            vec!["--log", text(&no_markers), "--wire", "nitinol-3mm-820"],
+            "markers",
+        ),
+        (
+            vec![
+                "--log",
+                text(&no_markers),
+                "--wire",
+                "nitinol-3mm-820",
+                "--mounting",
+                text(&bad_mounting),
+            ],
+            "tool_mass",
+        ),
+        (
+            vec!["--log", text(&no_markers), "--wire", "no-such-wire"],
+            "no-such-wire",
+        ),
+    ] {
+        let out = tmp.0.join("out");
+        let mut all = vec!["calibrate"];
+        all.extend(args);
+        all.extend(["--out", text(&out)]);
+        let output = ftwire(&all);
+        assert_exit(&output, 2, needle, "calibrate --log bad input");
+        assert!(!out.exists(), "no folder on bad input");
+    }
+}
