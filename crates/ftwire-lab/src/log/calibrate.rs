@@ -59,6 +59,11 @@ pub const DEFAULT_MAX_LABEL_RMS: f64 = 3e-3;
 /// Nodes of the shapes compared with the markers.
 const SHAPE_NODES: usize = 101;
 
+/// The smallest t statistic of a kept drift term ([`choose_drift`]): without a drift, each
+/// channel's statistic is about standard normal, so the largest of six exceeds 5 with a
+/// probability of about 2e-6.
+pub const DRIFT_T_STATISTIC: f64 = 5.0;
+
 /// Records between two progress lines.
 const PROGRESS_EVERY: usize = 100;
 
@@ -561,10 +566,14 @@ fn label_one(
     }))
 }
 
-/// The drift term, if one predicts the validation block better than none: least squares of
-/// the labels on `(raw, 1, t − t_ref)` over the training block (`t_ref` its last record's
-/// time) against the same without `t`, each scored on the validation block in units of the
-/// labels' spread per channel.
+/// The drift term, if the training block shows one and it predicts the validation block
+/// better than none: least squares of the labels on `(raw, 1, t − t_ref)` over the training
+/// block (`t_ref` its last record's time). The drift is kept only when its coefficient is
+/// significant, `|t| ≥` [`DRIFT_T_STATISTIC`] on some channel of `a` (the ordinary
+/// least-squares t statistic, `β / (σ̂ √[(XᵀX)⁻¹]_tt)`), and the fit with it has the smaller
+/// error on the validation block, in units of the labels' spread per channel. Both tests
+/// guard against a drift fitted to label noise, which extrapolated over the test block would
+/// make the map worse.
 fn choose_drift(labelled: &[Labelled], train: &TrainParams) -> Option<Drift> {
     #[allow(
         clippy::cast_precision_loss,
@@ -594,7 +603,7 @@ fn choose_drift(labelled: &[Labelled], train: &TrainParams) -> Option<Drift> {
     };
     let (without, _) = score(false)?;
     let (with, w) = score(true)?;
-    if with >= without {
+    if with >= without || drift_t_statistic(fit, &w, reference_time, span)? < DRIFT_T_STATISTIC {
         return None;
     }
     let rate = Vector6::from_fn(|k, _| w[(7, k)] / span);
@@ -602,6 +611,34 @@ fn choose_drift(labelled: &[Labelled], train: &TrainParams) -> Option<Drift> {
         reference_time,
         rate,
     })
+}
+
+/// The largest `|t|` over the channels of `a` of the time regressor's coefficient in the
+/// least-squares fit `w` (with time) of `rows`.
+fn drift_t_statistic(
+    rows: &[Labelled],
+    w: &DMatrix<f64>,
+    reference: f64,
+    span: f64,
+) -> Option<f64> {
+    let x = DMatrix::from_fn(rows.len(), 8, |i, j| {
+        regressors(&rows[i], true, reference, span)[j]
+    });
+    let inverse = (x.transpose() * &x).try_inverse()?;
+    let residual = x * w - DMatrix::from_fn(rows.len(), 6, |i, k| rows[i].label[k]);
+    #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
+    let dof = rows.len().saturating_sub(8).max(1) as f64;
+    (0..6)
+        .map(|k| {
+            let sigma2 = residual.column(k).norm_squared() / dof;
+            let se = (sigma2 * inverse[(7, 7)]).sqrt();
+            if se > 0.0 {
+                (w[(7, k)] / se).abs()
+            } else {
+                0.0
+            }
+        })
+        .reduce(f64::max)
 }
 
 /// Each label channel's standard deviation (1 where it is zero).
