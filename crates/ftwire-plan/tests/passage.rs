@@ -1,11 +1,11 @@
 //! RRT* on the shipped passage scene (`scenes/passage.toml`), whose start is slack: the same
 //! seed gives the same path, every edge of a found path is valid when checked again from its
-//! first waypoint (the joints arriving within one joint step of the next waypoint's), and so
-//! for any seed. The planner tests in `planner.rs` use the taut start of `tests/data`.
+//! first waypoint (the joints arriving within one joint step of the next waypoint's), and any
+//! seed's path is valid. The planner tests in `planner.rs` use the taut start of `tests/data`.
 
 mod common;
 
-use ftwire_plan::{Plan, PlannerParams, joint_distance, plan};
+use ftwire_plan::{Plan, PlanError, PlannerParams, joint_distance, plan};
 use proptest::prelude::*;
 
 type Setup = common::ShippedProblem;
@@ -84,10 +84,23 @@ fn the_first_and_the_refined_path_are_valid() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(4))]
+    /// Whatever the seed, a path the planner returns is valid. Finding one within the
+    /// iteration budget is a rate, not a certainty (a seed can miss the passage in 3000
+    /// iterations); the seeded tests above hold it for their seeds.
     #[test]
-    fn any_seed_finds_a_valid_first_path(seed in any::<u64>()) {
+    fn any_seed_returns_only_valid_paths(seed in any::<u64>()) {
         let s = setup();
-        let found = first(&s, seed);
-        assert_valid(&s, &found, seed);
+        let params = PlannerParams {
+            seed,
+            max_iterations: 3000,
+            stop_at_first: true,
+            shortcut_attempts: 0,
+            ..PlannerParams::default()
+        };
+        match plan(&s.space, &s.checker, &s.start, &s.goal.config, &params) {
+            Ok(found) => assert_valid(&s, &found, seed),
+            Err(PlanError::NoPath { .. }) => {}
+            Err(e) => panic!("seed {seed}: {e}"),
+        }
     }
 }
