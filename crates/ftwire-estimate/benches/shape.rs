@@ -9,7 +9,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use ftwire_core::WireParams;
-use ftwire_estimate::shape::{Markers, ShapeEstimator, ShapeFitter, evenly_spaced_fractions};
+use ftwire_estimate::shape::{
+    Correspondence, FitParams, Markers, ShapeEstimator, ShapeFitter, evenly_spaced_fractions,
+};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::sampling::Sampler;
 use nalgebra::{Point3, Vector3, Vector6};
@@ -83,6 +85,20 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             i = (i + 1) % markers.len();
             fitter.fit(black_box(&markers[i]), &mut rng)
+        })
+    });
+    // The labels of `ftwire calibrate --log` without the markers' arc lengths: one per record.
+    let closest = ShapeFitter::new(model)
+        .with_config(FitParams {
+            correspondence: Correspondence::ClosestPoint,
+            ..FitParams::default()
+        })
+        .expect("valid settings");
+    let mut i = 0;
+    group.bench_function("11 markers, 0.3 mm noise, closest points", |b| {
+        b.iter(|| {
+            i = (i + 1) % markers.len();
+            closest.fit(black_box(&markers[i]), &mut rng)
         })
     });
     group.finish();
