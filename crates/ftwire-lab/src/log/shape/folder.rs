@@ -10,7 +10,7 @@
 //! its `ã` (torque first, base clamp frame, N·m and N), `points` the centreline at `points`
 //! nodes evenly spaced in arc length from the base clamp to the tip (base clamp frame, m),
 //! `stable` whether `ã ∈ A_stable`, and `confident` whether the estimate is neither unstable
-//! nor a jump from the previous record (`ShapeEstimator`'s flag). A record the model cannot
+//! nor a jump from the previous record (`ShapeEstimator`'s flag, its default threshold). A record the model cannot
 //! solve (`ã ∉ A`, a diverged integration, a calibration output that is not finite) has
 //! `"points": []`, `stable` and `confident` false, and an `"error"` saying why.
 //!
@@ -27,7 +27,8 @@
 //! lines are serialised in parallel and written in order. The answer does not depend on the
 //! number of threads. `benches/shape_log.rs` measures the records per second.
 //!
-//! Guarded by `tests/logs.rs` (the format, the line numbers, `points`, the summary).
+//! Guarded by `tests/shape_log.rs` (the format, the line numbers, `points`, the summary, the
+//! flags across blocks and threads) and `crates/ftwire/tests/shape_log.rs` (the command).
 
 use std::fs::File;
 use std::io::Write;
@@ -56,9 +57,9 @@ pub const MIN_POINTS: usize = 2;
 /// Most points of a shape: at 10 000 points a record's line is about 600 kB.
 pub const MAX_POINTS: usize = 10_000;
 
-/// Nodes of the centreline the markers are measured against (`marker_mean_mm`): with a
-/// segment of a hundredth of the wire, the polyline is within a few hundredths of a
-/// millimetre of the curve for the bends a wire takes.
+/// Nodes of the centreline the markers are measured against (`marker_mean_mm`). A chord `s`
+/// of a bend of radius `R` sags `s²/(8R)` from the curve: with `s = L/99`, 0.1 mm for the
+/// 630 mm wire bent to a 5 cm radius.
 pub const MARKER_NODES: usize = 100;
 
 /// Records solved together before they are flagged and written: bounds the memory of a long
