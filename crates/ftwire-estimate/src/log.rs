@@ -19,7 +19,9 @@
 //! Unknown keys are errors (a typo never passes silently). Blank lines and lines starting with
 //! `#` are skipped. A rotation vector's angle is at most `ftwire_core::MAX_ROTATION_ANGLE`. The
 //! log is UTF-8 text; a leading byte-order mark is dropped. Every error names the line and the
-//! offending value (or, for a byte that is not UTF-8, its column).
+//! offending value (or, for a byte that is not UTF-8, its column). [`read_log`] gives the
+//! records; [`read_log_lines`] gives each with its line number in the file ([`LogLine`]), for
+//! later messages about a record.
 
 use std::io::BufRead;
 
@@ -168,6 +170,16 @@ impl LogRecord {
     }
 }
 
+/// One record of a log with the number of the line it was read from (from 1, counting the
+/// blank and comment lines that [`read_log_lines`] skips), so that a later check can name it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogLine {
+    /// The line's number in the file, from 1.
+    pub line: usize,
+    /// The record on that line.
+    pub record: LogRecord,
+}
+
 /// Reads a whole log. Empty logs are an error: there is nothing to estimate from.
 ///
 /// # Errors
@@ -185,8 +197,26 @@ impl LogRecord {
 /// assert!(ftwire_estimate::log::read_log("{\"time\": 0}".as_bytes()).is_err());
 /// # Ok::<(), ftwire_estimate::EstimateError>(())
 /// ```
-pub fn read_log(mut reader: impl BufRead) -> Result<Vec<LogRecord>, EstimateError> {
-    let mut records: Vec<LogRecord> = Vec::new();
+pub fn read_log(reader: impl BufRead) -> Result<Vec<LogRecord>, EstimateError> {
+    read_log_lines(reader).map(|lines| lines.into_iter().map(|l| l.record).collect())
+}
+
+/// [`read_log`] keeping each record's line number in the file, for messages about a record
+/// that name its line (`ftwire shape --log`'s `shapes.jsonl`, a record without `b` or
+/// `gravity`).
+///
+/// # Errors
+/// As [`read_log`].
+///
+/// # Example
+/// ```
+/// let a = r#"{"time": 0.0, "a": [0, 0, 0.01, 0, 0, 0]}"#;
+/// let log = ftwire_estimate::log::read_log_lines(format!("# rig\n\n{a}\n{a}\n").as_bytes())?;
+/// assert_eq!(log.iter().map(|l| l.line).collect::<Vec<_>>(), [3, 4]);
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+pub fn read_log_lines(mut reader: impl BufRead) -> Result<Vec<LogLine>, EstimateError> {
+    let mut records: Vec<LogLine> = Vec::new();
     let mut bytes = Vec::new();
     for line_number in 1.. {
         bytes.clear();
@@ -222,8 +252,11 @@ pub fn read_log(mut reader: impl BufRead) -> Result<Vec<LogRecord>, EstimateErro
                 line: line_number,
                 message: format!("{e}, near `{}`", snippet(trimmed, e.column())),
             })?;
-        record.check(line_number, records.last().map(|r| r.time))?;
-        records.push(record);
+        record.check(line_number, records.last().map(|r| r.record.time))?;
+        records.push(LogLine {
+            line: line_number,
+            record,
+        });
     }
     if records.is_empty() {
         return Err(EstimateError::EmptyLog);
@@ -308,8 +341,9 @@ mod tests {
             ),
             (line(r#", "a": [0, 0, 0.01, 0, 0, 1e999]"#), "1e999"),
             (
+                // serde_json refuses the overflow itself; the snippet names the key.
                 line(r#", "raw": [0, 0, 0.01, 0, 0, 0], "gravity": [0, 1e999, 0]"#),
-                "gravity[1]",
+                r#""gravity": [0, 1e999"#,
             ),
             ("{not json".to_string(), "key must be a string"),
         ];
@@ -382,6 +416,23 @@ mod tests {
             }
             other => panic!("expected BadLogLine, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn each_record_keeps_its_line_in_the_file() -> Result<(), EstimateError> {
+        let a = line(r#", "a": [0, 0, 0.01, 0, 0, 0]"#);
+        let input = [
+            b"\xEF\xBB\xBF# rig 7\n\n".as_slice(),
+            a.as_bytes(),
+            b"\n   \n# moved\n",
+            a.as_bytes(),
+        ]
+        .concat();
+        let lines = read_log_lines(input.as_slice())?;
+        assert_eq!(lines.iter().map(|l| l.line).collect::<Vec<_>>(), [3, 6]);
+        let records: Vec<LogRecord> = lines.into_iter().map(|l| l.record).collect();
+        assert_eq!(records, read_log(input.as_slice())?);
+        Ok(())
     }
 
     #[test]

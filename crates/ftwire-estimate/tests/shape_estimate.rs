@@ -126,3 +126,38 @@ fn bad_input_is_named_and_leaves_the_state() -> Result<(), EstimateError> {
     ));
     Ok(())
 }
+
+/// Solving samples apart (in parallel, say) and flagging them in order gives `estimate`'s
+/// flags, with a failed solve skipped as `estimate` skips it.
+#[test]
+fn flagging_solved_samples_is_estimating_them() -> Result<(), EstimateError> {
+    let model = model()?;
+    let config = EstimatorParams {
+        jump_threshold: 1.0,
+        ..EstimatorParams::default()
+    };
+    let z = Vector6::new(0.5, 2.0, -1.0, -3.0, 1.5, 0.5);
+    let a = |z: Vector6<f64>| from_normalised(model.wire(), &z);
+    let samples = [
+        a(z),
+        a(z + Vector6::new(0.0, 0.3, 0.0, 0.4, 0.0, 0.0)),
+        Vector6::new(0.1, 0.0, 0.0, -0.2, 0.0, 0.0), // outside A: no solve
+        a(z + Vector6::new(0.0, 0.0, 2.0, 0.0, 0.0, 0.0)),
+        a(Vector6::new(0.0, 0.0, 1e-3, -50.0, 0.0, 0.0)), // buckled
+        a(z),
+    ];
+    let mut estimating = ShapeEstimator::new(model).with_config(config)?;
+    let mut flagging = ShapeEstimator::new(model).with_config(config)?;
+    for sample in &samples {
+        let estimated = estimating.estimate(sample).map(|e| e.confidence);
+        let flagged = model
+            .is_stable(sample)
+            .map(|stable| flagging.flag_solved(sample, stable));
+        match (estimated, flagged) {
+            (Ok(e), Ok(f)) => assert_eq!(e, f),
+            (Err(_), Err(_)) => {}
+            other => panic!("{sample:?}: {other:?}"),
+        }
+    }
+    Ok(())
+}

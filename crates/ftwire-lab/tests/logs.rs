@@ -38,6 +38,7 @@ fn a_saved_identification_log_gives_the_live_estimate() {
             .join("logs")
             .join("nitinol-2mm-630-trial0.jsonl"),
         calibration: None,
+        mounting: None,
         samples: None,
         residual: ResidualParams::default(),
         gravity: None,
@@ -92,6 +93,7 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
         log,
         wire: "nitinol-2mm-630".to_owned(),
         calibration: None,
+        mounting: None,
     };
     let error = LogShapes::new(&params)
         .err()

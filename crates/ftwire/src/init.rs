@@ -2,20 +2,22 @@
 //! takes one accepts it (`tests/init_cli.rs` runs them).
 //!
 //! The examples are hand-written TOML under `src/init/`, each key with its unit, default and
-//! allowed range in a comment; `docs/config.md` is the full schema. The sensor and rig examples
-//! hold the library's defaults and the wire example the preset `nitinol-3mm-820` (checked by
-//! the tests below), so passing them changes nothing but the header of a run.
+//! allowed range in a comment; `docs/config.md` is the full schema. The sensor, rig and
+//! mounting examples hold the library's defaults and the wire example the preset
+//! `nitinol-3mm-820` (checked by the tests below), so passing them changes nothing but the
+//! header of a run.
 
 use std::path::{Path, PathBuf};
 
 use ftwire_lab::error::LabError;
 
 /// The example files, by file name.
-pub const EXAMPLES: [(&str, &str); 4] = [
+pub const EXAMPLES: [(&str, &str); 5] = [
     ("wire.toml", include_str!("init/wire.toml")),
     ("sensor.toml", include_str!("init/sensor.toml")),
     ("rig.toml", include_str!("init/rig.toml")),
     ("scene.toml", include_str!("init/scene.toml")),
+    ("mounting.toml", include_str!("init/mounting.toml")),
 ];
 
 /// Writes the [`EXAMPLES`] into `dir`, creating `dir` when its parent exists. Without `force`
@@ -98,6 +100,8 @@ mod tests {
             "/../../scenes/passage.toml"
         ))?;
         assert_eq!(scene, shipped);
+        let mounting: ftwire_estimate::ft::MountingSpec = toml::from_str(example("mounting.toml"))?;
+        assert_eq!(mounting, ftwire_estimate::ft::MountingSpec::default());
         Ok(())
     }
 }

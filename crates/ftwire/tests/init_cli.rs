@@ -32,10 +32,19 @@ fn body(folder: &Path) -> serde_json::Value {
 fn init_writes_the_examples_once_and_refuses_to_overwrite_them() {
     let tmp = TempDir::new("init-write");
     let cfg = init(&tmp.0);
-    for name in ["wire.toml", "sensor.toml", "rig.toml", "scene.toml"] {
+    for name in [
+        "wire.toml",
+        "sensor.toml",
+        "rig.toml",
+        "scene.toml",
+        "mounting.toml",
+    ] {
         let example = fs::read_to_string(cfg.join(name)).expect("an example");
         assert!(example.starts_with('#'), "{name} opens with a comment");
     }
+    let mounting = ftwire_lab::setup::mounting::load(Some(&cfg.join("mounting.toml")))
+        .expect("the mounting example reads");
+    assert_eq!(mounting, ftwire_estimate::ft::MountingSpec::default());
     fs::write(cfg.join("rig.toml"), "settle_time = 0.5\n").expect("edits the rig");
     let again = ftwire(&["init", text(&cfg)]);
     assert_exit(&again, 2, "wire.toml exists already", "init over examples");
@@ -73,8 +82,29 @@ fn every_command_accepts_the_examples_as_written() {
     let weights = tmp.0.join("cal").join("calibration.json");
     let weights = text(&weights);
     let (id, shape, goal) = (out("identify"), out("shape"), out("goal"));
+    let mounting = cfg.join("mounting.toml");
+    let mounting = text(&mounting);
+    let log = tmp.0.join("rig.jsonl");
+    fs::write(
+        &log,
+        "{\"time\": 0.0, \"raw\": [0.01, 0.02, -0.03, 0.0004, 0.0002, -0.0001]}\n",
+    )
+    .expect("writes a log");
+    let log = text(&log);
     let runs: Vec<(&str, Vec<&str>)> = vec![
         ("scene check", vec!["scene", "check", scene, "--wire", wire]),
+        (
+            "shape --log",
+            vec![
+                "shape",
+                "--log",
+                log,
+                "--wire",
+                wire,
+                "--mounting",
+                mounting,
+            ],
+        ),
         (
             "plan",
             vec![

@@ -1,9 +1,12 @@
 //! `ftwire shape --log` on a log that `ftwire experiment shape --save-log` wrote gives the same
 //! answer as the live run; bad and empty logs, and raw readings without a calibration, are bad
-//! input (exit 2) naming the line.
+//! input (exit 2) naming the line. With `--out DIR` it writes `shapes.jsonl` and a summary of
+//! exactly its keys; bad input writes nothing; a record without a shape is exit 1 with the
+//! folder written.
 
 mod cli_support;
 
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use cli_support::{TempDir, assert_exit, assert_success, ftwire, tiny_calibration};
@@ -135,4 +138,173 @@ fn too_short_a_rest_is_bad_input() {
         "a 10-sample rest",
     );
     assert!(!out.exists(), "nothing written on bad input");
+}
+
+/// Two records with `a` (one with markers, no `b`) after a comment, and one the model cannot
+/// solve when `failing`.
+fn small_log(dir: &Path, failing: bool) -> std::path::PathBuf {
+    let a = r#""a": [0.0005, 0.002, -0.001, -0.03, 0.015, 0.005]"#;
+    let markers = r#""markers": [[0, 0, 0], [0.1, 0.01, 0], null, [0.3, 0.02, 0], [0.6, 0, 0]]"#;
+    let mut text =
+        format!("# a rig\n{{\"time\": 0.0, {a}, {markers}}}\n\n{{\"time\": 0.1, {a}}}\n");
+    if failing {
+        text.push_str(r#"{"time": 0.2, "a": [0.1, 0, 0, -0.2, 0, 0]}"#);
+        text.push('\n');
+    }
+    let path = dir.join(if failing {
+        "failing.jsonl"
+    } else {
+        "rig.jsonl"
+    });
+    std::fs::write(&path, text).expect("writes the log");
+    path
+}
+
+fn keys(value: &serde_json::Value) -> BTreeSet<String> {
+    value
+        .as_object()
+        .map(|o| o.keys().cloned().collect())
+        .unwrap_or_default()
+}
+
+#[test]
+fn out_writes_the_shapes_and_a_summary_of_exactly_its_keys()
+-> Result<(), Box<dyn std::error::Error>> {
+    let tmp = TempDir::new("shape-log-out");
+    let log = small_log(&tmp.0, false);
+    let out = tmp.0.join("shapes");
+    let output = ftwire(&[
+        "shape",
+        "--log",
+        text(&log),
+        "--wire",
+        "nitinol-2mm-630",
+        "--out",
+        text(&out),
+        "--points",
+        "3",
+        "--json",
+    ]);
+    assert_success(&output, "shape --log --out");
+    let printed = cli_support::json(&output);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json"))?)?;
+    let body = &summary["summary"];
+    let expected: BTreeSet<String> = ["records", "not_stable", "not_confident", "marker_mean_mm"]
+        .map(String::from)
+        .into();
+    assert_eq!(keys(body), expected);
+    assert_eq!(&printed, body, "--json prints the summary");
+    assert_eq!(body["records"], 2);
+    assert!(body["marker_mean_mm"].as_f64().is_some_and(f64::is_finite));
+    assert_eq!(summary["header"]["command"], "shape");
+    for file in ["report.md", "report.html", "timings.json"] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(out.join("shapes.jsonl"))?
+        .lines()
+        .map(serde_json::from_str)
+        .collect::<Result<_, _>>()?;
+    assert_eq!(lines.len(), 2);
+    let line_keys: BTreeSet<String> = ["line", "time", "a", "points", "stable", "confident"]
+        .map(String::from)
+        .into();
+    for (line, number) in lines.iter().zip([2, 4]) {
+        assert_eq!(keys(line), line_keys);
+        assert_eq!(line["line"], number);
+        assert_eq!(line["points"].as_array().map(Vec::len), Some(3));
+    }
+
+    // Text: the summary and where the results are.
+    let output = ftwire(&[
+        "shape",
+        "--log",
+        text(&log),
+        "--wire",
+        "nitinol-2mm-630",
+        "--out",
+        text(&out),
+    ]);
+    assert_success(&output, "shape --log --out, again");
+    let stdout = String::from_utf8(output.stdout)?;
+    assert!(
+        stdout.starts_with("2 records: 0 not stable, 0 not confident"),
+        "{stdout}"
+    );
+    assert!(stdout.contains(text(&out)), "{stdout}");
+    Ok(())
+}
+
+#[test]
+fn bad_input_with_out_is_exit_2_and_writes_nothing() {
+    let tmp = TempDir::new("shape-log-out-bad");
+    let log = small_log(&tmp.0, false);
+    let out = tmp.0.join("shapes");
+    let raw = tmp.0.join("raw.jsonl");
+    std::fs::write(
+        &raw,
+        "# raw\n{\"time\": 0.5, \"raw\": [0.1, 0.2, -0.3, 0.01, 0.0, 0.02]}\n",
+    )
+    .expect("writes");
+    let tool = tmp.0.join("tool.toml");
+    std::fs::write(
+        &tool,
+        "tool_mass = 0.3\ntool_centre_of_mass = [0, 0, 0.05]\n",
+    )
+    .expect("w");
+    let base = ["shape", "--wire", "nitinol-2mm-630"];
+    let cases: [(&[&str], &str); 5] = [
+        (&["--log", text(&raw), "--out", text(&out)], "--mounting"),
+        (
+            &[
+                "--log",
+                text(&raw),
+                "--mounting",
+                text(&tool),
+                "--out",
+                text(&out),
+            ],
+            "line 2 (time 0.5) has a raw F/T reading but no `gravity`",
+        ),
+        (&["--log", text(&log), "--points", "5"], "--out"),
+        (
+            &["--log", text(&log), "--out", text(&out), "--points", "1"],
+            "--points",
+        ),
+        (&["--log", text(&log), "--force"], "--out"),
+    ];
+    for (extra, needle) in cases {
+        let output = ftwire(&[&base[..], extra].concat());
+        assert_exit(&output, 2, needle, &format!("{extra:?}"));
+        assert!(!out.exists(), "{extra:?}: nothing written");
+    }
+}
+
+#[test]
+fn a_record_without_a_shape_is_exit_1_with_the_folder_written() {
+    let tmp = TempDir::new("shape-log-out-fail");
+    let log = small_log(&tmp.0, true);
+    let out = tmp.0.join("shapes");
+    let output = ftwire(&[
+        "shape",
+        "--log",
+        text(&log),
+        "--wire",
+        "nitinol-2mm-630",
+        "--out",
+        text(&out),
+    ]);
+    assert_exit(
+        &output,
+        1,
+        "no shape for 1 of 3 records",
+        "a record outside A",
+    );
+    let shapes = std::fs::read_to_string(out.join("shapes.jsonl")).expect("written");
+    let last: serde_json::Value =
+        serde_json::from_str(shapes.lines().last().expect("3 lines")).expect("JSON");
+    assert_eq!(last["line"], 5);
+    assert!(last["error"].is_string());
+    assert_eq!(last["points"].as_array().map(Vec::len), Some(0));
+    assert!(out.join("summary.json").is_file());
 }

@@ -162,21 +162,31 @@ impl<M: WireModel> ShapeEstimator<M> {
         ensure_finite("a_tilde", a_tilde.as_slice())?;
         let shape = self.model.shape(a_tilde, self.config.nodes)?;
         let stable = self.model.is_stable(a_tilde)?;
+        let confidence = self.flag_solved(a_tilde, stable);
+        Ok(ShapeEstimate {
+            shape,
+            confidence,
+            normalised: to_normalised(self.model.wire(), a_tilde),
+        })
+    }
+
+    /// The confidence of a sample whose shape the caller solved itself, given whether
+    /// `ã ∈ A_stable` (`stable`, from [`WireModel::is_stable`]): the flag and the update of the
+    /// last sample that [`ShapeEstimator::estimate`] makes after its solve. This lets a caller
+    /// solve many samples in parallel and flag them afterwards; give it, in order, only the
+    /// samples that were solved (a failed solve leaves the last sample unchanged, as in
+    /// `estimate`). Guarded by `flagging_solved_samples_is_estimating_them`.
+    pub fn flag_solved(&mut self, a_tilde: &Vector6<f64>, stable: bool) -> Confidence {
         let normalised = to_normalised(self.model.wire(), a_tilde);
         let change = self.previous.map(|previous| (normalised - previous).norm());
         self.previous = Some(normalised);
-        let confidence = match change {
+        match change {
             _ if !stable => Confidence::NotStable,
             Some(change) if change > self.config.jump_threshold => Confidence::Jump {
                 change,
                 threshold: self.config.jump_threshold,
             },
             _ => Confidence::Confident,
-        };
-        Ok(ShapeEstimate {
-            shape,
-            confidence,
-            normalised,
-        })
+        }
     }
 }

@@ -8,7 +8,7 @@
 use nalgebra::{Point3, Vector3};
 
 use crate::EstimateError;
-use crate::shape::polyline::{closest_point, resample, validate_points};
+use crate::shape::polyline::{closest_distance, resample, validate_points};
 use crate::shape::setting;
 
 /// Fewest common arc lengths [`centreline_distance`] accepts.
@@ -85,7 +85,7 @@ pub fn marker_distances(
     validate_points("markers", &coords, 0)?;
     Ok(coords
         .iter()
-        .filter_map(|p| closest_point(centreline, p).map(|c| c.distance))
+        .filter_map(|p| closest_distance(centreline, p))
         .collect())
 }
 

@@ -111,6 +111,30 @@ pub fn closest_point(polyline: &[Vector3<f64>], query: &Vector3<f64>) -> Option<
     Some(best)
 }
 
+/// The distance of `query` to `polyline`: bit for bit [`closest_point`]'s `distance`, without
+/// the point, arc length and segment, and without a square root per segment (the squared
+/// distances are compared, and `‖v‖ = √(‖v‖²)` is monotone). `None` for an empty polyline.
+/// The marker metric's inner loop; guarded by `the_distance_is_the_closest_points`.
+pub(crate) fn closest_distance(polyline: &[Vector3<f64>], query: &Vector3<f64>) -> Option<f64> {
+    let first = polyline.first()?;
+    let mut best = (query - first).norm_squared();
+    for pair in polyline.windows(2) {
+        let [p, q] = pair else { continue };
+        let d = q - p;
+        let length_sq = d.norm_squared();
+        let u = if length_sq > 0.0 {
+            ((query - p).dot(&d) / length_sq).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let squared = (query - (p + u * d)).norm_squared();
+        if squared < best {
+            best = squared;
+        }
+    }
+    Some(best.sqrt())
+}
+
 /// The polyline resampled at `samples` points evenly spaced in its own chord length, both ends
 /// included (linear interpolation). Needs at least 2 points and `samples ≥ 2`.
 pub(crate) fn resample(polyline: &[Vector3<f64>], samples: usize) -> Vec<Vector3<f64>> {
@@ -168,6 +192,33 @@ mod tests {
             |c| (c.distance - 3.0).abs() < 1e-15 && (c.arc_length - 4.0).abs() < 1e-15
         ));
         assert!(closest_point(&[], &Vector3::zeros()).is_none());
+    }
+
+    /// Bit for bit the closest point's distance, on random polylines with repeated vertices.
+    #[test]
+    fn the_distance_is_the_closest_points() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let mut random = |scale: f64| {
+            Vector3::new(
+                rng.random_range(-scale..scale),
+                rng.random_range(-scale..scale),
+                rng.random_range(-scale..scale),
+            )
+        };
+        for n in [1, 2, 3, 17, 100] {
+            let mut polyline: Vec<Vector3<f64>> = (0..n).map(|_| random(0.5)).collect();
+            if n > 3 {
+                polyline[2] = polyline[1];
+            }
+            for _ in 0..200 {
+                let query = random(0.7);
+                let fast = closest_distance(&polyline, &query).map(f64::to_bits);
+                let full = closest_point(&polyline, &query).map(|c| c.distance.to_bits());
+                assert_eq!(fast, full, "{n} points, query {query:?}");
+            }
+        }
+        assert!(closest_distance(&[], &Vector3::zeros()).is_none());
     }
 
     #[test]

@@ -245,8 +245,9 @@ struct Labelled {
     raw: Vector6<f64>,
     label: Vector6<f64>,
     rms: f64,
-    /// The observed markers, base clamp frame.
-    markers: Vec<Point3<f64>>,
+    /// The observed inner markers (neither the first nor the last of the list), base clamp
+    /// frame.
+    inner: Vec<Point3<f64>>,
 }
 
 /// Learns the calibration from the recording into `folder`: `calibration.json`, `labels.csv`
@@ -263,7 +264,7 @@ pub fn run(
     progress: Progress<'_>,
 ) -> Result<LogCalibrateRun, LabError> {
     params.check()?;
-    let records = read(&params.log)?;
+    let (records, lines) = read(&params.log)?;
     let model = params.model()?;
     let mounting = params
         .mounting
@@ -275,7 +276,7 @@ pub fn run(
         params.wire.name
     ));
     let start = Instant::now();
-    let (labelled, labels, csv) = label_all(params, &model, &records, progress)?;
+    let (labelled, labels, csv) = label_all(params, &model, (&records, &lines), progress)?;
     let label_s = start.elapsed().as_secs_f64();
     folder.write("labels.csv", csv)?;
     let start = Instant::now();
@@ -342,11 +343,15 @@ pub fn run(
 }
 
 /// Reads the log; refuses one without raw readings or markers.
-fn read(path: &std::path::Path) -> Result<Vec<LogRecord>, LabError> {
+fn read(path: &std::path::Path) -> Result<(Vec<LogRecord>, Vec<usize>), LabError> {
     let file = std::fs::File::open(path)
         .map_err(|e| LabError::io(format!("opening the log {}", path.display()), e))?;
-    let records = ftwire_estimate::log::read_log(std::io::BufReader::new(file))
-        .map_err(|e| LabError::bad_input(format!("--log {}: {e}", path.display())))?;
+    let (lines, records): (Vec<usize>, Vec<LogRecord>) =
+        ftwire_estimate::log::read_log_lines(std::io::BufReader::new(file))
+            .map_err(|e| LabError::bad_input(format!("--log {}: {e}", path.display())))?
+            .into_iter()
+            .map(|l| (l.line, l.record))
+            .unzip();
     if !records.iter().any(|r| r.raw.is_some()) {
         return Err(LabError::bad_input(format!(
             "--log {}: no record has a raw F/T reading (`raw`): there is nothing to calibrate",
@@ -360,7 +365,7 @@ fn read(path: &std::path::Path) -> Result<Vec<LogRecord>, LabError> {
             path.display()
         )));
     }
-    Ok(records)
+    Ok((records, lines))
 }
 
 /// Why a record got no label.
@@ -375,7 +380,7 @@ enum Rejection {
 fn label_all(
     params: &LogCalibrateParams,
     model: &KirchhoffModel,
-    records: &[LogRecord],
+    (records, lines): (&[LogRecord], &[usize]),
     progress: Progress<'_>,
 ) -> Result<(Vec<Labelled>, Labels, Vec<u8>), LabError> {
     let fitter = fitter(model, params.marker_fractions.is_some())?;
@@ -391,8 +396,7 @@ fn label_all(
         ],
     )?;
     let mut labelled = Vec::new();
-    for ((i, record), outcome) in records.iter().enumerate().zip(outcomes) {
-        let line = i + 1;
+    for ((record, &line), outcome) in records.iter().zip(lines).zip(outcomes) {
         match outcome {
             Ok(l) => {
                 let mut cells = vec![value(line), value(record.time), text("fitted")];
@@ -533,6 +537,15 @@ fn label_one(
         })?;
     let seen: Vec<Option<Point3<f64>>> = record.markers().unwrap_or_default();
     let observed: Vec<Point3<f64>> = seen.iter().flatten().copied().collect();
+    // The inner markers, by their place in the list: not the first (at the clamp) nor the
+    // last (at the gripper), whether or not those were seen.
+    let inner: Vec<Point3<f64>> = seen
+        .get(1..seen.len().saturating_sub(1))
+        .unwrap_or(&[])
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
     if observed.len() < MIN_MARKERS {
         return Ok(Err(Rejection::FewMarkers));
     }
@@ -562,7 +575,7 @@ fn label_one(
         raw,
         label: fit.a,
         rms: fit.rms,
-        markers: observed,
+        inner,
     }))
 }
 
@@ -723,13 +736,13 @@ fn test_errors(
             Ok(TestRow {
                 line: l.line,
                 time: l.time,
-                raw: inner_marker_mean(model, &mounting.to_configuration(&l.raw), &l.markers)?,
+                raw: inner_marker_mean(model, &mounting.to_configuration(&l.raw), &l.inner)?,
                 calibrated: inner_marker_mean(
                     model,
                     &calibration.apply_at(&l.raw, l.time),
-                    &l.markers,
+                    &l.inner,
                 )?,
-                label: inner_marker_mean(model, &l.label, &l.markers)?,
+                label: inner_marker_mean(model, &l.label, &l.inner)?,
             })
         })
         .collect()

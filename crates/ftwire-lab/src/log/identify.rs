@@ -3,24 +3,25 @@
 //! makes ([`crate::identify::run_identification`]: the model template, the swarm's random
 //! generator), so that both give the same answer on the same data and seed.
 //!
-//! Records with `a` (tared and calibrated) are used as they are; records with `raw` need the
-//! learnt calibration ([`IdentifyLogParams::calibration`]), which maps the tared raw reading
-//! to `a`. [`samples`] reads the log into `(ã, b̃)` pairs, [`estimate`] identifies from them
-//! and gives the [`EstimateReport`] that `ftwire identify --log` prints. Guarded by this
-//! module's tests and `crates/ftwire/tests/identify_log.rs` (a saved log gives the live
-//! run's estimate).
+//! Records with `a` (tared and calibrated) are used as they are; records with `raw` go
+//! through the learnt calibration ([`IdentifyLogParams::calibration`]) or the mounting
+//! ([`IdentifyLogParams::mounting`]), as [`super::a_tilde`] says. Every record needs `b`, the
+//! second gripper's pose. [`samples`] reads the log into `(ã, b̃)` pairs, [`estimate`]
+//! identifies from them and gives the [`EstimateReport`] that `ftwire identify --log` prints.
+//! Guarded by this module's tests, `tests/logs.rs` and `crates/ftwire/tests/identify_log.rs`
+//! (a saved log gives the live run's estimate).
 
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
 
 use ftwire_core::Pose;
-use ftwire_estimate::Calibration;
+use ftwire_estimate::ft::MountingSpec;
 use ftwire_estimate::identify::{Estimate, IdentifierParams, Unidentified};
 use nalgebra::{Vector3, Vector6};
 use serde::Serialize;
 
-use super::{LogRecord, a_tilde, load_calibration, read_log};
+use super::{LogLine, RawMap, a_tilde, read_log};
 use crate::error::{LabError, from_estimate};
 use crate::experiment::Progress;
 use crate::identify::{Form, ResidualParams, flag_name, identifier};
@@ -30,9 +31,12 @@ use crate::identify::{Form, ResidualParams, flag_name, identifier};
 pub struct IdentifyLogParams {
     /// The JSON Lines log ([`ftwire_estimate::log`]).
     pub log: PathBuf,
-    /// The learnt calibration's weights file, for records with `raw`; `None`: every record
-    /// must hold `a`.
+    /// The learnt calibration's weights file, for records with `raw`.
     pub calibration: Option<PathBuf>,
+    /// The sensor's mounting (`--mounting`): the tool's weight is taken out of `raw`, and
+    /// without a calibration the mounting alone maps it; `None`: not given (records with
+    /// `raw` then need the calibration).
+    pub mounting: Option<MountingSpec>,
     /// Use only the first `n` records; `None`: all.
     pub samples: Option<usize>,
     /// The residual form and the known relations between the parameters.
@@ -74,16 +78,12 @@ impl IdentifyLogParams {
 /// them.
 ///
 /// # Errors
-/// Bad input for a log [`read_log`] refuses, a calibration [`load_calibration`] refuses, a
-/// record [`samples_of`] refuses, or more samples asked for than the log holds.
+/// Bad input for a log [`read_log`] refuses, a calibration or mounting [`RawMap::load`]
+/// refuses, a record [`samples_of`] refuses, or more samples asked for than the log holds.
 pub fn samples(params: &IdentifyLogParams) -> Result<Vec<(Vector6<f64>, Pose)>, LabError> {
-    let records = read_log(&params.log)?;
-    let calibration = params
-        .calibration
-        .as_deref()
-        .map(load_calibration)
-        .transpose()?;
-    let mut samples = samples_of(&records, calibration.as_ref(), &params.log)?;
+    let map = RawMap::load(params.calibration.as_deref(), params.mounting.clone())?;
+    let lines = read_log(&params.log)?;
+    let mut samples = samples_of(&lines, &map, &params.log)?;
     if let Some(n) = params.samples {
         if n > samples.len() {
             return Err(LabError::bad_input(format!(
@@ -97,47 +97,32 @@ pub fn samples(params: &IdentifyLogParams) -> Result<Vec<(Vector6<f64>, Pose)>, 
     Ok(samples)
 }
 
-/// The `(ã, b̃)` pairs of `records` (read from the log at `path`, which the errors name), in
+/// The `(ã, b̃)` pairs of `lines` (read from the log at `path`, which the errors name), in
 /// order: `ã` by [`a_tilde`].
 ///
 /// # Errors
-/// Bad input naming the record (from 1) and its time for a `raw` record without a
-/// calibration, or one that the calibration maps to a value that is not finite.
+/// Bad input naming the log and the record's line and time: a record [`a_tilde`] refuses, one
+/// whose `raw` the calibration maps to a value that is not finite, or one without `b`.
 pub fn samples_of(
-    records: &[LogRecord],
-    calibration: Option<&Calibration>,
+    lines: &[LogLine],
+    map: &RawMap,
     path: &std::path::Path,
 ) -> Result<Vec<(Vector6<f64>, Pose)>, LabError> {
-    records
+    let log = || format!("log {}", path.display());
+    lines
         .iter()
-        .enumerate()
-        .map(|(index, record)| {
-            let Some(a) = a_tilde(record, calibration) else {
-                return Err(LabError::bad_input(match calibration {
-                    None => format!(
-                        "log {}: record {} (time {}) holds `raw`, not `a`: give the learnt \
-                         calibration with --calibration W to turn raw readings into \
-                         configurations",
-                        path.display(),
-                        index + 1,
-                        record.time
-                    ),
-                    Some(_) => format!(
-                        "log {}: record {} has neither `raw` nor `a`",
-                        path.display(),
-                        index + 1
-                    ),
-                }));
-            };
+        .map(|line| {
+            let record = &line.record;
+            let a = a_tilde(line, map).map_err(|e| e.context(log()))?;
             // A record's own `a` is used as it is; the calibration's output may not be finite.
             if record.a.is_none()
                 && let Some(i) = a.iter().position(|v| !v.is_finite())
             {
                 return Err(LabError::bad_input(format!(
-                    "log {}: record {} (time {}): the calibration maps raw = {:?} to a[{i}] = {}, \
+                    "{}: line {} (time {}): the calibration maps raw = {:?} to a[{i}] = {}, \
                      not a finite number",
-                    path.display(),
-                    index + 1,
+                    log(),
+                    line.line,
                     record.time,
                     record.raw,
                     a[i]
@@ -145,10 +130,10 @@ pub fn samples_of(
             }
             let b = record.b.ok_or_else(|| {
                 LabError::bad_input(format!(
-                    "log {}: record {} (time {}) has no `b`: identification needs the second \
+                    "{}: line {} (time {}) has no `b`: identification needs the second \
                      gripper's pose on every record",
-                    path.display(),
-                    index + 1,
+                    log(),
+                    line.line,
                     record.time
                 ))
             })?;
@@ -306,39 +291,61 @@ impl fmt::Display for EstimateReport {
 mod tests {
     use super::*;
 
-    fn record(time: f64, a: Option<[f64; 6]>, raw: Option<[f64; 6]>) -> LogRecord {
-        LogRecord {
-            time,
-            raw,
-            a,
-            b: Some(super::super::LogPose {
-                position: [0.5, 0.1, 0.0],
-                rotation: [0.0, 0.0, 0.3],
-            }),
-            markers: None,
-            gravity: None,
+    fn line(line: usize, time: f64, a: Option<[f64; 6]>, raw: Option<[f64; 6]>) -> LogLine {
+        LogLine {
+            line,
+            record: super::super::LogRecord {
+                time,
+                raw,
+                a,
+                b: Some(super::super::LogPose {
+                    position: [0.5, 0.1, 0.0],
+                    rotation: [0.0, 0.0, 0.3],
+                }),
+                markers: None,
+                gravity: None,
+            },
         }
     }
 
     #[test]
-    fn a_raw_record_without_a_calibration_is_bad_input_naming_it() {
-        let records = [
-            record(0.0, Some([0.01, 0.02, -0.03, -0.1, 0.2, 0.05]), None),
-            record(0.5, None, Some([0.1; 6])),
+    fn a_raw_record_without_a_calibration_is_bad_input_naming_its_line() {
+        let lines = [
+            line(1, 0.0, Some([0.01, 0.02, -0.03, -0.1, 0.2, 0.05]), None),
+            line(3, 0.5, None, Some([0.1; 6])),
         ];
         let path = std::path::Path::new("rig.jsonl");
-        let error = samples_of(&records, None, path).expect_err("raw needs a calibration");
+        let error =
+            samples_of(&lines, &RawMap::default(), path).expect_err("raw needs a calibration");
         assert_eq!(error.kind(), "bad_input");
         let message = error.to_string();
         assert!(
-            message.starts_with("log rig.jsonl: record 2 (time 0.5) holds `raw`"),
+            message.starts_with("log rig.jsonl: line 3 (time 0.5) has a raw F/T reading"),
             "{message}"
         );
         assert!(message.contains("--calibration"), "{message}");
-        let pairs = samples_of(&records[..1], None, path).expect("`a` is used as it is");
+        let pairs = samples_of(&lines[..1], &RawMap::default(), path).expect("`a` as it is");
         assert_eq!(pairs.len(), 1);
         assert_eq!(pairs[0].0[5].to_bits(), 0.05_f64.to_bits());
         assert!((pairs[0].1.translation.vector.x - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_record_without_b_is_bad_input_naming_its_line() {
+        let mut lines = [
+            line(1, 0.0, Some([0.01, 0.02, -0.03, -0.1, 0.2, 0.05]), None),
+            line(4, 0.5, Some([0.01, 0.02, -0.03, -0.1, 0.2, 0.05]), None),
+        ];
+        lines[1].record.b = None;
+        let path = std::path::Path::new("rig.jsonl");
+        let error = samples_of(&lines, &RawMap::default(), path).expect_err("b is needed");
+        assert_eq!(error.kind(), "bad_input");
+        assert!(
+            error
+                .to_string()
+                .starts_with("log rig.jsonl: line 4 (time 0.5) has no `b`"),
+            "{error}"
+        );
     }
 
     #[test]
@@ -352,6 +359,7 @@ mod tests {
         let mut params = IdentifyLogParams {
             log: dir.clone(),
             calibration: None,
+            mounting: None,
             samples: Some(2),
             residual: ResidualParams::default(),
             gravity: None,

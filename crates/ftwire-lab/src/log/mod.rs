@@ -1,13 +1,22 @@
 //! A real rig's JSON Lines log (format and checks: [`ftwire_estimate::log`]), as `ftwire
 //! identify --log` and `ftwire shape --log` read it: [`read_log`] reads a file and names the
-//! file and the line of any bad record, [`load_calibration`] the learnt weights that turn a
-//! record's tared `raw` reading into `ã`, and [`a_tilde`] gives a record's `ã` (torque first,
-//! base clamp frame).
+//! file and the line of any bad record, [`load_calibration`] the learnt weights, and
+//! [`a_tilde`] gives a record's `ã` (torque first, base clamp frame) by the [`RawMap`] of
+//! `--calibration` and `--mounting`:
+//!
+//! - a record's `a` is used as it is;
+//! - a record's `raw` reading (force first, sensor frame, not tared) first loses the weight
+//!   of the tool below the sensor (`MountingSpec::compensate`, with the record's `gravity`),
+//!   then goes through the learnt calibration at the record's time
+//!   (`Calibration::apply_at`: its drift term, if it has one); without a calibration but with
+//!   a mounting file, through the mounting alone (`Mounting::to_configuration`: the model as
+//!   it is, uncalibrated); with neither, it is refused.
 //!
 //! - [`identify`]: identify the wire's `η = (c1, c2, c3, L)` from a log;
 //! - [`shape`]: the wire's shape for every record of a log.
 //!
-//! Guarded by this module's tests and `crates/ftwire/tests/{identify_log,shape_log}.rs`.
+//! Guarded by this module's tests, `tests/logs.rs` and
+//! `crates/ftwire/tests/{identify_log,shape_log}.rs`.
 
 pub mod calibrate;
 pub mod identify;
@@ -18,18 +27,19 @@ use std::io::BufReader;
 use std::path::Path;
 
 use ftwire_estimate::calibration::Calibration;
-pub use ftwire_estimate::log::{LogPose, LogRecord};
-use nalgebra::Vector6;
+use ftwire_estimate::ft::{Mounting, MountingSpec};
+pub use ftwire_estimate::log::{LogLine, LogPose, LogRecord};
+use nalgebra::{Vector3, Vector6};
 
 use crate::error::LabError;
 
-/// Reads the log at `path`: every record, in order.
+/// Reads the log at `path`: every record with its line number in the file, in order.
 ///
 /// # Errors
 /// Bad input naming the file: one that cannot be opened, an empty log (no record), or a bad
-/// line, named by its number (from 1) and its value (what [`ftwire_estimate::log::read_log`]
-/// refuses: malformed JSON, an unknown or missing key, a non-finite number, a time earlier
-/// than the line before, ...).
+/// line, named by its number (from 1) and its value (what
+/// [`ftwire_estimate::log::read_log_lines`] refuses: malformed JSON, an unknown or missing
+/// key, a non-finite number, a time earlier than the line before, ...).
 ///
 /// # Example
 /// ```
@@ -40,19 +50,21 @@ use crate::error::LabError;
 /// std::fs::write(&path, format!("{good}\n{{\"time\": oops\n"))?;
 /// let error = ftwire_lab::log::read_log(&path).err().ok_or("line 2 is bad")?;
 /// assert!(error.to_string().contains("line 2"));
-/// std::fs::write(&path, format!("{good}\n"))?;
-/// assert_eq!(ftwire_lab::log::read_log(&path)?.len(), 1);
+/// std::fs::write(&path, format!("# rig 7\n{good}\n"))?;
+/// let log = ftwire_lab::log::read_log(&path)?;
+/// assert_eq!((log.len(), log[0].line), (1, 2));
 /// # std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn read_log(path: &Path) -> Result<Vec<LogRecord>, LabError> {
+pub fn read_log(path: &Path) -> Result<Vec<LogLine>, LabError> {
     let file = File::open(path)
         .map_err(|e| LabError::bad_input(format!("cannot open log {}: {e}", path.display())))?;
-    ftwire_estimate::log::read_log(BufReader::new(file))
+    ftwire_estimate::log::read_log_lines(BufReader::new(file))
         .map_err(|e| LabError::bad_input(format!("log {}: {e}", path.display())))
 }
 
-/// Loads the learnt calibration (the weights file of `ftwire experiment calibrate`).
+/// Loads the learnt calibration (the weights file of `ftwire experiment calibrate` or
+/// `ftwire calibrate --log`).
 ///
 /// # Errors
 /// Bad input naming the file (`--calibration FILE: ...`) when it cannot be read or is not a
@@ -62,16 +74,115 @@ pub fn load_calibration(path: &Path) -> Result<Calibration, LabError> {
         .map_err(|e| LabError::bad_input(format!("--calibration {}: {e}", path.display())))
 }
 
-/// The record's `ã` (torque first, base clamp frame): its `a` as it is, or its tared `raw`
-/// reading through `calibration`; `None` for a `raw` record without a calibration.
+/// How a record's `raw` reading becomes `ã` ([`a_tilde`]): the learnt calibration
+/// (`--calibration`) and the sensor's mounting (`--mounting`), each if given.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RawMap {
+    calibration: Option<Calibration>,
+    mounting: Option<(MountingSpec, Mounting)>,
+}
+
+impl RawMap {
+    /// The map of `calibration` and `mounting` (`None`: not given).
+    ///
+    /// # Errors
+    /// Bad input (`--mounting: ...`) for a mounting [`MountingSpec::mounting`] refuses.
+    pub fn new(
+        calibration: Option<Calibration>,
+        mounting: Option<MountingSpec>,
+    ) -> Result<Self, LabError> {
+        let mounting = mounting
+            .map(|spec| {
+                let transform = spec
+                    .mounting()
+                    .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
+                Ok::<_, LabError>((spec, transform))
+            })
+            .transpose()?;
+        Ok(Self {
+            calibration,
+            mounting,
+        })
+    }
+
+    /// [`RawMap::new`] with the calibration read from its file ([`load_calibration`]).
+    ///
+    /// # Errors
+    /// As [`load_calibration`] and [`RawMap::new`].
+    pub fn load(
+        calibration: Option<&Path>,
+        mounting: Option<MountingSpec>,
+    ) -> Result<Self, LabError> {
+        Self::new(calibration.map(load_calibration).transpose()?, mounting)
+    }
+
+    /// The learnt calibration, if given.
+    pub fn calibration(&self) -> Option<&Calibration> {
+        self.calibration.as_ref()
+    }
+
+    /// The mounting, if given.
+    pub fn mounting(&self) -> Option<&MountingSpec> {
+        self.mounting.as_ref().map(|(spec, _)| spec)
+    }
+}
+
+/// The record's `ã` (torque first, base clamp frame), by the rules of the module docs: its
+/// `a` as it is; its `raw` reading with the tool's weight taken out, then through the
+/// calibration at the record's time, or else through the mounting alone.
 ///
 /// A calibration may map an extreme reading to a value that is not finite; a caller that
 /// needs finite values checks them.
-pub fn a_tilde(record: &LogRecord, calibration: Option<&Calibration>) -> Option<Vector6<f64>> {
-    match (record.a(), record.raw(), calibration) {
-        (Some(a), _, _) => Some(a),
-        (None, Some(raw), Some(calibration)) => Some(calibration.apply(&raw)),
-        _ => None,
+///
+/// # Errors
+/// Bad input naming the record's line and time: a `raw` record without `gravity` when the
+/// mounting has a tool, or a `raw` record with neither a calibration nor a mounting given.
+///
+/// # Example
+/// ```
+/// use ftwire_estimate::ft::MountingSpec;
+/// use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
+/// let record = LogRecord { time: 0.5, raw: Some([0.1, 0.0, -0.2, 0.0, 0.01, 0.0]), a: None, b: None, markers: None, gravity: None };
+/// let line = LogLine { line: 7, record };
+/// let error = a_tilde(&line, &RawMap::default()).err().ok_or("raw needs a map")?;
+/// assert!(error.to_string().starts_with("line 7 (time 0.5) has a raw F/T reading"));
+/// let mounting = RawMap::new(None, Some(MountingSpec::default()))?;
+/// let a = a_tilde(&line, &mounting)?;
+/// let expected = MountingSpec::default().mounting()?.to_configuration(&line.record.raw().ok_or("raw")?);
+/// assert_eq!(a, expected);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn a_tilde(line: &LogLine, map: &RawMap) -> Result<Vector6<f64>, LabError> {
+    let record = &line.record;
+    let Some(raw) = record.raw() else {
+        return record.a().ok_or_else(|| {
+            LabError::bad_input(format!(
+                "line {} (time {}) has neither `raw` nor `a`",
+                line.line, record.time
+            ))
+        });
+    };
+    let default = MountingSpec::default();
+    let spec = map.mounting().unwrap_or(&default);
+    let gravity = record.gravity.map(Vector3::from);
+    let raw = spec.compensate(&raw, gravity.as_ref()).map_err(|_| {
+        LabError::bad_input(format!(
+            "line {} (time {}) has a raw F/T reading but no `gravity`: the mounting's tool \
+             (tool_mass = {} kg) weighs on the sensor, and its weight is taken out with the \
+             gravity vector in the sensor frame at each record; give every raw record its \
+             `gravity`",
+            line.line, record.time, spec.tool_mass
+        ))
+    })?;
+    match (&map.calibration, &map.mounting) {
+        (Some(calibration), _) => Ok(calibration.apply_at(&raw, record.time)),
+        (None, Some((_, mounting))) => Ok(mounting.to_configuration(&raw)),
+        (None, None) => Err(LabError::bad_input(format!(
+            "line {} (time {}) has a raw F/T reading: give --calibration FILE (the weights from \
+             `ftwire calibrate --log` or `ftwire experiment calibrate`) to turn it into ã, or \
+             --mounting FILE.toml to take it through the mounting alone, uncalibrated",
+            line.line, record.time
+        ))),
     }
 }
 
@@ -128,15 +239,77 @@ mod tests {
         let _ = std::fs::remove_file(&path);
         let records = records.expect("a good log");
         assert_eq!(records.len(), 2);
-        assert!(records[1].time > records[0].time);
-        let a = a_tilde(&records[0], None).expect("`a` needs no calibration");
+        assert_eq!((records[0].line, records[1].line), (2, 3));
+        assert!(records[1].record.time > records[0].record.time);
+        let a = a_tilde(&records[0], &RawMap::default()).expect("`a` needs no calibration");
         assert_eq!(a[4].to_bits(), 0.03_f64.to_bits());
-        let raw = LogRecord {
-            a: None,
-            raw: Some([0.1; 6]),
-            ..records[0].clone()
+        let raw = LogLine {
+            line: 9,
+            record: LogRecord {
+                a: None,
+                raw: Some([0.1; 6]),
+                ..records[0].record.clone()
+            },
         };
-        assert!(a_tilde(&raw, None).is_none(), "`raw` needs a calibration");
+        let error = a_tilde(&raw, &RawMap::default()).expect_err("`raw` needs a map");
+        assert_eq!(error.kind(), "bad_input");
+        let message = error.to_string();
+        assert!(
+            message.starts_with("line 9 (time 0) has a raw F/T reading"),
+            "{message}"
+        );
+        assert!(
+            message.contains("--calibration") && message.contains("--mounting"),
+            "{message}"
+        );
+    }
+
+    /// The tool's weight comes out before the mounting or the calibration, with the record's
+    /// gravity; a record without gravity is refused when there is a tool.
+    #[test]
+    fn a_tools_weight_is_taken_out_first() {
+        let spec = MountingSpec {
+            tool_mass: 0.4,
+            tool_centre_of_mass: [0.0, 0.01, 0.05],
+            ..MountingSpec::default()
+        };
+        let map = RawMap::new(None, Some(spec.clone())).expect("a valid mounting");
+        let gravity = Vector3::new(0.0, -9.81, 0.0);
+        let wire = Vector6::new(0.3, -0.1, 0.2, 0.01, 0.0, -0.02);
+        let line = LogLine {
+            line: 4,
+            record: LogRecord {
+                time: 1.5,
+                raw: Some((wire + spec.tool_reading(&gravity)).into()),
+                a: None,
+                b: None,
+                markers: None,
+                gravity: Some(gravity.into()),
+            },
+        };
+        let a = a_tilde(&line, &map).expect("raw with gravity");
+        let expected = spec.mounting().expect("valid").to_configuration(&wire);
+        assert!((a - expected).norm() < 1e-12, "{a} vs {expected}");
+        let no_gravity = LogLine {
+            record: LogRecord {
+                gravity: None,
+                ..line.record.clone()
+            },
+            ..line
+        };
+        let error = a_tilde(&no_gravity, &map).expect_err("the tool needs gravity");
+        assert_eq!(error.kind(), "bad_input");
+        let message = error.to_string();
+        assert!(
+            message.starts_with("line 4 (time 1.5) ") && message.contains("`gravity`"),
+            "{message}"
+        );
+        let bad = MountingSpec {
+            tool_mass: -1.0,
+            ..MountingSpec::default()
+        };
+        let error = RawMap::new(None, Some(bad)).expect_err("a negative mass");
+        assert!(error.to_string().starts_with("--mounting: "), "{error}");
     }
 
     #[test]

@@ -13,8 +13,8 @@ pub struct CalibrationArgs {
     /// Learnt calibration weights (`calibration.json`, from `ftwire experiment calibrate`).
     /// The experiments without it first run a calibration on the default known wire (this
     /// run's `--gravity` and `--seed`) and cache it in the results folder; `identify --log`
-    /// and `shape --log` need it for records that carry `raw` (records with `a` are used as
-    /// they are).
+    /// and `shape --log` take records that carry `raw` through it, at each record's time
+    /// (records with `a` are used as they are).
     #[arg(long = "calibration", id = "calibration", value_name = "FILE")]
     #[serde(rename = "calibration")]
     pub file: Option<PathBuf>,
@@ -32,8 +32,10 @@ impl CalibrationArgs {
 pub struct MountingArgs {
     /// The sensor's mounting (TOML: `clamp_position_in_sensor` [m], `clamp_rotation_in_sensor`
     /// [rad], optionally `tool_mass` [kg] and `tool_centre_of_mass` [m] for the tool's weight,
-    /// taken out with each record's `gravity`; `ftwire init` writes an example,
-    /// `docs/config.md` lists the keys) [default: the simulated sensor's mounting].
+    /// taken out of `raw` with each record's `gravity`; `ftwire init` writes an example,
+    /// `docs/config.md` lists the keys) [default: the simulated sensor's mounting]. In
+    /// `identify --log` and `shape --log`, without --calibration, `raw` goes through the
+    /// mounting alone (uncalibrated).
     #[arg(long = "mounting", id = "mounting", value_name = "FILE.toml")]
     #[serde(rename = "mounting", skip_serializing_if = "Option::is_none")]
     pub file: Option<PathBuf>,
@@ -47,6 +49,15 @@ impl MountingArgs {
     pub fn load(&self) -> Result<ftwire_estimate::ft::MountingSpec, ftwire_lab::LabError> {
         ftwire_lab::setup::mounting::load(self.file.as_deref())
             .map_err(|e| ftwire_lab::LabError::bad_input(format!("--mounting: {e}")))
+    }
+
+    /// The file's mounting, or `None` when `--mounting` is not given (the log commands then
+    /// take `raw` readings through the calibration alone).
+    ///
+    /// # Errors
+    /// As [`MountingArgs::load`].
+    pub fn given(&self) -> Result<Option<ftwire_estimate::ft::MountingSpec>, ftwire_lab::LabError> {
+        self.file.as_ref().map(|_| self.load()).transpose()
     }
 }
 

@@ -82,13 +82,17 @@ pub const LOG_SAMPLES: CountRange = CountRange::new(1, 1_000_000);
     little motion).")]
 pub struct IdentifyArgs {
     /// The JSON Lines log (format: `ftwire_estimate::log`): time, `a` (tared, calibrated,
-    /// torque first, base clamp frame) or `raw` (force first, sensor frame, tared), and `b` the
-    /// second gripper's pose relative to the base clamp.
+    /// torque first, base clamp frame) or `raw` (force first, sensor frame; needs
+    /// --calibration or --mounting), and `b` the second gripper's pose relative to the base
+    /// clamp, on every record.
     #[arg(long, value_name = "FILE.jsonl")]
     pub log: PathBuf,
     /// The learnt calibration (`--calibration`).
     #[command(flatten)]
     pub calibration: crate::cli::groups::CalibrationArgs,
+    /// The sensor's mounting (`--mounting`).
+    #[command(flatten)]
+    pub mounting: crate::cli::groups::MountingArgs,
     /// Use only the first N records, 1 to 1000000 (default: all). The identification's time
     /// grows in proportion to the records it uses: a window of the first few hundred of a long
     /// log gives an estimate in seconds (on a terminal, progress is shown on stderr).

@@ -7,9 +7,10 @@ use clap::Args;
 /// `ftwire init DIR`: commented example configuration files.
 #[derive(Debug, Clone, Args)]
 #[command(
-    after_help = "Writes wire.toml (--wire), sensor.toml (--sensor), rig.toml (--rig) and \
-    scene.toml (--scene, `ftwire scene check`), each key commented with its unit, default and \
-    allowed range; the full schema is docs/config.md.\n\n\
+    after_help = "Writes wire.toml (--wire), sensor.toml (--sensor), rig.toml (--rig), \
+    scene.toml (--scene, `ftwire scene check`) and mounting.toml (--mounting of the log \
+    commands), each key commented with its unit, default and allowed range; the full schema is \
+    docs/config.md.\n\n\
     Exit codes: 0 written, 2 bad input (a missing parent folder, an example that exists \
     already without --force, a folder that cannot be written)."
 )]

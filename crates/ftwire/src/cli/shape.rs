@@ -3,17 +3,30 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::JsonArgs;
+use ftwire::args::{CountRange, JsonArgs, ResultsArgs};
+use ftwire_lab::log::shape::{MAX_POINTS, MIN_POINTS};
 use serde::Serialize;
 
-/// `ftwire shape --log FILE.jsonl --wire W [--calibration FILE] [--json]`.
+use crate::cli::groups::{CalibrationArgs, MountingArgs};
+
+/// `ftwire shape --log FILE.jsonl --wire W [--calibration FILE] [--mounting FILE.toml]
+/// [--out DIR [--points N]] [--json]`.
 #[derive(Debug, Clone, Args, Serialize)]
-#[command(after_help = "Example:\n  \
+#[command(after_help = "Examples:\n  \
     ftwire shape --log results/shape/logs/nitinol-2mm-630.jsonl --wire nitinol-2mm-630 \\\n    \
-    --calibration results/shape/calibration.json --json")]
+    --calibration results/shape/calibration.json --json\n  \
+    ftwire shape --log rig.jsonl --wire nitinol-3mm-820 --calibration cal/calibration.json \\\n    \
+    --out shapes --points 50\n\n\
+    Without --out each record's answer is printed (text, or JSON Lines with --json). With \
+    --out DIR the shapes go to DIR/shapes.jsonl (one line per record: line, time, a, points, \
+    stable, confident) with summary.json and the report.\n\n\
+    Exit codes: 0 every record shaped, 1 the model has no shape for some record (its `error` \
+    says why; the others are written), 2 bad input (a bad log line, a raw record with neither \
+    --calibration nor --mounting, a tool without the record's gravity).")]
 pub struct ShapeArgs {
     /// The JSON Lines log (format: `ftwire_estimate::log`); each record has `a` (calibrated)
-    /// or `raw` (tared, force first, sensor frame; needs --calibration).
+    /// or `raw` (force first, sensor frame; needs --calibration or --mounting). `b` is not
+    /// needed.
     #[arg(long, value_name = "FILE.jsonl")]
     pub log: PathBuf,
     /// The wire the shapes are solved for: a preset or a wire file (TOML), e.g. with the
@@ -23,8 +36,22 @@ pub struct ShapeArgs {
     /// The learnt calibration (`--calibration`).
     #[command(flatten)]
     #[serde(flatten)]
-    pub calibration: crate::cli::groups::CalibrationArgs,
-    /// Output: one JSON object per record (JSON Lines) with --json.
+    pub calibration: CalibrationArgs,
+    /// The sensor's mounting (`--mounting`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub mounting: MountingArgs,
+    /// Points of each shape in shapes.jsonl, evenly spaced in arc length from the base clamp
+    /// to the tip, 2 to 10000 [default: 100]. Only with --out.
+    #[arg(long, value_name = "N", requires = "out", value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub points: Option<usize>,
+    /// Results folder (`--out`, `--force`): write shapes.jsonl, summary.json and the report
+    /// there instead of printing each record [no default: without --out nothing is written].
+    #[command(flatten)]
+    pub results: ResultsArgs,
+    /// Output: one JSON object per record (JSON Lines) with --json; with --out, the summary
+    /// as one JSON object.
     #[command(flatten)]
     pub output: JsonArgs,
 }

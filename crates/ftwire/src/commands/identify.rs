@@ -17,20 +17,24 @@ use nalgebra::Vector3;
 use crate::cli::identify::IdentifyArgs;
 
 /// The lab's settings of `args`.
-fn params(args: &IdentifyArgs) -> IdentifyLogParams {
-    IdentifyLogParams {
+///
+/// # Errors
+/// Bad input for a mounting file that cannot be read.
+fn params(args: &IdentifyArgs) -> Result<IdentifyLogParams, LabError> {
+    Ok(IdentifyLogParams {
         log: args.log.clone(),
         calibration: args.calibration.file.clone(),
+        mounting: args.mounting.given()?,
         samples: args.samples,
         residual: args.settings.settings(),
         gravity: args.gravity.map(|g| Vector3::from(g.0)),
         seed: args.seed.seed,
-    }
+    })
 }
 
 /// Runs `ftwire identify`.
 pub fn run(args: IdentifyArgs) -> Result<(), LabError> {
-    let params = params(&args);
+    let params = params(&args)?;
     params.check()?;
     let samples = identify::samples(&params)?;
     let report = with_progress_line(samples.len(), |progress| {

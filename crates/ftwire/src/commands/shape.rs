@@ -1,18 +1,29 @@
 //! `ftwire shape --log`: the wire's shape for every record of a rig log (paper §IV-C), as a
 //! real rig would run the estimator offline. The work is [`ftwire_lab::log::shape`]'s; this
-//! command prints each record's answer as soon as it has it.
+//! command prints each record's answer as soon as it has it, or with `--out DIR` writes the
+//! results folder.
 //!
-//! Output per record: with `--json`, one JSON object per line: `record` (from 0), `time`,
-//! `a_tilde`, `confidence`, `points` (\[m\]), and `marker_mean_mm` when the record has
-//! markers; without, one line of text. A record the model cannot solve gets an `error`
-//! instead, and the command then exits 1 after the last record. A bad or empty log, or a
-//! `raw` record without `--calibration`, is bad input (exit 2) naming the line or record.
+//! Output per record without `--out`: with `--json`, one JSON object per line: `record` (from
+//! 0), `time`, `a_tilde`, `confidence`, `points` (\[m\]), and `marker_mean_mm` when the record
+//! has markers; without, one line of text. With `--out DIR`: `DIR/shapes.jsonl` (one line per
+//! record, [`ftwire_lab::log::shape::folder`]), `summary.json` (`records`, `not_stable`,
+//! `not_confident`, `marker_mean_mm`), `timings.json` and the report; the summary is printed
+//! (as JSON with `--json`). A record the model cannot solve gets an `error` instead, and the
+//! command then exits 1 after the last record (the folder written). A bad or empty log, a
+//! `raw` record with neither `--calibration` nor `--mounting`, or one without `gravity` when
+//! the mounting has a tool, is bad input (exit 2) naming the line, before anything is written.
 
+use std::fmt;
 use std::io::{self, Write};
 
-use ftwire::output::JsonLines;
+use ftwire::output::{self, JsonLines};
 use ftwire_lab::error::LabError;
-use ftwire_lab::log::shape::{LogShapes, ShapeLogParams};
+use ftwire_lab::header::RunHeader;
+use ftwire_lab::log::shape::{
+    DEFAULT_POINTS, LogShapes, ShapeLog, ShapeLogParams, ShapeLogSummary,
+};
+use ftwire_lab::results::OutGuard;
+use serde::Serialize;
 
 use crate::cli::shape::ShapeArgs;
 
@@ -22,9 +33,24 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
         log: args.log.clone(),
         wire: args.wire.clone(),
         calibration: args.calibration.file.clone(),
+        mounting: args.mounting.given()?,
     };
-    let shapes = LogShapes::new(&params)?;
-    let records = shapes.records().len();
+    if args.results.out.is_some() {
+        return write_folder(&args, &params);
+    }
+    if args.results.force {
+        return Err(LabError::bad_input(
+            "--force replaces the --out folder: give --out DIR (without it each record is \
+             printed and nothing is written)",
+        ));
+    }
+    print_records(&args, &params)
+}
+
+/// Prints each record's shape as soon as it has it.
+fn print_records(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabError> {
+    let shapes = LogShapes::new(params)?;
+    let records = shapes.lines().len();
     let stdout = io::stdout();
     let mut out = stdout.lock();
     let mut failed = 0_usize;
@@ -41,10 +67,61 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
                 .map_err(|e| LabError::io("writing the result", e))?;
         }
     }
+    no_shape(failed, records, "see their `error`")
+}
+
+/// Writes the results folder of `--out` and prints the summary.
+fn write_folder(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabError> {
+    let log = ShapeLog::load(params)?;
+    let guard = OutGuard::default()
+        .input("--log", &args.log)
+        .input_opt("--calibration", args.calibration.file.as_ref())
+        .input_opt("--mounting", args.mounting.file.as_ref());
+    let folder = args.results.open("shape-log", guard)?;
+    let header = RunHeader::new("shape", None, args)?;
+    let points = args.points.unwrap_or(DEFAULT_POINTS);
+    let run = log.write(points, &folder, &mut |line| eprintln!("{line}"))?;
+    let target = folder.finish_run(&header, &run.summary, &run.timings)?;
+    output::print_display(&Printed(run.summary), args.output.json)?;
+    if !args.output.json {
+        println!(
+            "{:.0} records/s; results in {}",
+            run.timings.records_per_s,
+            target.display()
+        );
+    }
+    no_shape(
+        run.no_shape,
+        run.summary.records,
+        "see their `error` in shapes.jsonl",
+    )
+}
+
+/// No answer when the model had no shape for some records.
+fn no_shape(failed: usize, records: usize, where_: &str) -> Result<(), LabError> {
     if failed > 0 {
         return Err(LabError::no_answer(format!(
-            "no shape for {failed} of {records} records (see their `error`)"
+            "no shape for {failed} of {records} records ({where_})"
         )));
     }
     Ok(())
+}
+
+/// The summary as printed: the JSON object, or a line of text.
+#[derive(Serialize)]
+#[serde(transparent)]
+struct Printed(ShapeLogSummary);
+
+impl fmt::Display for Printed {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = &self.0;
+        let markers = s.marker_mean_mm.map_or_else(String::new, |m| {
+            format!(", inner markers {m:.2} mm from the shapes")
+        });
+        writeln!(
+            out,
+            "{} records: {} not stable, {} not confident{markers}",
+            s.records, s.not_stable, s.not_confident
+        )
+    }
 }

@@ -1,38 +1,114 @@
 //! The wire's shape for every record of a rig log (paper §IV-C), as a real rig would run the
 //! estimator offline.
 //!
-//! For each record, `ã` is the record's `a`, or its (tared) `raw` reading through the learnt
-//! calibration ([`super::a_tilde`]); then `ShapeEstimator` gives the centreline (64 nodes,
-//! base clamp frame) and a confidence flag (`confident`, `not_stable`, or `jump`: a possible
-//! contact). With markers in the record, the mean distance of the seen markers to the estimate
-//! is reported too. [`LogShapes`] reads and checks the log and gives the records' shapes in
-//! order; [`shape_record`] is one record's. Guarded by this module's tests and
-//! `crates/ftwire/tests/shape_log.rs` (a log the shape experiment saved gives the live run's
-//! answer).
+//! For each record, `ã` is the record's `a`, or its `raw` reading through the learnt
+//! calibration or the mounting ([`super::a_tilde`]); then the model gives the centreline (base
+//! clamp frame) and a confidence flag (`confident`, `not_stable`, or `jump`: a possible
+//! contact). [`ShapeLog::load`] reads and checks the log (every record's `ã` before any
+//! shape), then:
+//!
+//! - [`LogShapes`] gives the records' shapes one by one, in order, as `ftwire shape --log`
+//!   prints them ([`shape_record`] is one record's: 64 nodes, and with markers the mean
+//!   distance of the seen markers to the estimate);
+//! - [`ShapeLog::write`] writes `shapes.jsonl` into a results folder, as `ftwire shape --log
+//!   --out DIR` does ([`folder`]: the records solved in parallel, flagged in order).
+//!
+//! Guarded by this module's tests, `tests/logs.rs` and `crates/ftwire/tests/shape_log.rs` (a
+//! log the shape experiment saved gives the live run's answer).
+
+pub mod folder;
 
 use std::fmt;
 use std::path::PathBuf;
 
 use ftwire_estimate::KirchhoffModel;
-use ftwire_estimate::calibration::Calibration;
+use ftwire_estimate::ft::MountingSpec;
 use ftwire_estimate::shape::{Confidence, ShapeEstimator, marker_distances};
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector6};
 use serde::Serialize;
 
-use super::{LogRecord, a_tilde, load_calibration, read_log};
+pub use folder::{
+    BLOCK, DEFAULT_POINTS, MARKER_NODES, MAX_POINTS, MIN_POINTS, ShapeLogRun, ShapeLogSummary,
+    ShapeLogTimings,
+};
+
+use super::{LogLine, LogRecord, RawMap, a_tilde, read_log};
 use crate::error::{LabError, from_estimate};
 use crate::wire::WireSpec;
 
-/// What to shape: the log, the wire, and the calibration of its `raw` records.
+/// What to shape: the log, the wire, and how its `raw` records become `ã`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ShapeLogParams {
     /// The JSON Lines log ([`ftwire_estimate::log`]).
     pub log: PathBuf,
     /// The wire the shapes are solved for: a preset name or a wire file (TOML).
     pub wire: String,
-    /// The learnt calibration's weights file, for records with `raw`; `None`: every record
-    /// must hold `a`.
+    /// The learnt calibration's weights file, for records with `raw`.
     pub calibration: Option<PathBuf>,
+    /// The sensor's mounting (`--mounting`): the tool's weight is taken out of `raw`, and
+    /// without a calibration the mounting alone maps it; `None`: not given (records with
+    /// `raw` then need the calibration).
+    pub mounting: Option<MountingSpec>,
+}
+
+/// A log read and checked for shaping: every record with its line in the file and its `ã`,
+/// and the wire's model (the paper's weightless Kirchhoff rod).
+#[derive(Debug, Clone)]
+pub struct ShapeLog {
+    log: PathBuf,
+    lines: Vec<LogLine>,
+    a_tilde: Vec<Vector6<f64>>,
+    model: KirchhoffModel,
+}
+
+impl ShapeLog {
+    /// Reads the wire, the calibration, the mounting and the log of `params`, and every
+    /// record's `ã` ([`a_tilde`]), before any shape is solved.
+    ///
+    /// # Errors
+    /// Bad input for an unknown or invalid wire, a calibration or mounting [`RawMap::load`]
+    /// refuses, a log [`read_log`] refuses, or a record [`a_tilde`] refuses (named by its line
+    /// and time: a `raw` reading with neither a calibration nor a mounting, or without
+    /// `gravity` when the mounting has a tool).
+    pub fn load(params: &ShapeLogParams) -> Result<Self, LabError> {
+        let wire = WireSpec::load(&params.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
+        let wire_params = wire
+            .wire_params()
+            .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
+        let map = RawMap::load(params.calibration.as_deref(), params.mounting.clone())?;
+        let lines = read_log(&params.log)?;
+        let a_tilde = lines
+            .iter()
+            .map(|line| a_tilde(line, &map))
+            .collect::<Result<_, _>>()
+            .map_err(|e| e.context(format!("log {}", params.log.display())))?;
+        Ok(Self {
+            log: params.log.clone(),
+            lines,
+            a_tilde,
+            model: KirchhoffModel::new(wire_params),
+        })
+    }
+
+    /// The log's records, each with its line in the file.
+    pub fn lines(&self) -> &[LogLine] {
+        &self.lines
+    }
+
+    /// Each record's `ã` (torque first, base clamp frame), in the order of [`Self::lines`].
+    pub fn a_tilde(&self) -> &[Vector6<f64>] {
+        &self.a_tilde
+    }
+
+    /// The wire's model the shapes are solved with.
+    pub fn model(&self) -> &KirchhoffModel {
+        &self.model
+    }
+
+    /// The log's file.
+    pub fn path(&self) -> &std::path::Path {
+        &self.log
+    }
 }
 
 /// One record's shape, as `ftwire shape --log` prints it: with `--json` one JSON line of
@@ -70,31 +146,28 @@ pub fn confidence_name(confidence: &Confidence) -> &'static str {
     }
 }
 
-/// The shape of `record` (index `index` in its log, from 0) from `estimator`, which keeps the
-/// previous estimate to flag jumps: give it the records in order. A model that cannot solve
-/// `ã` is an answer too, with [`RecordShape::error`].
+/// The shape of `record` (index `index` in its log, from 0) at its `ã` `a` from `estimator`,
+/// which keeps the previous estimate to flag jumps: give it the records in order. A model
+/// that cannot solve `ã` is an answer too, with [`RecordShape::error`].
 ///
 /// # Errors
-/// Bad input for a record without `ã` ([`super::a_tilde`]: `raw` without `calibration`) or
-/// markers the distance refuses.
+/// Bad input for markers the distance refuses.
 pub fn shape_record(
     estimator: &mut ShapeEstimator<KirchhoffModel>,
     index: usize,
     record: &LogRecord,
-    calibration: Option<&Calibration>,
+    a: &Vector6<f64>,
 ) -> Result<RecordShape, LabError> {
-    let a = a_tilde(record, calibration)
-        .ok_or_else(|| LabError::bad_input(format!("record {index} has neither a nor raw")))?;
     let mut shape = RecordShape {
         record: index,
         time: record.time,
-        a_tilde: Some(a.into()),
+        a_tilde: Some((*a).into()),
         confidence: None,
         points: None,
         marker_mean_mm: None,
         error: None,
     };
-    match estimator.estimate(&a) {
+    match estimator.estimate(a) {
         Ok(estimate) => {
             let positions = &estimate.shape.positions;
             if let Some(markers) = record.markers() {
@@ -117,8 +190,7 @@ pub fn shape_record(
 /// [`RecordShape`]s, made by [`LogShapes::new`] once the log, the wire and the calibration
 /// have been read and checked.
 pub struct LogShapes {
-    records: Vec<LogRecord>,
-    calibration: Option<Calibration>,
+    log: ShapeLog,
     estimator: ShapeEstimator<KirchhoffModel>,
     next: usize,
 }
@@ -127,41 +199,20 @@ impl LogShapes {
     /// The shapes of the log of `params`, for its wire.
     ///
     /// # Errors
-    /// Bad input for an unknown or invalid wire, a log [`read_log`] refuses, a calibration
-    /// [`load_calibration`] refuses, or a `raw` record without a calibration (named by its
-    /// index and time).
+    /// As [`ShapeLog::load`].
     pub fn new(params: &ShapeLogParams) -> Result<Self, LabError> {
-        let wire = WireSpec::load(&params.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
-        let wire_params = wire
-            .wire_params()
-            .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
-        let records = read_log(&params.log)?;
-        let calibration = params
-            .calibration
-            .as_deref()
-            .map(load_calibration)
-            .transpose()?;
-        if calibration.is_none()
-            && let Some((i, r)) = records.iter().enumerate().find(|(_, r)| r.raw.is_some())
-        {
-            return Err(LabError::bad_input(format!(
-                "--log {}: record {i} (time {}) has a raw F/T reading: give --calibration FILE \
-                 (the weights from `ftwire experiment calibrate`) to turn it into ã",
-                params.log.display(),
-                r.time
-            )));
-        }
+        let log = ShapeLog::load(params)?;
+        let estimator = ShapeEstimator::new(*log.model());
         Ok(Self {
-            records,
-            calibration,
-            estimator: ShapeEstimator::new(KirchhoffModel::new(wire_params)),
+            log,
+            estimator,
             next: 0,
         })
     }
 
-    /// The log's records.
-    pub fn records(&self) -> &[LogRecord] {
-        &self.records
+    /// The log's records, each with its line in the file.
+    pub fn lines(&self) -> &[LogLine] {
+        self.log.lines()
     }
 }
 
@@ -170,14 +221,10 @@ impl Iterator for LogShapes {
 
     fn next(&mut self) -> Option<Self::Item> {
         let index = self.next;
-        let record = self.records.get(index)?;
+        let line = self.log.lines.get(index)?;
+        let a = self.log.a_tilde.get(index)?;
         self.next += 1;
-        Some(shape_record(
-            &mut self.estimator,
-            index,
-            record,
-            self.calibration.as_ref(),
-        ))
+        Some(shape_record(&mut self.estimator, index, &line.record, a))
     }
 }
 
@@ -237,6 +284,7 @@ mod tests {
             log: path.clone(),
             wire: "nitinol-2mm-630".into(),
             calibration: None,
+            mounting: None,
         };
         let shapes: Result<Vec<RecordShape>, LabError> =
             LogShapes::new(&params).and_then(Iterator::collect);
@@ -264,13 +312,17 @@ mod tests {
             log: path.clone(),
             wire: "nitinol-2mm-630".into(),
             calibration: None,
+            mounting: None,
         };
         let error = LogShapes::new(&params).err();
         let _ = std::fs::remove_file(&path);
         let error = error.expect("raw needs a calibration");
         assert_eq!(error.kind(), "bad_input");
         let message = error.to_string();
-        assert!(message.contains("record 1 (time 0.25)"), "{message}");
-        assert!(message.contains("--calibration"), "{message}");
+        assert!(message.contains(": line 2 (time 0.25) "), "{message}");
+        assert!(
+            message.contains("--calibration") && message.contains("--mounting"),
+            "{message}"
+        );
     }
 }
