@@ -241,3 +241,37 @@ fn agrees_with_a_dense_reference() {
         );
     }
 }
+
+/// The study behind `docs/integrator.md`'s table on the test between grid points: over random
+/// configurations of two wires at several sampling half-widths, how often the grid points alone
+/// and the full test disagree with the dense reference (32 times the grid points). Run with
+/// `cargo test -p ftwire-rod --release --test stability -- --ignored --nocapture study`.
+#[test]
+#[ignore]
+fn study() {
+    let wires = [
+        ("2 mm nitinol", [0.042, 0.055, 0.055], 0.63),
+        ("anisotropic", [1.3, 1.0, 0.6], 1.0),
+    ];
+    println!(
+        "| wire | half-width | configurations | dense unstable | grid points wrong | test wrong |"
+    );
+    println!("| --- | --- | --- | --- | --- | --- |");
+    for (name, c, length) in wires {
+        let rod = Rod::new(WireParams::new(c, length, 0.001).expect("valid"));
+        for half_width in [5.0, 10.0, 20.0] {
+            let sampler = Sampler::new(half_width).expect("valid");
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            let (count, mut unstable, mut grid_wrong, mut wrong) = (2000, 0, 0, 0);
+            for _ in 0..count {
+                let a = sampler.sample_a(&rod, &mut rng);
+                let stability = rod.jacobian(&a).expect("solves").stability;
+                let reference = one_sign(&dense_det(&rod, &a, 32).0);
+                unstable += usize::from(!reference);
+                grid_wrong += usize::from(one_sign(&stability.det_j) != reference);
+                wrong += usize::from(stability.stable != reference);
+            }
+            println!("| {name} | {half_width} | {count} | {unstable} | {grid_wrong} | {wrong} |");
+        }
+    }
+}
