@@ -78,8 +78,8 @@ impl Method {
 
 /// Integration settings: method and number of uniform steps over `[0, L]`.
 ///
-/// Stability is tested at every grid point after `t = 0`, so `steps` is also the resolution of
-/// the stability test.
+/// Stability is tested at every grid point after `t = 0` and between them
+/// ([`crate::stability`]), so its verdict does not hang on where the steps fall.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Integrator {
     method: Method,

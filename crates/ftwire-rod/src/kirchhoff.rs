@@ -9,9 +9,8 @@
 //! `(R_i0, R_i1, R_i2, p_i)`, so that row `i` of `R û` is `r_i × u` and `p_i' = R_i0`; `J` by
 //! rows, columns 0–3 then columns 4–5.
 //!
-//! Guarded by `shape_rate_is_eq_1_and_3`, `frame_jet_matches_finite_differences` and
-//! `determinant_matches_nalgebra` below, and by the closed-form and finite-difference tests of
-//! `tests/model.rs` through the solver.
+//! Guarded by `shape_rate_is_eq_1_and_3` and `frame_jet_matches_finite_differences` below,
+//! and by the closed-form and finite-difference tests of `tests/model.rs` through the solver.
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
@@ -85,7 +84,7 @@ pub(crate) fn frame_of(y: &[f64]) -> FrameArray {
 
 /// Row `i` of `J` from a flat full state.
 #[inline(always)]
-fn jacobian_row(y: &FullArray, i: usize) -> [f64; 6] {
+pub(crate) fn jacobian_row(y: &FullArray, i: usize) -> [f64; 6] {
     let (l, r) = (JL + 4 * i, JR + 2 * i);
     [y[l], y[l + 1], y[l + 2], y[l + 3], y[r], y[r + 1]]
 }
@@ -93,50 +92,6 @@ fn jacobian_row(y: &FullArray, i: usize) -> [f64; 6] {
 /// `J` from a flat full state.
 pub(crate) fn jacobian_of(y: &FullArray) -> Matrix6<f64> {
     Matrix6::from_fn(|row, col| jacobian_row(y, row)[col])
-}
-
-/// `det J` from a flat full state, by Gaussian elimination with partial pivoting on the rows
-/// of `J` (as nalgebra's LU, without building a `Matrix6`). Inlined, so that the solver's
-/// AVX2+FMA loops get an AVX2 copy.
-#[inline(always)]
-pub(crate) fn jacobian_determinant(y: &FullArray) -> f64 {
-    determinant6(std::array::from_fn(|r| jacobian_row(y, r)))
-}
-
-/// The determinant of a 6×6 matrix given by rows (Gaussian elimination, partial pivoting).
-#[inline(always)]
-pub(crate) fn determinant6(mut a: [[f64; 6]; 6]) -> f64 {
-    let mut det = 1.0;
-    for c in 0..6 {
-        let mut p = c;
-        let mut largest = a[c][c].abs();
-        for (r, row) in a.iter().enumerate().skip(c + 1) {
-            if row[c].abs() > largest {
-                largest = row[c].abs();
-                p = r;
-            }
-        }
-        if p != c {
-            a.swap(p, c);
-            det = -det;
-        }
-        let pivot = a[c][c];
-        det *= pivot;
-        if pivot == 0.0 {
-            return det;
-        }
-        // Whole rows are updated (columns left of `c` are zeros, or finished, and never read
-        // again): fixed-length loops that vectorise.
-        let prow = a[c];
-        let inverse = 1.0 / pivot;
-        for row in a.iter_mut().skip(c + 1) {
-            let factor = row[c] * inverse;
-            for (v, pv) in row.iter_mut().zip(&prow) {
-                *v -= factor * pv;
-            }
-        }
-    }
-    det
 }
 
 /// `(a × b, a_0)` on the first three lanes of `a` and `b`, given `b` permuted as
@@ -628,38 +583,6 @@ mod tests {
                 );
             }
             assert_eq!(out[15], 0.0, "lane 3 of m' stays zero");
-        }
-    }
-
-    /// The elimination determinant agrees with nalgebra's LU on random and singular matrices,
-    /// and `jacobian_determinant` reads `J` as `jacobian_of` does.
-    #[test]
-    fn determinant_matches_nalgebra() {
-        let mut x = 0.123_f64;
-        let mut next = || {
-            x = (x * 997.0 + 0.618).fract();
-            2.0 * x - 1.0
-        };
-        for trial in 0..50 {
-            let mut y: FullArray = [0.0; 48];
-            for v in y.iter_mut() {
-                *v = next();
-            }
-            if trial % 10 == 0 {
-                // Two equal rows: singular.
-                for k in 0..4 {
-                    y[JL + 4 + k] = y[JL + k];
-                }
-                y[JR + 2] = y[JR];
-                y[JR + 3] = y[JR + 1];
-            }
-            let j = jacobian_of(&y);
-            let expected = j.determinant();
-            let got = jacobian_determinant(&y);
-            assert!(
-                (got - expected).abs() <= 1e-12 * (1.0 + expected.abs()),
-                "{got} vs {expected}"
-            );
         }
     }
 }

@@ -18,7 +18,7 @@ use crate::integrator::{Integrator, Method, Workspace};
 use crate::intersection::self_contact;
 use crate::kirchhoff::{
     FrameArray, FrameJet, FrameState, FullArray, FullRhs, Kirchhoff, ShapeArray, ShapeRhs,
-    frame_of, jacobian_determinant, jacobian_of, shape_initial,
+    frame_of, jacobian_of, shape_initial,
 };
 mod shape;
 
@@ -55,7 +55,7 @@ pub struct JacobianSolution {
     pub m: Matrix6<f64>,
     /// `μ(L)`: the internal wrench at the tip, body frame, torque first.
     pub costate_tip: Vector6<f64>,
-    /// The stability test along the grid.
+    /// The stability test along the wire.
     pub stability: Stability,
 }
 
@@ -194,7 +194,7 @@ impl Rod {
         knots: Option<&mut Vec<FrameJet>>,
         record_det: bool,
         early_exit: bool,
-    ) -> (FullArray, SignTracker) {
+    ) -> (FullArray, SignTracker<48>) {
         #[cfg(target_arch = "x86_64")]
         if crate::arith::fast_path() {
             // SAFETY: `fast_path` has checked that this CPU supports AVX2 and FMA, the only
@@ -216,7 +216,7 @@ impl Rod {
         knots: Option<&mut Vec<FrameJet>>,
         record_det: bool,
         early_exit: bool,
-    ) -> (FullArray, SignTracker) {
+    ) -> (FullArray, SignTracker<48>) {
         let jet = |f: &FrameArray| {
             let (m, _) = model.costate(&FrameState::from_slice(f));
             crate::simd::frame_jet(model.inv_c(), model.n0(), f, m.into())
@@ -226,12 +226,10 @@ impl Rod {
         }
         let (h, steps) = self.grid_of(model);
         let mut tracker = SignTracker::new(h, steps, record_det);
-        let mut at_point = grid_points(&mut tracker, knots, jet, h, early_exit);
+        let mut at_point = grid_points(&mut tracker, knots, jet, model, early_exit);
         let grid = self.integrator.grid(h, steps);
         let (inv_c, m0, n0) = (model.inv_c(), model.m0(), model.n0());
-        let y = crate::simd::integrate_full(inv_c, m0, n0, grid, |index, y: &FullArray| {
-            at_point(index, &frame_of(y), jacobian_determinant(y))
-        });
+        let y = crate::simd::integrate_full(inv_c, m0, n0, grid, &mut at_point);
         drop(at_point);
         (y, tracker)
     }
@@ -250,10 +248,10 @@ impl Rod {
         record_det: bool,
         early_exit: bool,
         jet: impl Fn(&FrameArray) -> FrameJet,
-    ) -> (FullArray, SignTracker) {
+    ) -> (FullArray, SignTracker<48>) {
         let (h, steps) = self.grid_of(model);
         let mut tracker = SignTracker::new(h, steps, record_det);
-        let mut at_point = grid_points(&mut tracker, knots, jet, h, early_exit);
+        let mut at_point = grid_points(&mut tracker, knots, jet, model, early_exit);
         let mut y: FullArray = FrameState::initial();
         let f = FullRhs::<A> {
             model,
@@ -264,7 +262,7 @@ impl Rod {
             self.integrator
                 .step_in_place::<A, 48>(&mut y, step, f, &mut work);
             if let Some(index) = grid_point
-                && !at_point(index, &frame_of(&y), jacobian_determinant(&y))
+                && !at_point(index, &y)
             {
                 break;
             }
@@ -342,7 +340,7 @@ impl Rod {
         a: &Vector6<f64>,
         model: &Kirchhoff,
         y: &FullArray,
-        tracker: SignTracker,
+        tracker: SignTracker<48>,
     ) -> Result<JacobianSolution, RodError> {
         let frame = FrameState::from_slice(y);
         let tip = pose_of(&frame);
@@ -498,25 +496,26 @@ impl Rod {
 }
 
 /// What the Jacobian paths do at the grid points: push the frame jet into `knots` (if given;
-/// the jet at `t = 0` is pushed here, at once) and `det J` into `tracker`; the returned
-/// closure takes the grid point's index, frame and `det J`, and says whether to go on (not
-/// after the first sign change, if `early_exit`).
+/// the jet at `t = 0` is pushed here, at once), and `det J` with its Taylor series into
+/// `tracker` (which tests the step since the previous grid point too); the returned closure
+/// takes the grid point's index and state, and says whether to go on (not after the first
+/// sign change, if `early_exit`).
 #[inline(always)]
 fn grid_points<'a>(
-    tracker: &'a mut SignTracker,
+    tracker: &'a mut SignTracker<48>,
     mut knots: Option<&'a mut Vec<FrameJet>>,
     jet: impl Fn(&FrameArray) -> FrameJet + 'a,
-    h: f64,
+    model: &'a Kirchhoff,
     early_exit: bool,
-) -> impl FnMut(usize, &FrameArray, f64) -> bool + 'a {
+) -> impl FnMut(usize, &FullArray) -> bool + 'a {
     if let Some(k) = knots.as_deref_mut() {
         k.push(jet(&FrameState::initial()));
     }
-    move |index, frame, det| {
+    move |index, y| {
         if let Some(k) = knots.as_deref_mut() {
-            k.push(jet(frame));
+            k.push(jet(&frame_of(y)));
         }
-        tracker.push(index as f64 * h, det) || !early_exit
+        tracker.push(index, y, model) || !early_exit
     }
 }
 

@@ -43,12 +43,14 @@ use std::marker::PhantomData;
 use crate::arith::{MulAdd, Separate, V2, V4};
 use crate::hermite::septic_hermite;
 use crate::integrator::{Integrator, Rhs, Workspace};
-use crate::kirchhoff::{FrameArray, FrameJet, determinant6, jet_of_strains};
+use crate::kirchhoff::{FrameArray, FrameJet, jet_of_strains};
 use crate::rod::rotation_from_columns;
 use crate::rod::{DEFAULT_NODES, JacobianSolution, Rod, Shape, Solution};
 use crate::se3::hat;
 use crate::stability::SignTracker;
 use crate::{Load, RodError, intersection::self_contact, validate_configuration};
+
+mod series;
 
 /// The flat shape state: `R`, `p`, `m`, `n`.
 pub(crate) type LoadedShapeArray = [f64; 18];
@@ -271,7 +273,7 @@ impl Loaded {
         knots: Option<&mut Vec<LoadedKnotArray>>,
         record_det: bool,
         early_exit: bool,
-    ) -> (LoadedFullArray, SignTracker) {
+    ) -> (LoadedFullArray, SignTracker<FULL>) {
         #[cfg(target_arch = "x86_64")]
         if crate::arith::fast_path() {
             // SAFETY: `fast_path` has checked that this CPU supports AVX2 and FMA, the only
@@ -295,7 +297,7 @@ impl Loaded {
         knots: Option<&mut Vec<LoadedKnotArray>>,
         record_det: bool,
         early_exit: bool,
-    ) -> (LoadedFullArray, SignTracker) {
+    ) -> (LoadedFullArray, SignTracker<FULL>) {
         self.integrate_full_with::<crate::arith::Fused>(
             integrator, h, steps, knots, record_det, early_exit,
         )
@@ -310,7 +312,7 @@ impl Loaded {
         mut knots: Option<&mut Vec<LoadedKnotArray>>,
         record_det: bool,
         early_exit: bool,
-    ) -> (LoadedFullArray, SignTracker) {
+    ) -> (LoadedFullArray, SignTracker<FULL>) {
         let mut tracker = SignTracker::new(h, steps, record_det);
         let mut y = self.full_initial();
         if let Some(k) = knots.as_deref_mut() {
@@ -327,7 +329,7 @@ impl Loaded {
                 if let Some(k) = knots.as_deref_mut() {
                     k.push(knot_of(&y));
                 }
-                let stable = tracker.push(index as f64 * h, determinant6(jacobian_rows(&y)));
+                let stable = tracker.push(index, &y, self);
                 if !stable && early_exit {
                     break;
                 }
@@ -537,7 +539,7 @@ impl Rod {
         a: &Vector6<f64>,
         steps: usize,
         y: &LoadedFullArray,
-        tracker: SignTracker,
+        tracker: SignTracker<FULL>,
     ) -> Result<JacobianSolution, RodError> {
         if !y.iter().all(|v| v.is_finite()) {
             return Err(RodError::Diverged {
