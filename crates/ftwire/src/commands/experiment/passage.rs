@@ -50,3 +50,53 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
     println!("results in {}", target.display());
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+    use crate::cli::experiment::ExperimentId;
+    use crate::cli::{Cli, Command};
+
+    /// The arguments of `ftwire experiment passage ARGS`.
+    fn parse(args: &[&str]) -> PassageExperimentArgs {
+        let line = ["ftwire", "experiment", "passage"].iter().chain(args);
+        let cli = Cli::try_parse_from(line).expect("valid arguments");
+        let Command::Experiment(experiment) = cli.command else {
+            panic!("not an experiment")
+        };
+        let ExperimentId::Passage(passage) = experiment.id else {
+            panic!("not the passage experiment")
+        };
+        passage
+    }
+
+    #[test]
+    fn the_options_reach_the_lab() {
+        let given = params(&parse(&[
+            "--attempts",
+            "3",
+            "--plan-candidates",
+            "2",
+            "--no-polish",
+            "--noise-model",
+            "offset",
+            "--seed",
+            "5",
+        ]))
+        .expect("valid settings");
+        assert_eq!(given.attempts, 3);
+        assert_eq!(given.plan_candidates, 2);
+        assert!(!given.polish);
+        assert_eq!(given.common.seed, 5);
+        assert_eq!(given.rollout.noise, ftwire_control::NoiseModel::Offset);
+        let defaults = params(&parse(&[])).expect("valid settings");
+        let lab = PassageParams::default();
+        assert_eq!(
+            (defaults.attempts, defaults.plan_candidates, defaults.polish),
+            (lab.attempts, lab.plan_candidates, lab.polish)
+        );
+        assert_eq!(defaults.rollout, lab.rollout);
+    }
+}
