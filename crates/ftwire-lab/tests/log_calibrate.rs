@@ -150,10 +150,12 @@ fn run(dir: &TempDir, log: &Path, seed: u64) -> (LogCalibrateSummary, Calibratio
 fn a_recording_of_the_default_sensor_calibrates_to_within_a_millimetre() {
     let dir = TempDir::new("log-calibrate");
     let sensor = lever_arm_sensor(&dir);
-    let (log, truth) = record(&dir, &sensor, 120, 3);
+    // 300 rests: the held-out shapes' error falls with the recording's size (the survey below:
+    // 0.7–1.0 mm at 120 rests, 0.7–0.8 mm at 300, 0.5–0.6 mm at 600).
+    let (log, truth) = record(&dir, &sensor, 300, 3);
     let (summary, calibration) = run(&dir, &log, 3);
     let labels = summary.labels;
-    assert!(labels.records >= 110, "{labels:?}");
+    assert!(labels.records >= 280, "{labels:?}");
     assert!(labels.fitted + labels.rejected == labels.records);
     assert!(labels.fitted * 10 >= labels.records * 9, "{labels:?}");
     assert!(labels.marker_rms_mm < 1.0, "{labels:?}");
@@ -162,13 +164,15 @@ fn a_recording_of_the_default_sensor_calibrates_to_within_a_millimetre() {
     assert_eq!(s.train + s.validation + s.test, labels.fitted);
     assert!(s.test * 100 >= labels.fitted * 14, "{s:?}");
     let test = summary.test;
+    // Against the markers, whose own noise puts a floor under any shape (the labels' own,
+    // about 0.3 mm).
     assert!(
-        test.calibrated_marker_mean_mm < 1.0
-            && test.raw_marker_mean_mm > 3.0 * test.calibrated_marker_mean_mm,
+        test.calibrated_marker_mean_mm < 1.2
+            && test.raw_marker_mean_mm > 5.0 * test.calibrated_marker_mean_mm,
         "{test:?}"
     );
     let (shape_mm, n) = held_out_shape_mm(&calibration, &log, &truth, 0.15);
-    assert!(n >= 15, "{n} held-out shapes");
+    assert!(n >= 40, "{n} held-out shapes");
     assert!(
         shape_mm < 1.0,
         "held-out shapes {shape_mm:.3} mm from the truth"
