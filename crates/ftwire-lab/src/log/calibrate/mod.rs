@@ -344,14 +344,10 @@ pub fn run(
 
 /// Reads the log; refuses one without raw readings or markers.
 fn read(path: &std::path::Path) -> Result<(Vec<LogRecord>, Vec<usize>), LabError> {
-    let file = std::fs::File::open(path)
-        .map_err(|e| LabError::io(format!("opening the log {}", path.display()), e))?;
-    let (lines, records): (Vec<usize>, Vec<LogRecord>) =
-        ftwire_estimate::log::read_log_lines(std::io::BufReader::new(file))
-            .map_err(|e| LabError::bad_input(format!("--log {}: {e}", path.display())))?
-            .into_iter()
-            .map(|l| (l.line, l.record))
-            .unzip();
+    let (lines, records): (Vec<usize>, Vec<LogRecord>) = super::read_log(path)?
+        .into_iter()
+        .map(|l| (l.line, l.record))
+        .unzip();
     if !records.iter().any(|r| r.raw.is_some()) {
         return Err(LabError::bad_input(format!(
             "--log {}: no record has a raw F/T reading (`raw`): there is nothing to calibrate",
