@@ -33,6 +33,12 @@ fn plan_prints_a_path_with_poses_and_joints() {
         "--seed",
         "2",
         "--first",
+        // An iteration budget, not the default 2 s, so that a busy machine
+        // does not end the search before seed 2 finds its path.
+        "--iterations",
+        "5000",
+        "--time-budget",
+        "600",
         "--resample",
         "10",
         "--json",
