@@ -5,10 +5,14 @@ pub mod demo;
 pub mod experiment;
 pub mod groups;
 pub mod identify;
+#[cfg(feature = "ros2")]
+pub mod import;
 pub mod init;
 pub mod plan;
 pub mod reproduce;
 pub mod robot;
+#[cfg(feature = "ros2")]
+pub mod ros2;
 pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -54,4 +58,10 @@ pub enum Command {
     /// Write a commented example of each configuration file (wire, sensor, rig, scene) into a
     /// folder.
     Init(init::InitArgs),
+    /// ftwire as ROS 2 nodes: the estimator, identification, control and the simulator.
+    #[cfg(feature = "ros2")]
+    Ros2(ros2::Ros2Args),
+    /// Convert a recording made elsewhere (a ROS 2 bag) to ftwire's JSON Lines log.
+    #[cfg(feature = "ros2")]
+    Import(import::ImportArgs),
 }

@@ -5,10 +5,14 @@ pub mod calibrate;
 pub mod demo;
 pub mod experiment;
 pub mod identify;
+#[cfg(feature = "ros2")]
+pub mod import;
 pub mod init;
 pub mod plan;
 pub mod reproduce;
 pub mod robot;
+#[cfg(feature = "ros2")]
+pub mod ros2;
 pub mod shape;
 pub mod sim_equilibrium;
 pub mod solve;
@@ -32,5 +36,9 @@ pub fn run(cli: Cli) -> Result<(), LabError> {
         Command::Plan(args) => plan::run(&args),
         Command::Scene(args) => plan::run_scene(&args),
         Command::Init(args) => init::run(&args),
+        #[cfg(feature = "ros2")]
+        Command::Ros2(args) => ros2::run(args),
+        #[cfg(feature = "ros2")]
+        Command::Import(args) => import::run(args),
     }
 }
