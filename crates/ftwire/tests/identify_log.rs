@@ -340,6 +340,21 @@ fn assert_replay_gives_the_live_estimate(out: &Path) {
         // rounding-level change, which the fit does not amplify.
         assert!((l - r).abs() <= 1e-6 * l.abs(), "{name}: live {l}, log {r}");
     }
+    // The uncertainty: a 4 × 4 covariance whose diagonal is the standard deviations, and a
+    // 95 % interval around each value.
+    let covariance = answer["covariance"].as_array().expect("a covariance");
+    let intervals = answer["interval95"].as_array().expect("intervals");
+    assert_eq!((covariance.len(), intervals.len()), (4, 4));
+    let mut std = numbers(&answer["c_std"]);
+    std.push(answer["length_std"].as_f64().expect("a length std"));
+    for (i, (row, interval)) in covariance.iter().zip(intervals).enumerate() {
+        let variance = numbers(row)[i];
+        assert!((variance.sqrt() - std[i]).abs() <= 1e-9 * std[i], "{i}: {variance}");
+        let [low, high] = numbers(interval)[..] else {
+            panic!("{interval}")
+        };
+        assert!(low < logged[i] && logged[i] < high, "{low} {} {high}", logged[i]);
+    }
 }
 
 #[test]

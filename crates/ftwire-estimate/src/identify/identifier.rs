@@ -55,7 +55,8 @@ pub const DEFAULT_LINEAR_DENSITY: f64 = 0.03;
 use super::refine::Refined;
 use super::{
     CostFunction, Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints,
-    ParticleSwarm, ResidualForm, Residuals, Sample, Swarm, Unidentified, Weights,
+    ParameterCovariance, ParticleSwarm, ResidualForm, Residuals, Sample, Swarm, Unidentified,
+    Weights,
 };
 use crate::{EstimateError, WireModel};
 
@@ -581,12 +582,15 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             None => (&best.jacobian, best.cost / dof),
         };
         let jtj = jacobian.transpose() * jacobian;
-        let std: Vec<f64> = match jtj.try_inverse() {
-            Some(inv) if condition > 0.0 => {
-                (0..p).map(|i| (s2 * inv[(i, i)]).max(0.0).sqrt()).collect()
-            }
-            _ => vec![f64::INFINITY; p],
+        let inverse = jtj.try_inverse().filter(|_| condition > 0.0);
+        let std: Vec<f64> = match &inverse {
+            Some(inv) => (0..p).map(|i| (s2 * inv[(i, i)]).max(0.0).sqrt()).collect(),
+            None => vec![f64::INFINITY; p],
         };
+        let covariance = inverse.and_then(|inv| {
+            let g = constraints.eta_jacobian(&best.theta);
+            ParameterCovariance::from_matrix(&(&g * (inv * s2) * g.transpose()))
+        });
         let index = constraints.stiffness_index();
         let c_std = [0, 1, 2].map(|i| c[i] * std.get(index[i]).copied().unwrap_or(f64::INFINITY));
         let length_std = std.get(l).copied().unwrap_or(f64::INFINITY);
@@ -629,6 +633,7 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             samples: self.samples.len(),
             evaluations,
             unidentified,
+            covariance,
         })
     }
 }
@@ -739,6 +744,7 @@ fn provisional<M: WireModel>(
         samples: residuals.samples.len(),
         evaluations,
         unidentified: Some(reason),
+        covariance: None,
     }
 }
 

@@ -37,7 +37,7 @@ pub mod residual;
 pub mod sample;
 pub mod unidentified;
 
-pub use estimate::Estimate;
+pub use estimate::{Estimate, ParameterCovariance, Z95};
 pub use identifier::{Identifier, IdentifierParams, identify};
 pub use motion::MotionPlan;
 pub use noise::MeasurementNoise;

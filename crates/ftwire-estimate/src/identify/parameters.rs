@@ -180,6 +180,35 @@ impl ParameterConstraints {
         (lower, upper)
     }
 
+    /// `∂η/∂θ` at `θ`: one row per identified quantity `(c1, c2, c3, L)`, then `λ` when it is
+    /// identified, one column per entry of `θ`. With `c_i = e^{θ_k} s` (`s = L` per length,
+    /// else 1; a tied `c1 = ν c2` follows `c2`'s column), `∂c_i/∂θ_k = c_i` and, per length,
+    /// `∂c_i/∂L = c_i/L`; `∂L/∂L = 1`; `∂λ/∂ln λ = λ`. It carries a covariance of `θ` to one of
+    /// `η` to first order: `Σ_η = G Σ_θ Gᵀ`.
+    pub fn eta_jacobian(&self, theta: &[f64]) -> nalgebra::DMatrix<f64> {
+        let (c, length) = self.eta(theta);
+        let l = self.length_index();
+        let rows = 4 + usize::from(self.weight.is_some());
+        let mut g = nalgebra::DMatrix::zeros(rows, theta.len());
+        for (i, k) in self.stiffness_index().into_iter().enumerate() {
+            if k < theta.len() {
+                g[(i, k)] = c[i];
+            }
+            if self.stiffness_per_length && l < theta.len() {
+                g[(i, l)] = c[i] / length;
+            }
+        }
+        if l < theta.len() {
+            g[(3, l)] = 1.0;
+        }
+        if let Some(lambda) = self.linear_density(theta)
+            && l + 1 < theta.len()
+        {
+            g[(4, l + 1)] = lambda;
+        }
+        g
+    }
+
     /// For each of `c1, c2, c3`, the index in `θ` of the `ln c` it is (or is tied to).
     pub fn stiffness_index(&self) -> [usize; 3] {
         let i2 = usize::from(self.torsion_ratio.is_none());
@@ -249,6 +278,51 @@ mod tests {
         assert!((lower[1] - (C_MIN / L_MAX).ln()).abs() < 1e-15);
         assert!((upper[1] - (C_MAX / L_MIN).ln()).abs() < 1e-15);
         assert_eq!((lower[3], upper[3]), (0.3, L_MAX));
+    }
+
+    #[test]
+    fn eta_jacobian_matches_central_differences() {
+        let weights = [None, Some(Vector3::new(0.0, 0.0, -9.81))];
+        for (isotropic, torsion_ratio, per_length, weight) in [
+            (false, None, false, weights[0]),
+            (false, None, true, weights[1]),
+            (true, Some(0.8), true, weights[0]),
+            (false, Some(0.8), false, weights[1]),
+        ] {
+            let k = ParameterConstraints {
+                isotropic,
+                torsion_ratio,
+                stiffness_per_length: per_length,
+                weight,
+            };
+            let theta = k.theta([0.21, 0.3, 0.37], 0.83, 0.02);
+            let g = k.eta_jacobian(&theta);
+            assert_eq!(
+                (g.nrows(), g.ncols()),
+                (4 + usize::from(weight.is_some()), theta.len())
+            );
+            let eta = |t: &[f64]| {
+                let (c, length) = k.eta(t);
+                let mut v = vec![c[0], c[1], c[2], length];
+                v.extend(k.linear_density(t));
+                v
+            };
+            let h = 1e-6;
+            for j in 0..theta.len() {
+                let (mut up, mut down) = (theta.clone(), theta.clone());
+                up[j] += h;
+                down[j] -= h;
+                let (eu, ed) = (eta(&up), eta(&down));
+                for i in 0..g.nrows() {
+                    let fd = (eu[i] - ed[i]) / (2.0 * h);
+                    assert!(
+                        (fd - g[(i, j)]).abs() < 1e-8 * (1.0 + fd.abs()),
+                        "∂η{i}/∂θ{j}: {} against {fd} ({k:?})",
+                        g[(i, j)]
+                    );
+                }
+            }
+        }
     }
 
     #[test]

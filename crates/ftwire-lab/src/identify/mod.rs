@@ -517,6 +517,9 @@ fn identify_trial(
                 eta: Some([estimate.c[0], estimate.c[1], estimate.c[2], estimate.length]),
                 linear_density: estimate.linear_density,
                 chi2_per_dof: estimate.chi2_per_dof,
+                interval95: estimate
+                    .interval95()
+                    .and_then(|i| <[[f64; 2]; 4]>::try_from(&i[..4]).ok()),
                 flag: flag_name(estimate.unidentified.as_ref()),
                 evaluations: estimate.evaluations,
                 compute_ms,
@@ -531,6 +534,7 @@ fn identify_trial(
                     eta: None,
                     linear_density: None,
                     chi2_per_dof: f64::NAN,
+                    interval95: None,
                     flag: Some("error"),
                     evaluations: 0,
                     compute_ms,

@@ -39,6 +39,8 @@ pub(super) struct Row {
     /// The identified linear density \[kg/m\] (the loaded model only).
     pub(super) linear_density: Option<f64>,
     pub(super) chi2_per_dof: f64,
+    /// The 95 % interval of each of `(c1, c2, c3, L)`, when the fit has a covariance.
+    pub(super) interval95: Option<[[f64; 2]; 4]>,
     /// Flag name, `"error"`, or `None` when identified.
     pub(super) flag: Option<&'static str>,
     pub(super) evaluations: usize,
@@ -93,6 +95,11 @@ pub struct BySamples {
     pub mean_abs_relative_error_identified: [f64; 4],
     /// Median cost-function evaluations over the trials.
     pub evaluations_median: f64,
+    /// The share of the trials whose 95 % interval
+    /// ([`ftwire_estimate::identify::Estimate::interval95`]) holds the true value; a trial
+    /// without an estimate or a covariance counts as a miss (NaN, `null` in JSON, if no trial
+    /// ran).
+    pub coverage95: [f64; 4],
     /// The identified linear density over the trials (the loaded model only).
     pub linear_density: Option<DensityStats>,
 }
@@ -267,8 +274,19 @@ pub(super) fn aggregate<'a>(
                 / count,
         }
     });
+    let coverage95 = std::array::from_fn(|j| {
+        let inside = rows
+            .iter()
+            .filter(|r| {
+                r.interval95
+                    .is_some_and(|i| i[j][0] <= truth[j] && truth[j] <= i[j][1])
+            })
+            .count();
+        inside as f64 / rows.len() as f64
+    });
     BySamples {
         linear_density,
+        coverage95,
         samples: n,
         estimated: estimates.len(),
         identified: rows.iter().filter(|r| r.flag.is_none()).count(),
@@ -490,6 +508,7 @@ mod tests {
             samples: 3,
             eta: Some(t.map(|v| v * scale)),
             chi2_per_dof: 1.0,
+            interval95: None,
             flag: None,
             evaluations: 10,
             compute_ms: trial as f64,

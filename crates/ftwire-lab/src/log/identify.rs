@@ -221,6 +221,12 @@ pub struct EstimateReport {
     /// Standard deviation of `λ` \[kg/m\] (with gravity).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub linear_density_std: Option<f64>,
+    /// The first-order covariance of `(c1, c2, c3, L)`, then `λ` with gravity (4 × 4 or
+    /// 5 × 5; `null` when the fit has none).
+    pub covariance: Option<Vec<Vec<f64>>>,
+    /// The 95 % interval `[low, high]` of each parameter in the covariance's order (`null`
+    /// without a covariance).
+    pub interval95: Option<Vec<[f64; 2]>>,
     /// `χ²` per degree of freedom under the assumed noise.
     pub chi2_per_dof: f64,
     /// `σ_min/σ_max` of the residual's Jacobian.
@@ -245,6 +251,8 @@ impl EstimateReport {
             length_std: estimate.length_std,
             linear_density: estimate.linear_density,
             linear_density_std: estimate.linear_density_std,
+            covariance: estimate.covariance.map(|c| c.rows()),
+            interval95: estimate.interval95(),
             chi2_per_dof: estimate.chi2_per_dof,
             condition: estimate.condition,
             identified: estimate.is_identified(),
@@ -263,17 +271,18 @@ impl fmt::Display for EstimateReport {
             "identified from {} samples ({:?} residual):",
             self.samples, self.form
         )?;
-        let names = ["c1 [N·m²]", "c2 [N·m²]", "c3 [N·m²]"];
-        for ((name, value), std) in names.iter().zip(self.c).zip(self.c_std) {
-            writeln!(out, "  {name:<10} {value:.6} ± {std:.2e}")?;
-        }
-        writeln!(
-            out,
-            "  {:<10} {:.6} ± {:.2e}",
-            "L [m]", self.length, self.length_std
-        )?;
+        let names = ["c1 [N·m²]", "c2 [N·m²]", "c3 [N·m²]", "L [m]", "λ [kg/m]"];
+        let mut rows: Vec<(f64, f64)> = self.c.into_iter().zip(self.c_std).collect();
+        rows.push((self.length, self.length_std));
         if let (Some(lambda), Some(std)) = (self.linear_density, self.linear_density_std) {
-            writeln!(out, "  {:<10} {lambda:.6} ± {std:.2e}", "λ [kg/m]")?;
+            rows.push((lambda, std));
+        }
+        for (i, (name, (value, std))) in names.iter().zip(rows).enumerate() {
+            write!(out, "  {name:<10} {value:.6} ± {std:.2e}")?;
+            match self.interval95.as_ref().and_then(|v| v.get(i)) {
+                Some([low, high]) => writeln!(out, "  (95 %: {low:.6} to {high:.6})")?,
+                None => writeln!(out)?,
+            }
         }
         writeln!(
             out,
