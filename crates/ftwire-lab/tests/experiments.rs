@@ -226,6 +226,52 @@ fn identify_recovers_the_wire_and_writes_its_files() {
 }
 
 #[test]
+fn identify_until_stops_each_trial_at_the_first_precise_estimate() {
+    let dir = TempDir::new("identify-until");
+    let folder = dir.results("identify");
+    // A loose target (the mounting pipeline leaves about 1 % of gain error) and a strict one.
+    for (target, expect_reached) in [(50.0, true), (0.01, false)] {
+        let settings = ftwire_lab::identify::IdentifyParams {
+            until: Some(target),
+            save_log: false,
+            ..identify_settings(Gravity::Off)
+        };
+        let run = ftwire_lab::identify::run(&settings, &folder, &mut |_| {}).expect("runs");
+        let until = run.summary.until.as_ref().expect("until");
+        assert_eq!(run.summary.wires[0].until.as_ref(), Some(until));
+        assert_eq!((until.trials, until.limit), (1, 5), "{until:?}");
+        assert_eq!(until.reached == 1, expect_reached, "{until:?}");
+        if expect_reached {
+            assert!(until.samples_max < 5, "{until:?}");
+        } else {
+            assert_eq!(until.samples, [5]);
+        }
+        let json = serde_json::to_value(until).expect("serialises");
+        for key in [
+            "target_percent",
+            "trials",
+            "reached",
+            "samples_median",
+            "samples_max",
+            "mean_abs_relative_error",
+            "max_abs_relative_error",
+            "coverage95",
+        ] {
+            assert!(json.get(key).is_some(), "{key} missing: {json}");
+        }
+    }
+    for bad in [0.0, -1.0, 101.0, f64::NAN] {
+        let settings = ftwire_lab::identify::IdentifyParams {
+            until: Some(bad),
+            ..identify_settings(Gravity::Off)
+        };
+        let err = settings.check().expect_err("refused");
+        assert_eq!(err.exit_code(), 2);
+        assert!(err.to_string().contains("--until"), "{err}");
+    }
+}
+
+#[test]
 fn identify_with_gravity_runs_both_models_on_the_same_data() {
     let dir = TempDir::new("identify-gravity");
     let folder = dir.results("identify");

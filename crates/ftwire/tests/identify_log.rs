@@ -349,11 +349,18 @@ fn assert_replay_gives_the_live_estimate(out: &Path) {
     std.push(answer["length_std"].as_f64().expect("a length std"));
     for (i, (row, interval)) in covariance.iter().zip(intervals).enumerate() {
         let variance = numbers(row)[i];
-        assert!((variance.sqrt() - std[i]).abs() <= 1e-9 * std[i], "{i}: {variance}");
+        assert!(
+            (variance.sqrt() - std[i]).abs() <= 1e-9 * std[i],
+            "{i}: {variance}"
+        );
         let [low, high] = numbers(interval)[..] else {
             panic!("{interval}")
         };
-        assert!(low < logged[i] && logged[i] < high, "{low} {} {high}", logged[i]);
+        assert!(
+            low < logged[i] && logged[i] < high,
+            "{low} {} {high}",
+            logged[i]
+        );
     }
 }
 

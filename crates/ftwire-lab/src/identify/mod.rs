@@ -46,6 +46,7 @@
 mod estimate;
 mod summary;
 mod trial;
+pub mod until;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -197,6 +198,9 @@ pub struct IdentifyParams {
     /// Learnt calibration weights for [`Pipeline::Calibrated`]; `None`: a calibration is first
     /// run on the known wire (with this run's gravity and seed) and cached in the folder.
     pub calibration: Option<PathBuf>,
+    /// Sample each trial until every parameter's 95 % half-width is within this percentage of
+    /// its value, up to the largest sample count ([`until`]); `None`: off.
+    pub until: Option<f64>,
 }
 
 impl Default for IdentifyParams {
@@ -210,6 +214,7 @@ impl Default for IdentifyParams {
             rest_samples: REST_SAMPLES,
             pipeline: Pipeline::default(),
             calibration: None,
+            until: None,
         }
     }
 }
@@ -270,6 +275,15 @@ impl IdentifyParams {
     /// The checked settings: the wires, the sample counts, the settings of each model run
     /// (the estimators' model first) and the simulated setup.
     fn prepare(&self) -> Result<Prepared, LabError> {
+        if let Some(target) = self.until
+            && !(until::MIN_TARGET_PERCENT..=until::MAX_TARGET_PERCENT).contains(&target)
+        {
+            return Err(LabError::bad_input(format!(
+                "--until {target}: give a percentage from {} to {}",
+                until::MIN_TARGET_PERCENT,
+                until::MAX_TARGET_PERCENT
+            )));
+        }
         let wires = self.wires()?;
         let counts = self.sample_counts()?;
         let config = self.settings.config()?;
@@ -386,6 +400,7 @@ pub fn run(
     let map = learnt.as_ref().map_or(Map::Mounting, Map::Learnt);
 
     let mut rows = Vec::new();
+    let mut until_trials: Vec<Vec<until::UntilTrial>> = vec![Vec::new(); wires.len()];
     for (w, wire) in wires.iter().enumerate() {
         for trial in 0..trials {
             let stream = ((w as u64) << 32) | trial as u64;
@@ -406,6 +421,17 @@ pub fn run(
                     model.name()
                 ));
             }
+            if let (Some(target), Some((_, config))) = (settings.until, models.first()) {
+                let pairs: Vec<(Vector6<f64>, Pose)> = samples.iter().map(|s| (s.a, s.b)).collect();
+                let t = until::sample_until(&pairs, config, seed, target);
+                progress(&format!(
+                    "identify: {} trial {trial}: {} after {} samples (--until {target} %)",
+                    wire.name,
+                    if t.reached { "reached" } else { "not reached" },
+                    t.samples
+                ));
+                until_trials[w].push(t);
+            }
             if settings.save_log {
                 folder.write(
                     &format!("logs/{}", trial::log_name(&wire.name, trial)),
@@ -419,10 +445,16 @@ pub fn run(
         .iter()
         .map(|(model, _)| summary::model_results(*model, &wires, &counts, &rows))
         .collect();
-    let results = by_model
+    let mut results = by_model
         .first()
         .map(|m| m.wires.clone())
         .unwrap_or_default();
+    if let Some(target) = settings.until {
+        let limit = counts.last().copied().unwrap_or(2);
+        for ((result, wire), done) in results.iter_mut().zip(&wires).zip(&until_trials) {
+            result.until = Some(until::UntilSummary::new(wire, target, limit, done));
+        }
+    }
     let first = results
         .first()
         .cloned()
@@ -439,6 +471,7 @@ pub fn run(
         sample_counts: counts.clone(),
         wire: first.wire,
         by_samples: first.by_samples,
+        until: first.until,
         wires: results,
         by_model,
     };

@@ -131,6 +131,9 @@ pub struct WireResults {
     pub wire: WireOut,
     /// One row per sample count, ascending.
     pub by_samples: Vec<BySamples>,
+    /// The trials sampled until the `--until` target (absent without it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub until: Option<super::until::UntilSummary>,
 }
 
 /// `summary.json`'s body (after the run header). Every value is the same for the same seed.
@@ -157,6 +160,9 @@ pub struct IdentifySummary {
     pub wire: WireOut,
     /// The first wire's rows (its entry of `wires`).
     pub by_samples: Vec<BySamples>,
+    /// The first wire's `--until` results (its entry of `wires`; absent without `--until`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub until: Option<super::until::UntilSummary>,
     /// Every wire's results with the estimators' model.
     pub wires: Vec<WireResults>,
     /// Every model run on the same data (with gravity on, both), `model` first.
@@ -329,6 +335,7 @@ pub(super) fn model_results(
                         )
                     })
                     .collect(),
+                until: None,
             })
             .collect(),
     }

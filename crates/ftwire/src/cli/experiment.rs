@@ -144,6 +144,12 @@ pub struct IdentifyExperimentArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub calibration: CalibrationArgs,
+    /// Sample each trial until the wire is known to PCT %: identify from its first 2, 3, …
+    /// samples and stop at the first estimate that is identified and whose every 95 %
+    /// interval half-width (first-order covariance) is within PCT % of its value. The limit is
+    /// the largest --samples count. summary.json gets `until` per wire. 0.01 to 100.
+    #[arg(long, value_name = "PCT", value_parser = ftwire::args::parse_finite)]
+    pub until: Option<f64>,
 }
 
 pub use ftwire_lab::experiment::ModelKind as ModelArg;

@@ -50,6 +50,7 @@ fn params(args: &IdentifyExperimentArgs) -> IdentifyParams {
             IdentifyPipeline::Mounting => Pipeline::Mounting,
         },
         calibration: args.calibration.file.clone(),
+        until: args.until,
     }
 }
 
@@ -170,6 +171,24 @@ fn table(
                 r.identified,
                 summary.trials,
                 median_ms(w, r.samples)
+            );
+        }
+        if let Some(until) = result.until.as_ref() {
+            let e = until.max_abs_relative_error.map(|v| 100.0 * v);
+            let _ = writeln!(
+                text,
+                "  --until {} %: {}/{} reached within {} samples; samples median {}, max {}; \
+                 largest |relative error| c1 c2 c3 L [%] {:.3} {:.3} {:.3} {:.3}",
+                until.target_percent,
+                until.reached,
+                until.trials,
+                until.limit,
+                until.samples_median,
+                until.samples_max,
+                e[0],
+                e[1],
+                e[2],
+                e[3]
             );
         }
         if let Some(density) = row.linear_density.as_ref() {
