@@ -257,3 +257,24 @@ ros_message! {
     Marker => "visualization_msgs/msg/Marker",
     MarkerArray => "visualization_msgs/msg/MarkerArray",
 }
+
+/// `geometry_msgs/PoseArray`: poses in one frame, such as the motion-capture markers.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PoseArray {
+    /// Time and frame.
+    pub header: Header,
+    /// The poses in `header.frame_id`.
+    pub poses: Vec<Pose>,
+}
+
+/// `std_msgs/String`: one UTF-8 text, such as a node's JSON status.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct StdString {
+    /// The text.
+    pub data: String,
+}
+
+ros_message! {
+    PoseArray => "geometry_msgs/msg/PoseArray",
+    StdString => "std_msgs/msg/String",
+}

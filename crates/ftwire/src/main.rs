@@ -55,12 +55,19 @@ fn end_with_parent() {
 }
 
 fn main() -> ExitCode {
+    let cli = cli::Cli::parse();
     #[cfg(unix)]
     {
-        end_cleanly_on_signals();
+        // A ROS 2 node ends on a signal by itself, printing its summary.
+        #[cfg(feature = "ros2")]
+        let own_signals = matches!(cli.command, cli::Command::Ros2(_));
+        #[cfg(not(feature = "ros2"))]
+        let own_signals = false;
+        if !own_signals {
+            end_cleanly_on_signals();
+        }
         end_with_parent();
     }
-    let cli = cli::Cli::parse();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {

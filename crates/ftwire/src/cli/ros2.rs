@@ -1,6 +1,10 @@
 //! Arguments of `ftwire ros2 <node>`: ftwire as ROS 2 nodes.
 
 use clap::{Args, Subcommand};
+use ftwire::args::{SeedArgs, SimSetupArgs, Vec6, parse_finite, parse_numbers};
+use ftwire_lab::experiment::Gravity;
+
+use crate::cli::groups::{CalibrationArgs, MountingArgs};
 
 /// `ftwire ros2 <node>`.
 #[derive(Debug, Clone, Args)]
@@ -15,7 +19,126 @@ pub struct Ros2Args {
 pub enum Ros2Node {
     /// The simulator as a ROS 2 robot: publishes the wrench, the gripper poses and the markers,
     /// and moves on `/wire/tip_target`.
-    Sim,
+    Sim(SimNodeArgs),
     /// The wire's shape from F/T at the sensor's rate.
-    Estimate,
+    Estimate(EstimateNodeArgs),
+}
+
+const NODE_HELP: &str = "Every node logs what it subscribes to and publishes on stderr, refuses \
+    (and counts) a message in another frame or with a value that is not finite, ends after \
+    --duration or on Ctrl-C, and then prints one JSON summary line on stdout: the messages \
+    received, published and refused (by reason), and the node's own counts. DDS discovery \
+    uses UDP multicast on the machine's interfaces; run the nodes in a network namespace \
+    with only the loopback device (`unshare -n`, lo up with multicast and a 224.0.0.0/4 \
+    route) to keep them off the network.\n\n\
+    Exit codes: 0 ended after --duration or a signal, 2 bad input (a setting, the wire, the \
+    calibration or the mounting), 1 the wire cannot be placed at --start.";
+
+/// Options every node takes.
+#[derive(Debug, Clone, Args)]
+pub struct NodeArgs {
+    /// Run this long, then end cleanly [s] [default: until Ctrl-C].
+    #[arg(long, value_name = "S", value_parser = parse_finite)]
+    pub duration: Option<f64>,
+    /// The DDS domain, 0 to 232 [default: ROS_DOMAIN_ID, else 0].
+    #[arg(long, value_name = "N")]
+    pub domain_id: Option<u16>,
+}
+
+/// `ftwire ros2 sim`.
+#[derive(Debug, Clone, Args)]
+#[command(after_help = NODE_HELP)]
+pub struct SimNodeArgs {
+    /// Options every node takes.
+    #[command(flatten)]
+    pub node: NodeArgs,
+    /// The true wire: a preset (nitinol-2mm-630, nitinol-3mm-910, nitinol-3mm-820,
+    /// cable-3mm-920) or a wire file (TOML).
+    #[arg(
+        long,
+        value_name = "PRESET|FILE.toml",
+        default_value = "nitinol-3mm-820"
+    )]
+    pub wire: String,
+    /// Gravity in the simulated world (`off`: the estimator's weightless model holds exactly).
+    #[arg(long, value_parser = ftwire::args::named::<Gravity>(&Gravity::NAMES), default_value_t = Gravity::On)]
+    pub gravity: Gravity,
+    /// The start configuration a0 = τ1,τ2,τ3,f1,f2,f3 [N·m, N], base clamp frame: the second
+    /// gripper starts at Γ(a0) of the weightless model [default: (0, 1, 0.5, −1, 0.5, 0) in
+    /// the wire's units, torque c2/L and force c2/L²].
+    #[arg(long, value_name = "T1,T2,T3,F1,F2,F3", allow_hyphen_values = true, value_parser = parse_numbers::<6>)]
+    pub start: Option<Vec6>,
+    /// F/T samples per second [Hz], 1 to 10000: the k-th is stamped k / rate.
+    #[arg(long, value_name = "HZ", default_value_t = 1000.0, value_parser = parse_finite)]
+    pub rate: f64,
+    /// Tip poses per second on /wire/tip_pose [Hz], at most --rate.
+    #[arg(long, value_name = "HZ", default_value_t = 100.0, value_parser = parse_finite)]
+    pub pose_rate: f64,
+    /// Marker frames and true centrelines per second on /wire/markers and /wire/truth [Hz],
+    /// at most --rate.
+    #[arg(long, value_name = "HZ", default_value_t = 10.0, value_parser = parse_finite)]
+    pub marker_rate: f64,
+    /// The first samples are read with nothing in the base gripper, as a robot tares its
+    /// sensor before it picks the wire up (`ftwire ros2 estimate --tare`).
+    #[arg(long, value_name = "N", default_value_t = 500)]
+    pub tare_samples: u64,
+    /// Longest wait for a subscriber to the wrench before the clock starts anyway [s].
+    #[arg(long, value_name = "S", default_value_t = 10.0, value_parser = parse_finite)]
+    pub wait_subscriber: f64,
+    /// The seed of the sensor's and the markers' noise.
+    #[command(flatten)]
+    pub seed: SeedArgs,
+    /// The simulated F/T sensor and rig (`--sensor`, `--rig`).
+    #[command(flatten)]
+    pub setup: SimSetupArgs,
+}
+
+/// `ftwire ros2 estimate`.
+#[derive(Debug, Clone, Args)]
+#[command(after_help = NODE_HELP)]
+pub struct EstimateNodeArgs {
+    /// Options every node takes.
+    #[command(flatten)]
+    pub node: NodeArgs,
+    /// The wire the shapes are solved for: a preset or a wire file (TOML), e.g. with the
+    /// identified c and L.
+    #[arg(
+        long,
+        value_name = "PRESET|FILE.toml",
+        default_value = "nitinol-3mm-820"
+    )]
+    pub wire: String,
+    /// The learnt calibration (`--calibration`).
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
+    /// The sensor's mounting (`--mounting`); without --calibration the raw readings go through
+    /// the mounting alone. A tool's weight cannot be taken out (a wrench carries no gravity).
+    #[command(flatten)]
+    pub mounting: MountingArgs,
+    /// Samples of the tare: the first N received are the sensor's reading with nothing in the
+    /// gripper (0: no tare).
+    #[arg(long, value_name = "N", default_value_t = 500)]
+    pub tare: usize,
+    /// Tared samples averaged before each estimate, 1 to 100000 (the noise of ã falls as
+    /// 1/√N, at a delay of N/2 samples).
+    #[arg(long, value_name = "N", default_value_t = 100)]
+    pub window: usize,
+    /// The sensor's rate [Hz], to count the samples lost from the stamps k / rate.
+    #[arg(long, value_name = "HZ", default_value_t = 1000.0, value_parser = parse_finite)]
+    pub rate: f64,
+    /// The F/T samples (`geometry_msgs/WrenchStamped`, frame ft_sensor).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::WRENCH_TOPIC)]
+    pub wrench_topic: String,
+    /// The second gripper's pose relative to the base clamp (`geometry_msgs/PoseStamped`,
+    /// frame wire_base).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_POSE_TOPIC)]
+    pub tip_pose_topic: String,
+    /// A true centreline (`nav_msgs/Path`, a simulator's /wire/truth) to measure the shapes
+    /// against; the summary's `truth` [default: none].
+    #[arg(long, value_name = "TOPIC")]
+    pub truth_topic: Option<String>,
+    /// A contact is the estimated shape's tip missing the reported tip pose by more than this
+    /// [mm] [default: no contact check].
+    #[arg(long, value_name = "MM", value_parser = parse_finite)]
+    pub contact_miss: Option<f64>,
 }

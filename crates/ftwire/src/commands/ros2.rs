@@ -1,12 +1,138 @@
-//! `ftwire ros2 <node>`.
+//! `ftwire ros2 <node>`: the nodes of [`ftwire_ros2::node`]. This command reads the
+//! arguments, sets the stop flag on Ctrl-C (SIGINT, SIGTERM, SIGHUP), logs to stderr, and
+//! prints the node's summary as one JSON line on stdout.
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 
 use ftwire_lab::error::LabError;
+use ftwire_lab::log::RawMap;
+use ftwire_lab::wire::WireSpec;
+use ftwire_ros2::node::estimate::EstimateNodeParams;
+use ftwire_ros2::node::sim::SimNodeParams;
+use ftwire_ros2::node::{NodeError, NodeSettings};
+use nalgebra::Vector6;
+use serde::Serialize;
 
-use crate::cli::ros2::{Ros2Args, Ros2Node};
+use crate::cli::ros2::{EstimateNodeArgs, NodeArgs, Ros2Args, Ros2Node, SimNodeArgs};
 
 /// Runs the chosen node until `--duration` ends or Ctrl-C.
 pub fn run(args: Ros2Args) -> Result<(), LabError> {
+    let stop = stop_on_signals();
+    let mut log = |line: &str| eprintln!("{line}");
     match args.node {
-        Ros2Node::Sim | Ros2Node::Estimate => Err(LabError::bad_input("not built yet")),
+        Ros2Node::Sim(args) => {
+            let (params, settings) = sim_params(&args)?;
+            let summary = ftwire_ros2::node::sim::run(&params, settings, &stop, &mut log)
+                .map_err(from_node)?;
+            print_line(&summary)
+        }
+        Ros2Node::Estimate(args) => {
+            let (params, settings) = estimate_params(&args)?;
+            let summary = ftwire_ros2::node::estimate::run(&params, settings, &stop, &mut log)
+                .map_err(from_node)?;
+            print_line(&summary)
+        }
     }
+}
+
+/// A flag set on SIGINT, SIGTERM or SIGHUP.
+fn stop_on_signals() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    #[cfg(unix)]
+    for signal in [
+        signal_hook::consts::SIGINT,
+        signal_hook::consts::SIGTERM,
+        signal_hook::consts::SIGHUP,
+    ] {
+        if let Err(e) = signal_hook::flag::register(signal, Arc::clone(&stop)) {
+            eprintln!("warning: cannot catch signal {signal} ({e}): Ctrl-C ends without a summary");
+        }
+    }
+    stop
+}
+
+fn from_node(error: NodeError) -> LabError {
+    match error {
+        NodeError::Lab(e) => e,
+        NodeError::BadSetting { .. } => LabError::bad_input(error.to_string()),
+        e => LabError::no_answer(e.to_string()),
+    }
+}
+
+fn print_line(summary: &impl Serialize) -> Result<(), LabError> {
+    let line = serde_json::to_string(summary)
+        .map_err(|e| LabError::no_answer(format!("the summary: {e}")))?;
+    println!("{line}");
+    Ok(())
+}
+
+fn settings(args: &NodeArgs) -> Result<NodeSettings, LabError> {
+    let domain_id = match args.domain_id {
+        Some(id) => id,
+        None => match std::env::var("ROS_DOMAIN_ID") {
+            Ok(text) if !text.trim().is_empty() => text.trim().parse().map_err(|_| {
+                LabError::bad_input(format!(
+                    "ROS_DOMAIN_ID={text:?}: give a DDS domain from 0 to 232, or --domain-id"
+                ))
+            })?,
+            _ => 0,
+        },
+    };
+    let settings = NodeSettings {
+        domain_id,
+        duration: args.duration,
+    };
+    settings.validate().map_err(from_node)?;
+    Ok(settings)
+}
+
+fn wire(given: &str) -> Result<WireSpec, LabError> {
+    WireSpec::load(given).map_err(|e| LabError::bad_input(format!("--wire: {e}")))
+}
+
+fn sim_params(args: &SimNodeArgs) -> Result<(SimNodeParams, NodeSettings), LabError> {
+    let settings = settings(&args.node)?;
+    let wire = wire(&args.wire)?;
+    let start = match &args.start {
+        Some(a) => Vector6::from(a.0),
+        None => {
+            let params = wire
+                .wire_params()
+                .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
+            ftwire_rod::from_normalised(&params, &Vector6::new(0.0, 1.0, 0.5, -1.0, 0.5, 0.0))
+        }
+    };
+    let params = SimNodeParams {
+        wire,
+        gravity: args.gravity,
+        start,
+        setup: args.setup.load()?,
+        seed: args.seed.seed,
+        rate: args.rate,
+        pose_rate: args.pose_rate,
+        marker_rate: args.marker_rate,
+        tare_samples: args.tare_samples,
+        wait_subscriber: args.wait_subscriber,
+    };
+    Ok((params, settings))
+}
+
+fn estimate_params(
+    args: &EstimateNodeArgs,
+) -> Result<(EstimateNodeParams, NodeSettings), LabError> {
+    let settings = settings(&args.node)?;
+    let map = RawMap::load(args.calibration.path(), Some(args.mounting.load()?))?;
+    let params = EstimateNodeParams {
+        wire: wire(&args.wire)?,
+        map,
+        tare: args.tare,
+        window: args.window,
+        rate: args.rate,
+        wrench_topic: args.wrench_topic.clone(),
+        tip_pose_topic: args.tip_pose_topic.clone(),
+        truth_topic: args.truth_topic.clone(),
+        contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
+    };
+    Ok((params, settings))
 }

@@ -1,0 +1,318 @@
+//! ftwire as ROS 2 nodes, over pure-Rust DDS (`ros2-client`, no ROS installation):
+//!
+//! - [`sim`]: the simulator as a robot. It streams the wrist F/T sensor's samples
+//!   (`geometry_msgs/WrenchStamped` on [`WRENCH_TOPIC`], frame [`SENSOR_FRAME`]), the second
+//!   gripper's pose relative to the base clamp ([`TIP_POSE_TOPIC`], frame [`BASE_FRAME`]),
+//!   the motion-capture markers ([`MARKERS_TOPIC`]) and the true centreline ([`TRUTH_TOPIC`],
+//!   for tests), and moves the gripper to each pose on [`TIP_TARGET_TOPIC`];
+//! - [`estimate`]: the wire's shape from each F/T sample, published as `nav_msgs/Path`
+//!   ([`SHAPE_TOPIC`]), a `visualization_msgs/MarkerArray` ([`MARKERS_VIZ_TOPIC`]) and a JSON
+//!   status ([`STATUS_TOPIC`]).
+//!
+//! Conventions: stamps count from the node's clock start (the sim's first sample is stamp 0;
+//! the `k`-th F/T sample is stamped `k / rate` exactly, so that a receiver counts the samples
+//! it lost from the stamps); poses and points in metres, in [`BASE_FRAME`] (the base clamp
+//! frame, x along the wire's tangent at the clamp); wrenches force first in newtons and
+//! newton-metres, as ROS and the sensor give them, and `a` torque first as everywhere in
+//! ftwire. A message with another frame, or a value that is not finite, is refused and
+//! counted, never acted on.
+//!
+//! Each node runs until its `duration` ends or `stop` is set (the binary sets it on Ctrl-C),
+//! logs what it subscribed and published through `log`, and returns a summary of its counts.
+//! Guarded by `crates/ftwire/tests/ros2_nodes.rs` (both nodes in a network namespace with only
+//! the loopback device) and the tests of each module.
+
+pub mod error;
+pub mod estimate;
+pub mod sim;
+pub mod stats;
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use ros2_client::qos::{Durability, History, WhenFull};
+use ros2_client::{Context, MessageTypeName, Name, Node, NodeName, NodeOptions, QosProfile};
+use ros2_client::{Publisher, Subscription};
+
+pub use error::NodeError;
+
+use crate::msg::{Header, RosMessage, Time};
+
+/// The F/T samples.
+pub const WRENCH_TOPIC: &str = "/ft_sensor/wrench";
+/// The second gripper's pose relative to the base clamp.
+pub const TIP_POSE_TOPIC: &str = "/wire/tip_pose";
+/// Where the second gripper is to go, relative to the base clamp.
+pub const TIP_TARGET_TOPIC: &str = "/wire/tip_target";
+/// The motion-capture markers.
+pub const MARKERS_TOPIC: &str = "/wire/markers";
+/// The simulator's true centreline (ground truth, for tests).
+pub const TRUTH_TOPIC: &str = "/wire/truth";
+/// The estimated centreline.
+pub const SHAPE_TOPIC: &str = "/wire/shape";
+/// The estimated wire drawn for RViz.
+pub const MARKERS_VIZ_TOPIC: &str = "/wire/markers_viz";
+/// The estimator's status, one JSON object per estimate.
+pub const STATUS_TOPIC: &str = "/wire/status";
+
+/// The frame of the F/T sensor's readings.
+pub const SENSOR_FRAME: &str = "ft_sensor";
+/// The base clamp frame: the frame of poses, paths and markers.
+pub const BASE_FRAME: &str = "wire_base";
+
+/// F/T samples a publisher or subscriber queues (1 s at 1 kHz): a reliable writer keeps them
+/// for a reader that falls behind for a moment, instead of losing them.
+pub const WRENCH_QUEUE: usize = 1000;
+
+/// Settings every node takes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeSettings {
+    /// The DDS domain, 0 to 232 (default: `ROS_DOMAIN_ID`, else 0).
+    pub domain_id: u16,
+    /// How long to run \[s\]; `None` until stopped.
+    pub duration: Option<f64>,
+}
+
+impl NodeSettings {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    /// [`NodeError::BadSetting`] for a domain above 232 or a duration that is not a finite
+    /// positive number of seconds.
+    pub fn validate(&self) -> Result<(), NodeError> {
+        if self.domain_id > 232 {
+            return Err(NodeError::BadSetting {
+                setting: "--domain-id",
+                value: self.domain_id.to_string(),
+                allowed: "a DDS domain from 0 to 232",
+            });
+        }
+        if let Some(d) = self.duration
+            && !(d.is_finite() && d > 0.0)
+        {
+            return Err(NodeError::BadSetting {
+                setting: "--duration",
+                value: d.to_string(),
+                allowed: "a positive number of seconds",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Where a node writes its log lines (the binary: stderr).
+pub type Log<'a> = &'a mut dyn FnMut(&str);
+
+/// Counts by name (a topic, or a reason for a refusal), serialised as a JSON object.
+pub type Counts = BTreeMap<&'static str, u64>;
+
+/// Adds one to `name` in `counts`.
+pub(crate) fn count(counts: &mut Counts, name: &'static str) {
+    *counts.entry(name).or_insert(0) += 1;
+}
+
+/// Whether the node is to end: `stop` set, or `duration` past since `start`.
+pub(crate) fn should_stop(stop: &AtomicBool, start: Instant, duration: Option<f64>) -> bool {
+    stop.load(Ordering::Relaxed) || duration.is_some_and(|d| start.elapsed().as_secs_f64() >= d)
+}
+
+/// A stamp `t` \[s\] (non-negative) as a ROS time.
+pub fn stamp(t: f64) -> Time {
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // t ≥ 0, far below 2³¹ s
+    let nanos = (t.max(0.0) * 1e9).round() as u64;
+    stamp_nanos(nanos)
+}
+
+/// A stamp of `nanos` nanoseconds as a ROS time.
+pub fn stamp_nanos(nanos: u64) -> Time {
+    #[allow(clippy::cast_possible_truncation)] // below 2³¹ s and 10⁹ ns
+    Time {
+        sec: (nanos / 1_000_000_000) as i32,
+        nanosec: (nanos % 1_000_000_000) as u32,
+    }
+}
+
+/// The stamp of the `k`-th sample of a clock at `rate` Hz: `k / rate` to the nanosecond.
+pub fn tick_stamp(k: u64, rate: f64) -> Time {
+    #[allow(
+        clippy::cast_precision_loss,
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss
+    )]
+    let nanos = (k as f64 * 1e9 / rate).round() as u64;
+    stamp_nanos(nanos)
+}
+
+/// A ROS time in seconds.
+pub fn seconds(time: &Time) -> f64 {
+    f64::from(time.sec) + 1e-9 * f64::from(time.nanosec)
+}
+
+/// A header at `t` \[s\] in `frame`.
+pub(crate) fn header(t: f64, frame: &str) -> Header {
+    Header {
+        stamp: stamp(t),
+        frame_id: frame.to_owned(),
+    }
+}
+
+/// Reliable, volatile, the last `depth` messages kept.
+pub fn reliable(depth: usize) -> QosProfile {
+    QosProfile::publisher_default()
+        .reliability_reliable(WhenFull::DEFAULT)
+        .durability(Durability::Volatile)
+        .history(History::KeepLast { depth })
+}
+
+/// A ROS 2 node on its own DDS participant.
+pub(crate) struct RosNode {
+    node: Node,
+}
+
+impl RosNode {
+    /// A node named `name` in `domain_id`, without rosout or parameter services.
+    pub(crate) fn new(name: &str, domain_id: u16) -> Result<Self, NodeError> {
+        let ros = |what: &str, message: String| NodeError::Ros {
+            what: what.to_owned(),
+            message,
+        };
+        let context =
+            Context::with_options(ros2_client::context::ContextOptions::new().domain_id(domain_id))
+                .map_err(|e| ros("the DDS participant", format!("{e:?}")))?;
+        let node_name = NodeName::new("/", name).map_err(|e| ros("the node", format!("{e:?}")))?;
+        let node = context
+            .new_node(
+                node_name,
+                NodeOptions::new()
+                    .enable_rosout(false)
+                    .start_parameter_services(false),
+            )
+            .map_err(|e| ros("the node", format!("{e:?}")))?;
+        Ok(Self { node })
+    }
+
+    fn topic<M: RosMessage>(
+        &mut self,
+        name: &str,
+        qos: &QosProfile,
+    ) -> Result<ros2_client::dds::rustdds::Topic, NodeError> {
+        let ros = |message: String| NodeError::Ros {
+            what: format!("topic {name}"),
+            message,
+        };
+        let topic = Name::parse(name).map_err(|e| NodeError::BadSetting {
+            setting: "topic",
+            value: format!("{name} ({e:?})"),
+            allowed: "an absolute ROS 2 topic name such as /wire/shape",
+        })?;
+        let (package, kind) = M::TYPE_NAME
+            .split_once("/msg/")
+            .ok_or_else(|| ros(format!("type name {}", M::TYPE_NAME)))?;
+        self.node
+            .create_topic(&topic, MessageTypeName::new(package, kind), qos)
+            .map_err(|e| ros(format!("{e:?}")))
+    }
+
+    /// A publisher of `M` on `name`.
+    pub(crate) fn publisher<M: RosMessage>(
+        &mut self,
+        name: &str,
+        qos: &QosProfile,
+    ) -> Result<Publisher<M>, NodeError> {
+        let topic = self.topic::<M>(name, qos)?;
+        self.node
+            .create_publisher(&topic, Some(qos.clone()))
+            .map_err(|e| NodeError::Ros {
+                what: format!("a publisher on {name}"),
+                message: format!("{e:?}"),
+            })
+    }
+
+    /// A subscription to `M` on `name`.
+    pub(crate) fn subscription<M: RosMessage + 'static>(
+        &mut self,
+        name: &str,
+        qos: &QosProfile,
+    ) -> Result<Subscription<M>, NodeError> {
+        let topic = self.topic::<M>(name, qos)?;
+        self.node
+            .create_subscription(&topic, Some(qos.clone()))
+            .map_err(|e| NodeError::Ros {
+                what: format!("a subscription to {name}"),
+                message: format!("{e:?}"),
+            })
+    }
+
+    /// Subscriptions to `topic` discovered on the network (any participant).
+    pub(crate) fn subscription_count(&self, topic: &str) -> usize {
+        self.node.subscription_count(topic)
+    }
+}
+
+/// Publishes `message`, counting it under `topic` in `published`, or under `publish_failed`
+/// in `refused` when the middleware refuses it.
+pub(crate) fn publish<M: serde::Serialize>(
+    publisher: &Publisher<M>,
+    message: M,
+    topic: &'static str,
+    published: &mut Counts,
+    failed: &mut Counts,
+) {
+    match publisher.publish(message) {
+        Ok(()) => count(published, topic),
+        Err(_) => count(failed, topic),
+    }
+}
+
+/// Sleeps until `deadline`, at most `cap`.
+pub(crate) fn sleep_until(deadline: Instant, cap: Duration) {
+    let now = Instant::now();
+    if deadline > now {
+        std::thread::sleep((deadline - now).min(cap));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tick_stamps_are_k_over_rate_to_the_nanosecond() {
+        assert_eq!(
+            tick_stamp(1234, 1000.0),
+            Time {
+                sec: 1,
+                nanosec: 234_000_000
+            }
+        );
+        let t = tick_stamp(3_600_001, 1000.0);
+        assert_eq!((t.sec, t.nanosec), (3600, 1_000_000));
+        assert!((seconds(&tick_stamp(7, 300.0)) - 7.0 / 300.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        let ok = NodeSettings {
+            domain_id: 0,
+            duration: Some(1.0),
+        };
+        assert!(ok.validate().is_ok());
+        for bad in [
+            NodeSettings {
+                domain_id: 233,
+                ..ok
+            },
+            NodeSettings {
+                duration: Some(f64::NAN),
+                ..ok
+            },
+            NodeSettings {
+                duration: Some(0.0),
+                ..ok
+            },
+        ] {
+            assert!(bad.validate().is_err(), "{bad:?}");
+        }
+    }
+}

@@ -1,0 +1,560 @@
+//! `ftwire ros2 sim`: the simulator as a ROS 2 robot.
+//!
+//! The lab's simulated rig ([`ftwire_lab::experiment::rig::place_wire`]: the true wire held
+//! with the base clamp at the origin and the second gripper at `Γ(a0)`, the F/T sensor model,
+//! the motion capture) behind ROS 2 topics:
+//!
+//! - every `1 / rate` s one sensor sample, noisy and biased as the sensor model gives it,
+//!   force first in the sensor frame, on [`WRENCH_TOPIC`] (frame [`SENSOR_FRAME`]), the `k`-th
+//!   stamped `k / rate` exactly. The first `tare_samples` are read with nothing in the base
+//!   gripper, as a robot tares its sensor before it picks the wire up; a sensor dropout
+//!   publishes nothing for its tick (counted in `dropouts`);
+//! - at `pose_rate` the second gripper's pose relative to the base clamp, as the robot reports
+//!   it, on [`TIP_POSE_TOPIC`]; at `marker_rate` the seen markers (`geometry_msgs/PoseArray`,
+//!   positions only, dropped markers left out) on [`MARKERS_TOPIC`] and the true centreline on
+//!   [`TRUTH_TOPIC`], all in [`BASE_FRAME`], and all three again after each move;
+//! - each pose on [`TIP_TARGET_TOPIC`] (frame [`BASE_FRAME`]) moves the second gripper there:
+//!   the simulator solves the new equilibrium on the receiving thread (the sensor's ticks that
+//!   pass meanwhile are published after it, with their own stamps). A target out of reach
+//!   (farther than the wire is long, or no equilibrium on the way) is refused, logged and
+//!   counted as `unreachable`; the wire stays where it was.
+//!
+//! The clock starts with the first sample, once a subscriber to the wrench is discovered (at
+//! most `wait_subscriber` s after the start), so that a receiver that taring from its first
+//! samples gets the empty gripper's.
+
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use ftwire_core::{Command, FtSample, Pose, Rig};
+use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::rig::{place_wire, true_centreline};
+use ftwire_lab::setup::SimSetup;
+use ftwire_lab::wire::WireSpec;
+use ftwire_sim::SimRig;
+use nalgebra::{Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
+use serde::Serialize;
+
+use super::{
+    BASE_FRAME, Counts, Log, MARKERS_TOPIC, NodeError, NodeSettings, RosNode, SENSOR_FRAME,
+    TIP_POSE_TOPIC, TIP_TARGET_TOPIC, TRUTH_TOPIC, WRENCH_QUEUE, WRENCH_TOPIC, count, header,
+    publish, reliable, seconds, should_stop, sleep_until, tick_stamp,
+};
+use crate::msg::{self, Path, PoseArray, PoseStamped, WrenchStamped};
+
+/// How far a target's orientation quaternion may be from unit length before it is refused.
+pub const QUATERNION_TOLERANCE: f64 = 1e-3;
+
+/// Grace after the first subscriber to the wrench is discovered, before the clock starts
+/// \[s\]: both ends then have matched each other's reader and writer.
+const MATCH_GRACE: f64 = 0.5;
+
+/// What the simulated robot is.
+#[derive(Debug, Clone)]
+pub struct SimNodeParams {
+    /// The true wire.
+    pub wire: WireSpec,
+    /// Gravity in the simulated world.
+    pub gravity: Gravity,
+    /// The start configuration `a0` \[N·m, N\], torque first: the second gripper starts at
+    /// `Γ(a0)` of the weightless model.
+    pub start: Vector6<f64>,
+    /// The simulated sensor and rig.
+    pub setup: SimSetup,
+    /// Seed of the sensor's noise, drift and dropouts and of the markers' noise.
+    pub seed: u64,
+    /// F/T samples per second \[Hz\], 1 to 10 000 (default 1000).
+    pub rate: f64,
+    /// Tip poses per second \[Hz\], at most `rate` (default 100).
+    pub pose_rate: f64,
+    /// Marker frames and true centrelines per second \[Hz\], at most `rate` (default 10).
+    pub marker_rate: f64,
+    /// The first samples, read with nothing in the base gripper (default 500).
+    pub tare_samples: u64,
+    /// Longest wait for a subscriber to the wrench before the clock starts anyway \[s\].
+    pub wait_subscriber: f64,
+}
+
+/// The end of a run: one JSON line.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimSummary {
+    /// `"sim"`.
+    pub node: &'static str,
+    /// Messages received, by topic.
+    pub received: Counts,
+    /// Messages published, by topic.
+    pub published: Counts,
+    /// Messages refused, by reason: `frame_id`, `non_finite`, `bad_orientation`,
+    /// `unreachable`, `malformed`.
+    pub refused: Counts,
+    /// Messages the middleware would not publish, by topic.
+    pub publish_failed: Counts,
+    /// Sensor ticks without a sample (the sensor model's dropouts).
+    pub dropouts: u64,
+    /// Moves made to a target.
+    pub moves: u64,
+    /// Sensor ticks the loop published later than one period after their time.
+    pub late_ticks: u64,
+    /// The last tick's index plus one: samples the clock gave.
+    pub ticks: u64,
+    /// Seconds on the node's clock.
+    pub clock_s: f64,
+}
+
+impl SimNodeParams {
+    fn validate(&self) -> Result<(), NodeError> {
+        for (setting, value, max) in [
+            ("--rate", self.rate, 10_000.0),
+            ("--pose-rate", self.pose_rate, self.rate),
+            ("--marker-rate", self.marker_rate, self.rate),
+        ] {
+            if !(value.is_finite() && value >= 1.0 && value <= max) {
+                return Err(NodeError::BadSetting {
+                    setting,
+                    value: value.to_string(),
+                    allowed: "a rate from 1 Hz to 10 kHz, the pose and marker rates at most --rate",
+                });
+            }
+        }
+        if !(self.wait_subscriber.is_finite() && self.wait_subscriber >= 0.0) {
+            return Err(NodeError::BadSetting {
+                setting: "--wait-subscriber",
+                value: self.wait_subscriber.to_string(),
+                allowed: "a time of 0 s or more",
+            });
+        }
+        if self.start.iter().any(|v| !v.is_finite()) {
+            return Err(NodeError::BadSetting {
+                setting: "--start",
+                value: format!("{:?}", self.start.as_slice()),
+                allowed: "six finite numbers",
+            });
+        }
+        Ok(())
+    }
+
+    /// The simulated rig at its start.
+    ///
+    /// # Errors
+    /// As [`place_wire`].
+    pub fn place(&self) -> Result<SimRig, NodeError> {
+        Ok(place_wire(
+            &self.wire,
+            self.gravity,
+            &self.start,
+            self.setup.rig_config(self.seed),
+        )?)
+    }
+}
+
+/// Why a target pose was refused.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TargetRefusal {
+    /// Not in [`BASE_FRAME`].
+    FrameId(String),
+    /// A coordinate that is not finite.
+    NonFinite,
+    /// An orientation that is not a unit quaternion.
+    BadOrientation(f64),
+    /// Out of reach of the wire, or no equilibrium on the way there.
+    Unreachable(String),
+}
+
+impl TargetRefusal {
+    /// The reason's name in the summary.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::FrameId(_) => "frame_id",
+            Self::NonFinite => "non_finite",
+            Self::BadOrientation(_) => "bad_orientation",
+            Self::Unreachable(_) => "unreachable",
+        }
+    }
+}
+
+impl std::fmt::Display for TargetRefusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::FrameId(frame) => write!(f, "frame_id {frame:?}, not {BASE_FRAME:?}"),
+            Self::NonFinite => write!(f, "a coordinate is not finite"),
+            Self::BadOrientation(norm) => {
+                write!(f, "the orientation's quaternion has norm {norm}, not 1")
+            }
+            Self::Unreachable(why) => write!(f, "unreachable: {why}"),
+        }
+    }
+}
+
+/// The pose of a ROS pose.
+///
+/// # Errors
+/// [`TargetRefusal::NonFinite`] or [`TargetRefusal::BadOrientation`].
+pub fn pose_of(pose: &msg::Pose) -> Result<Pose, TargetRefusal> {
+    let (p, q) = (&pose.position, &pose.orientation);
+    if [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
+        .iter()
+        .any(|v| !v.is_finite())
+    {
+        return Err(TargetRefusal::NonFinite);
+    }
+    let quaternion = Quaternion::new(q.w, q.x, q.y, q.z);
+    let norm = quaternion.norm();
+    if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
+        return Err(TargetRefusal::BadOrientation(norm));
+    }
+    Ok(Pose::from_parts(
+        Translation3::new(p.x, p.y, p.z),
+        UnitQuaternion::new_normalize(quaternion),
+    ))
+}
+
+/// The ROS pose of a pose.
+pub fn ros_pose(pose: &Pose) -> msg::Pose {
+    let t = &pose.translation.vector;
+    let q = pose.rotation.quaternion();
+    msg::Pose {
+        position: ros_point(t),
+        orientation: msg::Quaternion {
+            x: q.i,
+            y: q.j,
+            z: q.k,
+            w: q.w,
+        },
+    }
+}
+
+/// The ROS point of a vector \[m\].
+pub fn ros_point(p: &Vector3<f64>) -> msg::Point {
+    msg::Point {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    }
+}
+
+/// Moves the second gripper of `rig` to `target` (a `PoseStamped` relative to the base clamp),
+/// keeping the base gripper where the robot believes it is; the rig is unchanged when the
+/// target is refused.
+///
+/// # Errors
+/// A [`TargetRefusal`]: another frame, a value that is not finite, an orientation that is not
+/// a unit quaternion, or a target the wire cannot reach (the simulator's own check and its
+/// equilibrium solve).
+pub fn move_to(rig: &mut SimRig, target: &PoseStamped) -> Result<(), TargetRefusal> {
+    if target.header.frame_id != BASE_FRAME {
+        return Err(TargetRefusal::FrameId(target.header.frame_id.clone()));
+    }
+    let tip = pose_of(&target.pose)?;
+    let base = rig
+        .gripper_poses()
+        .map_err(|e| TargetRefusal::Unreachable(e.to_string()))?
+        .base;
+    rig.command_motion(&Command {
+        base,
+        tip: base * tip,
+    })
+    .map(|_| ())
+    .map_err(|e| TargetRefusal::Unreachable(e.to_string()))
+}
+
+/// The ROS message of one F/T sample, stamped `stamp`.
+pub fn wrench_message(sample: &FtSample, stamp: msg::Time) -> WrenchStamped {
+    let r = &sample.raw;
+    WrenchStamped {
+        header: msg::Header {
+            stamp,
+            frame_id: SENSOR_FRAME.to_owned(),
+        },
+        wrench: msg::Wrench {
+            force: msg::Vector3 {
+                x: r[0],
+                y: r[1],
+                z: r[2],
+            },
+            torque: msg::Vector3 {
+                x: r[3],
+                y: r[4],
+                z: r[5],
+            },
+        },
+    }
+}
+
+/// The true centreline of `rig` as a path at `t` \[s\].
+pub fn truth_message(rig: &SimRig, t: f64) -> Path {
+    let h = header(t, BASE_FRAME);
+    Path {
+        poses: true_centreline(rig)
+            .iter()
+            .map(|p| PoseStamped {
+                header: h.clone(),
+                pose: msg::Pose {
+                    position: ros_point(p),
+                    orientation: msg::Quaternion::default(),
+                },
+            })
+            .collect(),
+        header: h,
+    }
+}
+
+/// Runs the simulated robot (module docs) until `settings.duration` ends or `stop` is set.
+///
+/// # Errors
+/// [`NodeError`] for bad settings, a wire that cannot be placed at `start`, or ROS 2 entities
+/// that cannot be created. Bad messages are refused and counted, never errors.
+#[allow(clippy::too_many_lines)] // one loop: the clock, the targets, the publications
+pub fn run(
+    params: &SimNodeParams,
+    settings: NodeSettings,
+    stop: &AtomicBool,
+    log: Log<'_>,
+) -> Result<SimSummary, NodeError> {
+    settings.validate()?;
+    params.validate()?;
+    let started = Instant::now();
+    let mut rig = params.place()?;
+    log(&format!(
+        "sim: wire {} placed (gravity {}), {} simulator nodes",
+        params.wire.name,
+        params.gravity,
+        true_centreline(&rig).len()
+    ));
+    let mut node = RosNode::new("ftwire_sim", settings.domain_id)?;
+    let small = reliable(10);
+    let wrench_pub = node.publisher::<WrenchStamped>(WRENCH_TOPIC, &reliable(WRENCH_QUEUE))?;
+    let tip_pub = node.publisher::<PoseStamped>(TIP_POSE_TOPIC, &small)?;
+    let markers_pub = node.publisher::<PoseArray>(MARKERS_TOPIC, &small)?;
+    let truth_pub = node.publisher::<Path>(TRUTH_TOPIC, &small)?;
+    let target_sub = node.subscription::<PoseStamped>(TIP_TARGET_TOPIC, &small)?;
+    log(&format!(
+        "sim: domain {}; publishing {WRENCH_TOPIC} at {} Hz (frame {SENSOR_FRAME}, the first {} \
+         samples with an empty gripper), {TIP_POSE_TOPIC} at {} Hz, {MARKERS_TOPIC} and \
+         {TRUTH_TOPIC} at {} Hz (frame {BASE_FRAME}); subscribed to {TIP_TARGET_TOPIC}",
+        settings.domain_id, params.rate, params.tare_samples, params.pose_rate, params.marker_rate
+    ));
+
+    // The clock starts once someone listens to the wrench (or the wait is over).
+    let wait_end = started + Duration::from_secs_f64(params.wait_subscriber);
+    while node.subscription_count(WRENCH_TOPIC) == 0 && Instant::now() < wait_end {
+        if should_stop(stop, started, settings.duration) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    if node.subscription_count(WRENCH_TOPIC) > 0 {
+        log("sim: a subscriber to the wrench is discovered; the clock starts");
+        sleep_until(
+            Instant::now() + Duration::from_secs_f64(MATCH_GRACE),
+            Duration::from_secs(1),
+        );
+    } else {
+        log("sim: no subscriber to the wrench yet; the clock starts anyway");
+    }
+
+    let mut summary = SimSummary {
+        node: "sim",
+        received: Counts::new(),
+        published: Counts::new(),
+        refused: Counts::new(),
+        publish_failed: Counts::new(),
+        dropouts: 0,
+        moves: 0,
+        late_ticks: 0,
+        ticks: 0,
+        clock_s: 0.0,
+    };
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // rates checked ≥ 1
+    let every = |rate: f64| ((params.rate / rate).round() as u64).max(1);
+    let (pose_every, marker_every) = (every(params.pose_rate), every(params.marker_rate));
+    let clock = Instant::now();
+    let mut k: u64 = 0;
+    // After a move the tip, markers and truth go out with the next tick.
+    let mut moved = true;
+    while !should_stop(stop, started, settings.duration) {
+        loop {
+            match target_sub.take() {
+                Ok(Some((target, _))) => {
+                    count(&mut summary.received, TIP_TARGET_TOPIC);
+                    match move_to(&mut rig, &target) {
+                        Ok(()) => {
+                            summary.moves += 1;
+                            moved = true;
+                            log(&format!(
+                                "sim: moved the tip to ({:.4}, {:.4}, {:.4}) m",
+                                target.pose.position.x,
+                                target.pose.position.y,
+                                target.pose.position.z
+                            ));
+                        }
+                        Err(refusal) => {
+                            count(&mut summary.refused, refusal.name());
+                            log(&format!(
+                                "sim: refused a target on {TIP_TARGET_TOPIC}: {refusal}"
+                            ));
+                        }
+                    }
+                }
+                Ok(None) => break,
+                Err(e) => {
+                    count(&mut summary.refused, "malformed");
+                    log(&format!(
+                        "sim: refused a message on {TIP_TARGET_TOPIC}: {e:?}"
+                    ));
+                }
+            }
+        }
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // elapsed ≥ 0
+        let due = (clock.elapsed().as_secs_f64() * params.rate).floor() as u64;
+        while k <= due {
+            let stamp = tick_stamp(k, params.rate);
+            let t = seconds(&stamp);
+            if due > k + 1 {
+                summary.late_ticks += 1;
+            }
+            let sample = if k < params.tare_samples {
+                rig.read_ft_empty_gripper()
+            } else {
+                rig.read_ft()
+            };
+            match sample {
+                Ok(sample) => publish(
+                    &wrench_pub,
+                    wrench_message(&sample, stamp),
+                    WRENCH_TOPIC,
+                    &mut summary.published,
+                    &mut summary.publish_failed,
+                ),
+                Err(_) => summary.dropouts += 1,
+            }
+            if moved || k.is_multiple_of(pose_every) {
+                let tip = rig.gripper_poses().map(|p| p.relative());
+                if let Ok(tip) = tip {
+                    let message = PoseStamped {
+                        header: header(t, BASE_FRAME),
+                        pose: ros_pose(&tip),
+                    };
+                    publish(
+                        &tip_pub,
+                        message,
+                        TIP_POSE_TOPIC,
+                        &mut summary.published,
+                        &mut summary.publish_failed,
+                    );
+                }
+            }
+            if moved || k.is_multiple_of(marker_every) {
+                if let Ok(frame) = rig.observe_markers() {
+                    let message = PoseArray {
+                        header: header(t, BASE_FRAME),
+                        poses: frame
+                            .positions
+                            .iter()
+                            .flatten()
+                            .map(|p| msg::Pose {
+                                position: ros_point(&p.coords),
+                                orientation: msg::Quaternion::default(),
+                            })
+                            .collect(),
+                    };
+                    publish(
+                        &markers_pub,
+                        message,
+                        MARKERS_TOPIC,
+                        &mut summary.published,
+                        &mut summary.publish_failed,
+                    );
+                }
+                publish(
+                    &truth_pub,
+                    truth_message(&rig, t),
+                    TRUTH_TOPIC,
+                    &mut summary.published,
+                    &mut summary.publish_failed,
+                );
+            }
+            moved = false;
+            k += 1;
+        }
+        #[allow(clippy::cast_precision_loss)] // ticks far below 2⁵²
+        let next = clock + Duration::from_secs_f64(k as f64 / params.rate);
+        sleep_until(next, Duration::from_millis(20));
+    }
+    summary.ticks = k;
+    summary.clock_s = clock.elapsed().as_secs_f64();
+    log(&format!(
+        "sim: stopped after {k} ticks ({:.1} s on the clock)",
+        summary.clock_s
+    ));
+    Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params() -> SimNodeParams {
+        let wire = WireSpec::load("nitinol-3mm-820").expect("a preset");
+        let scales = wire.wire_params().expect("valid");
+        SimNodeParams {
+            start: ftwire_rod::from_normalised(
+                &scales,
+                &Vector6::new(0.0, 1.0, 0.5, -1.0, 0.5, 0.0),
+            ),
+            wire,
+            gravity: Gravity::Off,
+            setup: SimSetup::default(),
+            seed: 0,
+            rate: 1000.0,
+            pose_rate: 100.0,
+            marker_rate: 10.0,
+            tare_samples: 0,
+            wait_subscriber: 0.0,
+        }
+    }
+
+    fn target(x: f64, frame: &str) -> PoseStamped {
+        PoseStamped {
+            header: header(0.0, frame),
+            pose: msg::Pose {
+                position: msg::Point { x, y: 0.1, z: 0.0 },
+                orientation: msg::Quaternion::default(),
+            },
+        }
+    }
+
+    #[test]
+    fn a_target_moves_the_tip_and_a_bad_one_changes_nothing() {
+        let mut rig = params().place().expect("placed");
+        let before = rig.gripper_poses().expect("poses").relative();
+        let far = move_to(&mut rig, &target(5.0, BASE_FRAME)).expect_err("beyond the wire");
+        assert_eq!(far.name(), "unreachable");
+        let frame = move_to(&mut rig, &target(0.5, "world")).expect_err("another frame");
+        assert_eq!(frame.name(), "frame_id");
+        let mut nan = target(0.5, BASE_FRAME);
+        nan.pose.position.y = f64::NAN;
+        assert_eq!(
+            move_to(&mut rig, &nan).map_err(|e| e.name()),
+            Err("non_finite")
+        );
+        let mut skew = target(0.5, BASE_FRAME);
+        skew.pose.orientation.w = 2.0;
+        assert_eq!(
+            move_to(&mut rig, &skew).map_err(|e| e.name()),
+            Err("bad_orientation")
+        );
+        let unchanged = rig.gripper_poses().expect("poses").relative();
+        assert!((unchanged.translation.vector - before.translation.vector).norm() < 1e-12);
+        let mut near = PoseStamped {
+            header: header(0.0, BASE_FRAME),
+            pose: ros_pose(&before),
+        };
+        near.pose.position.x -= 0.01;
+        move_to(&mut rig, &near).expect("a small move");
+        let after = rig.gripper_poses().expect("poses").relative();
+        assert!((after.translation.vector.x - (before.translation.vector.x - 0.01)).abs() < 1e-9);
+        let truth = truth_message(&rig, 0.5);
+        let tip = truth.poses.last().expect("points").pose.position;
+        assert!((tip.x - after.translation.vector.x).abs() < 1e-6);
+    }
+}
