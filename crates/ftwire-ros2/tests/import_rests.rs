@@ -272,14 +272,12 @@ fn rests_means_poses_and_markers_are_recovered() {
             record.time
         );
         let raw = record.raw.expect("raw");
-        for i in 0..6 {
+        for (i, (got, want)) in raw.iter().zip(&rest.wrench).enumerate() {
             let half = if i < 3 { FORCE_NOISE } else { TORQUE_NOISE };
             let standard_error = half / 3f64.sqrt() / 2001f64.sqrt();
             assert!(
-                (raw[i] - rest.wrench[i]).abs() < 4.0 * standard_error,
-                "rest {k}, raw[{i}] = {} vs {}",
-                raw[i],
-                rest.wrench[i]
+                (got - want).abs() < 4.0 * standard_error,
+                "rest {k}, raw[{i}] = {got} vs {want}"
             );
         }
         let b = record.b.expect("b");
