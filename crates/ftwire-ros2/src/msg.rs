@@ -544,24 +544,3 @@ ros_message! {
     Marker => "visualization_msgs/msg/Marker", "visualization_msgs/Marker", "builtin_interfaces/Duration", "geometry_msgs/Point", "geometry_msgs/Pose", "geometry_msgs/Quaternion", "geometry_msgs/Vector3", "sensor_msgs/CompressedImage", "std_msgs/Header", "builtin_interfaces/Time", "std_msgs/ColorRGBA", "visualization_msgs/MeshFile", "visualization_msgs/UVCoordinate";
     MarkerArray => "visualization_msgs/msg/MarkerArray", "visualization_msgs/MarkerArray", "visualization_msgs/Marker", "builtin_interfaces/Duration", "geometry_msgs/Point", "geometry_msgs/Pose", "geometry_msgs/Quaternion", "geometry_msgs/Vector3", "sensor_msgs/CompressedImage", "std_msgs/Header", "builtin_interfaces/Time", "std_msgs/ColorRGBA", "visualization_msgs/MeshFile", "visualization_msgs/UVCoordinate";
 }
-
-/// `geometry_msgs/PoseArray`: poses in one frame, such as the motion-capture markers.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct PoseArray {
-    /// Time and frame.
-    pub header: Header,
-    /// The poses in `header.frame_id`.
-    pub poses: Vec<Pose>,
-}
-
-/// `std_msgs/String`: one UTF-8 text, such as a node's JSON status.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct StdString {
-    /// The text.
-    pub data: String,
-}
-
-ros_message! {
-    PoseArray => "geometry_msgs/msg/PoseArray",
-    StdString => "std_msgs/msg/String",
-}

@@ -55,7 +55,7 @@ use super::{
     SHAPE_TOPIC, STATUS_TOPIC, WRENCH_QUEUE, count, publish, reliable, seconds, should_stop,
 };
 use crate::msg::{
-    self, ColorRGBA, Marker, MarkerArray, Path, PoseStamped, StdString, WrenchStamped,
+    self, ColorRGBA, Marker, MarkerArray, Path, PoseStamped, StringMsg, WrenchStamped,
 };
 use crate::node::sim::{pose_of, ros_point};
 
@@ -417,7 +417,7 @@ pub fn run(
         .transpose()?;
     let shape_pub = node.publisher::<Path>(SHAPE_TOPIC, &small)?;
     let markers_pub = node.publisher::<MarkerArray>(MARKERS_VIZ_TOPIC, &small)?;
-    let status_pub = node.publisher::<StdString>(STATUS_TOPIC, &small)?;
+    let status_pub = node.publisher::<StringMsg>(STATUS_TOPIC, &small)?;
     log(&format!(
         "estimate: domain {}; subscribed to {} (frame {SENSOR_FRAME}) and {} (frame \
          {BASE_FRAME}){}; publishing {SHAPE_TOPIC}, {MARKERS_VIZ_TOPIC}, {STATUS_TOPIC}; wire \
@@ -616,7 +616,7 @@ pub fn run(
                         contact: contact.is_some(),
                     };
                     if let Ok(data) = serde_json::to_string(&status) {
-                        publish(&status_pub, StdString { data }, "status", published, failed);
+                        publish(&status_pub, StringMsg { data }, "status", published, failed);
                     }
                     #[allow(clippy::cast_precision_loss)] // nanoseconds of a short latency
                     latencies.push(1e-6 * (now_ns() - sample.arrival_ns) as f64);
