@@ -30,6 +30,7 @@ use std::path::Path;
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
+use ftwire_lab::identify::until::UntilSummary;
 use ftwire_lab::identify::{self, IdentifyParams, IdentifySummary, PARAMETERS, Pipeline};
 use ftwire_lab::paper::TABLE_I;
 use ftwire_lab::results::OutGuard;
@@ -174,22 +175,7 @@ fn table(
             );
         }
         if let Some(until) = result.until.as_ref() {
-            let e = until.max_abs_relative_error.map(|v| 100.0 * v);
-            let _ = writeln!(
-                text,
-                "  --until {} %: {}/{} reached within {} samples; samples median {}, max {}; \
-                 largest |relative error| c1 c2 c3 L [%] {:.3} {:.3} {:.3} {:.3}",
-                until.target_percent,
-                until.reached,
-                until.trials,
-                until.limit,
-                until.samples_median,
-                until.samples_max,
-                e[0],
-                e[1],
-                e[2],
-                e[3]
-            );
+            until_line(&mut text, until);
         }
         if let Some(density) = row.linear_density.as_ref() {
             let _ = writeln!(
@@ -235,4 +221,24 @@ fn table(
         }
     }
     text
+}
+
+/// The `--until` line of one wire.
+fn until_line(text: &mut String, until: &UntilSummary) {
+    let e = until.max_abs_relative_error.map(|v| 100.0 * v);
+    let _ = writeln!(
+        text,
+        "  --until {} %: {}/{} reached within {} samples; samples median {}, max {}; \
+         largest |relative error| c1 c2 c3 L [%] {:.3} {:.3} {:.3} {:.3}",
+        until.target_percent,
+        until.reached,
+        until.trials,
+        until.limit,
+        until.samples_median,
+        until.samples_max,
+        e[0],
+        e[1],
+        e[2],
+        e[3]
+    );
 }
