@@ -10,7 +10,13 @@
 //! Models are immutable; work is done by methods and free functions over arrays. Batches
 //! release the GIL and run in parallel over rows (rayon).
 
+mod calibration;
+mod error;
+mod identify;
 mod input;
+mod log;
+mod pose;
+mod shape;
 mod wire;
 
 use pyo3::prelude::*;
@@ -20,6 +26,12 @@ use pyo3::prelude::*;
 fn _ftwire(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<wire::Wire>()?;
     m.add_class::<wire::Solution>()?;
+    m.add_class::<calibration::Calibration>()?;
+    m.add_class::<calibration::Mounting>()?;
+    m.add_class::<shape::ShapeEstimator>()?;
+    m.add_class::<identify::Identification>()?;
+    m.add_function(wrap_pyfunction!(log::read_log, m)?)?;
+    m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
