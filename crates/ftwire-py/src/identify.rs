@@ -1,0 +1,188 @@
+//! `ftwire.identify(a, b, ...)`: a wire's stiffnesses and length from `(ã, b̃)` samples
+//! (paper §III-B), the identification `ftwire identify --log` runs, with its seed.
+
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+use ftwire_lab::identify::{Form, ResidualParams};
+use ftwire_lab::log::identify::{EstimateReport, IdentifyLogParams, estimate};
+use pyo3::prelude::*;
+
+use crate::error::lab_error;
+use crate::input::{self, value_error};
+use crate::pose;
+use crate::wire::{DEFAULT_DENSITY, DEFAULT_RADIUS, Wire};
+
+/// The answer of `identify`: the identified wire, first-order standard deviations and the
+/// verdict. Immutable.
+#[pyclass(module = "ftwire", frozen, get_all)]
+pub struct Identification {
+    /// The identified Wire (c, length; radius, density and natural curvature from
+    /// wire_guess, the density from the identified linear density when gravity was given).
+    wire: Wire,
+    /// (c1, c2, c3) [N·m²].
+    c: (f64, f64, f64),
+    /// Length L [m].
+    length: f64,
+    /// Standard deviations of c [N·m²] (first order, from the residual's Jacobian).
+    c_std: (f64, f64, f64),
+    /// Standard deviation of L [m].
+    length_std: f64,
+    /// The linear density λ [kg/m] (with gravity), else None.
+    linear_density: Option<f64>,
+    /// Standard deviation of λ [kg/m] (with gravity), else None.
+    linear_density_std: Option<f64>,
+    /// χ² per degree of freedom under the assumed noise.
+    chi2_per_dof: f64,
+    /// σ_min / σ_max of the residual's Jacobian.
+    condition: f64,
+    /// Whether the data identify the wire.
+    identified: bool,
+    /// Why not, as a short name ("ill_conditioned", "residual_above_noise", "at_bound",
+    /// ...), or None.
+    flag: Option<&'static str>,
+    /// Why not, in words, or None.
+    reason: Option<String>,
+    /// Samples used.
+    samples: usize,
+}
+
+#[pymethods]
+impl Identification {
+    fn __repr__(&self) -> String {
+        format!(
+            "Identification(c={:?}, length={:?}, identified={}, samples={})",
+            self.c,
+            self.length,
+            if self.identified { "True" } else { "False" },
+            self.samples
+        )
+    }
+}
+
+/// Identifies a wire's (c1, c2, c3, L) from samples (the paper's §III-B; `ftwire identify`).
+///
+/// - a: (N, 6) ã, the calibrated configurations, torque first [N·m, N], base clamp frame.
+/// - b: (N, 4, 4), (N, 6) or (N, 7): the second gripper's clamp pose in the base clamp frame
+///   at each sample (homogeneous matrix; position [m] + rotation vector [rad]; position [m] +
+///   unit quaternion (x, y, z, w)).
+/// - wire_guess: a Wire whose radius, density and natural curvature the answer keeps (the
+///   search over c and L is global); None: radius 0.001 m, density 6450 kg/m³.
+/// - form: "absolute" (default), "eq12", "midpoint" or "relative": the residual minimised.
+/// - isotropic: c3 = c2 (a round cross-section).
+/// - torsion_ratio: a known ν = c1/c2; None: identified.
+/// - gravity: (3,) [m/s²] in the base clamp frame: the loaded model, identifying the linear
+///   density too; None: the weightless model.
+/// - seed: the particle swarm's seed: the same seed gives the same answer.
+///
+/// Releases the GIL. Raises ValueError naming the argument for bad input (shapes, values,
+/// too few samples or too little motion); RuntimeError when the search has no answer.
+#[pyfunction]
+#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0))]
+#[allow(clippy::too_many_arguments)]
+pub fn identify(
+    py: Python<'_>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    wire_guess: Option<&Wire>,
+    form: &str,
+    isotropic: bool,
+    torsion_ratio: Option<f64>,
+    gravity: Option<&Bound<'_, PyAny>>,
+    seed: u64,
+) -> PyResult<Identification> {
+    let rows = input::rows(
+        a,
+        "a",
+        6,
+        "configurations ã (τ1, τ2, τ3, f1, f2, f3) [N·m, N]",
+    )?;
+    if !rows.batched {
+        return Err(value_error(
+            "a has shape (6,); allowed is (N, 6): N samples",
+        ));
+    }
+    let a = input::vectors6(&rows);
+    let b = pose::poses(b, "b")?;
+    if a.len() != b.len() {
+        return Err(value_error(format!(
+            "b has {} poses and a {} configurations: one pose per configuration",
+            b.len(),
+            a.len()
+        )));
+    }
+    let form = match form {
+        "absolute" => Form::Absolute,
+        "eq12" => Form::Eq12,
+        "midpoint" => Form::Midpoint,
+        "relative" => Form::Relative,
+        other => {
+            return Err(value_error(format!(
+                "form = {other:?} is not allowed: \"absolute\", \"eq12\", \"midpoint\" or \
+                 \"relative\""
+            )));
+        }
+    };
+    if let Some(nu) = torsion_ratio {
+        input::positive(nu, "torsion_ratio", "c1/c2")?;
+    }
+    let gravity = input::vector3(
+        gravity,
+        "gravity",
+        "the gravity vector [m/s²], base clamp frame",
+    )?;
+    let params = IdentifyLogParams {
+        log: PathBuf::from("<arrays>"),
+        calibration: None,
+        mounting: None,
+        samples: None,
+        residual: ResidualParams {
+            form,
+            isotropic,
+            torsion_ratio,
+        },
+        gravity,
+        seed,
+    };
+    params.check().map_err(|e| lab_error(&e, "identify"))?;
+    let samples: Vec<_> = a.into_iter().zip(b).collect();
+    let report: EstimateReport = py
+        .detach(|| estimate(&params, &samples, &mut |_: &str| {}))
+        .map_err(|e| lab_error(&e, "identify"))?;
+    let guess = wire_guess.map(|w| w.spec.clone());
+    let mut spec = guess.unwrap_or_else(|| ftwire_lab::wire::WireSpec {
+        name: "identified".to_owned(),
+        c: report.c,
+        length: report.length,
+        radius: DEFAULT_RADIUS,
+        density: DEFAULT_DENSITY,
+        natural_curvature: [0.0; 3],
+    });
+    spec.c = report.c;
+    spec.length = report.length;
+    if let Some(lambda) = report.linear_density {
+        spec.density = lambda / (PI * spec.radius * spec.radius);
+    }
+    let wire = Wire::from_spec(spec).map_err(|e| {
+        value_error(format!(
+            "identify: the estimate is not a valid wire ({e}); see its flag and reason"
+        ))
+    })?;
+    let [c1, c2, c3] = report.c;
+    let [s1, s2, s3] = report.c_std;
+    Ok(Identification {
+        wire,
+        c: (c1, c2, c3),
+        length: report.length,
+        c_std: (s1, s2, s3),
+        length_std: report.length_std,
+        linear_density: report.linear_density,
+        linear_density_std: report.linear_density_std,
+        chi2_per_dof: report.chi2_per_dof,
+        condition: report.condition,
+        identified: report.identified,
+        flag: report.flag,
+        reason: report.reason,
+        samples: report.samples,
+    })
+}

@@ -1,0 +1,93 @@
+"""identify against `ftwire identify --log --json` on a log the test writes, to the last
+digit; the same seed gives the same answer."""
+
+import json
+
+import numpy as np
+import pytest
+
+import ftwire
+from conftest import cli_json
+
+TRUE = ftwire.Wire(c=(0.042, 0.055, 0.055), length=0.63, radius=0.001)
+
+
+def rotation_vector(r):
+    """The rotation vector (axis × angle) of a rotation matrix (angle below π)."""
+    angle = np.arccos(np.clip((np.trace(r) - 1) / 2, -1, 1))
+    if angle < 1e-12:
+        return np.zeros(3)
+    axis = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]]) / (2 * np.sin(angle))
+    return axis * angle
+
+
+@pytest.fixture(scope="module")
+def samples(tmp_path_factory):
+    a = np.array([
+        [0.0, 0.02, 0.01, -0.05, 0.03, 0.0],
+        [0.005, -0.01, 0.015, 0.02, -0.04, 0.01],
+        [-0.004, 0.012, -0.008, 0.06, 0.02, -0.02],
+        [0.002, 0.018, 0.004, -0.02, 0.05, 0.015],
+    ])
+    tips = TRUE.solve(a).tip_pose
+    b = np.array([np.concatenate([t[:3, 3], rotation_vector(t[:3, :3])]) for t in tips])
+    path = tmp_path_factory.mktemp("identify") / "log.jsonl"
+    with open(path, "w") as f:
+        for i, (ai, bi) in enumerate(zip(a, b)):
+            f.write(json.dumps({"time": float(i), "a": ai.tolist(),
+                                "b": {"position": bi[:3].tolist(), "rotation": bi[3:].tolist()}}) + "\n")
+    return path, a, b
+
+
+def test_identify_is_the_cli_to_the_last_digit(samples):
+    path, a, b = samples
+    out = cli_json("identify", "--log", str(path), "--json", "--seed", "3")
+    found = ftwire.identify(a, b, seed=3)
+    assert found.c == tuple(out["c"]) and found.length == out["length"]
+    assert found.c_std == tuple(out["c_std"]) and found.length_std == out["length_std"]
+    assert found.chi2_per_dof == out["chi2_per_dof"] and found.condition == out["condition"]
+    assert found.identified == out["identified"] and found.flag == out["flag"]
+    assert found.wire.c == found.c and found.wire.length == found.length
+    np.testing.assert_allclose(found.c, TRUE.c, rtol=1e-3)
+
+
+def test_poses_as_matrices_or_from_the_log(samples):
+    path, a, b = samples
+    log = ftwire.read_log(path)
+    from_log = ftwire.identify(log["a"], log["b"], seed=3)
+    assert from_log.c == ftwire.identify(a, b, seed=3).c
+    matrices = TRUE.solve(a).tip_pose
+    guess = ftwire.Wire(c=(1, 1, 1), length=1.0, radius=0.002, density=7000.0)
+    found = ftwire.identify(a, matrices, wire_guess=guess, seed=3)
+    assert found.wire.radius == 0.002 and found.wire.density == 7000.0
+    np.testing.assert_allclose(found.c, TRUE.c, rtol=1e-3)
+
+
+def test_same_seed_same_answer(samples):
+    _, a, b = samples
+    first = ftwire.identify(a, b, seed=11, isotropic=True)
+    second = ftwire.identify(a.copy(), b.copy(), seed=11, isotropic=True)
+    assert (first.c, first.length, first.c_std) == (second.c, second.length, second.c_std)
+    assert first.c[1] == first.c[2]
+
+
+def test_bad_arguments_name_them(samples):
+    _, a, b = samples
+    with pytest.raises(ValueError, match="b has 3 poses"):
+        ftwire.identify(a, b[:3])
+    with pytest.raises(ValueError, match="b has shape"):
+        ftwire.identify(a, b[:, :5])
+    with pytest.raises(ValueError, match="a has shape"):
+        ftwire.identify(a[0], b)
+    with pytest.raises(ValueError, match="form"):
+        ftwire.identify(a, b, form="quadratic")
+    with pytest.raises(ValueError, match="torsion_ratio"):
+        ftwire.identify(a, b, torsion_ratio=0.0)
+    bad = a.copy()
+    bad[2, 4] = np.inf
+    with pytest.raises(ValueError, match=r"a\[2, 4\] = inf"):
+        ftwire.identify(bad, b)
+    skew = TRUE.solve(a).tip_pose.copy()
+    skew[1, 0, 0] = 2.0
+    with pytest.raises(ValueError, match=r"b\[1\] is not a rigid transform"):
+        ftwire.identify(a, skew)

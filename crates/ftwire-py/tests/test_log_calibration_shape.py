@@ -1,0 +1,107 @@
+"""read_log, Calibration, Mounting and ShapeEstimator against the CLI's `shape --log --json`
+on a simulated recording, to the last digit."""
+
+import json
+
+import numpy as np
+import pytest
+
+import ftwire
+from conftest import cli_json_lines
+
+WIRE = "nitinol-2mm-630"
+
+
+def records(path):
+    return [json.loads(line) for line in open(path) if line.strip()]
+
+
+def test_read_log_gives_every_record_as_arrays(recording):
+    path = recording / "logs" / "recording.jsonl"
+    log = ftwire.read_log(str(path))
+    lines = records(path)
+    assert log["time"].shape == (len(lines),) and log["raw"].shape == (len(lines), 6)
+    np.testing.assert_array_equal(log["time"], [r["time"] for r in lines])
+    np.testing.assert_array_equal(log["raw"], [r["raw"] for r in lines])
+    assert np.isnan(log["a"]).all() and np.isnan(log["b"]).all()
+    markers = log["markers"]
+    assert markers.shape[:2] == (len(lines), max(len(r["markers"]) for r in lines))
+    first = lines[0]["markers"]
+    for k, m in enumerate(first):
+        if m is None:
+            assert np.isnan(markers[0, k]).all()
+        else:
+            np.testing.assert_array_equal(markers[0, k], m)
+    for key in ("time", "raw", "a", "b", "gravity", "markers"):
+        assert log[key].dtype == np.float64 and log[key].flags["C_CONTIGUOUS"], key
+
+
+def test_read_log_names_the_file_and_line(tmp_path):
+    path = tmp_path / "bad.jsonl"
+    good = '{"time": 0.0, "a": [0, 0.01, 0, 0, 0.1, 0], "b": {"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}}'
+    path.write_text(good + "\n" + '{"time": oops\n')
+    with pytest.raises(ValueError, match="line 2"):
+        ftwire.read_log(str(path))
+    path.write_text(good + "\n")
+    log = ftwire.read_log(path)
+    np.testing.assert_array_equal(log["b"], [[0.5, 0.1, 0, 0, 0, 0.4]])
+    np.testing.assert_array_equal(log["line"], [1])
+    with pytest.raises(ValueError, match="path"):
+        ftwire.read_log(tmp_path / "missing.jsonl")
+
+
+def test_calibration_and_shapes_are_the_cli_to_the_last_digit(recording):
+    path = recording / "logs" / "recording.jsonl"
+    calibration = ftwire.Calibration.load(str(recording / "calibration.json"))
+    out = cli_json_lines("shape", "--log", str(path), "--wire", WIRE, "--calibration",
+                         str(recording / "calibration.json"), "--json", check=False)
+    log = ftwire.read_log(path)
+    a = calibration.apply(log["raw"], time=log["time"])
+    assert a.shape == log["raw"].shape and a.flags["C_CONTIGUOUS"]
+    np.testing.assert_array_equal(a, [r["a_tilde"] for r in out])
+    np.testing.assert_array_equal(calibration.apply(log["raw"][3], time=log["time"][3]), a[3])
+    estimator = ftwire.ShapeEstimator(ftwire.Wire.preset(WIRE), calibration=calibration)
+    shapes = estimator.estimate(log["raw"], time=log["time"])
+    np.testing.assert_array_equal(shapes["a"], a)
+    assert shapes["shape"].shape == (len(out), 64, 3)
+    for i, r in enumerate(out):
+        if "points" in r:
+            np.testing.assert_array_equal(shapes["shape"][i], r["points"])
+            assert shapes["flag"][i] == r["confidence"]
+        else:
+            assert shapes["flag"][i] == "no_shape" and shapes["error"][i]
+    # The same estimator again: the first sample is now tested against the last one.
+    estimator.reset()
+    again = estimator.estimate(log["raw"], time=log["time"])
+    assert again["flag"] == shapes["flag"]
+
+
+def test_mounting_alone_is_the_cli(recording, tmp_path):
+    path = recording / "logs" / "recording.jsonl"
+    toml = tmp_path / "mounting.toml"
+    toml.write_text("clamp_position_in_sensor = [0.0, 0.0, 0.08]\n")
+    out = cli_json_lines("shape", "--log", str(path), "--wire", WIRE, "--mounting", str(toml),
+                         "--json", check=False)
+    log = ftwire.read_log(path)
+    mounting = ftwire.Mounting.from_toml(toml)
+    np.testing.assert_array_equal(mounting.to_configuration(log["raw"]), [r["a_tilde"] for r in out])
+    np.testing.assert_array_equal(ftwire.Mounting().to_configuration(log["raw"]),
+                                  mounting.to_configuration(log["raw"]))
+    back = mounting.to_sensor(mounting.to_configuration(log["raw"]))
+    np.testing.assert_allclose(back, log["raw"], rtol=1e-12, atol=1e-12)
+
+
+def test_bad_calibration_and_mounting_arguments(tmp_path, recording):
+    with pytest.raises(ValueError, match="path"):
+        ftwire.Calibration.load(str(tmp_path / "none.json"))
+    calibration = ftwire.Calibration.load(str(recording / "calibration.json"))
+    with pytest.raises(ValueError, match="raw has shape"):
+        calibration.apply(np.zeros((3, 5)))
+    with pytest.raises(ValueError, match="time has shape"):
+        calibration.apply(np.zeros((3, 6)), time=[0.0, 1.0])
+    with pytest.raises(ValueError, match="tool_mass"):
+        ftwire.Mounting(tool_mass=-1.0)
+    with pytest.raises(ValueError, match="gravity"):
+        ftwire.Mounting(tool_mass=1.0).to_configuration(np.ones(6))
+    with pytest.raises(ValueError, match="points"):
+        ftwire.ShapeEstimator(ftwire.Wire.preset(WIRE), points=10)
