@@ -43,8 +43,15 @@ fn require_unshare() {
 /// Runs the sim for `sim_s` and, 0.3 s later, the estimator for `estimate_s` seconds, in one
 /// loopback-only namespace; returns both summaries.
 fn run_pair(tag: &str, sim_s: f64, estimate_s: f64) -> (Value, Value) {
-    require_unshare();
     let dir = temp_dir(tag);
+    let result = run_pair_in(&dir, sim_s, estimate_s, "");
+    let _ = std::fs::remove_dir_all(Path::new(&dir));
+    result
+}
+
+/// As [`run_pair`], in `dir` (kept), with `extra` options for the estimator.
+fn run_pair_in(dir: &Path, sim_s: f64, estimate_s: f64, extra: &str) -> (Value, Value) {
+    require_unshare();
     let sensor = dir.join("sensor.toml");
     std::fs::write(&sensor, "dropout_probability = 0.0\n").expect("a sensor file");
     let out = |name: &str| dir.join(name).display().to_string();
@@ -55,7 +62,7 @@ fn run_pair(tag: &str, sim_s: f64, estimate_s: f64) -> (Value, Value) {
            --duration {sim_s} > '{sim}' 2> '{sim_err}' & \
          sleep 0.3; \
          '{BIN}' ros2 estimate --truth-topic /wire/truth --domain-id 17 --duration {estimate_s} \
-           > '{est}' 2> '{est_err}'; \
+           {extra} > '{est}' 2> '{est_err}'; \
          wait",
         sensor = sensor.display(),
         sim = out("sim.json"),
@@ -84,12 +91,10 @@ fn run_pair(tag: &str, sim_s: f64, estimate_s: f64) -> (Value, Value) {
             )
         })
     };
-    let result = (
+    (
         summary("sim.json", "sim.err"),
         summary("estimate.json", "estimate.err"),
-    );
-    let _ = std::fs::remove_dir_all(Path::new(&dir));
-    result
+    )
 }
 
 fn count(v: &Value, group: &str, name: &str) -> u64 {
@@ -139,6 +144,109 @@ fn the_estimate_on_ros2_matches_the_simulators_truth_and_loses_nothing() {
     let worst = truth["worst_mean_mm"].as_f64().unwrap_or(f64::INFINITY);
     assert!(worst < 8.0, "worst mean distance {worst} mm: {estimate}");
     eprintln!("sim: {sim}\nestimate: {estimate}");
+}
+
+/// `--record` writes every message the estimator received and published into a ROS 2 bag, and
+/// `ftwire import mcap` reads the session back: one rest (the sim holds still) whose wrench is
+/// the mean of the recorded wrenches after the settle time, and whose pose is the recorded one.
+#[test]
+fn a_recorded_session_imports_to_its_rest() {
+    use ftwire_ros2::bag::BagReader;
+    use ftwire_ros2::msg::{PoseStamped, WrenchStamped};
+
+    let dir = temp_dir("record");
+    let bag = dir.join("session.mcap");
+    let (sim, estimate) = run_pair_in(&dir, 4.5, 3.0, &format!("--record '{}'", bag.display()));
+    check_stream(&sim, &estimate, 2000);
+    let total = |group: &str| -> u64 {
+        estimate[group]
+            .as_object()
+            .map_or(0, |m| m.values().filter_map(Value::as_u64).sum())
+    };
+    let written = estimate["recorded"]["written"].as_u64().unwrap_or(0);
+    assert_eq!(
+        written,
+        total("received") + total("published"),
+        "{estimate}"
+    );
+    assert_eq!(estimate["recorded"]["failed"], 0, "{estimate}");
+
+    let reader = BagReader::open(&bag).expect("the recorded bag opens");
+    let (mut wrenches, mut pose) = (Vec::new(), None);
+    for m in reader.messages() {
+        match m.topic.name.as_str() {
+            "/ft_sensor/wrench" => {
+                wrenches.push(reader.decode::<WrenchStamped>(m).expect("a wrench"))
+            }
+            "/wire/tip_pose" => pose = Some(reader.decode::<PoseStamped>(m).expect("a pose")),
+            _ => {}
+        }
+    }
+    assert_eq!(
+        wrenches.len() as u64,
+        count(&estimate, "received", "wrench")
+    );
+    let pose = pose.expect("a tip pose was recorded");
+
+    let log = dir.join("session.jsonl");
+    let output = Command::new(BIN)
+        .args(["import", "mcap"])
+        .arg(&bag)
+        .args([
+            "--wrench",
+            "/ft_sensor/wrench",
+            "--tip-pose",
+            "/wire/tip_pose",
+            "--out",
+        ])
+        .arg(&log)
+        .output()
+        .expect("runs import");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let text = std::fs::read_to_string(&log).expect("the log");
+    let records: Vec<Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(records.len(), 1, "{text}");
+    let record = &records[0];
+    let position = &record["b"]["position"];
+    for (i, v) in [
+        pose.pose.position.x,
+        pose.pose.position.y,
+        pose.pose.position.z,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let got = position[i].as_f64().expect("a position");
+        assert!((got - v).abs() < 1e-9, "b {position} against {v}");
+    }
+    // The mean of the recorded wrenches a settle time (1 s, past the 0.5 s tare) into the rest.
+    let start = wrenches.first().map_or(0.0, |w| {
+        f64::from(w.header.stamp.sec) + 1e-9 * f64::from(w.header.stamp.nanosec)
+    });
+    let settled: Vec<[f64; 6]> = wrenches
+        .iter()
+        .filter(|w| {
+            f64::from(w.header.stamp.sec) + 1e-9 * f64::from(w.header.stamp.nanosec) >= start + 1.0
+        })
+        .map(|w| {
+            let (f, t) = (w.wrench.force, w.wrench.torque);
+            [f.x, f.y, f.z, t.x, t.y, t.z]
+        })
+        .collect();
+    assert!(settled.len() > 1000, "{}", settled.len());
+    for j in 0..6 {
+        let mean = settled.iter().map(|w| w[j]).sum::<f64>() / settled.len() as f64;
+        let got = record["raw"][j].as_f64().expect("raw");
+        assert!((got - mean).abs() < 2e-3, "raw[{j}] {got} against {mean}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A minute at 1 kHz: `cargo test --release -p ftwire --features ros2 --test ros2_nodes --

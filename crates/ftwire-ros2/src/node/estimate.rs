@@ -34,37 +34,24 @@
 //! with the latest shape: the distance of each true node to the estimated polyline, averaged
 //! per message (`truth_mm`).
 
-use std::sync::atomic::AtomicBool;
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{SystemTime, UNIX_EPOCH};
 
 use ftwire_core::FtSample;
-use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::ft::{RestAverage, Tare};
-use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
-use ftwire_lab::log::shape::shape_record;
 use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
 use ftwire_lab::wire::WireSpec;
-use nalgebra::{Point3, Vector3, Vector6};
+use nalgebra::Vector6;
 use ros2_client::MessageInfo;
-use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use serde::Serialize;
 
-use super::stats::{LossCounter, Spread};
-use super::{
-    BASE_FRAME, Counts, Log, MARKERS_VIZ_TOPIC, NodeError, NodeSettings, RosNode, SENSOR_FRAME,
-    SHAPE_TOPIC, STATUS_TOPIC, WRENCH_QUEUE, count, publish, reliable, seconds, should_stop,
-};
-use crate::msg::{
-    self, ColorRGBA, Marker, MarkerArray, Path, PoseStamped, StringMsg, WrenchStamped,
-};
-use crate::node::sim::{pose_of, ros_point};
+use super::stats::Spread;
+use super::{Counts, NodeError};
+use crate::msg::{self, ColorRGBA, Marker, MarkerArray};
 
 /// The line width of the drawn wire \[m\].
 const LINE_WIDTH: f64 = 0.004;
 /// The diameter of the contact sphere \[m\].
 const SPHERE_DIAMETER: f64 = 0.03;
-/// Longest wait in one poll, so that a stop or the end of the duration is seen \[ms\].
-const POLL_MS: u64 = 20;
 
 /// What the estimator listens to and how it maps a reading to `ã`.
 #[derive(Debug, Clone)]
@@ -87,6 +74,18 @@ pub struct EstimateNodeParams {
     pub truth_topic: Option<String>,
     /// A tip miss above this is a contact \[m\]; `None`: no contact check.
     pub contact_miss: Option<f64>,
+    /// Record what the node receives and publishes into this ROS 2 bag (MCAP), replacing an
+    /// existing file only with `overwrite`.
+    pub record: Option<Record>,
+}
+
+/// Where `--record` writes.
+#[derive(Debug, Clone)]
+pub struct Record {
+    /// The bag file.
+    pub path: std::path::PathBuf,
+    /// Replace an existing file (`--force`).
+    pub overwrite: bool,
 }
 
 /// The comparison with the true centreline.
@@ -137,13 +136,24 @@ pub struct EstimateSummary {
     pub solve_ms: Option<Spread>,
     /// The shapes against the truth, with `truth_topic`.
     pub truth: Option<TruthError>,
+    /// With `--record`: the messages written into the bag.
+    pub recorded: Option<Recorded>,
+}
+
+/// What `--record` wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Recorded {
+    /// Messages written.
+    pub written: u64,
+    /// Messages that could not be written.
+    pub failed: u64,
 }
 
 /// The running state of steps 1–3.
-struct Pipeline {
+pub(super) struct Pipeline {
     tare_samples: Vec<FtSample>,
     tare_target: usize,
-    tare: Option<Tare>,
+    pub(super) tare: Option<Tare>,
     window: Vec<Vector6<f64>>,
     next: usize,
     filled: usize,
@@ -152,7 +162,7 @@ struct Pipeline {
 }
 
 impl Pipeline {
-    fn new(params: &EstimateNodeParams) -> Self {
+    pub(super) fn new(params: &EstimateNodeParams) -> Self {
         Self {
             tare_samples: Vec::with_capacity(params.tare),
             tare_target: params.tare,
@@ -166,7 +176,11 @@ impl Pipeline {
     }
 
     /// Takes a raw sample (force first); returns `ã` once the tare is done.
-    fn add(&mut self, raw: Vector6<f64>, time: f64) -> Option<Result<Vector6<f64>, String>> {
+    pub(super) fn add(
+        &mut self,
+        raw: Vector6<f64>,
+        time: f64,
+    ) -> Option<Result<Vector6<f64>, String>> {
         let Some(tare) = &self.tare else {
             self.tare_samples.push(FtSample {
                 time,
@@ -231,33 +245,33 @@ impl Pipeline {
 }
 
 /// A sample waiting for its shape.
-struct Pending {
-    stamp: msg::Time,
-    a: Vector6<f64>,
+pub(super) struct Pending {
+    pub(super) stamp: msg::Time,
+    pub(super) a: Vector6<f64>,
     /// When it reached the node's DDS reader, ns since the Unix epoch.
-    arrival_ns: i64,
+    pub(super) arrival_ns: i64,
 }
 
-fn now_ns() -> i64 {
+pub(super) fn now_ns() -> i64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| i64::try_from(d.as_nanos()).unwrap_or(i64::MAX))
 }
 
-fn finite_wrench(w: &msg::Wrench) -> Option<Vector6<f64>> {
+pub(super) fn finite_wrench(w: &msg::Wrench) -> Option<Vector6<f64>> {
     let v = Vector6::new(
         w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z,
     );
     v.iter().all(|x| x.is_finite()).then_some(v)
 }
 
-fn arrival(info: &MessageInfo) -> i64 {
+pub(super) fn arrival(info: &MessageInfo) -> i64 {
     info.received_timestamp()
         .map_or_else(now_ns, |t| t.to_nanos())
 }
 
 /// The drawn wire and the contact sphere.
-fn markers(
+pub(super) fn markers(
     header: &msg::Header,
     points: &[msg::Point],
     confident: bool,
@@ -327,16 +341,16 @@ fn markers(
 
 /// The status line of one estimate.
 #[derive(Serialize)]
-struct Status {
-    stamp: f64,
-    a: [f64; 6],
-    stable: bool,
-    confident: bool,
-    contact: bool,
+pub(super) struct Status {
+    pub(super) stamp: f64,
+    pub(super) a: [f64; 6],
+    pub(super) stable: bool,
+    pub(super) confident: bool,
+    pub(super) contact: bool,
 }
 
 impl EstimateNodeParams {
-    fn validate(&self) -> Result<(), NodeError> {
+    pub(super) fn validate(&self) -> Result<(), NodeError> {
         if !(1..=100_000).contains(&self.window) {
             return Err(NodeError::BadSetting {
                 setting: "--window",
@@ -381,326 +395,12 @@ impl EstimateNodeParams {
     }
 }
 
-/// Runs the estimator (module docs) until `settings.duration` ends or `stop` is set.
-///
-/// # Errors
-/// [`NodeError`] for bad settings, a bad wire, or ROS 2 entities that cannot be created. Bad
-/// messages are refused and counted, never errors.
-#[allow(clippy::too_many_lines)] // one loop: receive, estimate, publish
-pub fn run(
-    params: &EstimateNodeParams,
-    settings: NodeSettings,
-    stop: &AtomicBool,
-    log: Log<'_>,
-) -> Result<EstimateSummary, NodeError> {
-    settings.validate()?;
-    params.validate()?;
-    let started = Instant::now();
-    let wire = params
-        .wire
-        .wire_params()
-        .map_err(|e| NodeError::BadSetting {
-            setting: "--wire",
-            value: format!("{} ({e})", params.wire.name),
-            allowed: "a wire with valid parameters",
-        })?;
-    let mut estimator = ShapeEstimator::new(KirchhoffModel::new(wire));
-    let mut node = RosNode::new("ftwire_estimate", settings.domain_id)?;
-    let small = reliable(10);
-    let mut wrench_sub =
-        node.subscription::<WrenchStamped>(&params.wrench_topic, &reliable(WRENCH_QUEUE))?;
-    let mut tip_sub = node.subscription::<PoseStamped>(&params.tip_pose_topic, &small)?;
-    let mut truth_sub = params
-        .truth_topic
-        .as_deref()
-        .map(|topic| node.subscription::<Path>(topic, &small))
-        .transpose()?;
-    let shape_pub = node.publisher::<Path>(SHAPE_TOPIC, &small)?;
-    let markers_pub = node.publisher::<MarkerArray>(MARKERS_VIZ_TOPIC, &small)?;
-    let status_pub = node.publisher::<StringMsg>(STATUS_TOPIC, &small)?;
-    log(&format!(
-        "estimate: domain {}; subscribed to {} (frame {SENSOR_FRAME}) and {} (frame \
-         {BASE_FRAME}){}; publishing {SHAPE_TOPIC}, {MARKERS_VIZ_TOPIC}, {STATUS_TOPIC}; wire \
-         {}, tare {} samples, window {}",
-        settings.domain_id,
-        params.wrench_topic,
-        params.tip_pose_topic,
-        params
-            .truth_topic
-            .as_ref()
-            .map_or_else(String::new, |t| format!(" and {t}")),
-        params.wire.name,
-        params.tare,
-        params.window
-    ));
-
-    let ros_error = |what: &str, e: std::io::Error| NodeError::Ros {
-        what: what.to_owned(),
-        message: e.to_string(),
-    };
-    let mut poll = Poll::new().map_err(|e| ros_error("a poll", e))?;
-    poll.registry()
-        .register(&mut wrench_sub, Token(0), Interest::READABLE)
-        .map_err(|e| ros_error("a poll of the wrench", e))?;
-    poll.registry()
-        .register(&mut tip_sub, Token(1), Interest::READABLE)
-        .map_err(|e| ros_error("a poll of the tip pose", e))?;
-    if let Some(sub) = truth_sub.as_mut() {
-        poll.registry()
-            .register(sub, Token(2), Interest::READABLE)
-            .map_err(|e| ros_error("a poll of the truth", e))?;
-    }
-    let mut events = Events::with_capacity(16);
-
-    let mut summary = EstimateSummary {
-        node: "estimate",
-        received: Counts::new(),
-        published: Counts::new(),
-        refused: Counts::new(),
-        publish_failed: Counts::new(),
-        lost: 0,
-        out_of_order: 0,
-        first_sample: None,
-        dropped: 0,
-        no_shape: 0,
-        not_confident: 0,
-        contacts: 0,
-        latency_ms: None,
-        solve_ms: None,
-        truth: None,
-    };
-    let mut pipeline = Pipeline::new(params);
-    let mut loss = LossCounter::new(params.rate);
-    let mut tip: Option<Vector3<f64>> = None;
-    let mut shape: Vec<Vector3<f64>> = Vec::new();
-    let mut latencies: Vec<f64> = Vec::with_capacity(1 << 16);
-    let mut solves: Vec<f64> = Vec::with_capacity(1 << 16);
-    let (mut truth_sum, mut truth_worst, mut truth_max, mut truth_n) = (0.0, 0.0_f64, 0.0_f64, 0);
-    let mut index = 0_usize;
-    let mut batch: Vec<Pending> = Vec::with_capacity(WRENCH_QUEUE);
-    #[allow(clippy::cast_possible_truncation)] // a period of at least 0.1 ms
-    let stale_ns = (1e9 / params.rate) as i64;
-    let mut tared_logged = params.tare == 0;
-    let mut last_error: Option<String> = None;
-
-    while !should_stop(stop, started, settings.duration) {
-        if let Err(e) = poll.poll(&mut events, Some(Duration::from_millis(POLL_MS)))
-            && e.kind() != std::io::ErrorKind::Interrupted
-        {
-            return Err(ros_error("polling", e));
-        }
-        // The tip pose first: the contact check of this batch uses the latest.
-        loop {
-            match tip_sub.take() {
-                Ok(Some((pose, _))) => {
-                    count(&mut summary.received, "tip_pose");
-                    if pose.header.frame_id != BASE_FRAME {
-                        count(&mut summary.refused, "frame_id");
-                    } else {
-                        match pose_of(&pose.pose) {
-                            Ok(p) => tip = Some(p.translation.vector),
-                            Err(_) => count(&mut summary.refused, "non_finite"),
-                        }
-                    }
-                }
-                Ok(None) => break,
-                Err(_) => count(&mut summary.refused, "malformed"),
-            }
-        }
-        batch.clear();
-        loop {
-            match wrench_sub.take() {
-                Ok(Some((wrench, info))) => {
-                    count(&mut summary.received, "wrench");
-                    if wrench.header.frame_id != SENSOR_FRAME {
-                        count(&mut summary.refused, "frame_id");
-                        continue;
-                    }
-                    let Some(raw) = finite_wrench(&wrench.wrench) else {
-                        count(&mut summary.refused, "non_finite");
-                        continue;
-                    };
-                    let t = seconds(&wrench.header.stamp);
-                    loss.add(t);
-                    match pipeline.add(raw, t) {
-                        None => {}
-                        Some(Ok(a)) => {
-                            batch.push(Pending {
-                                stamp: wrench.header.stamp,
-                                a,
-                                arrival_ns: arrival(&info),
-                            });
-                        }
-                        Some(Err(e)) => {
-                            summary.no_shape += 1;
-                            if last_error.as_ref() != Some(&e) {
-                                log(&format!("estimate: no ã at t = {t:.3} s: {e}"));
-                                last_error = Some(e);
-                            }
-                        }
-                    }
-                }
-                Ok(None) => break,
-                Err(_) => count(&mut summary.refused, "malformed"),
-            }
-        }
-        if !tared_logged && pipeline.tare.is_some() {
-            tared_logged = true;
-            log(&format!(
-                "estimate: tared on {} samples from k = {}",
-                params.tare,
-                loss.first().unwrap_or_default()
-            ));
-        }
-        let waiting = batch.len();
-        for (i, sample) in batch.iter().enumerate() {
-            // A sample with a newer one behind it, waiting longer than its period: stale.
-            if i + 1 < waiting && now_ns() - sample.arrival_ns > stale_ns {
-                summary.dropped += 1;
-                continue;
-            }
-            let solve_start = Instant::now();
-            let record = LogRecord {
-                time: seconds(&sample.stamp),
-                raw: None,
-                a: Some(sample.a.into()),
-                b: None,
-                markers: None,
-                gravity: None,
-            };
-            let solved = shape_record(&mut estimator, index, &record, &sample.a);
-            index += 1;
-            solves.push(1e3 * solve_start.elapsed().as_secs_f64());
-            match solved {
-                Ok(result) if result.points.is_some() => {
-                    let points = result.points.unwrap_or_default();
-                    shape.clear();
-                    shape.extend(points.iter().map(|p| Vector3::from(*p)));
-                    let stable = result.confidence != Some("not_stable");
-                    let confident = result.confidence == Some("confident");
-                    let contact = match (params.contact_miss, tip, shape.last()) {
-                        (Some(miss), Some(tip), Some(end)) if (end - tip).norm() > miss => {
-                            Some(ros_point(end))
-                        }
-                        _ => None,
-                    };
-                    summary.not_confident += u64::from(!confident);
-                    summary.contacts += u64::from(contact.is_some());
-                    let header = msg::Header {
-                        stamp: sample.stamp,
-                        frame_id: BASE_FRAME.to_owned(),
-                    };
-                    let ros_points: Vec<msg::Point> = shape.iter().map(ros_point).collect();
-                    let path = Path {
-                        poses: ros_points
-                            .iter()
-                            .map(|p| PoseStamped {
-                                header: header.clone(),
-                                pose: msg::Pose {
-                                    position: *p,
-                                    orientation: msg::Quaternion::default(),
-                                },
-                            })
-                            .collect(),
-                        header: header.clone(),
-                    };
-                    let (published, failed) = (&mut summary.published, &mut summary.publish_failed);
-                    publish(&shape_pub, path, "shape", published, failed);
-                    let drawn = markers(&header, &ros_points, confident, contact.as_ref());
-                    publish(&markers_pub, drawn, "markers_viz", published, failed);
-                    let status = Status {
-                        stamp: seconds(&sample.stamp),
-                        a: sample.a.into(),
-                        stable,
-                        confident,
-                        contact: contact.is_some(),
-                    };
-                    if let Ok(data) = serde_json::to_string(&status) {
-                        publish(&status_pub, StringMsg { data }, "status", published, failed);
-                    }
-                    #[allow(clippy::cast_precision_loss)] // nanoseconds of a short latency
-                    latencies.push(1e-6 * (now_ns() - sample.arrival_ns) as f64);
-                }
-                Ok(result) => {
-                    summary.no_shape += 1;
-                    let e = result.error.unwrap_or_default();
-                    if last_error.as_ref() != Some(&e) {
-                        log(&format!(
-                            "estimate: no shape for ã = {:?}: {e}",
-                            sample.a.as_slice()
-                        ));
-                        last_error = Some(e);
-                    }
-                }
-                Err(e) => {
-                    summary.no_shape += 1;
-                    log(&format!("estimate: {e}"));
-                }
-            }
-        }
-        if let Some(sub) = truth_sub.as_ref() {
-            loop {
-                match sub.take() {
-                    Ok(Some((truth, _))) => {
-                        count(&mut summary.received, "truth");
-                        if truth.header.frame_id != BASE_FRAME {
-                            count(&mut summary.refused, "frame_id");
-                            continue;
-                        }
-                        let nodes: Vec<Point3<f64>> = truth
-                            .poses
-                            .iter()
-                            .map(|p| {
-                                Point3::new(p.pose.position.x, p.pose.position.y, p.pose.position.z)
-                            })
-                            .collect();
-                        if shape.len() < 2 {
-                            continue;
-                        }
-                        match marker_distances(&nodes, &shape) {
-                            Ok(d) if !d.is_empty() => {
-                                #[allow(clippy::cast_precision_loss)] // a few hundred nodes
-                                let mean = 1e3 * d.iter().sum::<f64>() / d.len() as f64;
-                                truth_sum += mean;
-                                truth_worst = truth_worst.max(mean);
-                                truth_max = d.iter().fold(truth_max, |m, v| m.max(1e3 * v));
-                                truth_n += 1;
-                            }
-                            _ => count(&mut summary.refused, "non_finite"),
-                        }
-                    }
-                    Ok(None) => break,
-                    Err(_) => count(&mut summary.refused, "malformed"),
-                }
-            }
-        }
-    }
-    summary.lost = loss.lost();
-    summary.out_of_order = loss.out_of_order();
-    summary.first_sample = loss.first();
-    summary.latency_ms = Spread::of(&mut latencies);
-    summary.solve_ms = Spread::of(&mut solves);
-    #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
-    if truth_n > 0 {
-        summary.truth = Some(TruthError {
-            compared: truth_n,
-            mean_mm: truth_sum / truth_n as f64,
-            worst_mean_mm: truth_worst,
-            max_mm: truth_max,
-        });
-    }
-    log(&format!(
-        "estimate: stopped; {} wrenches received, {} lost, {} dropped as stale",
-        summary.received.get("wrench").copied().unwrap_or(0),
-        summary.lost,
-        summary.dropped
-    ));
-    Ok(summary)
-}
+pub use super::estimate_loop::run;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::node::BASE_FRAME;
     use ftwire_estimate::ft::MountingSpec;
 
     fn params(tare: usize, window: usize) -> EstimateNodeParams {
@@ -714,6 +414,7 @@ mod tests {
             tip_pose_topic: "/wire/tip_pose".into(),
             truth_topic: None,
             contact_miss: None,
+            record: None,
         }
     }
 

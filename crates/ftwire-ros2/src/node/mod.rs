@@ -24,6 +24,7 @@
 
 pub mod error;
 pub mod estimate;
+mod estimate_loop;
 pub mod sim;
 pub mod stats;
 

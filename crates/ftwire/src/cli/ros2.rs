@@ -141,4 +141,13 @@ pub struct EstimateNodeArgs {
     /// [mm] [default: no contact check].
     #[arg(long, value_name = "MM", value_parser = parse_finite)]
     pub contact_miss: Option<f64>,
+    /// Record every message received and published into this ROS 2 bag (MCAP storage, CDR
+    /// messages with their `ros2msg` schemas), readable by Foxglove, Rerun and `ros2 bag`;
+    /// `ftwire import mcap` reads its wrench and tip pose back into a log. An existing file is
+    /// refused unless --force.
+    #[arg(long, value_name = "OUT.mcap")]
+    pub record: Option<std::path::PathBuf>,
+    /// Replace an existing --record file.
+    #[arg(long, requires = "record")]
+    pub force: bool,
 }

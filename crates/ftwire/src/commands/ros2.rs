@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 use ftwire_lab::error::LabError;
 use ftwire_lab::log::RawMap;
 use ftwire_lab::wire::WireSpec;
-use ftwire_ros2::node::estimate::EstimateNodeParams;
+use ftwire_ros2::node::estimate::{EstimateNodeParams, Record};
 use ftwire_ros2::node::sim::SimNodeParams;
 use ftwire_ros2::node::{NodeError, NodeSettings};
 use nalgebra::Vector6;
@@ -133,6 +133,10 @@ fn estimate_params(
         tip_pose_topic: args.tip_pose_topic.clone(),
         truth_topic: args.truth_topic.clone(),
         contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
+        record: args.record.clone().map(|path| Record {
+            path,
+            overwrite: args.force,
+        }),
     };
     Ok((params, settings))
 }

@@ -1,0 +1,547 @@
+//! The receive–estimate–publish loop of `ftwire ros2 estimate` (the steps are in
+//! [`super::estimate`]), and `--record`: every message the node receives and publishes, written
+//! to a ROS 2 bag (MCAP, CDR) at its arrival or publication time, so that `ftwire import mcap`
+//! reads the inputs back and Foxglove or `ros2 bag` replay the whole session.
+
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use ftwire_estimate::KirchhoffModel;
+use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
+use ftwire_lab::log::LogRecord;
+use ftwire_lab::log::shape::shape_record;
+use nalgebra::{Point3, Vector3};
+use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
+use ros2_client::{Publisher, Subscription};
+
+use super::estimate::{
+    EstimateNodeParams, EstimateSummary, Pending, Pipeline, Status, TruthError, arrival,
+    finite_wrench, markers, now_ns,
+};
+use super::stats::{LossCounter, Spread};
+use super::{
+    BASE_FRAME, Counts, Log, MARKERS_VIZ_TOPIC, NodeError, NodeSettings, RosNode, SENSOR_FRAME,
+    SHAPE_TOPIC, STATUS_TOPIC, WRENCH_QUEUE, count, publish, reliable, seconds, should_stop,
+};
+use crate::bag::BagWriter;
+use crate::msg::{self, MarkerArray, Path, PoseStamped, RosMessage, StringMsg, WrenchStamped};
+use crate::node::sim::{pose_of, ros_point};
+
+/// Longest wait in one poll, so that a stop or the end of the duration is seen \[ms\].
+const POLL_MS: u64 = 20;
+
+/// The node's subscriptions, publishers and the poll that wakes it.
+struct Io {
+    wrench: Subscription<WrenchStamped>,
+    tip: Subscription<PoseStamped>,
+    truth: Option<Subscription<Path>>,
+    shape: Publisher<Path>,
+    markers: Publisher<MarkerArray>,
+    status: Publisher<StringMsg>,
+    poll: Poll,
+    events: Events,
+}
+
+fn ros_error(what: &str, e: &std::io::Error) -> NodeError {
+    NodeError::Ros {
+        what: what.to_owned(),
+        message: e.to_string(),
+    }
+}
+
+impl Io {
+    fn open(node: &mut RosNode, params: &EstimateNodeParams) -> Result<Self, NodeError> {
+        let small = reliable(10);
+        let mut wrench =
+            node.subscription::<WrenchStamped>(&params.wrench_topic, &reliable(WRENCH_QUEUE))?;
+        let mut tip = node.subscription::<PoseStamped>(&params.tip_pose_topic, &small)?;
+        let mut truth = params
+            .truth_topic
+            .as_deref()
+            .map(|topic| node.subscription::<Path>(topic, &small))
+            .transpose()?;
+        let poll = Poll::new().map_err(|e| ros_error("a poll", &e))?;
+        poll.registry()
+            .register(&mut wrench, Token(0), Interest::READABLE)
+            .map_err(|e| ros_error("a poll of the wrench", &e))?;
+        poll.registry()
+            .register(&mut tip, Token(1), Interest::READABLE)
+            .map_err(|e| ros_error("a poll of the tip pose", &e))?;
+        if let Some(sub) = truth.as_mut() {
+            poll.registry()
+                .register(sub, Token(2), Interest::READABLE)
+                .map_err(|e| ros_error("a poll of the truth", &e))?;
+        }
+        Ok(Self {
+            wrench,
+            tip,
+            truth,
+            shape: node.publisher::<Path>(SHAPE_TOPIC, &small)?,
+            markers: node.publisher::<MarkerArray>(MARKERS_VIZ_TOPIC, &small)?,
+            status: node.publisher::<StringMsg>(STATUS_TOPIC, &small)?,
+            poll,
+            events: Events::with_capacity(16),
+        })
+    }
+
+    /// Waits for a message or [`POLL_MS`].
+    fn wait(&mut self) -> Result<(), NodeError> {
+        match self
+            .poll
+            .poll(&mut self.events, Some(Duration::from_millis(POLL_MS)))
+        {
+            Err(e) if e.kind() != std::io::ErrorKind::Interrupted => Err(ros_error("polling", &e)),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// `--record`: the bag and what went into it.
+struct Recorder {
+    bag: BagWriter,
+    written: u64,
+    failed: u64,
+    first_error: Option<String>,
+}
+
+impl Recorder {
+    fn write<M: RosMessage>(&mut self, topic: &str, time_ns: i64, message: &M) {
+        let time = u64::try_from(time_ns).unwrap_or(0);
+        match self.bag.write(topic, time, message) {
+            Ok(()) => self.written += 1,
+            Err(e) => {
+                self.failed += 1;
+                self.first_error.get_or_insert_with(|| e.to_string());
+            }
+        }
+    }
+}
+
+/// Records `message` on `topic` when recording.
+fn record<M: RosMessage>(recorder: &mut Option<Recorder>, topic: &str, time_ns: i64, m: &M) {
+    if let Some(r) = recorder.as_mut() {
+        r.write(topic, time_ns, m);
+    }
+}
+
+/// The running state of the loop.
+struct State<'p> {
+    params: &'p EstimateNodeParams,
+    estimator: ShapeEstimator<KirchhoffModel>,
+    recorder: Option<Recorder>,
+    summary: EstimateSummary,
+    pipeline: Pipeline,
+    loss: LossCounter,
+    tip: Option<Vector3<f64>>,
+    shape: Vec<Vector3<f64>>,
+    latencies: Vec<f64>,
+    solves: Vec<f64>,
+    /// Sum, worst and largest node distance \[mm\], and the count of true centrelines.
+    truth: (f64, f64, f64, u64),
+    index: usize,
+    batch: Vec<Pending>,
+    stale_ns: i64,
+    tared_logged: bool,
+    last_error: Option<String>,
+}
+
+impl<'p> State<'p> {
+    fn new(
+        params: &'p EstimateNodeParams,
+        estimator: ShapeEstimator<KirchhoffModel>,
+        recorder: Option<Recorder>,
+    ) -> Self {
+        #[allow(clippy::cast_possible_truncation)] // a period of at least 0.1 ms
+        let stale_ns = (1e9 / params.rate) as i64;
+        Self {
+            params,
+            estimator,
+            recorder,
+            summary: EstimateSummary {
+                node: "estimate",
+                received: Counts::new(),
+                published: Counts::new(),
+                refused: Counts::new(),
+                publish_failed: Counts::new(),
+                lost: 0,
+                out_of_order: 0,
+                first_sample: None,
+                dropped: 0,
+                no_shape: 0,
+                not_confident: 0,
+                contacts: 0,
+                latency_ms: None,
+                solve_ms: None,
+                truth: None,
+                recorded: None,
+            },
+            pipeline: Pipeline::new(params),
+            loss: LossCounter::new(params.rate),
+            tip: None,
+            shape: Vec::new(),
+            latencies: Vec::with_capacity(1 << 16),
+            solves: Vec::with_capacity(1 << 16),
+            truth: (0.0, 0.0, 0.0, 0),
+            index: 0,
+            batch: Vec::with_capacity(WRENCH_QUEUE),
+            stale_ns,
+            tared_logged: params.tare == 0,
+            last_error: None,
+        }
+    }
+
+    /// Logs an error once in a row.
+    fn note(&mut self, log: Log<'_>, error: String, line: impl FnOnce(&str) -> String) {
+        if self.last_error.as_ref() != Some(&error) {
+            log(&line(&error));
+            self.last_error = Some(error);
+        }
+    }
+
+    /// Takes every tip pose waiting: the contact check of the next batch uses the latest.
+    fn take_tips(&mut self, sub: &Subscription<PoseStamped>) {
+        loop {
+            match sub.take() {
+                Ok(Some((pose, info))) => {
+                    count(&mut self.summary.received, "tip_pose");
+                    record(
+                        &mut self.recorder,
+                        &self.params.tip_pose_topic,
+                        arrival(&info),
+                        &pose,
+                    );
+                    if pose.header.frame_id != BASE_FRAME {
+                        count(&mut self.summary.refused, "frame_id");
+                    } else {
+                        match pose_of(&pose.pose) {
+                            Ok(p) => self.tip = Some(p.translation.vector),
+                            Err(_) => count(&mut self.summary.refused, "non_finite"),
+                        }
+                    }
+                }
+                Ok(None) => break,
+                Err(_) => count(&mut self.summary.refused, "malformed"),
+            }
+        }
+    }
+
+    /// Takes every wrench waiting through steps 1–3 into the batch.
+    fn take_wrenches(&mut self, sub: &Subscription<WrenchStamped>, log: Log<'_>) {
+        self.batch.clear();
+        loop {
+            match sub.take() {
+                Ok(Some((wrench, info))) => {
+                    count(&mut self.summary.received, "wrench");
+                    let arrival_ns = arrival(&info);
+                    let topic = &self.params.wrench_topic;
+                    record(&mut self.recorder, topic, arrival_ns, &wrench);
+                    self.add_wrench(&wrench, arrival_ns, log);
+                }
+                Ok(None) => break,
+                Err(_) => count(&mut self.summary.refused, "malformed"),
+            }
+        }
+        if !self.tared_logged && self.pipeline.tare.is_some() {
+            self.tared_logged = true;
+            log(&format!(
+                "estimate: tared on {} samples from k = {}",
+                self.params.tare,
+                self.loss.first().unwrap_or_default()
+            ));
+        }
+    }
+
+    fn add_wrench(&mut self, wrench: &WrenchStamped, arrival_ns: i64, log: Log<'_>) {
+        if wrench.header.frame_id != SENSOR_FRAME {
+            count(&mut self.summary.refused, "frame_id");
+            return;
+        }
+        let Some(raw) = finite_wrench(&wrench.wrench) else {
+            count(&mut self.summary.refused, "non_finite");
+            return;
+        };
+        let t = seconds(&wrench.header.stamp);
+        self.loss.add(t);
+        match self.pipeline.add(raw, t) {
+            None => {}
+            Some(Ok(a)) => self.batch.push(Pending {
+                stamp: wrench.header.stamp,
+                a,
+                arrival_ns,
+            }),
+            Some(Err(e)) => {
+                self.summary.no_shape += 1;
+                self.note(log, e, |e| format!("estimate: no ã at t = {t:.3} s: {e}"));
+            }
+        }
+    }
+
+    /// Step 4–5 and the publications of the batch, skipping stale samples.
+    fn publish_batch(&mut self, io: &Io, log: Log<'_>) {
+        let batch = std::mem::take(&mut self.batch);
+        let waiting = batch.len();
+        for (i, sample) in batch.iter().enumerate() {
+            // A sample with a newer one behind it, waiting longer than its period: stale.
+            if i + 1 < waiting && now_ns() - sample.arrival_ns > self.stale_ns {
+                self.summary.dropped += 1;
+                continue;
+            }
+            self.estimate(sample, io, log);
+        }
+        self.batch = batch;
+    }
+
+    fn estimate(&mut self, sample: &Pending, io: &Io, log: Log<'_>) {
+        let solve_start = Instant::now();
+        let record = LogRecord {
+            time: seconds(&sample.stamp),
+            raw: None,
+            a: Some(sample.a.into()),
+            b: None,
+            markers: None,
+            gravity: None,
+        };
+        let solved = shape_record(&mut self.estimator, self.index, &record, &sample.a);
+        self.index += 1;
+        self.solves.push(1e3 * solve_start.elapsed().as_secs_f64());
+        match solved {
+            Ok(result) if result.points.is_some() => {
+                let points = result.points.unwrap_or_default();
+                self.shape.clear();
+                self.shape.extend(points.iter().map(|p| Vector3::from(*p)));
+                let stable = result.confidence != Some("not_stable");
+                let confident = result.confidence == Some("confident");
+                self.publish(sample, io, stable, confident);
+            }
+            Ok(result) => {
+                self.summary.no_shape += 1;
+                let a = sample.a;
+                self.note(log, result.error.unwrap_or_default(), |e| {
+                    format!("estimate: no shape for ã = {:?}: {e}", a.as_slice())
+                });
+            }
+            Err(e) => {
+                self.summary.no_shape += 1;
+                log(&format!("estimate: {e}"));
+            }
+        }
+    }
+
+    /// Publishes (and records) the shape, the drawn wire and the status of `sample`.
+    fn publish(&mut self, sample: &Pending, io: &Io, stable: bool, confident: bool) {
+        let contact = match (self.params.contact_miss, self.tip, self.shape.last()) {
+            (Some(miss), Some(tip), Some(end)) if (end - tip).norm() > miss => Some(ros_point(end)),
+            _ => None,
+        };
+        self.summary.not_confident += u64::from(!confident);
+        self.summary.contacts += u64::from(contact.is_some());
+        let header = msg::Header {
+            stamp: sample.stamp,
+            frame_id: BASE_FRAME.to_owned(),
+        };
+        let ros_points: Vec<msg::Point> = self.shape.iter().map(ros_point).collect();
+        let path = Path {
+            poses: ros_points
+                .iter()
+                .map(|p| PoseStamped {
+                    header: header.clone(),
+                    pose: msg::Pose {
+                        position: *p,
+                        orientation: msg::Quaternion::default(),
+                    },
+                })
+                .collect(),
+            header: header.clone(),
+        };
+        let drawn = markers(&header, &ros_points, confident, contact.as_ref());
+        let status = Status {
+            stamp: seconds(&sample.stamp),
+            a: sample.a.into(),
+            stable,
+            confident,
+            contact: contact.is_some(),
+        };
+        let status = serde_json::to_string(&status)
+            .ok()
+            .map(|data| StringMsg { data });
+        if self.recorder.is_some() {
+            let now = now_ns();
+            record(&mut self.recorder, SHAPE_TOPIC, now, &path);
+            record(&mut self.recorder, MARKERS_VIZ_TOPIC, now, &drawn);
+            if let Some(status) = status.as_ref() {
+                record(&mut self.recorder, STATUS_TOPIC, now, status);
+            }
+        }
+        let (published, failed) = (
+            &mut self.summary.published,
+            &mut self.summary.publish_failed,
+        );
+        publish(&io.shape, path, "shape", published, failed);
+        publish(&io.markers, drawn, "markers_viz", published, failed);
+        if let Some(status) = status {
+            publish(&io.status, status, "status", published, failed);
+        }
+        #[allow(clippy::cast_precision_loss)] // nanoseconds of a short latency
+        self.latencies
+            .push(1e-6 * (now_ns() - sample.arrival_ns) as f64);
+    }
+
+    /// Compares each true centreline waiting with the latest shape.
+    fn take_truth(&mut self, sub: &Subscription<Path>) {
+        loop {
+            match sub.take() {
+                Ok(Some((truth, info))) => {
+                    count(&mut self.summary.received, "truth");
+                    if let Some(topic) = self.params.truth_topic.as_deref() {
+                        record(&mut self.recorder, topic, arrival(&info), &truth);
+                    }
+                    if truth.header.frame_id != BASE_FRAME {
+                        count(&mut self.summary.refused, "frame_id");
+                        continue;
+                    }
+                    let nodes: Vec<Point3<f64>> = truth
+                        .poses
+                        .iter()
+                        .map(|p| {
+                            Point3::new(p.pose.position.x, p.pose.position.y, p.pose.position.z)
+                        })
+                        .collect();
+                    if self.shape.len() < 2 {
+                        continue;
+                    }
+                    match marker_distances(&nodes, &self.shape) {
+                        Ok(d) if !d.is_empty() => {
+                            #[allow(clippy::cast_precision_loss)] // a few hundred nodes
+                            let mean = 1e3 * d.iter().sum::<f64>() / d.len() as f64;
+                            let (sum, worst, max, n) = &mut self.truth;
+                            *sum += mean;
+                            *worst = worst.max(mean);
+                            *max = d.iter().fold(*max, |m, v| m.max(1e3 * v));
+                            *n += 1;
+                        }
+                        _ => count(&mut self.summary.refused, "non_finite"),
+                    }
+                }
+                Ok(None) => break,
+                Err(_) => count(&mut self.summary.refused, "malformed"),
+            }
+        }
+    }
+
+    /// The summary, the bag closed.
+    fn finish(mut self, log: Log<'_>) -> Result<EstimateSummary, NodeError> {
+        let mut summary = self.summary;
+        summary.lost = self.loss.lost();
+        summary.out_of_order = self.loss.out_of_order();
+        summary.first_sample = self.loss.first();
+        summary.latency_ms = Spread::of(&mut self.latencies);
+        summary.solve_ms = Spread::of(&mut self.solves);
+        let (sum, worst, max, n) = self.truth;
+        #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
+        if n > 0 {
+            summary.truth = Some(TruthError {
+                compared: n,
+                mean_mm: sum / n as f64,
+                worst_mean_mm: worst,
+                max_mm: max,
+            });
+        }
+        log(&format!(
+            "estimate: stopped; {} wrenches received, {} lost, {} dropped as stale",
+            summary.received.get("wrench").copied().unwrap_or(0),
+            summary.lost,
+            summary.dropped
+        ));
+        if let Some(recorder) = self.recorder {
+            if let Some(e) = &recorder.first_error {
+                log(&format!(
+                    "estimate: {} messages not recorded: {e}",
+                    recorder.failed
+                ));
+            }
+            let (written, failed) = (recorder.written, recorder.failed);
+            let path = recorder.bag.finish().map_err(|e| {
+                NodeError::Lab(ftwire_lab::LabError::no_answer(format!("--record: {e}")))
+            })?;
+            log(&format!(
+                "estimate: recorded {written} messages into {}",
+                path.display()
+            ));
+            summary.recorded = Some(super::estimate::Recorded { written, failed });
+        }
+        Ok(summary)
+    }
+}
+
+/// Runs the estimator (module docs of [`super::estimate`]) until `settings.duration` ends or
+/// `stop` is set.
+///
+/// # Errors
+/// [`NodeError`] for bad settings, a bad wire, a `--record` file that exists (without
+/// overwrite) or cannot be created, or ROS 2 entities that cannot be created. Bad messages are
+/// refused and counted, never errors.
+pub fn run(
+    params: &EstimateNodeParams,
+    settings: NodeSettings,
+    stop: &AtomicBool,
+    log: Log<'_>,
+) -> Result<EstimateSummary, NodeError> {
+    settings.validate()?;
+    params.validate()?;
+    let started = Instant::now();
+    let wire = params
+        .wire
+        .wire_params()
+        .map_err(|e| NodeError::BadSetting {
+            setting: "--wire",
+            value: format!("{} ({e})", params.wire.name),
+            allowed: "a wire with valid parameters",
+        })?;
+    let recorder = match &params.record {
+        Some(r) => Some(Recorder {
+            bag: BagWriter::create(&r.path, r.overwrite).map_err(|e| {
+                NodeError::Lab(ftwire_lab::LabError::bad_input(format!("--record: {e}")))
+            })?,
+            written: 0,
+            failed: 0,
+            first_error: None,
+        }),
+        None => None,
+    };
+    let mut node = RosNode::new("ftwire_estimate", settings.domain_id)?;
+    let mut io = Io::open(&mut node, params)?;
+    log(&format!(
+        "estimate: domain {}; subscribed to {} (frame {SENSOR_FRAME}) and {} (frame \
+         {BASE_FRAME}){}; publishing {SHAPE_TOPIC}, {MARKERS_VIZ_TOPIC}, {STATUS_TOPIC}; wire \
+         {}, tare {} samples, window {}{}",
+        settings.domain_id,
+        params.wrench_topic,
+        params.tip_pose_topic,
+        params
+            .truth_topic
+            .as_ref()
+            .map_or_else(String::new, |t| format!(" and {t}")),
+        params.wire.name,
+        params.tare,
+        params.window,
+        params.record.as_ref().map_or_else(String::new, |r| format!(
+            "; recording into {}",
+            r.path.display()
+        ))
+    ));
+    let mut state = State::new(
+        params,
+        ShapeEstimator::new(KirchhoffModel::new(wire)),
+        recorder,
+    );
+    while !should_stop(stop, started, settings.duration) {
+        io.wait()?;
+        state.take_tips(&io.tip);
+        state.take_wrenches(&io.wrench, log);
+        state.publish_batch(&io, log);
+        if let Some(sub) = io.truth.as_ref() {
+            state.take_truth(sub);
+        }
+    }
+    state.finish(log)
+}
