@@ -303,3 +303,28 @@ fn identify_on_ros2_identifies_the_simulated_wire_within_a_few_percent() {
     assert_eq!(count(&identify, "published", "identified"), 1);
     eprintln!("sim: {sim}\nidentify: {identify}");
 }
+
+#[test]
+fn identify_with_every_move_unreached_ends_with_a_clear_error() {
+    require_unshare();
+    // Targets on a topic the sim does not listen to are never reached: each is counted and
+    // skipped, and one sample is too few.
+    let script = format!(
+        "ip link set lo up; \
+         '{BIN}' ros2 sim --gravity off --domain-id 19 --duration 8 > /dev/null 2>&1 & sim=$!; \
+         sleep 0.3; \
+         '{BIN}' ros2 identify --samples 3 --target-topic /nowhere --move-timeout 0.3 \
+           --domain-id 19 --duration 8; code=$?; kill -TERM $sim; wait; exit $code",
+    );
+    let output = Command::new("unshare")
+        .args(["-n", "sh", "-c", &script])
+        .output()
+        .expect("runs unshare");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("move 1 not reached"), "{stderr}");
+    assert!(
+        stderr.contains("no estimate from 1 samples (2 of 2 moves unreached"),
+        "{stderr}"
+    );
+}
