@@ -1,6 +1,6 @@
-//! `ftwire ros2 sim` and `ftwire ros2 estimate` as two processes talking ROS 2 (DDS over UDP),
-//! in a network namespace whose only device is the loopback, so that no packet leaves the
-//! machine. DDS discovery needs only `lo` up in it (its multicast flag and a 224.0.0.0/4 route
+//! `ftwire ros2 sim` and each other node (`estimate`, `control`, `identify`) as two processes
+//! talking ROS 2 (DDS over UDP), in a network namespace whose only device is the loopback, so
+//! that no packet leaves the machine. DDS discovery needs only `lo` up in it (its multicast flag and a 224.0.0.0/4 route
 //! are not needed). Making the namespace needs root (`unshare -n`); where it is not permitted
 //! the tests fail and say so, rather than run on the real network.
 //!
@@ -271,4 +271,168 @@ fn a_minute_at_1_khz() {
         estimate["truth"]["mean_mm"].as_f64().unwrap_or(f64::NAN),
     );
     println!("sim: {sim}\nestimate: {estimate}");
+}
+
+/// Runs the sim (as [`run_pair`] does, for at most `sim_s`) and, 0.3 s later, `ftwire ros2
+/// <node_args>` until it ends by itself, then ends the sim with SIGTERM; returns both
+/// summaries and the node's log.
+fn run_with_sim(tag: &str, sim_s: f64, node_args: &str) -> (Value, Value, String) {
+    require_unshare();
+    let dir = temp_dir(tag);
+    let sensor = dir.join("sensor.toml");
+    std::fs::write(&sensor, "dropout_probability = 0.0\n").expect("a sensor file");
+    let out = |name: &str| dir.join(name).display().to_string();
+    let script = format!(
+        "set -e; ip link set lo up; \
+         [ \"$(ip -o link | wc -l)\" = 1 ] || {{ echo 'the namespace has a device besides lo' >&2; exit 97; }}; \
+         '{BIN}' ros2 sim --gravity off --sensor '{sensor}' --seed 3 --domain-id 18 \
+           --duration {sim_s} > '{sim}' 2> '{sim_err}' & sim=$!; \
+         sleep 0.3; \
+         '{BIN}' ros2 {node_args} --domain-id 18 --duration {sim_s} > '{node}' 2> '{node_err}'; \
+         kill -TERM $sim; wait",
+        sensor = sensor.display(),
+        sim = out("sim.json"),
+        sim_err = out("sim.err"),
+        node = out("node.json"),
+        node_err = out("node.err"),
+    );
+    let status = Command::new("unshare")
+        .args(["-n", "sh", "-c", &script])
+        .status()
+        .expect("runs unshare");
+    let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
+    assert!(
+        status.success(),
+        "the nodes failed ({status}):\nsim: {}\nnode: {}",
+        read("sim.err"),
+        read("node.err")
+    );
+    let summary = |name: &str, log: &str| -> Value {
+        let text = read(name);
+        let line = text.lines().last().unwrap_or_default();
+        serde_json::from_str(line).unwrap_or_else(|e| {
+            panic!(
+                "{name} is not one JSON line ({e}): {text:?}\nlog: {}",
+                read(log)
+            )
+        })
+    };
+    let result = (
+        summary("sim.json", "sim.err"),
+        summary("node.json", "node.err"),
+        read("node.err"),
+    );
+    let _ = std::fs::remove_dir_all(Path::new(&dir));
+    result
+}
+
+/// The checks every moving node shares: nothing lost or refused, every target reached.
+fn check_moves(sim: &Value, node: &Value) {
+    assert_eq!(sim["refused"], serde_json::json!({}), "{sim}");
+    assert_eq!(node["refused"], serde_json::json!({}), "{node}");
+    assert_eq!(node["publish_failed"], serde_json::json!({}), "{node}");
+    assert_eq!(node["lost"], 0, "{node}");
+    assert_eq!(node["unreached"], 0, "{node}");
+    assert_eq!(
+        count(node, "published", "tip_target"),
+        sim["moves"].as_u64().unwrap_or(u64::MAX),
+        "every target sent was a move: {node}\n{sim}"
+    );
+}
+
+#[test]
+fn control_on_ros2_steers_the_simulated_wire_to_a_nearby_goal() {
+    // The sim starts at (0, 1, 0.5, −1, 0.5, 0) in the wire's units (c2/L = 0.339 N·m,
+    // c2/L² = 0.413 N); the goal is about 0.3 away in normalised units.
+    let (sim, control, log) = run_with_sim(
+        "control",
+        20.0,
+        "control --goal 0.0,0.3,0.2,-0.33,0.25,0.04 --rest-samples 200 --contact-miss 20 \
+         --truth-topic /wire/truth",
+    );
+    check_moves(&sim, &control);
+    assert_eq!(control["outcome"], "reached", "{control}\n{log}");
+    let error = control["final_error"].as_f64().unwrap_or(f64::INFINITY);
+    assert!(error < 0.05, "final error {error}: {control}");
+    let errors = control["errors"].as_array().map_or(0, Vec::len);
+    assert!(errors >= 2, "the goal is not at the start: {control}");
+    let steps = control["steps"].as_u64().unwrap_or(0);
+    assert!((1..=40).contains(&steps), "{control}");
+    // The true wire against the goal's model shape: the uncalibrated default sensor's gain
+    // and cross-talk (about 1 %) leave a few mm.
+    let truth = control["truth"]["mean_mm"]
+        .as_f64()
+        .unwrap_or(f64::INFINITY);
+    assert!(
+        truth < 6.0,
+        "true centreline {truth} mm from the goal's: {control}"
+    );
+    let miss = control["tip_miss_mm"].as_f64().unwrap_or(f64::INFINITY);
+    assert!(
+        miss < 20.0,
+        "no contact, the model's tip at the gripper: {control}"
+    );
+    assert_eq!(
+        count(&control, "published", "shape"),
+        errors as u64,
+        "{control}"
+    );
+    eprintln!("sim: {sim}\ncontrol: {control}");
+}
+
+#[test]
+fn identify_on_ros2_identifies_the_simulated_wire_within_a_few_percent() {
+    let (sim, identify, log) = run_with_sim("identify", 20.0, "identify --seed 1");
+    check_moves(&sim, &identify);
+    assert_eq!(identify["samples"], 5, "{identify}\n{log}");
+    let estimate = &identify["identified"];
+    assert_eq!(estimate["identified"], true, "{identify}");
+    let truth = ftwire_lab::wire::WireSpec::load("nitinol-3mm-820")
+        .expect("the preset")
+        .wire_params()
+        .expect("valid");
+    let got = |key: &str, i: usize| estimate[key][i].as_f64().unwrap_or(f64::NAN);
+    for (i, c) in truth.c().iter().enumerate() {
+        let rel = got("c", i) / c - 1.0;
+        assert!(
+            rel.abs() < 0.04,
+            "c{} off by {:.1} %: {identify}",
+            i + 1,
+            1e2 * rel
+        );
+    }
+    let length = estimate["length"].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        (length / truth.length() - 1.0).abs() < 0.01,
+        "L = {length}: {identify}"
+    );
+    assert_eq!(estimate["covariance"].as_array().map_or(0, Vec::len), 4);
+    assert_eq!(estimate["interval95"].as_array().map_or(0, Vec::len), 4);
+    assert_eq!(count(&identify, "published", "identified"), 1);
+    eprintln!("sim: {sim}\nidentify: {identify}");
+}
+
+#[test]
+fn identify_with_every_move_unreached_ends_with_a_clear_error() {
+    require_unshare();
+    // Targets on a topic the sim does not listen to are never reached: each is counted and
+    // skipped, and one sample is too few.
+    let script = format!(
+        "ip link set lo up; \
+         '{BIN}' ros2 sim --gravity off --domain-id 19 --duration 8 > /dev/null 2>&1 & sim=$!; \
+         sleep 0.3; \
+         '{BIN}' ros2 identify --samples 3 --target-topic /nowhere --move-timeout 0.3 \
+           --domain-id 19 --duration 8; code=$?; kill -TERM $sim; wait; exit $code",
+    );
+    let output = Command::new("unshare")
+        .args(["-n", "sh", "-c", &script])
+        .output()
+        .expect("runs unshare");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("move 1 not reached"), "{stderr}");
+    assert!(
+        stderr.contains("no estimate from 1 samples (2 of 2 moves unreached"),
+        "{stderr}"
+    );
 }

@@ -27,4 +27,8 @@ pub enum NodeError {
     /// The wire, the rig or the estimator could not be set up.
     #[error(transparent)]
     Lab(#[from] ftwire_lab::LabError),
+    /// The node ran but could not finish its task (too few samples, no estimate, the goal
+    /// refused).
+    #[error("{0}")]
+    Incomplete(String),
 }

@@ -7,7 +7,14 @@
 //!   for tests), and moves the gripper to each pose on [`TIP_TARGET_TOPIC`];
 //! - [`estimate`]: the wire's shape from each F/T sample, published as `nav_msgs/Path`
 //!   ([`SHAPE_TOPIC`]), a `visualization_msgs/MarkerArray` ([`MARKERS_VIZ_TOPIC`]) and a JSON
-//!   status ([`STATUS_TOPIC`]).
+//!   status ([`STATUS_TOPIC`]);
+//! - [`identify`]: the identification motion sent on [`TIP_TARGET_TOPIC`], a rest at each pose,
+//!   and the identified `c` and `L` with their covariance as JSON on
+//!   [`identify::IDENTIFIED_TOPIC`];
+//! - [`control`]: the closed loop of eq. 13–14 to a goal configuration (or along a planned
+//!   path), a rest and a step per iteration, the model's shape on [`SHAPE_TOPIC`];
+//! - [`robot`]: what the last two share: the tare, a target sent and waited for, a rest's
+//!   average mapped to `ã`.
 //!
 //! Conventions: stamps count from the node's clock start (the sim's first sample is stamp 0;
 //! the `k`-th F/T sample is stamped `k / rate` exactly, so that a receiver counts the samples
@@ -19,12 +26,15 @@
 //!
 //! Each node runs until its `duration` ends or `stop` is set (the binary sets it on Ctrl-C),
 //! logs what it subscribed and published through `log`, and returns a summary of its counts.
-//! Guarded by `crates/ftwire/tests/ros2_nodes.rs` (both nodes in a network namespace with only
-//! the loopback device) and the tests of each module.
+//! Guarded by `crates/ftwire/tests/ros2_nodes.rs` (the sim and each other node in a network
+//! namespace with only the loopback device) and the tests of each module.
 
+pub mod control;
 pub mod error;
 pub mod estimate;
 mod estimate_loop;
+pub mod identify;
+pub mod robot;
 pub mod sim;
 pub mod stats;
 

@@ -5,6 +5,7 @@ use ftwire::args::{SeedArgs, SimSetupArgs, Vec6, parse_finite, parse_numbers};
 use ftwire_lab::experiment::Gravity;
 
 use crate::cli::groups::{CalibrationArgs, MountingArgs};
+use crate::cli::identify::IdentifySettingsArgs;
 
 /// `ftwire ros2 <node>`.
 #[derive(Debug, Clone, Args)]
@@ -22,6 +23,11 @@ pub enum Ros2Node {
     Sim(SimNodeArgs),
     /// The wire's shape from F/T at the sensor's rate.
     Estimate(EstimateNodeArgs),
+    /// Identifies the held wire's c and L by the identification motion, and publishes them
+    /// on /wire/identified.
+    Identify(IdentifyNodeArgs),
+    /// Steers the held wire to a goal configuration by the closed loop (eq. 13–14).
+    Control(ControlNodeArgs),
 }
 
 const NODE_HELP: &str = "Every node logs what it subscribes to and publishes on stderr, refuses \
@@ -150,4 +156,143 @@ pub struct EstimateNodeArgs {
     /// Replace an existing --record file.
     #[arg(long, requires = "record")]
     pub force: bool,
+}
+
+const MOVING_HELP: &str = "The node tares on the first --tare samples (the sim streams them \
+    with an empty gripper), sends each target pose on --target-topic, waits until a tip pose \
+    within --reach-mm and --reach-deg of it arrives (at most --move-timeout), skips \
+    --settle-samples, and averages --rest-samples tared samples (taken again, at most three \
+    times, while the means of the rest's halves differ by more than 5 standard errors); the \
+    mean goes through --calibration or --mounting to ã. It ends by itself when its task is \
+    done, after --duration, or on Ctrl-C, and prints one JSON summary line on stdout. Run it \
+    in a network namespace with only the loopback device to keep DDS off the network.\n\n\
+    Exit codes: 0 done (or ended by --duration or a signal), 2 bad input, 1 the task could not \
+    be finished (identify: too few samples reached).";
+
+/// How a moving node reads the sensor and moves the robot.
+#[derive(Debug, Clone, Args)]
+pub struct RobotArgs {
+    /// The learnt calibration (`--calibration`).
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
+    /// The sensor's mounting (`--mounting`); without --calibration the raw readings go through
+    /// the mounting alone.
+    #[command(flatten)]
+    pub mounting: MountingArgs,
+    /// Samples of the tare: the first N received, with nothing in the gripper (0: no tare).
+    #[arg(long, value_name = "N", default_value_t = 500)]
+    pub tare: usize,
+    /// The sensor's rate [Hz], to count the samples lost from the stamps k / rate.
+    #[arg(long, value_name = "HZ", default_value_t = 1000.0, value_parser = parse_finite)]
+    pub rate: f64,
+    /// Tared samples averaged at each rest, 10 to 100000 (the noise of ã falls as 1/√N).
+    #[arg(long, value_name = "N", default_value_t = 400)]
+    pub rest_samples: usize,
+    /// Samples skipped after a target is reached, before the rest.
+    #[arg(long, value_name = "N", default_value_t = 20)]
+    pub settle_samples: usize,
+    /// A target is reached when the reported tip is this close to it [mm].
+    #[arg(long, value_name = "MM", default_value_t = 1.0, value_parser = parse_finite)]
+    pub reach_mm: f64,
+    /// … and turned this little from it [degrees].
+    #[arg(long, value_name = "DEG", default_value_t = 1.0, value_parser = parse_finite)]
+    pub reach_deg: f64,
+    /// Longest wait for a target to be reached [s]; a target the robot refuses is never
+    /// reached.
+    #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_finite)]
+    pub move_timeout: f64,
+    /// The F/T samples (`geometry_msgs/WrenchStamped`, frame ft_sensor).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::WRENCH_TOPIC)]
+    pub wrench_topic: String,
+    /// The second gripper's pose relative to the base clamp (`geometry_msgs/PoseStamped`,
+    /// frame wire_base).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_POSE_TOPIC)]
+    pub tip_pose_topic: String,
+    /// Where targets go (`geometry_msgs/PoseStamped`, frame wire_base).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_TARGET_TOPIC)]
+    pub target_topic: String,
+}
+
+/// `ftwire ros2 identify`.
+#[derive(Debug, Clone, Args)]
+#[command(after_help = MOVING_HELP)]
+pub struct IdentifyNodeArgs {
+    /// Options every node takes.
+    #[command(flatten)]
+    pub node: NodeArgs,
+    /// The sensor and the moves.
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Samples: the start pose and N − 1 moves of the identification motion, 2 to 100.
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub samples: usize,
+    /// The twist of each move about the wire's tangent at the second gripper [degrees],
+    /// alternating in sign (it makes the torsional stiffness c1 observable).
+    #[arg(long, value_name = "DEG", default_value_t = 40.0, allow_hyphen_values = true, value_parser = parse_finite)]
+    pub twist: f64,
+    /// The residual form and the known relations.
+    #[command(flatten)]
+    pub settings: IdentifySettingsArgs,
+    /// The seed of the motion plan and of the identifier's swarm.
+    #[command(flatten)]
+    pub seed: SeedArgs,
+}
+
+/// `ftwire ros2 control`.
+#[derive(Debug, Clone, Args)]
+#[command(after_help = MOVING_HELP)]
+pub struct ControlNodeArgs {
+    /// Options every node takes.
+    #[command(flatten)]
+    pub node: NodeArgs,
+    /// The sensor and the moves.
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// The wire the controller's model is of: a preset or a wire file (TOML), e.g. with the
+    /// identified c and L.
+    #[arg(
+        long,
+        value_name = "PRESET|FILE.toml",
+        default_value = "nitinol-3mm-820"
+    )]
+    pub wire: String,
+    /// The goal configuration a_g = τ1,τ2,τ3,f1,f2,f3 [N·m, N], base clamp frame; in the
+    /// model's A_stable.
+    #[arg(long, value_name = "T1,T2,T3,F1,F2,F3", allow_hyphen_values = true, value_parser = parse_numbers::<6>, conflicts_with = "scene", required_unless_present = "scene")]
+    pub goal: Option<Vec6>,
+    /// A scene (TOML): the path from its `start` to its `goal` is planned as `ftwire plan`
+    /// does (RRT* in A_free, base gripper fixed) and steered along, waypoint by waypoint.
+    /// Start the robot at the scene's start.
+    #[arg(long, value_name = "FILE.toml")]
+    pub scene: Option<std::path::PathBuf>,
+    /// The planner's time budget with --scene [s].
+    #[arg(long, value_name = "S", default_value_t = 2.0, value_parser = parse_finite)]
+    pub time_budget: f64,
+    /// The gain K of eq. 13, in (0, 1].
+    #[arg(long, value_name = "K", default_value_t = 0.2, value_parser = parse_finite)]
+    pub gain: f64,
+    /// The goal is reached when ‖a_g − ã‖ is below this [normalised: torque in c2/L, force in
+    /// c2/L²].
+    #[arg(long, value_name = "EPS", default_value_t = 0.05, value_parser = parse_finite)]
+    pub epsilon: f64,
+    /// A waypoint of a planned path is passed within this [normalised].
+    #[arg(long, value_name = "EPS", default_value_t = 0.2, value_parser = parse_finite)]
+    pub waypoint_epsilon: f64,
+    /// Largest translation of one step [mm].
+    #[arg(long, value_name = "MM", default_value_t = 50.0, value_parser = parse_finite)]
+    pub max_step_mm: f64,
+    /// Largest rotation of one step [degrees].
+    #[arg(long, value_name = "DEG", default_value_t = 17.0, value_parser = parse_finite)]
+    pub max_step_deg: f64,
+    /// Most steps before the run ends without the goal.
+    #[arg(long, value_name = "N", default_value_t = 100)]
+    pub max_steps: usize,
+    /// A contact is the model's tip at ã missing the reported tip pose by more than this [mm]:
+    /// the run stops there [default: no contact check].
+    #[arg(long, value_name = "MM", value_parser = parse_finite)]
+    pub contact_miss: Option<f64>,
+    /// A true centreline (`nav_msgs/Path`, a simulator's /wire/truth): the summary's `truth`
+    /// is the last one against the goal's model shape.
+    #[arg(long, value_name = "TOPIC")]
+    pub truth_topic: Option<String>,
 }

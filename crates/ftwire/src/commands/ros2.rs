@@ -5,16 +5,24 @@
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
+use ftwire_control::ControlParams;
 use ftwire_lab::error::LabError;
 use ftwire_lab::log::RawMap;
+use ftwire_lab::plan::{PlanParams, PlanWireParams};
 use ftwire_lab::wire::WireSpec;
+use ftwire_ros2::node::control::ControlNodeParams;
 use ftwire_ros2::node::estimate::{EstimateNodeParams, Record};
+use ftwire_ros2::node::identify::IdentifyNodeParams;
+use ftwire_ros2::node::robot::RobotParams;
 use ftwire_ros2::node::sim::SimNodeParams;
 use ftwire_ros2::node::{NodeError, NodeSettings};
 use nalgebra::Vector6;
 use serde::Serialize;
 
-use crate::cli::ros2::{EstimateNodeArgs, NodeArgs, Ros2Args, Ros2Node, SimNodeArgs};
+use crate::cli::ros2::{
+    ControlNodeArgs, EstimateNodeArgs, IdentifyNodeArgs, NodeArgs, RobotArgs, Ros2Args, Ros2Node,
+    SimNodeArgs,
+};
 
 /// Runs the chosen node until `--duration` ends or Ctrl-C.
 pub fn run(args: Ros2Args) -> Result<(), LabError> {
@@ -30,6 +38,18 @@ pub fn run(args: Ros2Args) -> Result<(), LabError> {
         Ros2Node::Estimate(args) => {
             let (params, settings) = estimate_params(&args)?;
             let summary = ftwire_ros2::node::estimate::run(&params, settings, &stop, &mut log)
+                .map_err(from_node)?;
+            print_line(&summary)
+        }
+        Ros2Node::Identify(args) => {
+            let (params, settings) = identify_params(&args)?;
+            let summary = ftwire_ros2::node::identify::run(&params, settings, &stop, &mut log)
+                .map_err(from_node)?;
+            print_line(&summary)
+        }
+        Ros2Node::Control(args) => {
+            let (params, settings) = control_params(&args, &mut log)?;
+            let summary = ftwire_ros2::node::control::run(&params, settings, &stop, &mut log)
                 .map_err(from_node)?;
             print_line(&summary)
         }
@@ -56,6 +76,7 @@ fn from_node(error: NodeError) -> LabError {
     match error {
         NodeError::Lab(e) => e,
         NodeError::BadSetting { .. } => LabError::bad_input(error.to_string()),
+        NodeError::Incomplete(message) => LabError::no_answer(message),
         e => LabError::no_answer(e.to_string()),
     }
 }
@@ -137,6 +158,94 @@ fn estimate_params(
             path,
             overwrite: args.force,
         }),
+    };
+    Ok((params, settings))
+}
+
+fn robot_params(args: &RobotArgs, truth_topic: Option<String>) -> Result<RobotParams, LabError> {
+    Ok(RobotParams {
+        map: RawMap::load(args.calibration.path(), Some(args.mounting.load()?))?,
+        tare: args.tare,
+        rate: args.rate,
+        rest_samples: args.rest_samples,
+        settle_samples: args.settle_samples,
+        reach_translation: 1e-3 * args.reach_mm,
+        reach_rotation: args.reach_deg.to_radians(),
+        move_timeout: args.move_timeout,
+        wrench_topic: args.wrench_topic.clone(),
+        tip_pose_topic: args.tip_pose_topic.clone(),
+        target_topic: args.target_topic.clone(),
+        truth_topic,
+    })
+}
+
+fn identify_params(
+    args: &IdentifyNodeArgs,
+) -> Result<(IdentifyNodeParams, NodeSettings), LabError> {
+    let settings = settings(&args.node)?;
+    let params = IdentifyNodeParams {
+        robot: robot_params(&args.robot, None)?,
+        samples: args.samples,
+        twist: args.twist.to_radians(),
+        seed: args.seed.seed,
+        config: args.settings.settings().config()?,
+    };
+    Ok((params, settings))
+}
+
+/// The goals of `ftwire ros2 control`: `--goal`, or the waypoints after the start of the path
+/// planned in `--scene` as `ftwire plan` plans it.
+fn goals(args: &ControlNodeArgs, log: &mut dyn FnMut(&str)) -> Result<Vec<Vector6<f64>>, LabError> {
+    if let Some(goal) = &args.goal {
+        return Ok(vec![Vector6::from(goal.0)]);
+    }
+    let plan = PlanParams {
+        scene: args.scene.clone(),
+        wire: PlanWireParams {
+            wire: args.wire.clone(),
+            ..PlanWireParams::default()
+        },
+        time_budget: args.time_budget,
+        ..PlanParams::default()
+    };
+    let report = ftwire_lab::plan::run(&plan)?;
+    log(&format!(
+        "control: planned {} waypoints in {} ({:.2} s); steering along them from the second",
+        report.waypoints.len(),
+        report.scene,
+        report.seconds
+    ));
+    report
+        .waypoints
+        .iter()
+        .skip(1)
+        .map(|w| {
+            <[f64; 6]>::try_from(w.a.as_slice())
+                .map(Vector6::from)
+                .map_err(|_| LabError::no_answer("a planned waypoint without six numbers"))
+        })
+        .collect()
+}
+
+fn control_params(
+    args: &ControlNodeArgs,
+    log: &mut dyn FnMut(&str),
+) -> Result<(ControlNodeParams, NodeSettings), LabError> {
+    let settings = settings(&args.node)?;
+    let params = ControlNodeParams {
+        robot: robot_params(&args.robot, args.truth_topic.clone())?,
+        wire: wire(&args.wire)?,
+        goals: goals(args, log)?,
+        control: ControlParams {
+            gain: args.gain,
+            epsilon: args.epsilon,
+            max_translation: 1e-3 * args.max_step_mm,
+            max_rotation: args.max_step_deg.to_radians(),
+            ..ControlParams::default()
+        },
+        waypoint_epsilon: args.waypoint_epsilon,
+        max_steps: args.max_steps,
+        contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
     };
     Ok((params, settings))
 }
