@@ -33,6 +33,7 @@ use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
 use ftwire_sim::SimRig;
 use nalgebra::{Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
+use ros2_client::{Publisher, Subscription};
 use serde::Serialize;
 
 use super::{
@@ -298,12 +299,159 @@ pub fn truth_message(rig: &SimRig, t: f64) -> Path {
     }
 }
 
+/// The sim's publishers.
+struct Publishers {
+    wrench: Publisher<WrenchStamped>,
+    tip: Publisher<PoseStamped>,
+    markers: Publisher<PoseArray>,
+    truth: Publisher<Path>,
+}
+
+/// Waits until someone listens to the wrench (or `wait_subscriber` is over), then a grace
+/// time for the match to complete: the clock starts after it.
+fn wait_for_subscriber(
+    node: &RosNode,
+    params: &SimNodeParams,
+    (stop, started, duration): (&AtomicBool, Instant, Option<f64>),
+    log: Log<'_>,
+) {
+    let wait_end = started + Duration::from_secs_f64(params.wait_subscriber);
+    while node.subscription_count(WRENCH_TOPIC) == 0 && Instant::now() < wait_end {
+        if should_stop(stop, started, duration) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    if node.subscription_count(WRENCH_TOPIC) > 0 {
+        log("sim: a subscriber to the wrench is discovered; the clock starts");
+        sleep_until(
+            Instant::now() + Duration::from_secs_f64(MATCH_GRACE),
+            Duration::from_secs(1),
+        );
+    } else {
+        log("sim: no subscriber to the wrench yet; the clock starts anyway");
+    }
+}
+
+/// Takes every target waiting and moves the tip to each in turn; returns whether it moved.
+fn take_targets(
+    sub: &Subscription<PoseStamped>,
+    rig: &mut SimRig,
+    summary: &mut SimSummary,
+    log: Log<'_>,
+) -> bool {
+    let mut moved = false;
+    loop {
+        match sub.take() {
+            Ok(Some((target, _))) => {
+                count(&mut summary.received, TIP_TARGET_TOPIC);
+                match move_to(rig, &target) {
+                    Ok(()) => {
+                        summary.moves += 1;
+                        moved = true;
+                        log(&format!(
+                            "sim: moved the tip to ({:.4}, {:.4}, {:.4}) m",
+                            target.pose.position.x, target.pose.position.y, target.pose.position.z
+                        ));
+                    }
+                    Err(refusal) => {
+                        count(&mut summary.refused, refusal.name());
+                        log(&format!(
+                            "sim: refused a target on {TIP_TARGET_TOPIC}: {refusal}"
+                        ));
+                    }
+                }
+            }
+            Ok(None) => return moved,
+            Err(e) => {
+                count(&mut summary.refused, "malformed");
+                log(&format!(
+                    "sim: refused a message on {TIP_TARGET_TOPIC}: {e:?}"
+                ));
+            }
+        }
+    }
+}
+
+/// What one tick publishes besides the wrench.
+struct TickPlan {
+    tip: bool,
+    markers: bool,
+}
+
+/// Tick `k`: the F/T sample (the empty gripper's during the tare), and the tip pose, the
+/// markers and the truth when `plan` says so.
+fn tick(
+    k: u64,
+    rig: &mut SimRig,
+    params: &SimNodeParams,
+    (publishers, plan): (&Publishers, TickPlan),
+    summary: &mut SimSummary,
+) {
+    let stamp = tick_stamp(k, params.rate);
+    let t = seconds(&stamp);
+    let (published, failed) = (&mut summary.published, &mut summary.publish_failed);
+    let sample = if k < params.tare_samples {
+        rig.read_ft_empty_gripper()
+    } else {
+        rig.read_ft()
+    };
+    match sample {
+        Ok(sample) => publish(
+            &publishers.wrench,
+            wrench_message(&sample, stamp),
+            WRENCH_TOPIC,
+            published,
+            failed,
+        ),
+        Err(_) => summary.dropouts += 1,
+    }
+    if plan.tip
+        && let Ok(tip) = rig.gripper_poses().map(|p| p.relative())
+    {
+        let message = PoseStamped {
+            header: header(t, BASE_FRAME),
+            pose: ros_pose(&tip),
+        };
+        publish(&publishers.tip, message, TIP_POSE_TOPIC, published, failed);
+    }
+    if plan.markers {
+        if let Ok(frame) = rig.observe_markers() {
+            let message = PoseArray {
+                header: header(t, BASE_FRAME),
+                poses: frame
+                    .positions
+                    .iter()
+                    .flatten()
+                    .map(|p| msg::Pose {
+                        position: ros_point(&p.coords),
+                        orientation: msg::Quaternion::default(),
+                    })
+                    .collect(),
+            };
+            publish(
+                &publishers.markers,
+                message,
+                MARKERS_TOPIC,
+                published,
+                failed,
+            );
+        }
+        publish(
+            &publishers.truth,
+            truth_message(rig, t),
+            TRUTH_TOPIC,
+            published,
+            failed,
+        );
+    }
+}
+
 /// Runs the simulated robot (module docs) until `settings.duration` ends or `stop` is set.
 ///
 /// # Errors
 /// [`NodeError`] for bad settings, a wire that cannot be placed at `start`, or ROS 2 entities
 /// that cannot be created. Bad messages are refused and counted, never errors.
-#[allow(clippy::too_many_lines)] // one loop: the clock, the targets, the publications
 pub fn run(
     params: &SimNodeParams,
     settings: NodeSettings,
@@ -322,10 +470,12 @@ pub fn run(
     ));
     let mut node = RosNode::new("ftwire_sim", settings.domain_id)?;
     let small = reliable(10);
-    let wrench_pub = node.publisher::<WrenchStamped>(WRENCH_TOPIC, &reliable(WRENCH_QUEUE))?;
-    let tip_pub = node.publisher::<PoseStamped>(TIP_POSE_TOPIC, &small)?;
-    let markers_pub = node.publisher::<PoseArray>(MARKERS_TOPIC, &small)?;
-    let truth_pub = node.publisher::<Path>(TRUTH_TOPIC, &small)?;
+    let publishers = Publishers {
+        wrench: node.publisher::<WrenchStamped>(WRENCH_TOPIC, &reliable(WRENCH_QUEUE))?,
+        tip: node.publisher::<PoseStamped>(TIP_POSE_TOPIC, &small)?,
+        markers: node.publisher::<PoseArray>(MARKERS_TOPIC, &small)?,
+        truth: node.publisher::<Path>(TRUTH_TOPIC, &small)?,
+    };
     let target_sub = node.subscription::<PoseStamped>(TIP_TARGET_TOPIC, &small)?;
     log(&format!(
         "sim: domain {}; publishing {WRENCH_TOPIC} at {} Hz (frame {SENSOR_FRAME}, the first {} \
@@ -333,24 +483,7 @@ pub fn run(
          {TRUTH_TOPIC} at {} Hz (frame {BASE_FRAME}); subscribed to {TIP_TARGET_TOPIC}",
         settings.domain_id, params.rate, params.tare_samples, params.pose_rate, params.marker_rate
     ));
-
-    // The clock starts once someone listens to the wrench (or the wait is over).
-    let wait_end = started + Duration::from_secs_f64(params.wait_subscriber);
-    while node.subscription_count(WRENCH_TOPIC) == 0 && Instant::now() < wait_end {
-        if should_stop(stop, started, settings.duration) {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    if node.subscription_count(WRENCH_TOPIC) > 0 {
-        log("sim: a subscriber to the wrench is discovered; the clock starts");
-        sleep_until(
-            Instant::now() + Duration::from_secs_f64(MATCH_GRACE),
-            Duration::from_secs(1),
-        );
-    } else {
-        log("sim: no subscriber to the wrench yet; the clock starts anyway");
-    }
+    wait_for_subscriber(&node, params, (stop, started, settings.duration), log);
 
     let mut summary = SimSummary {
         node: "sim",
@@ -372,107 +505,18 @@ pub fn run(
     // After a move the tip, markers and truth go out with the next tick.
     let mut moved = true;
     while !should_stop(stop, started, settings.duration) {
-        loop {
-            match target_sub.take() {
-                Ok(Some((target, _))) => {
-                    count(&mut summary.received, TIP_TARGET_TOPIC);
-                    match move_to(&mut rig, &target) {
-                        Ok(()) => {
-                            summary.moves += 1;
-                            moved = true;
-                            log(&format!(
-                                "sim: moved the tip to ({:.4}, {:.4}, {:.4}) m",
-                                target.pose.position.x,
-                                target.pose.position.y,
-                                target.pose.position.z
-                            ));
-                        }
-                        Err(refusal) => {
-                            count(&mut summary.refused, refusal.name());
-                            log(&format!(
-                                "sim: refused a target on {TIP_TARGET_TOPIC}: {refusal}"
-                            ));
-                        }
-                    }
-                }
-                Ok(None) => break,
-                Err(e) => {
-                    count(&mut summary.refused, "malformed");
-                    log(&format!(
-                        "sim: refused a message on {TIP_TARGET_TOPIC}: {e:?}"
-                    ));
-                }
-            }
-        }
+        moved |= take_targets(&target_sub, &mut rig, &mut summary, log);
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // elapsed ≥ 0
         let due = (clock.elapsed().as_secs_f64() * params.rate).floor() as u64;
         while k <= due {
-            let stamp = tick_stamp(k, params.rate);
-            let t = seconds(&stamp);
             if due > k + 1 {
                 summary.late_ticks += 1;
             }
-            let sample = if k < params.tare_samples {
-                rig.read_ft_empty_gripper()
-            } else {
-                rig.read_ft()
+            let plan = TickPlan {
+                tip: moved || k.is_multiple_of(pose_every),
+                markers: moved || k.is_multiple_of(marker_every),
             };
-            match sample {
-                Ok(sample) => publish(
-                    &wrench_pub,
-                    wrench_message(&sample, stamp),
-                    WRENCH_TOPIC,
-                    &mut summary.published,
-                    &mut summary.publish_failed,
-                ),
-                Err(_) => summary.dropouts += 1,
-            }
-            if moved || k.is_multiple_of(pose_every) {
-                let tip = rig.gripper_poses().map(|p| p.relative());
-                if let Ok(tip) = tip {
-                    let message = PoseStamped {
-                        header: header(t, BASE_FRAME),
-                        pose: ros_pose(&tip),
-                    };
-                    publish(
-                        &tip_pub,
-                        message,
-                        TIP_POSE_TOPIC,
-                        &mut summary.published,
-                        &mut summary.publish_failed,
-                    );
-                }
-            }
-            if moved || k.is_multiple_of(marker_every) {
-                if let Ok(frame) = rig.observe_markers() {
-                    let message = PoseArray {
-                        header: header(t, BASE_FRAME),
-                        poses: frame
-                            .positions
-                            .iter()
-                            .flatten()
-                            .map(|p| msg::Pose {
-                                position: ros_point(&p.coords),
-                                orientation: msg::Quaternion::default(),
-                            })
-                            .collect(),
-                    };
-                    publish(
-                        &markers_pub,
-                        message,
-                        MARKERS_TOPIC,
-                        &mut summary.published,
-                        &mut summary.publish_failed,
-                    );
-                }
-                publish(
-                    &truth_pub,
-                    truth_message(&rig, t),
-                    TRUTH_TOPIC,
-                    &mut summary.published,
-                    &mut summary.publish_failed,
-                );
-            }
+            tick(k, &mut rig, params, (&publishers, plan), &mut summary);
             moved = false;
             k += 1;
         }
