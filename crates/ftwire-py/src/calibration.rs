@@ -121,7 +121,7 @@ pub struct Mounting {
 }
 
 impl Mounting {
-    fn from_spec(spec: MountingSpec) -> PyResult<Self> {
+    pub(crate) fn from_spec(spec: MountingSpec) -> PyResult<Self> {
         let transform = spec
             .mounting()
             .map_err(|e| value_error(format!("Mounting: {e}")))?;

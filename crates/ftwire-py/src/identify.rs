@@ -6,6 +6,8 @@ use std::path::PathBuf;
 
 use ftwire_lab::identify::{Form, ResidualParams};
 use ftwire_lab::log::identify::{EstimateReport, IdentifyLogParams, estimate};
+use numpy::PyArray2;
+use numpy::ndarray::Array2;
 use pyo3::prelude::*;
 
 use crate::error::lab_error;
@@ -32,6 +34,13 @@ pub struct Identification {
     linear_density: Option<f64>,
     /// Standard deviation of λ [kg/m] (with gravity), else None.
     linear_density_std: Option<f64>,
+    /// The first-order covariance of (c1, c2, c3, L), then λ with gravity: a (4, 4) or (5, 5)
+    /// float64 array [N·m², m, kg/m products], Σ_η = G s² (JᵀJ)⁻¹ Gᵀ; None where the fit's
+    /// information matrix is singular.
+    covariance: Py<PyAny>,
+    /// The 95 % interval [low, high] of each parameter in the covariance's order,
+    /// value ± 1.959964 σ: a (4, 2) or (5, 2) float64 array; None without a covariance.
+    interval95: Py<PyAny>,
     /// χ² per degree of freedom under the assumed noise.
     chi2_per_dof: f64,
     /// σ_min / σ_max of the residual's Jacobian.
@@ -178,6 +187,8 @@ pub fn identify(
         length_std: report.length_std,
         linear_density: report.linear_density,
         linear_density_std: report.linear_density_std,
+        covariance: matrix_or_none(py, report.covariance.as_deref())?,
+        interval95: intervals_or_none(py, report.interval95.as_deref())?,
         chi2_per_dof: report.chi2_per_dof,
         condition: report.condition,
         identified: report.identified,
@@ -185,4 +196,27 @@ pub fn identify(
         reason: report.reason,
         samples: report.samples,
     })
+}
+
+/// `rows` (square) as a float64 array, or `None`.
+fn matrix_or_none(py: Python<'_>, rows: Option<&[Vec<f64>]>) -> PyResult<Py<PyAny>> {
+    let Some(rows) = rows else {
+        return Ok(py.None());
+    };
+    let n = rows.len();
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let array = Array2::from_shape_vec((n, flat.len() / n.max(1)), flat)
+        .map_err(|e| value_error(format!("covariance: {e}")))?;
+    Ok(PyArray2::from_owned_array(py, array).into_any().unbind())
+}
+
+/// `[low, high]` rows as an (N, 2) float64 array, or `None`.
+fn intervals_or_none(py: Python<'_>, rows: Option<&[[f64; 2]]>) -> PyResult<Py<PyAny>> {
+    let Some(rows) = rows else {
+        return Ok(py.None());
+    };
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let array = Array2::from_shape_vec((rows.len(), 2), flat)
+        .map_err(|e| value_error(format!("interval95: {e}")))?;
+    Ok(PyArray2::from_owned_array(py, array).into_any().unbind())
 }

@@ -11,12 +11,15 @@
 //! release the GIL and run in parallel over rows (rayon).
 
 mod calibration;
+mod control;
 mod error;
 mod identify;
 mod input;
 mod log;
+mod plan;
 mod pose;
 mod shape;
+mod sim;
 mod wire;
 
 use pyo3::prelude::*;
@@ -30,8 +33,11 @@ fn _ftwire(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<calibration::Mounting>()?;
     m.add_class::<shape::ShapeEstimator>()?;
     m.add_class::<identify::Identification>()?;
+    m.add_class::<control::Controller>()?;
+    m.add_class::<sim::SimulatedRig>()?;
     m.add_function(wrap_pyfunction!(log::read_log, m)?)?;
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
+    m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

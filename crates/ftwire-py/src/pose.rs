@@ -20,54 +20,69 @@ const UNIT_TOLERANCE: f64 = 1e-6;
 /// beyond `ftwire_core::MAX_ROTATION_ANGLE`.
 pub fn poses(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<Pose>> {
     let (shape, values) = finite_array(value, name)?;
-    let bad_shape = || {
-        value_error(format!(
-            "{name} has shape {shape:?}; allowed are (N, 4, 4) homogeneous matrices, (N, 6) \
-             position [m] and rotation vector [rad], and (N, 7) position [m] and unit \
-             quaternion (x, y, z, w), with N ≥ 1"
-        ))
+    let width = match shape.as_slice() {
+        [n, 4, 4] if *n > 0 => 16,
+        [n, w @ (6 | 7)] if *n > 0 => *w,
+        _ => {
+            return Err(value_error(format!(
+                "{name} has shape {shape:?}; allowed are (N, 4, 4) homogeneous matrices, (N, 6) \
+                 position [m] and rotation vector [rad], and (N, 7) position [m] and unit \
+                 quaternion (x, y, z, w), with N ≥ 1"
+            )));
+        }
     };
-    match shape.as_slice() {
-        [n, 4, 4] if *n > 0 => values
-            .chunks_exact(16)
-            .enumerate()
-            .map(|(i, m)| matrix(m, &format!("{name}[{i}]")))
-            .collect(),
-        [n, 6] if *n > 0 => values
-            .chunks_exact(6)
-            .enumerate()
-            .map(|(i, v)| {
-                let angle = Vector3::new(v[3], v[4], v[5]).norm();
-                if angle > MAX_ROTATION_ANGLE {
-                    return Err(value_error(format!(
-                        "{name}[{i}, 3:6] has angle {angle} rad; allowed is at most \
-                         {MAX_ROTATION_ANGLE} rad"
-                    )));
-                }
-                Ok(Pose::from_parts(
-                    Translation3::new(v[0], v[1], v[2]),
-                    UnitQuaternion::from_scaled_axis(Vector3::new(v[3], v[4], v[5])),
-                ))
-            })
-            .collect(),
-        [n, 7] if *n > 0 => values
-            .chunks_exact(7)
-            .enumerate()
-            .map(|(i, v)| {
-                let q = Quaternion::new(v[6], v[3], v[4], v[5]);
-                if (q.norm() - 1.0).abs() > UNIT_TOLERANCE {
-                    return Err(value_error(format!(
-                        "{name}[{i}, 3:7] has norm {}: a unit quaternion (x, y, z, w) is needed",
-                        q.norm()
-                    )));
-                }
-                Ok(Pose::from_parts(
-                    Translation3::new(v[0], v[1], v[2]),
-                    UnitQuaternion::new_normalize(q),
-                ))
-            })
-            .collect(),
-        _ => Err(bad_shape()),
+    values
+        .chunks_exact(width)
+        .enumerate()
+        .map(|(i, v)| parse(v, &format!("{name}[{i}]"), &format!("{name}[{i}, ")))
+        .collect()
+}
+
+/// The argument `name` as one pose of shape `(4, 4)`, `(6,)` or `(7,)` (the forms of
+/// [`poses`] without the batch axis).
+///
+/// # Errors
+/// As [`poses`], naming `name`.
+pub fn pose(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Pose> {
+    let (shape, values) = finite_array(value, name)?;
+    if !matches!(shape.as_slice(), [4, 4] | [6] | [7]) {
+        return Err(value_error(format!(
+            "{name} has shape {shape:?}; allowed are (4, 4) a homogeneous matrix, (6,) position \
+             [m] and rotation vector [rad], and (7,) position [m] and unit quaternion (x, y, z, w)"
+        )));
+    }
+    parse(&values, name, &format!("{name}["))
+}
+
+/// One pose from its 16, 6 or 7 numbers; `at` names it, `slice` opens its index in messages.
+fn parse(v: &[f64], at: &str, slice: &str) -> PyResult<Pose> {
+    match v.len() {
+        16 => matrix(v, at),
+        6 => {
+            let angle = Vector3::new(v[3], v[4], v[5]).norm();
+            if angle > MAX_ROTATION_ANGLE {
+                return Err(value_error(format!(
+                    "{slice}3:6] has angle {angle} rad; allowed is at most {MAX_ROTATION_ANGLE} rad"
+                )));
+            }
+            Ok(Pose::from_parts(
+                Translation3::new(v[0], v[1], v[2]),
+                UnitQuaternion::from_scaled_axis(Vector3::new(v[3], v[4], v[5])),
+            ))
+        }
+        _ => {
+            let q = Quaternion::new(v[6], v[3], v[4], v[5]);
+            if (q.norm() - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(value_error(format!(
+                    "{slice}3:7] has norm {}: a unit quaternion (x, y, z, w) is needed",
+                    q.norm()
+                )));
+            }
+            Ok(Pose::from_parts(
+                Translation3::new(v[0], v[1], v[2]),
+                UnitQuaternion::new_normalize(q),
+            ))
+        }
     }
 }
 
@@ -92,4 +107,11 @@ fn matrix(m: &[f64], at: &str) -> PyResult<Pose> {
         Translation3::new(m[3], m[7], m[11]),
         rotation,
     ))
+}
+
+/// `pose` as a row-major homogeneous 4 × 4 float64 array (translation in m).
+pub fn to_array<'py>(py: Python<'py>, pose: &Pose) -> Bound<'py, numpy::PyArray2<f64>> {
+    let m = pose.to_homogeneous();
+    let rows = numpy::ndarray::Array2::from_shape_fn((4, 4), |(i, k)| m[(i, k)]);
+    numpy::PyArray2::from_owned_array(py, rows)
 }

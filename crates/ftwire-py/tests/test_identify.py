@@ -51,6 +51,20 @@ def test_identify_is_the_cli_to_the_last_digit(samples):
     np.testing.assert_allclose(found.c, TRUE.c, rtol=1e-3)
 
 
+def test_covariance_and_interval95_are_the_cli_to_the_last_digit(samples):
+    path, a, b = samples
+    out = cli_json("identify", "--log", str(path), "--json", "--seed", "3")
+    found = ftwire.identify(a, b, seed=3)
+    assert out["covariance"] is not None and out["interval95"] is not None
+    assert found.covariance.shape == (4, 4) and found.covariance.dtype == np.float64
+    assert found.interval95.shape == (4, 2)
+    assert found.covariance.tolist() == out["covariance"]
+    assert found.interval95.tolist() == out["interval95"]
+    np.testing.assert_array_equal(found.covariance, found.covariance.T)
+    values = [*found.c, found.length]
+    assert all(lo <= v <= hi for v, (lo, hi) in zip(values, found.interval95))
+
+
 def test_poses_as_matrices_or_from_the_log(samples):
     path, a, b = samples
     log = ftwire.read_log(path)

@@ -1,7 +1,8 @@
 """ftwire: see and steer an elastic wire with a dual-arm robot from one wrist F/T sensor.
 
 Python bindings of the Rust crates (the Kirchhoff rod model, rig logs, the F/T calibration,
-shape estimation, identification and the ground-truth simulator).
+shape estimation, identification, the controller, the planner, and the ground-truth
+simulator in ftwire.sim).
 
 Conventions: SI units (m, rad, N, N·m, s, kg/m³). A configuration ``a = (τ1, τ2, τ3, f1, f2,
 f3)`` is the wrench on the base gripper, torque first, in the base clamp frame. A raw F/T

@@ -127,6 +127,14 @@ class Identification:
     @property
     def linear_density_std(self) -> Optional[float]: ...
     @property
+    def covariance(self) -> Optional[F64]:
+        """(4, 4), or (5, 5) with gravity: the first-order covariance of (c1, c2, c3, L[, λ])
+        [N·m², m, kg/m products]; None where the fit has none."""
+    @property
+    def interval95(self) -> Optional[F64]:
+        """(4, 2) or (5, 2): [low, high] = value ∓ 1.96 σ of each parameter, in the
+        covariance's order; None without a covariance."""
+    @property
     def chi2_per_dof(self) -> float: ...
     @property
     def condition(self) -> float: ...
@@ -145,3 +153,47 @@ def identify(a: ArrayLike, b: ArrayLike, wire_guess: Optional[Wire] = None,
              seed: int = 0) -> Identification:
     """(c1, c2, c3, L) from a (N, 6) ã and b (N, 4, 4) | (N, 6) | (N, 7) poses; the GIL is
     released; the same seed gives the same answer."""
+
+class Controller:
+    """The paper's Jacobian controller (eq. 13–14): δb = s K J(ã)(a_g − ã), b' = b M(δb),
+    s ≤ 1 from the step limits and the stability guard. gain K in (0, 1]; epsilon [normalised:
+    torque in c2/L, force in c2/L²]; max_translation [m]; max_rotation [rad]; gravity (3,)
+    [m/s²] base clamp frame for the loaded model, None: weightless."""
+    def __init__(self, wire: Wire, gain: float = 0.2, epsilon: float = 0.05,
+                 max_translation: float = 0.05, max_rotation: float = 0.3,
+                 max_shrinks: int = 6, gravity: Optional[ArrayLike] = None) -> None: ...
+    @property
+    def gain(self) -> float: ...
+    @property
+    def epsilon(self) -> float: ...
+    def step(self, a_measured: ArrayLike, a_goal: ArrayLike,
+             b: Optional[ArrayLike] = None) -> F64:
+        """(4, 4) the second gripper's next pose in the base clamp frame [m]; a_measured,
+        a_goal (6,) torque first [N·m, N]; b the pose now ((4, 4) | (6,) | (7,); None:
+        Γ(a_measured) of the model). RuntimeError when no step passes the stability guard."""
+    def plan_step(self, a_measured: ArrayLike, a_goal: ArrayLike,
+                  b: Optional[ArrayLike] = None) -> Optional[Dict[str, Any]]:
+        """{"b": (4, 4), "delta_b": (6,) [rad, m] body twist, "predicted_da": (6,) [N·m, N],
+        "scale": float}, or None when no step passes the stability guard."""
+    def distance(self, a: ArrayLike, a_goal: ArrayLike) -> float:
+        """‖a_goal − a‖ [normalised]."""
+    def reached(self, a: ArrayLike, a_goal: ArrayLike) -> bool:
+        """distance < epsilon."""
+    def check_goal(self, a_goal: ArrayLike) -> None:
+        """ValueError unless a_goal is finite and in the model's A_stable."""
+
+def plan(scene: Path, wire: str = "nitinol-3mm-820", seed: int = 0,
+         iterations: int = 1000000, time_budget: float = 2.0, margin: float = 0.005,
+         max_span: float = 1.0, start: str = "start", goal: str = "goal", first: bool = False,
+         planner: str = "fixed", clearance_weight: float = 0.0,
+         clearance_reference: float = 0.02, resample: Optional[int] = None) -> Dict[str, Any]:
+    """RRT* from the scene's start to goal (`ftwire plan --json`): "waypoints" (N, 6) a
+    [N·m, N] torque first, base clamp frame; "waypoints_normalised" (N, 6); "base", "tip"
+    (N, 6) world frame, position [m] + rotation vector [rad]; "joints" (N, 15) [rad];
+    "clearance" (N,) [m]; "length" [normalised a]; "cost"; "base_travel" [m];
+    "min_clearance" [m]; "iterations"; "nodes"; "first_path_iteration"; "seconds";
+    "first_path_seconds"; "resampled" (a dict of the per-waypoint arrays, or None). The same
+    seed and an iteration budget the time budget does not cut give the same path."""
+
+class Rig:
+    """ftwire.sim.Rig (see ftwire/sim.pyi)."""
