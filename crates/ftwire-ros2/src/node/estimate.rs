@@ -395,8 +395,6 @@ impl EstimateNodeParams {
     }
 }
 
-pub use super::estimate_loop::run;
-
 #[cfg(test)]
 mod tests {
     use super::*;

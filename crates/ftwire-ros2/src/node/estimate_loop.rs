@@ -1,4 +1,4 @@
-//! The receive–estimate–publish loop of `ftwire ros2 estimate` (the steps are in
+//! `ftwire ros2 estimate`'s receive–estimate–publish loop, [`run`] (the steps are in
 //! [`super::estimate`]), and `--record`: every message the node receives and publishes, written
 //! to a ROS 2 bag (MCAP, CDR) at its arrival or publication time, so that `ftwire import mcap`
 //! reads the inputs back and Foxglove or `ros2 bag` replay the whole session.

@@ -32,7 +32,7 @@
 pub mod control;
 pub mod error;
 pub mod estimate;
-mod estimate_loop;
+pub mod estimate_loop;
 pub mod identify;
 pub mod robot;
 pub mod sim;

@@ -37,7 +37,7 @@ pub fn run(args: Ros2Args) -> Result<(), LabError> {
         }
         Ros2Node::Estimate(args) => {
             let (params, settings) = estimate_params(&args)?;
-            let summary = ftwire_ros2::node::estimate::run(&params, settings, &stop, &mut log)
+            let summary = ftwire_ros2::node::estimate_loop::run(&params, settings, &stop, &mut log)
                 .map_err(from_node)?;
             print_line(&summary)
         }
