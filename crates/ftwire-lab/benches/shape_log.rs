@@ -73,6 +73,7 @@ fn bench(c: &mut Criterion) {
         wire: WIRE.to_owned(),
         calibration: None,
         mounting: Some(MountingSpec::default()),
+        a_std: None,
     };
     let out = dir.join("shapes.jsonl");
     let mut group = c.benchmark_group("shape --log --out");

@@ -94,6 +94,7 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
         wire: "nitinol-2mm-630".to_owned(),
         calibration: None,
         mounting: None,
+        a_std: None,
     };
     let error = LogShapes::new(&params)
         .err()
@@ -112,5 +113,13 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
         // The markers see the true wire; the estimate is within centimetres of it.
         let mm = shape.marker_mean_mm.expect("the log has markers");
         assert!(mm.is_finite() && mm < 50.0, "{mm}");
+        // The calibration's test error gives the raw records their error bars.
+        let sigma = shape
+            .sigma_mm
+            .as_ref()
+            .expect("the calibration's test error");
+        assert_eq!(sigma.len(), 64);
+        assert!(sigma.iter().all(|s| s.is_finite() && *s >= 0.0));
+        assert!(sigma[63] > 0.0);
     }
 }

@@ -59,6 +59,7 @@ fn params(log: PathBuf) -> ShapeLogParams {
         wire: WIRE.to_owned(),
         calibration: None,
         mounting: None,
+        a_std: None,
     }
 }
 
@@ -422,4 +423,78 @@ fn raw_goes_through_the_mounting_after_the_tools_weight() {
         message.contains("line 1 (time 0.25)") && message.contains("`gravity`"),
         "{message}"
     );
+}
+
+/// With `a_std`, each shaped line has `sigma_mm` as long as `points` (zero at the clamp, the
+/// estimator's σ in mm), the summary `sigma_mean_mm`, and a printed record its `sigma_mm`;
+/// without, none of them; a negative standard deviation is bad input naming `--a-std`.
+#[test]
+fn error_bars_only_with_standard_deviations() {
+    use ftwire_estimate::shape::{ConfigurationStd, shape_sigma};
+    let dir = TempDir::new("shape-log-sigma");
+    let a = a_of([0.5, 2.0, -1.0, -3.0, 1.5, 0.5]);
+    let outside = Vector6::new(0.1, 0.0, 0.0, -0.2, 0.0, 0.0); // ∉ A: no shape
+    let text = format!(
+        "{}\n{}\n{}\n",
+        line(&a_record(0.0, &a)),
+        line(&a_record(0.1, &outside)),
+        line(&a_record(0.2, &a)),
+    );
+    let log = write_log(&dir.0, "rig.jsonl", &text);
+    let std = [1e-4, 2e-4, 1e-4, 5e-3, 5e-3, 1e-2];
+    let with = ShapeLogParams {
+        a_std: Some(std),
+        ..params(log.clone())
+    };
+    let (_, lines, summary) = write(&dir, "with", &with, 30);
+    let expected = shape_sigma(
+        &model(),
+        &a,
+        30,
+        &ConfigurationStd::new(std).expect("std").covariance(),
+    )
+    .expect("sigma");
+    for row in [&lines[0], &lines[2]] {
+        let sigma = numbers(&row["sigma_mm"]);
+        assert_eq!(sigma.len(), 30, "{row}");
+        assert!(sigma[0].abs() < 1e-9);
+        for (got, want) in sigma.iter().zip(&expected.sigma) {
+            assert_relative_eq!(*got, 1e3 * want, max_relative = 1e-12);
+        }
+    }
+    assert!(lines[1].get("sigma_mm").is_none(), "{}", lines[1]);
+    let mean: f64 = expected.sigma.iter().sum::<f64>() * 1e3 / 30.0;
+    let got = summary["summary"]["sigma_mean_mm"]
+        .as_f64()
+        .expect("sigma_mean_mm");
+    assert_relative_eq!(got, mean, max_relative = 1e-12);
+
+    let (_, lines, summary) = write(&dir, "without", &params(log.clone()), 30);
+    assert!(lines.iter().all(|row| row.get("sigma_mm").is_none()));
+    assert!(
+        summary["summary"].get("sigma_mean_mm").is_none(),
+        "{summary}"
+    );
+
+    let printed: Vec<_> = LogShapes::new(&with)
+        .expect("a good log")
+        .map(|r| r.expect("a record"))
+        .collect();
+    let sigma = printed[0].sigma_mm.as_ref().expect("sigma_mm");
+    assert_eq!(sigma.len(), printed[0].points.as_ref().map_or(0, Vec::len));
+    assert!(printed[0].to_string().contains(" ± "), "{}", printed[0]);
+    assert!(printed[1].sigma_mm.is_none());
+    let plain: Vec<_> = LogShapes::new(&params(log.clone()))
+        .expect("a good log")
+        .map(|r| r.expect("a record"))
+        .collect();
+    assert!(plain[0].sigma_mm.is_none());
+
+    let bad = ShapeLogParams {
+        a_std: Some([0.0, 0.0, 0.0, -1.0, 0.0, 0.0]),
+        ..params(log)
+    };
+    let error = ShapeLog::load(&bad).expect_err("a negative std");
+    assert_eq!(error.kind(), "bad_input");
+    assert!(error.to_string().contains("--a-std"), "{error}");
 }

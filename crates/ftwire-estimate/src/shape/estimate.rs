@@ -11,7 +11,7 @@ use ftwire_core::ensure_finite;
 use ftwire_rod::{Shape, to_normalised};
 use nalgebra::Vector6;
 
-use crate::shape::setting;
+use crate::shape::{ConfigurationStd, setting, shape_sigma};
 use crate::{EstimateError, WireModel};
 
 /// Settings of the shape estimator.
@@ -74,6 +74,10 @@ pub struct ShapeEstimate {
     pub confidence: Confidence,
     /// `ã` in normalised units.
     pub normalised: Vector6<f64>,
+    /// `σ(s)` \[m\] at each node of `shape`: the RMS radius of the point's first-order error
+    /// ([`shape_sigma`]); `None` unless the estimator was given the standard deviations of `ã`
+    /// ([`ShapeEstimator::with_a_std`]).
+    pub sigma: Option<Vec<f64>>,
 }
 
 /// Estimates the wire's shape from each calibrated F/T configuration `ã`, and flags samples it
@@ -100,6 +104,7 @@ pub struct ShapeEstimate {
 pub struct ShapeEstimator<M> {
     model: M,
     config: EstimatorParams,
+    a_std: Option<ConfigurationStd>,
     previous: Option<Vector6<f64>>,
 }
 
@@ -110,6 +115,7 @@ impl<M: WireModel> ShapeEstimator<M> {
         Self {
             model,
             config: EstimatorParams::default(),
+            a_std: None,
             previous: None,
         }
     }
@@ -135,6 +141,19 @@ impl<M: WireModel> ShapeEstimator<M> {
         Ok(Self { config, ..self })
     }
 
+    /// The same estimator with the standard deviations of `ã` (`None`: unknown): each
+    /// estimate then carries `σ(s)` at its nodes ([`ShapeEstimate::sigma`]), at the cost of
+    /// 12 more shape solves per estimate.
+    #[must_use]
+    pub fn with_a_std(self, a_std: Option<ConfigurationStd>) -> Self {
+        Self { a_std, ..self }
+    }
+
+    /// The standard deviations of `ã`, if given.
+    pub fn a_std(&self) -> Option<&ConfigurationStd> {
+        self.a_std.as_ref()
+    }
+
     /// The settings.
     pub fn config(&self) -> &EstimatorParams {
         &self.config
@@ -156,17 +175,25 @@ impl<M: WireModel> ShapeEstimator<M> {
     ///
     /// # Errors
     /// [`EstimateError::Core`] naming a non-finite component of `ã` (field `a_tilde`),
-    /// [`EstimateError::Model`] for `ã ∉ A` or a diverged solve. Errors leave the last sample
+    /// [`EstimateError::Model`] for `ã ∉ A` or a diverged solve (also of the shifted `ã` of
+    /// [`shape_sigma`], with standard deviations given). Errors leave the last sample
     /// unchanged.
     pub fn estimate(&mut self, a_tilde: &Vector6<f64>) -> Result<ShapeEstimate, EstimateError> {
         ensure_finite("a_tilde", a_tilde.as_slice())?;
         let shape = self.model.shape(a_tilde, self.config.nodes)?;
         let stable = self.model.is_stable(a_tilde)?;
+        let sigma = match &self.a_std {
+            Some(std) => {
+                Some(shape_sigma(&self.model, a_tilde, self.config.nodes, &std.covariance())?.sigma)
+            }
+            None => None,
+        };
         let confidence = self.flag_solved(a_tilde, stable);
         Ok(ShapeEstimate {
             shape,
             confidence,
             normalised: to_normalised(self.model.wire(), a_tilde),
+            sigma,
         })
     }
 

@@ -6,7 +6,9 @@
 //!   [`MultiStart`]) then Levenberg–Marquardt ([`LevenbergMarquardt`]) with the analytic
 //!   derivative of each marker position ([`centreline_point`]). It labels the calibration
 //!   data.
-//! - [`ShapeEstimator`]: `ã` → the centreline at sensor rate, with a [`Confidence`] flag.
+//! - [`ShapeEstimator`]: `ã` → the centreline at sensor rate, with a [`Confidence`] flag
+//!   and, given the standard deviations of `ã` ([`ConfigurationStd`]), the standard deviation
+//!   of each point ([`shape_sigma`]: `Σ_p = D Σ_ã Dᵀ` to first order).
 //! - Metrics: [`centreline_distance`] (matched arc lengths) and [`marker_distances`] (each
 //!   marker to the closest point of a polyline).
 //!
@@ -23,6 +25,7 @@ mod markers;
 mod metrics;
 mod polyline;
 mod setting;
+mod sigma;
 
 pub use centreline_point::{CentrelinePoint, centreline_point};
 pub use estimate::{
@@ -36,3 +39,4 @@ pub use metrics::{
     DEFAULT_METRIC_SAMPLES, MIN_METRIC_SAMPLES, centreline_distance, marker_distances,
 };
 pub use polyline::{ClosestPoint, closest_point, cumulative_length};
+pub use sigma::{ConfigurationStd, RELATIVE_STEP, ShapeSigma, shape_jacobians, shape_sigma};

@@ -3,14 +3,14 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::{CountRange, JsonArgs, ResultsArgs};
+use ftwire::args::{CountRange, JsonArgs, ResultsArgs, Vec6, parse_numbers};
 use ftwire_lab::log::shape::{MAX_POINTS, MIN_POINTS};
 use serde::Serialize;
 
 use crate::cli::groups::{CalibrationArgs, MountingArgs};
 
 /// `ftwire shape --log FILE.jsonl --wire W [--calibration FILE] [--mounting FILE.toml]
-/// [--out DIR [--points N]] [--json]`.
+/// [--a-std T1,T2,T3,F1,F2,F3] [--out DIR [--points N]] [--json]`.
 #[derive(Debug, Clone, Args, Serialize)]
 #[command(after_help = "Examples:\n  \
     ftwire shape --log results/shape/logs/nitinol-2mm-630.jsonl --wire nitinol-2mm-630 \\\n    \
@@ -20,6 +20,9 @@ use crate::cli::groups::{CalibrationArgs, MountingArgs};
     Without --out each record's answer is printed (text, or JSON Lines with --json). With \
     --out DIR the shapes go to DIR/shapes.jsonl (one line per record: line, time, a, points, \
     stable, confident) with summary.json and the report.\n\n\
+    Error bars: with --a-std, or a --calibration whose file has its test error (for the raw \
+    records read through it), each shape also gets sigma_mm, the RMS radius of each point's \
+    first-order error [mm], and summary.json sigma_mean_mm.\n\n\
     Exit codes: 0 every record shaped, 1 the model has no shape for some record (its `error` \
     says why; the others are written), 2 bad input (a bad log line, a raw record with neither \
     --calibration nor --mounting, a tool without the record's gravity).")]
@@ -41,6 +44,15 @@ pub struct ShapeArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub mounting: MountingArgs,
+    /// Standard deviations of every record's ã, torque first [N·m ×3, N ×3], each >= 0: the
+    /// whole error of ã (sensor noise and calibration error). Each shape then carries σ(s) at
+    /// each point, sqrt(trace D Σ D^T) with D = ∂p(s)/∂a and Σ = diag(std²): the RMS radius of
+    /// the point's first-order error [mm] (`sigma_mm`; 12 more shape solves per record)
+    /// [default: the calibration file's per-channel test RMSE for the raw records read through
+    /// it; otherwise no error bars].
+    #[arg(long, value_name = "T1,T2,T3,F1,F2,F3", value_parser = parse_numbers::<6>, allow_hyphen_values = true)]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a_std: Option<Vec6>,
     /// Points of each shape in shapes.jsonl, evenly spaced in arc length from the base clamp
     /// to the tip, 2 to 10000 [default: 100]. Only with --out.
     #[arg(long, value_name = "N", requires = "out", value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]

@@ -4,10 +4,12 @@
 //! results folder.
 //!
 //! Output per record without `--out`: with `--json`, one JSON object per line: `record` (from
-//! 0), `time`, `a_tilde`, `confidence`, `points` (\[m\]), and `marker_mean_mm` when the record
-//! has markers; without, one line of text. With `--out DIR`: `DIR/shapes.jsonl` (one line per
+//! 0), `time`, `a_tilde`, `confidence`, `points` (\[m\]), `sigma_mm` (\[mm\], with error
+//! bars: `--a-std` or the calibration's test error) and `marker_mean_mm` when the record has
+//! markers; without, one line of text. With `--out DIR`: `DIR/shapes.jsonl` (one line per
 //! record, [`ftwire_lab::log::shape::folder`]), `summary.json` (`records`, `not_stable`,
-//! `not_confident`, `marker_mean_mm`), `timings.json` and the report; the summary is printed
+//! `not_confident`, `marker_mean_mm`, and `sigma_mean_mm` with error bars), `timings.json`
+//! and the report; the summary is printed
 //! (as JSON with `--json`). A record the model cannot solve gets an `error` instead, and the
 //! command then exits 1 after the last record (the folder written). A bad or empty log, a
 //! `raw` record with neither `--calibration` nor `--mounting`, or one without `gravity` when
@@ -34,6 +36,7 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
         wire: args.wire.clone(),
         calibration: args.calibration.file.clone(),
         mounting: args.mounting.given()?,
+        a_std: args.a_std.map(|s| s.0),
     };
     if args.results.out.is_some() {
         return write_folder(&args, &params);

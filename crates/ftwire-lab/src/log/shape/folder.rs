@@ -14,6 +14,14 @@
 //! solve (`ã ∉ A`, a diverged integration, a calibration output that is not finite) has
 //! `"points": []`, `stable` and `confident` false, and an `"error"` saying why.
 //!
+//! When the standard deviations of the record's `ã` are known (`--a-std`, or the
+//! calibration's test error for a `raw` record read through it: [`super`]'s module docs), the
+//! line also has `"sigma_mm": [σ, …]` after `points`, as long as `points`: `σ(s)` at each
+//! point, the RMS radius of its first-order error \[mm\] (`sqrt(trace D Σ_ã Dᵀ)`,
+//! `ftwire_estimate::shape::shape_sigma`), and the summary has `sigma_mean_mm`, the mean over
+//! the records with `sigma_mm` of their mean `σ` along the wire. Without them neither key is
+//! written and no error bar is computed.
+//!
 //! The summary ([`ShapeLogSummary`]) counts the records that are not stable and not
 //! confident, and measures the shapes against the markers by the paper's metric (Fig. 5):
 //! each inner marker's distance to the centreline (the first marker is at the clamp and the
@@ -35,7 +43,7 @@ use std::io::Write;
 use std::time::Instant;
 
 use ftwire_core::ensure_finite;
-use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
+use ftwire_estimate::shape::{ConfigurationStd, ShapeEstimator, marker_distances, shape_sigma};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::Shape;
 use nalgebra::{Point3, Vector3, Vector6};
@@ -85,6 +93,10 @@ pub struct ShapeLogSummary {
     /// The mean distance of the inner markers to the estimated centreline \[mm\] (the module
     /// docs); `None` (`null`) when no record has an inner marker and a shape.
     pub marker_mean_mm: Option<f64>,
+    /// The mean over the records with error bars of their mean `σ(s)` along the wire \[mm\]
+    /// (the module docs); left out when no record has error bars.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma_mean_mm: Option<f64>,
 }
 
 /// Wall-clock times (`timings.json`).
@@ -114,6 +126,8 @@ struct ShapeLine<'a> {
     time: f64,
     a: [f64; 6],
     points: Points<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sigma_mm: Option<&'a [f64]>,
     stable: bool,
     confident: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -133,6 +147,8 @@ impl Serialize for Points<'_> {
 struct Solved {
     shape: Shape,
     stable: bool,
+    /// `σ(s)` at each point \[mm\], if the standard deviations of `ã` are known.
+    sigma_mm: Option<Vec<f64>>,
     /// The mean distance of the inner markers to the centreline \[mm\], if it has any.
     marker_mm: Option<f64>,
 }
@@ -149,15 +165,21 @@ fn write_line(
     solved: &Result<Solved, String>,
     confident: bool,
 ) -> Result<(), LabError> {
-    let (points, stable, error) = match solved {
-        Ok(s) => (s.shape.positions.as_slice(), s.stable, None),
-        Err(why) => (&[][..], false, Some(why.as_str())),
+    let (points, sigma_mm, stable, error) = match solved {
+        Ok(s) => (
+            s.shape.positions.as_slice(),
+            s.sigma_mm.as_deref(),
+            s.stable,
+            None,
+        ),
+        Err(why) => (&[][..], None, false, Some(why.as_str())),
     };
     let row = ShapeLine {
         line: line.line,
         time: line.record.time,
         a: (*a).into(),
         points: Points(points),
+        sigma_mm,
         stable,
         confident,
         error,
@@ -220,11 +242,13 @@ impl ShapeLog {
         // Each holds the text of LINES_PER_BUFFER lines; kept from block to block.
         let mut buffers: Vec<Vec<u8>> = Vec::new();
         let blocks = self.lines().chunks(BLOCK).zip(self.a_tilde().chunks(BLOCK));
-        for (lines, a) in blocks {
+        for (block, (lines, a)) in blocks.enumerate() {
+            let first = block * BLOCK;
             let solved: Vec<Result<Solved, String>> = lines
                 .par_iter()
                 .zip(a)
-                .map(|(line, a)| solve(model, line, a, points))
+                .enumerate()
+                .map(|(i, (line, a))| solve(model, line, a, points, self.a_std(first + i)))
                 .collect::<Result<_, _>>()?;
             // The jump flag needs the previous solved record: in order.
             let confident: Vec<bool> = solved
@@ -288,6 +312,8 @@ struct Tally {
     no_shape: usize,
     marker_sum_mm: f64,
     marker_records: usize,
+    sigma_sum_mm: f64,
+    sigma_records: usize,
 }
 
 impl Tally {
@@ -302,6 +328,12 @@ impl Tally {
                         self.marker_sum_mm += mm;
                         self.marker_records += 1;
                     }
+                    if let Some(sigma) = s.sigma_mm.as_ref().filter(|s| !s.is_empty()) {
+                        #[allow(clippy::cast_precision_loss)] // at most MAX_POINTS
+                        let mean = sigma.iter().sum::<f64>() / sigma.len() as f64;
+                        self.sigma_sum_mm += mean;
+                        self.sigma_records += 1;
+                    }
                 }
                 Err(_) => {
                     self.not_stable += 1;
@@ -315,11 +347,15 @@ impl Tally {
         #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
         let marker_mean_mm =
             (self.marker_records > 0).then(|| self.marker_sum_mm / self.marker_records as f64);
+        #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
+        let sigma_mean_mm =
+            (self.sigma_records > 0).then(|| self.sigma_sum_mm / self.sigma_records as f64);
         ShapeLogSummary {
             records: self.records,
             not_stable: self.not_stable,
             not_confident: self.not_confident,
             marker_mean_mm,
+            sigma_mean_mm,
         }
     }
 }
@@ -337,7 +373,8 @@ fn shape_and_stability(
     Ok((shape, stable))
 }
 
-/// One record solved, or why the model has no shape for it.
+/// One record solved, or why the model has no shape for it; with the standard deviations
+/// `a_std` of `ã`, its error bars too (none when a shifted `ã` has no shape).
 ///
 /// # Errors
 /// Bad input for markers the distance refuses.
@@ -346,11 +383,17 @@ fn solve(
     line: &LogLine,
     a: &Vector6<f64>,
     points: usize,
+    a_std: Option<&ConfigurationStd>,
 ) -> Result<Result<Solved, String>, LabError> {
     let (shape, stable) = match shape_and_stability(model, a, points) {
         Ok(solved) => solved,
         Err(e) => return Ok(Err(e.to_string())),
     };
+    let sigma_mm = a_std.and_then(|std| {
+        shape_sigma(model, a, points, &std.covariance())
+            .ok()
+            .map(|sigma| sigma.sigma.iter().map(|s| 1e3 * s).collect())
+    });
     let inner: Vec<Point3<f64>> = line
         .record
         .markers
@@ -381,6 +424,7 @@ fn solve(
     Ok(Ok(Solved {
         shape,
         stable,
+        sigma_mm,
         marker_mm,
     }))
 }

@@ -13,6 +13,15 @@
 //! - [`ShapeLog::write`] writes `shapes.jsonl` into a results folder, as `ftwire shape --log
 //!   --out DIR` does ([`folder`]: the records solved in parallel, flagged in order).
 //!
+//! **Error bars.** When the standard deviations of a record's `ã` are known, its shape
+//! carries `σ(s)` at each point ([`ftwire_estimate::shape::shape_sigma`]: the RMS radius of
+//! the point's first-order error, `sqrt(trace D Σ_ã Dᵀ)`), in mm. They are those given
+//! (`--a-std`, [`ShapeLogParams::a_std`]: the whole error of `ã`, for every record), or else,
+//! for a record whose `raw` reading went through the learnt calibration, the calibration's
+//! per-channel RMS error on its test split (`training.test_rmse` of `calibration.json`: the
+//! test readings' noise included). Otherwise a record has no `σ`, and none is computed: the
+//! error bars cost 12 more shape solves per record.
+//!
 //! Guarded by this module's tests, `tests/logs.rs` and `crates/ftwire/tests/shape_log.rs` (a
 //! log the shape experiment saved gives the live run's answer).
 
@@ -23,7 +32,9 @@ use std::path::PathBuf;
 
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::ft::MountingSpec;
-use ftwire_estimate::shape::{Confidence, ShapeEstimator, marker_distances};
+use ftwire_estimate::shape::{
+    Confidence, ConfigurationStd, ShapeEstimator, marker_distances, shape_sigma,
+};
 use nalgebra::{Point3, Vector6};
 use serde::Serialize;
 
@@ -49,6 +60,11 @@ pub struct ShapeLogParams {
     /// without a calibration the mounting alone maps it; `None`: not given (records with
     /// `raw` then need the calibration).
     pub mounting: Option<MountingSpec>,
+    /// The standard deviations of every record's `ã` (`--a-std`), torque first \[N·m ×3,
+    /// N ×3\], for the error bars (the module docs); `None`: the calibration's test error for
+    /// the records read through it, no error bars for the others.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a_std: Option<[f64; 6]>,
 }
 
 /// A log read and checked for shaping: every record with its line in the file and its `ã`,
@@ -59,6 +75,10 @@ pub struct ShapeLog {
     lines: Vec<LogLine>,
     a_tilde: Vec<Vector6<f64>>,
     model: KirchhoffModel,
+    /// `--a-std`.
+    given_std: Option<ConfigurationStd>,
+    /// The calibration's test error, if a calibration with one was given.
+    calibration_std: Option<ConfigurationStd>,
 }
 
 impl ShapeLog {
@@ -66,8 +86,9 @@ impl ShapeLog {
     /// record's `ã` ([`a_tilde`]), before any shape is solved.
     ///
     /// # Errors
-    /// Bad input for an unknown or invalid wire, a calibration or mounting [`RawMap::load`]
-    /// refuses, a log [`read_log`] refuses, or a record [`a_tilde`] refuses (named by its line
+    /// Bad input for an unknown or invalid wire, standard deviations that are not finite and
+    /// `>= 0`, a calibration or mounting [`RawMap::load`] refuses, a calibration whose test
+    /// error is not finite and `>= 0`, a log [`read_log`] refuses, or a record [`a_tilde`] refuses (named by its line
     /// and time: a `raw` reading with neither a calibration nor a mounting, or without
     /// `gravity` when the mounting has a tool).
     pub fn load(params: &ShapeLogParams) -> Result<Self, LabError> {
@@ -75,7 +96,18 @@ impl ShapeLog {
         let wire_params = wire
             .wire_params()
             .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
+        let given_std = params
+            .a_std
+            .map(ConfigurationStd::new)
+            .transpose()
+            .map_err(|e| LabError::bad_input(format!("--a-std: {e}")))?;
         let map = RawMap::load(params.calibration.as_deref(), params.mounting.clone())?;
+        let calibration_std = map
+            .calibration()
+            .and_then(|c| c.record().test_rmse)
+            .map(ConfigurationStd::new)
+            .transpose()
+            .map_err(|e| LabError::bad_input(format!("the calibration's test_rmse: {e}")))?;
         let lines = read_log(&params.log)?;
         let a_tilde = lines
             .iter()
@@ -87,7 +119,21 @@ impl ShapeLog {
             lines,
             a_tilde,
             model: KirchhoffModel::new(wire_params),
+            given_std,
+            calibration_std,
         })
+    }
+
+    /// The standard deviations of the `ã` of record `index` (the module docs), if known.
+    pub fn a_std(&self, index: usize) -> Option<&ConfigurationStd> {
+        let through_calibration = self
+            .lines
+            .get(index)
+            .is_some_and(|line| line.record.raw().is_some());
+        self.given_std.as_ref().or(self
+            .calibration_std
+            .as_ref()
+            .filter(|_| through_calibration))
     }
 
     /// The log's records, each with its line in the file.
@@ -128,6 +174,10 @@ pub struct RecordShape {
     /// The centreline's nodes \[m\], base clamp frame; `None` without a shape.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub points: Option<Vec<[f64; 3]>>,
+    /// `σ(s)` at each of `points` \[mm\] (the module docs); `None` without a shape, without
+    /// the standard deviations of `ã`, or when a shifted `ã` of the differences has no shape.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma_mm: Option<Vec<f64>>,
     /// The mean distance of the record's seen markers to the centreline \[mm\]; `None`
     /// without markers.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -148,7 +198,8 @@ pub fn confidence_name(confidence: &Confidence) -> &'static str {
 
 /// The shape of `record` (index `index` in its log, from 0) at its `ã` `a` from `estimator`,
 /// which keeps the previous estimate to flag jumps: give it the records in order. A model
-/// that cannot solve `ã` is an answer too, with [`RecordShape::error`].
+/// that cannot solve `ã` is an answer too, with [`RecordShape::error`]. Without error bars:
+/// [`shape_record_with_std`] with `None`.
 ///
 /// # Errors
 /// Bad input for markers the distance refuses.
@@ -158,12 +209,28 @@ pub fn shape_record(
     record: &LogRecord,
     a: &Vector6<f64>,
 ) -> Result<RecordShape, LabError> {
+    shape_record_with_std(estimator, index, record, a, None)
+}
+
+/// [`shape_record`], and with the standard deviations `a_std` of `ã` also `σ(s)` at each
+/// point ([`RecordShape::sigma_mm`]).
+///
+/// # Errors
+/// As [`shape_record`].
+pub fn shape_record_with_std(
+    estimator: &mut ShapeEstimator<KirchhoffModel>,
+    index: usize,
+    record: &LogRecord,
+    a: &Vector6<f64>,
+    a_std: Option<&ConfigurationStd>,
+) -> Result<RecordShape, LabError> {
     let mut shape = RecordShape {
         record: index,
         time: record.time,
         a_tilde: Some((*a).into()),
         confidence: None,
         points: None,
+        sigma_mm: None,
         marker_mean_mm: None,
         error: None,
     };
@@ -180,6 +247,12 @@ pub fn shape_record(
             }
             shape.confidence = Some(confidence_name(&estimate.confidence));
             shape.points = Some(positions.iter().map(|p| [p.x, p.y, p.z]).collect());
+            if let Some(std) = a_std {
+                let nodes = positions.len();
+                shape.sigma_mm = shape_sigma(estimator.model(), a, nodes, &std.covariance())
+                    .ok()
+                    .map(|sigma| sigma.sigma.iter().map(|s| 1e3 * s).collect());
+            }
         }
         Err(e) => shape.error = Some(e.to_string()),
     }
@@ -224,7 +297,14 @@ impl Iterator for LogShapes {
         let line = self.log.lines.get(index)?;
         let a = self.log.a_tilde.get(index)?;
         self.next += 1;
-        Some(shape_record(&mut self.estimator, index, &line.record, a))
+        let a_std = self.log.a_std(index);
+        Some(shape_record_with_std(
+            &mut self.estimator,
+            index,
+            &line.record,
+            a,
+            a_std,
+        ))
     }
 }
 
@@ -237,9 +317,14 @@ impl fmt::Display for RecordShape {
                 let markers = self
                     .marker_mean_mm
                     .map_or_else(String::new, |m| format!(", markers {m:.2} mm"));
+                let sigma = self
+                    .sigma_mm
+                    .as_ref()
+                    .and_then(|s| s.last())
+                    .map_or_else(String::new, |s| format!(" ± {s:.2} mm"));
                 writeln!(
                     out,
-                    "record {} t = {:.3} s: {}, tip at ({:.4}, {:.4}, {:.4}) m{markers}",
+                    "record {} t = {:.3} s: {}, tip at ({:.4}, {:.4}, {:.4}) m{sigma}{markers}",
                     self.record,
                     self.time,
                     self.confidence.unwrap_or("-"),
@@ -285,6 +370,7 @@ mod tests {
             wire: "nitinol-2mm-630".into(),
             calibration: None,
             mounting: None,
+            a_std: None,
         };
         let shapes: Result<Vec<RecordShape>, LabError> =
             LogShapes::new(&params).and_then(Iterator::collect);
@@ -313,6 +399,7 @@ mod tests {
             wire: "nitinol-2mm-630".into(),
             calibration: None,
             mounting: None,
+            a_std: None,
         };
         let error = LogShapes::new(&params).err();
         let _ = std::fs::remove_file(&path);
