@@ -1,7 +1,7 @@
 """ftwire from Python, as `ftwire demo` does it in the simulator: tare the F/T sensor, identify
 an unknown wire from a few rests, then see its shape from F/T alone against the truth.
 
-Run after `pip install ./crates/ftwire-py`: python crates/ftwire-py/examples/demo.py
+Run after `pip install ./crates/ftwire-py`: python examples/python/demo.py
 """
 
 import numpy as np
