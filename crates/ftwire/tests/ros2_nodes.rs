@@ -51,6 +51,15 @@ fn run_pair(tag: &str, sim_s: f64, estimate_s: f64) -> (Value, Value) {
 
 /// As [`run_pair`], in `dir` (kept), with `extra` options for the estimator.
 fn run_pair_in(dir: &Path, sim_s: f64, estimate_s: f64, extra: &str) -> (Value, Value) {
+    let node = format!("estimate --truth-topic /wire/truth --duration {estimate_s} {extra}");
+    let (sim, estimate, _) = run_nodes(dir, sim_s, &node);
+    (sim, estimate)
+}
+
+/// In one loopback-only namespace, in `dir`: the sim (gravity off, no dropouts, for at most
+/// `sim_s`) and, 0.3 s later, `ftwire ros2 <node_args>` until it ends by itself; then the sim
+/// ends with SIGTERM. Returns both summaries and the node's log.
+fn run_nodes(dir: &Path, sim_s: f64, node_args: &str) -> (Value, Value, String) {
     require_unshare();
     let sensor = dir.join("sensor.toml");
     std::fs::write(&sensor, "dropout_probability = 0.0\n").expect("a sensor file");
@@ -59,16 +68,15 @@ fn run_pair_in(dir: &Path, sim_s: f64, estimate_s: f64, extra: &str) -> (Value, 
         "set -e; ip link set lo up; \
          [ \"$(ip -o link | wc -l)\" = 1 ] || {{ echo 'the namespace has a device besides lo' >&2; exit 97; }}; \
          '{BIN}' ros2 sim --gravity off --sensor '{sensor}' --seed 3 --domain-id 17 \
-           --duration {sim_s} > '{sim}' 2> '{sim_err}' & \
+           --duration {sim_s} > '{sim}' 2> '{sim_err}' & sim=$!; \
          sleep 0.3; \
-         '{BIN}' ros2 estimate --truth-topic /wire/truth --domain-id 17 --duration {estimate_s} \
-           {extra} > '{est}' 2> '{est_err}'; \
-         wait",
+         '{BIN}' ros2 {node_args} --domain-id 17 > '{node}' 2> '{node_err}'; \
+         kill -TERM $sim 2>/dev/null || true; wait",
         sensor = sensor.display(),
         sim = out("sim.json"),
         sim_err = out("sim.err"),
-        est = out("estimate.json"),
-        est_err = out("estimate.err"),
+        node = out("node.json"),
+        node_err = out("node.err"),
     );
     let status = Command::new("unshare")
         .args(["-n", "sh", "-c", &script])
@@ -77,9 +85,9 @@ fn run_pair_in(dir: &Path, sim_s: f64, estimate_s: f64, extra: &str) -> (Value, 
     let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
     assert!(
         status.success(),
-        "the nodes failed ({status}):\nsim: {}\nestimate: {}",
+        "the nodes failed ({status}):\nsim: {}\nnode: {}",
         read("sim.err"),
-        read("estimate.err")
+        read("node.err")
     );
     let summary = |name: &str, log: &str| -> Value {
         let text = read(name);
@@ -93,7 +101,8 @@ fn run_pair_in(dir: &Path, sim_s: f64, estimate_s: f64, extra: &str) -> (Value, 
     };
     (
         summary("sim.json", "sim.err"),
-        summary("estimate.json", "estimate.err"),
+        summary("node.json", "node.err"),
+        read("node.err"),
     )
 }
 
@@ -273,55 +282,10 @@ fn a_minute_at_1_khz() {
     println!("sim: {sim}\nestimate: {estimate}");
 }
 
-/// Runs the sim (as [`run_pair`] does, for at most `sim_s`) and, 0.3 s later, `ftwire ros2
-/// <node_args>` until it ends by itself, then ends the sim with SIGTERM; returns both
-/// summaries and the node's log.
+/// [`run_nodes`] with `ftwire ros2 <node_args> --duration sim_s`, in a fresh folder.
 fn run_with_sim(tag: &str, sim_s: f64, node_args: &str) -> (Value, Value, String) {
-    require_unshare();
     let dir = temp_dir(tag);
-    let sensor = dir.join("sensor.toml");
-    std::fs::write(&sensor, "dropout_probability = 0.0\n").expect("a sensor file");
-    let out = |name: &str| dir.join(name).display().to_string();
-    let script = format!(
-        "set -e; ip link set lo up; \
-         [ \"$(ip -o link | wc -l)\" = 1 ] || {{ echo 'the namespace has a device besides lo' >&2; exit 97; }}; \
-         '{BIN}' ros2 sim --gravity off --sensor '{sensor}' --seed 3 --domain-id 18 \
-           --duration {sim_s} > '{sim}' 2> '{sim_err}' & sim=$!; \
-         sleep 0.3; \
-         '{BIN}' ros2 {node_args} --domain-id 18 --duration {sim_s} > '{node}' 2> '{node_err}'; \
-         kill -TERM $sim; wait",
-        sensor = sensor.display(),
-        sim = out("sim.json"),
-        sim_err = out("sim.err"),
-        node = out("node.json"),
-        node_err = out("node.err"),
-    );
-    let status = Command::new("unshare")
-        .args(["-n", "sh", "-c", &script])
-        .status()
-        .expect("runs unshare");
-    let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
-    assert!(
-        status.success(),
-        "the nodes failed ({status}):\nsim: {}\nnode: {}",
-        read("sim.err"),
-        read("node.err")
-    );
-    let summary = |name: &str, log: &str| -> Value {
-        let text = read(name);
-        let line = text.lines().last().unwrap_or_default();
-        serde_json::from_str(line).unwrap_or_else(|e| {
-            panic!(
-                "{name} is not one JSON line ({e}): {text:?}\nlog: {}",
-                read(log)
-            )
-        })
-    };
-    let result = (
-        summary("sim.json", "sim.err"),
-        summary("node.json", "node.err"),
-        read("node.err"),
-    );
+    let result = run_nodes(&dir, sim_s, &format!("{node_args} --duration {sim_s}"));
     let _ = std::fs::remove_dir_all(Path::new(&dir));
     result
 }
