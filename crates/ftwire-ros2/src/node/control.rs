@@ -35,8 +35,9 @@ use serde::Serialize;
 
 use super::robot::{Halt, Robot, RobotCounts, RobotParams};
 use super::{BASE_FRAME, Log, NodeError, NodeSettings, SHAPE_TOPIC, header, publish, reliable};
-use crate::msg::{self, Path, PoseStamped};
+use crate::msg::Path;
 use crate::node::sim::ros_point;
+use crate::node::{check_contact_miss, path_message};
 
 /// Nodes of the published shapes.
 const SHAPE_NODES: usize = 64;
@@ -122,15 +123,7 @@ impl ControlNodeParams {
                 allowed: "1 to 100000 steps",
             });
         }
-        if let Some(miss) = self.contact_miss
-            && !(miss.is_finite() && miss > 0.0)
-        {
-            return Err(NodeError::BadSetting {
-                setting: "--contact-miss",
-                value: (1e3 * miss).to_string(),
-                allowed: "a positive distance in mm",
-            });
-        }
+        check_contact_miss(self.contact_miss)?;
         Ok(())
     }
 
@@ -171,20 +164,7 @@ fn publish_shape(
     counts: &mut RobotCounts,
 ) -> Option<Vec<Vector3<f64>>> {
     let nodes = model.shape(a, SHAPE_NODES).ok()?.positions;
-    let h = header(stamp, BASE_FRAME);
-    let path = Path {
-        poses: nodes
-            .iter()
-            .map(|p| PoseStamped {
-                header: h.clone(),
-                pose: msg::Pose {
-                    position: ros_point(p),
-                    orientation: msg::Quaternion::default(),
-                },
-            })
-            .collect(),
-        header: h,
-    };
+    let path = path_message(header(stamp, BASE_FRAME), nodes.iter().map(ros_point));
     publish(
         shape_pub,
         path,

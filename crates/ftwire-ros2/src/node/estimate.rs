@@ -37,15 +37,15 @@
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use ftwire_core::FtSample;
-use ftwire_estimate::ft::{RestAverage, Tare};
-use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
+use ftwire_estimate::ft::Tare;
+use ftwire_lab::log::RawMap;
 use ftwire_lab::wire::WireSpec;
 use nalgebra::Vector6;
 use ros2_client::MessageInfo;
 use serde::Serialize;
 
 use super::stats::Spread;
-use super::{Counts, NodeError};
+use super::{Counts, NodeError, a_of_raw, check_contact_miss, tare_of};
 use crate::msg::{self, ColorRGBA, Marker, MarkerArray};
 
 /// The line width of the drawn wire \[m\].
@@ -188,12 +188,9 @@ impl Pipeline {
                 saturated: [false; 6],
             });
             if self.tare_samples.len() >= self.tare_target {
-                let rest = RestAverage::new(self.tare_target.div_ceil(2))
-                    .and_then(|average| average.average(self.tare_samples.iter().map(Some)))
-                    .map_err(|e| e.to_string());
-                return match rest {
-                    Ok(rest) => {
-                        self.tare = Some(Tare::from_rest(&rest, &Vector6::zeros()));
+                return match tare_of(&self.tare_samples) {
+                    Ok(tare) => {
+                        self.tare = Some(tare);
                         None
                     }
                     Err(e) => {
@@ -219,28 +216,7 @@ impl Pipeline {
         }
         #[allow(clippy::cast_precision_loss)] // a window far below 2⁵²
         let mean = self.sum / len as f64;
-        let line = LogLine {
-            line: 0,
-            record: LogRecord {
-                time,
-                raw: Some(mean.into()),
-                a: None,
-                b: None,
-                markers: None,
-                gravity: None,
-            },
-        };
-        Some(
-            a_tilde(&line, &self.map)
-                .map_err(|e| e.to_string())
-                .and_then(|a| {
-                    if a.iter().all(|v| v.is_finite()) {
-                        Ok(a)
-                    } else {
-                        Err("the calibration gave a value that is not finite".to_owned())
-                    }
-                }),
-        )
+        Some(a_of_raw(&mean, time, &self.map))
     }
 }
 
@@ -372,15 +348,7 @@ impl EstimateNodeParams {
                 allowed: "the sensor's rate, 1 Hz to 10 kHz",
             });
         }
-        if let Some(miss) = self.contact_miss
-            && !(miss.is_finite() && miss > 0.0)
-        {
-            return Err(NodeError::BadSetting {
-                setting: "--contact-miss",
-                value: (1e3 * miss).to_string(),
-                allowed: "a positive distance in mm",
-            });
-        }
+        check_contact_miss(self.contact_miss)?;
         if let Some(spec) = self.map.mounting()
             && spec.tool_mass > 0.0
         {

@@ -10,7 +10,7 @@ use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
 use ftwire_lab::log::LogRecord;
 use ftwire_lab::log::shape::shape_record;
-use nalgebra::{Point3, Vector3};
+use nalgebra::Vector3;
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::{Publisher, Subscription};
 
@@ -26,6 +26,7 @@ use super::{
 use crate::bag::BagWriter;
 use crate::msg::{self, MarkerArray, Path, PoseStamped, RosMessage, StringMsg, WrenchStamped};
 use crate::node::sim::{pose_of, ros_point};
+use crate::node::{path_message, path_points};
 
 /// Longest wait in one poll, so that a stop or the end of the duration is seen \[ms\].
 const POLL_MS: u64 = 20;
@@ -340,19 +341,7 @@ impl<'p> State<'p> {
             frame_id: BASE_FRAME.to_owned(),
         };
         let ros_points: Vec<msg::Point> = self.shape.iter().map(ros_point).collect();
-        let path = Path {
-            poses: ros_points
-                .iter()
-                .map(|p| PoseStamped {
-                    header: header.clone(),
-                    pose: msg::Pose {
-                        position: *p,
-                        orientation: msg::Quaternion::default(),
-                    },
-                })
-                .collect(),
-            header: header.clone(),
-        };
+        let path = path_message(header.clone(), ros_points.iter().copied());
         let drawn = markers(&header, &ros_points, confident, contact.as_ref());
         let status = Status {
             stamp: seconds(&sample.stamp),
@@ -399,13 +388,7 @@ impl<'p> State<'p> {
                         count(&mut self.summary.refused, "frame_id");
                         continue;
                     }
-                    let nodes: Vec<Point3<f64>> = truth
-                        .poses
-                        .iter()
-                        .map(|p| {
-                            Point3::new(p.pose.position.x, p.pose.position.y, p.pose.position.z)
-                        })
-                        .collect();
+                    let nodes = path_points(&truth);
                     if self.shape.len() < 2 {
                         continue;
                     }

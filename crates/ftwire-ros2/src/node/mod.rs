@@ -48,7 +48,12 @@ use ros2_client::{Publisher, Subscription};
 
 pub use error::NodeError;
 
-use crate::msg::{Header, RosMessage, Time};
+use ftwire_core::FtSample;
+use ftwire_estimate::ft::{RestAverage, Tare};
+use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
+use nalgebra::{Point3, Vector6};
+
+use crate::msg::{self, Header, Path, PoseStamped, RosMessage, Time};
 
 /// The F/T samples.
 pub const WRENCH_TOPIC: &str = "/ft_sensor/wrench";
@@ -281,6 +286,79 @@ pub(crate) fn sleep_until(deadline: Instant, cap: Duration) {
     let now = Instant::now();
     if deadline > now {
         std::thread::sleep((deadline - now).min(cap));
+    }
+}
+
+/// The tare of `samples`, read with nothing in the gripper: their mean over the good ones (at
+/// least half must be), subtracted from every later reading.
+pub(crate) fn tare_of(samples: &[FtSample]) -> Result<Tare, String> {
+    RestAverage::new(samples.len().div_ceil(2))
+        .and_then(|average| average.average(samples.iter().map(Some)))
+        .map(|rest| Tare::from_rest(&rest, &Vector6::zeros()))
+        .map_err(|e| e.to_string())
+}
+
+/// `ã` of a tared mean reading (force first, sensor frame) at `time` \[s\]: through the
+/// calibration or the mounting exactly as `ftwire shape --log` maps a record's `raw`
+/// ([`a_tilde`]); an answer that is not finite is an error.
+pub(crate) fn a_of_raw(
+    mean: &Vector6<f64>,
+    time: f64,
+    map: &RawMap,
+) -> Result<Vector6<f64>, String> {
+    let line = LogLine {
+        line: 0,
+        record: LogRecord {
+            time,
+            raw: Some((*mean).into()),
+            a: None,
+            b: None,
+            markers: None,
+            gravity: None,
+        },
+    };
+    let a = a_tilde(&line, map).map_err(|e| e.to_string())?;
+    if a.iter().all(|v| v.is_finite()) {
+        Ok(a)
+    } else {
+        Err("the calibration gave a value that is not finite".to_owned())
+    }
+}
+
+/// A `nav_msgs/Path` through `points` (orientations left at the identity), every pose with
+/// `header`.
+pub(crate) fn path_message(header: Header, points: impl Iterator<Item = msg::Point>) -> Path {
+    Path {
+        poses: points
+            .map(|position| PoseStamped {
+                header: header.clone(),
+                pose: msg::Pose {
+                    position,
+                    orientation: msg::Quaternion::default(),
+                },
+            })
+            .collect(),
+        header,
+    }
+}
+
+/// The positions of a path's poses \[m\].
+pub(crate) fn path_points(path: &Path) -> Vec<Point3<f64>> {
+    path.poses
+        .iter()
+        .map(|p| Point3::new(p.pose.position.x, p.pose.position.y, p.pose.position.z))
+        .collect()
+}
+
+/// Checks `--contact-miss` \[m\]: positive when given.
+pub(crate) fn check_contact_miss(miss: Option<f64>) -> Result<(), NodeError> {
+    match miss {
+        Some(miss) if !(miss.is_finite() && miss > 0.0) => Err(NodeError::BadSetting {
+            setting: "--contact-miss",
+            value: (1e3 * miss).to_string(),
+            allowed: "a positive distance in mm",
+        }),
+        _ => Ok(()),
     }
 }
 

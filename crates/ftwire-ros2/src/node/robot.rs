@@ -20,8 +20,8 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use ftwire_core::{FtSample, Pose};
-use ftwire_estimate::ft::{RestAverage, Tare};
-use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
+use ftwire_estimate::ft::Tare;
+use ftwire_lab::log::RawMap;
 use nalgebra::{Point3, Vector6};
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::{Publisher, Subscription};
@@ -34,6 +34,7 @@ use super::{
 };
 use crate::msg::{Path, PoseStamped, WrenchStamped};
 use crate::node::sim::{pose_of, ros_pose};
+use crate::node::{a_of_raw, path_points, tare_of};
 
 /// Standard errors by which the means of a rest's two halves may differ in a component.
 pub const SETTLE_Z: f64 = 5.0;
@@ -370,13 +371,7 @@ impl Robot {
                         count(&mut self.counts.refused, "frame_id");
                         continue;
                     }
-                    let nodes: Vec<Point3<f64>> = truth
-                        .poses
-                        .iter()
-                        .map(|p| {
-                            Point3::new(p.pose.position.x, p.pose.position.y, p.pose.position.z)
-                        })
-                        .collect();
+                    let nodes = path_points(&truth);
                     if nodes.iter().all(|p| p.coords.iter().all(|v| v.is_finite())) {
                         self.truth = Some(nodes);
                     } else {
@@ -398,10 +393,8 @@ impl Robot {
                 saturated: [false; 6],
             });
             if self.tare_samples.len() >= self.params.tare {
-                let rest = RestAverage::new(self.params.tare.div_ceil(2))
-                    .and_then(|average| average.average(self.tare_samples.iter().map(Some)));
-                match rest {
-                    Ok(rest) => self.tare = Some(Tare::from_rest(&rest, &Vector6::zeros())),
+                match tare_of(&self.tare_samples) {
+                    Ok(tare) => self.tare = Some(tare),
                     Err(_) => self.tare_samples.clear(),
                 }
             }
@@ -520,25 +513,7 @@ impl Robot {
 
     /// A tared mean through the calibration or the mounting.
     fn a_tilde(&self, mean: &Vector6<f64>) -> Result<Vector6<f64>, NodeError> {
-        let line = LogLine {
-            line: 0,
-            record: LogRecord {
-                time: 0.0,
-                raw: Some((*mean).into()),
-                a: None,
-                b: None,
-                markers: None,
-                gravity: None,
-            },
-        };
-        let a = a_tilde(&line, &self.params.map)?;
-        if a.iter().all(|v| v.is_finite()) {
-            Ok(a)
-        } else {
-            Err(NodeError::Incomplete(
-                "the calibration gave a value that is not finite".to_owned(),
-            ))
-        }
+        a_of_raw(mean, 0.0, &self.params.map).map_err(NodeError::Incomplete)
     }
 }
 

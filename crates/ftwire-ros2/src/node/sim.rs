@@ -42,6 +42,7 @@ use super::{
     publish, reliable, seconds, should_stop, sleep_until, tick_stamp,
 };
 use crate::msg::{self, Path, PoseArray, PoseStamped, WrenchStamped};
+use crate::node::path_message;
 
 /// How far a target's orientation quaternion may be from unit length before it is refused.
 pub const QUATERNION_TOLERANCE: f64 = 1e-3;
@@ -283,20 +284,10 @@ pub fn wrench_message(sample: &FtSample, stamp: msg::Time) -> WrenchStamped {
 
 /// The true centreline of `rig` as a path at `t` \[s\].
 pub fn truth_message(rig: &SimRig, t: f64) -> Path {
-    let h = header(t, BASE_FRAME);
-    Path {
-        poses: true_centreline(rig)
-            .iter()
-            .map(|p| PoseStamped {
-                header: h.clone(),
-                pose: msg::Pose {
-                    position: ros_point(p),
-                    orientation: msg::Quaternion::default(),
-                },
-            })
-            .collect(),
-        header: h,
-    }
+    path_message(
+        header(t, BASE_FRAME),
+        true_centreline(rig).iter().map(ros_point),
+    )
 }
 
 /// The sim's publishers.
