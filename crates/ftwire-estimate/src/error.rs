@@ -116,6 +116,17 @@ pub enum EstimateError {
         /// The offending value.
         value: f64,
     },
+    /// The time of an identification sample is not a time since the tare.
+    #[error(
+        "identification sample {index}: time = {value} s is not allowed; a sample's time is \
+         the seconds since the sensor was tared, finite and >= 0"
+    )]
+    BadSampleTime {
+        /// Index of the sample.
+        index: usize,
+        /// The offending time \[s\].
+        value: f64,
+    },
     /// A measured configuration of an identification sample lies outside `A`.
     #[error(
         "identification sample {index}: ã = {a:?} is outside A (a2 = a3 = a5 = a6 = 0, eq. 2); \

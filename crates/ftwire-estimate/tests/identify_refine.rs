@@ -86,7 +86,10 @@ fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<()
         let (constraints, weights) = (residuals.constraints, residuals.weights);
         let wire = model.wire();
         let theta = constraints.theta(wire.c(), wire.length(), 0.0);
-        let whitening = residuals.whitening(&theta, &noise)?;
+        let whitened = residuals.whitening(&theta, &noise)?;
+        let ftwire_estimate::identify::Whitening::Blocks(whitening) = &whitened else {
+            panic!("samples without times are whitened one by one");
+        };
         assert_eq!(whitening.len(), samples.len());
         let w = weights.matrix();
         for (white, s) in whitening.iter().zip(&samples) {
@@ -102,7 +105,7 @@ fn whitening_makes_the_predicted_residual_covariance_the_identity() -> Result<()
         }
         // χ² is the whitened cost.
         let whitened = Residuals {
-            whitening: Some(&whitening),
+            whitening: Some(&whitened),
             ..residuals
         };
         let chi2 = residuals.chi_squared(&theta, &noise)?;

@@ -56,69 +56,14 @@ use super::refine::Refined;
 use super::{
     CostFunction, Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints,
     ParameterCovariance, ParticleSwarm, ResidualForm, Residuals, Sample, Swarm, Unidentified,
-    Weights,
+    Weights, Whitening,
 };
 use crate::{EstimateError, WireModel};
 
+mod batch;
 mod params;
+pub use batch::{identify, identify_samples};
 pub use params::IdentifierParams;
-
-/// Identifies `η = (c, L)` from a batch of samples: the streaming [`Identifier`] run to
-/// completion.
-///
-/// `samples` are `(ã_i, b̃_i)` pairs (see [`Sample`]) in the order recorded.
-///
-/// # Identifiability
-/// The data must determine `η`; an estimate is never returned as identified when they do not:
-/// - **errors** (nothing to estimate from): fewer samples than the smallest `m ≥ 2` whose
-///   equations exceed the unknowns (6 per sample for the absolute form, 6 per pair for the
-///   differential forms; two because identification needs motion, paper §III-B, and at least
-///   one degree of freedom must remain to estimate the residual variance); a second gripper
-///   that moved less than [`IdentifierParams::min_motion`] noise standard deviations (all `b̃`
-///   equal, or one sample);
-/// - **flags** ([`Estimate::unidentified`]): a residual Jacobian whose relative smallest
-///   singular value is below [`IdentifierParams::min_condition`] (the LM normal matrix `JᵀJ` has
-///   the squares of these singular values); a parameter on the edge of the search box; a
-///   final `χ²/dof` above [`IdentifierParams::max_chi2_per_dof`] under the configured
-///   [`MeasurementNoise`] (the fit explains the data far worse than the noise would).
-///
-/// The standard deviations ([`Estimate::c_std`], [`Estimate::length_std`]) are the first-order
-/// `s² (JᵀJ)⁻¹` with `s²` the weighted residual variance per degree of freedom.
-///
-/// # Errors
-/// A bad setting or sample (naming it), too few samples, a degenerate motion. An estimate the
-/// data do not identify is returned flagged ([`Estimate::unidentified`]); call
-/// [`Estimate::identified`] to turn the flag into an error.
-///
-/// # Example
-/// ```
-/// use ftwire_core::WireParams;
-/// use ftwire_estimate::{KirchhoffModel, WireModel, identify::{IdentifierParams, identify}};
-/// use nalgebra::Vector6;
-/// use rand::SeedableRng;
-/// let truth = KirchhoffModel::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
-/// let samples = [0.0, 0.3, -0.3].map(|d| {
-///     let a = Vector6::new(0.01 + 0.01 * d, 0.02, -0.03, -0.1, 0.2 - 0.1 * d, 0.05 + 0.05 * d);
-///     (a, truth.tip(&a).expect("solvable"))
-/// });
-/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-/// let estimate = identify(&truth, &samples, &IdentifierParams::default(), &mut rng)?;
-/// assert!(estimate.is_identified());
-/// assert!((estimate.length - 0.63).abs() < 1e-3);
-/// # Ok::<(), ftwire_estimate::EstimateError>(())
-/// ```
-pub fn identify<M: WireModel, R: Rng + ?Sized>(
-    model: &M,
-    samples: &[(Vector6<f64>, Pose)],
-    config: &IdentifierParams,
-    rng: &mut R,
-) -> Result<Estimate, EstimateError> {
-    let mut identifier = Identifier::new(model.clone(), config.clone(), rng)?;
-    for (a, b) in samples {
-        identifier.push(*a, *b)?;
-    }
-    identifier.run_to_completion()
-}
 
 /// Streaming identification for a sensor loop: [`Identifier::push`] samples as they come,
 /// [`Identifier::step`] within a time budget each tick.
@@ -201,8 +146,33 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     /// [`EstimateError::NonFiniteSample`], [`EstimateError::SampleOutsideA`] or
     /// [`EstimateError::ChordTooLong`] naming the sample's index; the sample is not added.
     pub fn push(&mut self, a: Vector6<f64>, b: Pose) -> Result<(), EstimateError> {
+        let sample = Sample::new(self.samples.len(), a, b)?;
+        self.push_sample(sample)
+    }
+
+    /// Adds a sample `(ã, b̃)` taken `time` seconds after the sensor was tared: with a bias
+    /// model ([`MeasurementNoise::bias`]) the final fit then estimates the bias's drift with the
+    /// wire ([`super::drift`]).
+    ///
+    /// # Errors
+    /// As [`Identifier::push`], and [`EstimateError::BadSampleTime`].
+    pub fn push_at(&mut self, time: f64, a: Vector6<f64>, b: Pose) -> Result<(), EstimateError> {
         let index = self.samples.len();
-        let sample = Sample::new(index, a, b)?;
+        let sample = Sample::new(index, a, b)?.at(index, time)?;
+        self.push_sample(sample)
+    }
+
+    /// Adds a sample, checked as [`Identifier::push_at`] checks its parts.
+    ///
+    /// # Errors
+    /// As [`Identifier::push_at`].
+    pub fn push_sample(&mut self, sample: Sample) -> Result<(), EstimateError> {
+        let index = self.samples.len();
+        let checked = Sample::new(index, sample.a, sample.b)?;
+        let sample = match sample.time {
+            Some(time) => checked.at(index, time)?,
+            None => checked,
+        };
         let max_length = L_MAX - self.config.length_margin;
         if sample.chord() > max_length {
             return Err(EstimateError::ChordTooLong {
@@ -293,6 +263,11 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
                 length_scale,
                 tangent_rotation: 1.0,
             },
+            search_whitening: super::joint::search_weights(
+                &self.samples,
+                self.config.form,
+                &self.config.noise,
+            ),
         })
     }
 
@@ -497,11 +472,12 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     }
 
     /// Step 4 of the driver: Levenberg–Marquardt on the noise-whitened residuals from the
-    /// search's best fit (generalised least squares, see [`super::residual`]), and the
-    /// estimate there. `None` when the whitening cannot be computed at the best fit (the model
-    /// fails at a sample), or the polish ends at a higher `χ²` (never expected: it starts from
-    /// the best fit and only accepts steps that lower its cost); the caller keeps the
-    /// unpolished estimate then.
+    /// search's best fit (generalised least squares, see [`super::residual`]; with a shared
+    /// bias model, jointly with the bias path, [`super::joint`]), and the estimate there.
+    /// `None` when the whitening cannot be computed at the best fit (the model fails at a
+    /// sample), or the independent-noise polish ends at a higher `χ²` (never expected: it
+    /// starts from the best fit and only accepts steps that lower its cost); the caller keeps
+    /// the unpolished estimate then.
     fn polish(
         &self,
         fine: &Residuals<'_, M>,
@@ -510,30 +486,50 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         evaluations: usize,
     ) -> Option<Estimate> {
         let noise = &self.config.noise;
-        let whitening = fine.whitening(&best.theta, noise).ok()?;
-        let whitened = Residuals {
-            whitening: Some(&whitening),
+        let bounds = (&space.lower[..], &space.upper[..]);
+        let (polished, samples, chi2) =
+            match super::joint::polish(fine, &best.theta, noise, &self.config.refine, bounds) {
+                Some(joint) => {
+                    let chi2 = joint.refined.cost;
+                    let refined = Refined {
+                        evaluations: joint.evaluations,
+                        ..joint.refined
+                    };
+                    (refined, joint.samples, Some(chi2))
+                }
+                None => {
+                    let whitening = fine.whitening(&best.theta, noise).ok()?;
+                    let whitened = Residuals {
+                        whitening: Some(&whitening),
+                        ..*fine
+                    };
+                    let residual = |theta: &[f64]| whitened.evaluate(theta);
+                    let polished =
+                        self.config
+                            .refine
+                            .minimise(&residual, &best.theta, bounds.0, bounds.1);
+                    let before = fine.chi_squared(&best.theta, noise).ok()?;
+                    let after = fine.chi_squared(&polished.theta, noise).ok()?;
+                    if after > before {
+                        return None;
+                    }
+                    (polished, fine.samples.to_vec(), None)
+                }
+            };
+        // Judge the polished fit exactly as the unpolished one: the fixed weighting's cost and
+        // Jacobian (its conditioning threshold is in those units), at the polished θ, on the
+        // samples the polish ended with.
+        let fine = Residuals {
+            samples: &samples,
             ..*fine
         };
-        let residual = |theta: &[f64]| whitened.evaluate(theta);
-        let polished =
-            self.config
-                .refine
-                .minimise(&residual, &best.theta, &space.lower, &space.upper);
-        let before = fine.chi_squared(&best.theta, noise).ok()?;
-        let after = fine.chi_squared(&polished.theta, noise).ok()?;
-        if after > before {
-            return None;
-        }
-        // Judge the polished fit exactly as the unpolished one: the fixed weighting's cost and
-        // Jacobian (its conditioning threshold is in those units), at the polished θ.
         let unwhitened = |theta: &[f64]| fine.evaluate(theta);
         let residual = unwhitened(&polished.theta);
         let jacobian = LevenbergMarquardt::jacobian(
             &unwhitened,
             &polished.theta,
-            &space.lower,
-            &space.upper,
+            bounds.0,
+            bounds.1,
             self.config.refine.fd_step,
             residual.len(),
         );
@@ -541,13 +537,19 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             cost: residual.norm_squared(),
             residual,
             jacobian,
-            theta: polished.theta,
+            theta: polished.theta.clone(),
             iterations: polished.iterations,
             evaluations: polished.evaluations + 1 + 2 * space.lower.len(),
         };
         let total = evaluations + judged.evaluations;
-        self.assess(fine, &judged, space, total, Some(&polished.jacobian))
-            .ok()
+        self.assess(
+            &fine,
+            &judged,
+            space,
+            total,
+            Some((&polished.jacobian, chi2)),
+        )
+        .ok()
     }
 
     /// The estimate at a refined optimum: uncertainty and identifiability.
@@ -555,14 +557,15 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     /// The standard deviations are first order: `s² (JᵀJ)⁻¹` of the fixed weighting's
     /// Jacobian, `s²` its cost per degree of freedom; or, after the polish, `(J_wᵀJ_w)⁻¹` of
     /// the whitened Jacobian `whitened` (the covariance of a generalised least-squares fit),
-    /// inflated by `χ²/dof` when the fit is worse than the noise explains.
+    /// inflated by `χ²/dof` when the fit is worse than the noise explains; `χ²` is the
+    /// polish's own when it gives one (the joint fit's), otherwise the residuals'.
     fn assess(
         &self,
         residuals: &Residuals<'_, M>,
         best: &Refined,
         space: &SearchSpace,
         evaluations: usize,
-        whitened: Option<&DMatrix<f64>>,
+        whitened: Option<(&DMatrix<f64>, Option<f64>)>,
     ) -> Result<Estimate, EstimateError> {
         let (lower, upper) = (&space.lower, &space.upper);
         let constraints = self.config.constraints;
@@ -576,9 +579,13 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         let sv = scaled.singular_values();
         let (smax, smin) = (sv.max(), sv.min());
         let condition = if smax > 0.0 { smin / smax } else { 0.0 };
-        let chi2_per_dof = residuals.chi_squared(&best.theta, &self.config.noise)? / dof;
+        let chi2 = match whitened.and_then(|(_, chi2)| chi2) {
+            Some(chi2) => chi2,
+            None => residuals.chi_squared(&best.theta, &self.config.noise)?,
+        };
+        let chi2_per_dof = chi2 / dof;
         let (jacobian, s2) = match whitened {
-            Some(jw) => (jw, chi2_per_dof.max(1.0)),
+            Some((jw, _)) => (jw, chi2_per_dof.max(1.0)),
             None => (&best.jacobian, best.cost / dof),
         };
         let jtj = jacobian.transpose() * jacobian;
@@ -649,6 +656,8 @@ struct SearchSpace {
     unweighed_lower: Vec<f64>,
     unweighed_upper: Vec<f64>,
     weights: Weights,
+    /// The search's per-sample weights under a shared bias ([`super::joint::search_weights`]).
+    search_whitening: Option<Whitening>,
 }
 
 /// The residuals of one search: the coarse swarm's (coarse parameters, no twist about the
@@ -665,7 +674,7 @@ impl<'a, M: WireModel> Objectives<'a, M> {
         model: &'a M,
         samples: &'a [Sample],
         config: &IdentifierParams,
-        space: &SearchSpace,
+        space: &'a SearchSpace,
         coarse: ParameterConstraints,
     ) -> Self {
         let residuals = |constraints| Residuals {
@@ -674,7 +683,7 @@ impl<'a, M: WireModel> Objectives<'a, M> {
             form: config.form,
             weights: space.weights,
             constraints,
-            whitening: None,
+            whitening: space.search_whitening.as_ref(),
         };
         let full = config.constraints;
         let coarse_weights = Weights {

@@ -21,13 +21,17 @@
 //! - [`identifier`]: the driver and the identifiability checks;
 //! - [`estimate`]: the result and the reasons it may not be trusted;
 //! - [`noise`]: the measurement noise the final fit is judged against;
+//! - [`drift`]: the sensor bias all samples share (the tare's offset and its drift), which
+//!   the final fit estimates with the wire;
 //! - [`motion`]: how to move the second gripper.
 //!
 //! The model enters only through [`WireModel`](crate::WireModel), so a gravity-aware model can
 //! replace [`KirchhoffModel`](crate::KirchhoffModel) without changing this module.
 
+pub mod drift;
 pub mod estimate;
 pub mod identifier;
+mod joint;
 pub mod motion;
 pub mod noise;
 pub mod parameters;
@@ -37,13 +41,14 @@ pub mod residual;
 pub mod sample;
 pub mod unidentified;
 
+pub use drift::BiasDrift;
 pub use estimate::{Estimate, ParameterCovariance, Z95};
-pub use identifier::{Identifier, IdentifierParams, identify};
+pub use identifier::{Identifier, IdentifierParams, identify, identify_samples};
 pub use motion::MotionPlan;
 pub use noise::MeasurementNoise;
 pub use parameters::ParameterConstraints;
 pub use pso::{CostFunction, Particle, ParticleSwarm, Swarm};
 pub use refine::{LevenbergMarquardt, Refined};
-pub use residual::{MAX_NORMALISED_LOAD, PENALTY, ResidualForm, Residuals, Weights};
+pub use residual::{MAX_NORMALISED_LOAD, PENALTY, ResidualForm, Residuals, Weights, Whitening};
 pub use sample::Sample;
 pub use unidentified::Unidentified;

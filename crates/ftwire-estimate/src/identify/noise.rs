@@ -3,13 +3,15 @@
 
 use nalgebra::{Matrix6, Vector6};
 
+use super::BiasDrift;
 use crate::EstimateError;
 
-/// Standard deviations of the measurement errors, per component, independent.
+/// Standard deviations of the measurement errors, per component, independent between samples,
+/// and optionally the sensor bias every sample shares ([`BiasDrift`]).
 ///
-/// Identification uses them only to test the final fit: a weighted cost far above what this
-/// noise explains means the model does not fit the data (wrong basin, untared sensor, a load
-/// the model lacks), and the estimate is flagged not identified.
+/// Identification whitens the final fit with them and tests it against them: a weighted cost
+/// far above what this noise explains means the model does not fit the data (wrong basin,
+/// untared sensor, a load the model lacks), and the estimate is flagged not identified.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeasurementNoise {
     /// Orientation error of `b̃` per axis \[rad\] (default `0.05°`).
@@ -20,6 +22,10 @@ pub struct MeasurementNoise {
     pub torque: f64,
     /// Force error of `ã` per axis after taring and averaging \[N\] (default `2e-3`).
     pub force: f64,
+    /// The tare's offset and the bias drift that all samples share, or `None` to treat the
+    /// errors of `ã` as independent between samples (default `None`). Used with samples
+    /// that carry their time since the tare ([`super::Sample::time`]), absolute form only.
+    pub bias: Option<BiasDrift>,
 }
 
 impl Default for MeasurementNoise {
@@ -29,6 +35,7 @@ impl Default for MeasurementNoise {
             translation: 1e-4,
             torque: 1e-4,
             force: 2e-3,
+            bias: None,
         }
     }
 }
@@ -54,7 +61,7 @@ impl MeasurementNoise {
                 });
             }
         }
-        Ok(())
+        self.bias.as_ref().map_or(Ok(()), BiasDrift::validate)
     }
 
     /// The covariance of a pose error as a body twist `(δω, δx)`.

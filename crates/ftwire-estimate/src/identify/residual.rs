@@ -49,7 +49,7 @@
 
 use ftwire_core::Pose;
 use ftwire_rod::{perturbation::delta_b, se3, to_normalised};
-use nalgebra::{DVector, Matrix6, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 use super::{MeasurementNoise, ParameterConstraints, Sample};
 use crate::{EstimateError, WireModel};
@@ -145,9 +145,26 @@ pub struct Residuals<'a, M: WireModel> {
     pub weights: Weights,
     /// How `θ` maps to `η`.
     pub constraints: ParameterConstraints,
-    /// Per-residual whitening `L_i⁻¹` applied after [`Residuals::weights`] (see the module
-    /// docs), or `None` for the weighting alone.
-    pub whitening: Option<&'a [Matrix6<f64>]>,
+    /// The whitening applied after [`Residuals::weights`] (see the module docs), or `None` for
+    /// the weighting alone.
+    pub whitening: Option<&'a Whitening>,
+}
+
+/// How the stacked residual is whitened after the weighting (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Whitening {
+    /// Independent samples: `L_i⁻¹` for each residual block, `L_i L_iᵀ` the block's
+    /// covariance.
+    Blocks(Vec<Matrix6<f64>>),
+    /// Samples that share the sensor's bias ([`super::BiasDrift`]): the lower Cholesky factor
+    /// `factor` (`L`) of the stacked residual's covariance, and a constant `offset` (`o`); the
+    /// whitened residual is `L⁻¹ (r + o)` (see [`super::joint`]).
+    Joint {
+        /// `L`, lower triangular.
+        factor: DMatrix<f64>,
+        /// `o`, one entry per scalar residual.
+        offset: DVector<f64>,
+    },
 }
 
 impl<M: WireModel> Residuals<'_, M> {
@@ -196,7 +213,13 @@ impl<M: WireModel> Residuals<'_, M> {
                 r.fixed_rows_mut::<6>(6 * i).copy_from(&ri);
             }
         }
-        r
+        match self.whitening {
+            Some(Whitening::Joint { factor, offset }) if offset.len() == r.len() => {
+                let shifted = r + offset;
+                factor.solve_lower_triangular(&shifted).unwrap_or(shifted)
+            }
+            _ => r,
+        }
     }
 
     /// `Σ‖r_i‖²` at `θ`.
@@ -233,17 +256,20 @@ impl<M: WireModel> Residuals<'_, M> {
                 }
             };
             let weighted = self.weights.apply(&raw);
-            Some(match self.whitening.and_then(|w| w.get(i)) {
-                Some(whiten) => whiten * weighted,
-                None => weighted,
+            Some(match self.whitening {
+                Some(Whitening::Blocks(blocks)) => blocks.get(i).map_or(weighted, |w| w * weighted),
+                _ => weighted,
             })
         })
     }
 
-    /// The whitening `L_i⁻¹` of each residual at `θ` (see the module docs): `L_i L_iᵀ =
-    /// W Σ_i W`, the covariance of the weighted residual `i` that `noise` predicts to first
+    /// The whitening at `θ` (see the module docs): per sample, `L_i⁻¹` with `L_i L_iᵀ =
+    /// W Σ_i W` the covariance of the weighted residual `i` that `noise` predicts to first
     /// order (`Σ_b + J Σ_a Jᵀ` for the absolute form, twice both terms for the differential
-    /// forms, with `J` at the first sample of each pair).
+    /// forms, with `J` at the first sample of each pair); or, for the absolute form with a bias
+    /// model ([`MeasurementNoise::bias`]) and every sample's time known, the Cholesky factor
+    /// of the stacked covariance with the shared bias's cross terms
+    /// `W J_i Cov(β(t_i), β(t_j)) J_jᵀ W` ([`super::drift`]).
     ///
     /// # Errors
     /// The model's error if it cannot be solved at `θ` or at a sample;
@@ -253,7 +279,36 @@ impl<M: WireModel> Residuals<'_, M> {
         &self,
         theta: &[f64],
         noise: &MeasurementNoise,
-    ) -> Result<Vec<Matrix6<f64>>, EstimateError> {
+    ) -> Result<Whitening, EstimateError> {
+        let (wj, own) = self.block_covariances(theta, noise)?;
+        let n = own.len();
+        if let Some(joint) = super::joint::shared_bias(self, noise) {
+            let cov = joint.covariance(&wj, &own);
+            let smallest = cov.diagonal().min();
+            let factor = cov.cholesky().ok_or_else(|| not_positive(smallest))?.l();
+            let offset = DVector::zeros(6 * n);
+            return Ok(Whitening::Joint { factor, offset });
+        }
+        own.into_iter()
+            .map(|cov| {
+                let l = cov.cholesky().ok_or_else(|| not_positive(cov.min()))?.l();
+                l.try_inverse()
+                    .ok_or_else(|| not_positive(l.diagonal().min()))
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map(Whitening::Blocks)
+    }
+
+    /// Each sample's `W J_i` and its own residual covariance `W (Σ_b + J_i Σ_a J_iᵀ) W` (twice
+    /// for the differential forms) at `θ`.
+    ///
+    /// # Errors
+    /// The model's error if it cannot be solved at `θ` or at a sample.
+    pub(super) fn block_covariances(
+        &self,
+        theta: &[f64],
+        noise: &MeasurementNoise,
+    ) -> Result<BlockCovariances, EstimateError> {
         let model = self.try_model_at(theta)?;
         let w = self.weights.matrix();
         let (sigma_b, sigma_a) = (noise.pose_covariance(), noise.wrench_covariance());
@@ -261,27 +316,18 @@ impl<M: WireModel> Residuals<'_, M> {
             ResidualForm::Absolute => 1.0,
             ResidualForm::Eq12 | ResidualForm::Midpoint | ResidualForm::Relative => 2.0,
         };
-        self.samples
+        let n = self.len() / 6;
+        let wj = self
+            .samples
             .iter()
-            .take(self.len() / 6)
-            .map(|s| {
-                let j = model.jacobian(&s.a)?.jacobian;
-                let cov = w * (factor * (sigma_b + j * sigma_a * j.transpose())) * w;
-                let l = cov
-                    .cholesky()
-                    .ok_or(EstimateError::BadIdentifySetting {
-                        field: "noise",
-                        value: cov.min(),
-                        allowed: "a positive definite residual covariance",
-                    })?
-                    .l();
-                l.try_inverse().ok_or(EstimateError::BadIdentifySetting {
-                    field: "noise",
-                    value: l.diagonal().min(),
-                    allowed: "a positive definite residual covariance",
-                })
-            })
-            .collect()
+            .take(n)
+            .map(|s| Ok(w * model.jacobian(&s.a)?.jacobian))
+            .collect::<Result<Vec<Matrix6<f64>>, EstimateError>>()?;
+        let own: Vec<Matrix6<f64>> = wj
+            .iter()
+            .map(|j| factor * (w * sigma_b * w + j * sigma_a * j.transpose()))
+            .collect();
+        Ok((wj, own))
     }
 
     /// The noise-normalised cost `χ² = Σ r_iᵀ Σ_i⁻¹ r_i` at `θ`, where `Σ_i` is the covariance
@@ -302,6 +348,18 @@ impl<M: WireModel> Residuals<'_, M> {
             ..*self
         };
         Ok(whitened.cost(theta))
+    }
+}
+
+/// Each sample's `W J_i` and its own residual covariance ([`Residuals::block_covariances`]).
+pub(super) type BlockCovariances = (Vec<Matrix6<f64>>, Vec<Matrix6<f64>>);
+
+/// The error of a residual covariance that is not positive definite.
+fn not_positive(value: f64) -> EstimateError {
+    EstimateError::BadIdentifySetting {
+        field: "noise",
+        value,
+        allowed: "a positive definite residual covariance",
     }
 }
 

@@ -13,6 +13,9 @@ pub struct Sample {
     pub a: Vector6<f64>,
     /// `b̃`: the second gripper's clamp pose in the base clamp frame \[m\].
     pub b: Pose,
+    /// The time since the sensor was tared \[s\], if known: with a bias model
+    /// ([`super::MeasurementNoise::bias`]) it says how far the bias has drifted.
+    pub time: Option<f64>,
 }
 
 impl Sample {
@@ -52,7 +55,21 @@ impl Sample {
         if a[1] == 0.0 && a[2] == 0.0 && a[4] == 0.0 && a[5] == 0.0 {
             return Err(EstimateError::SampleOutsideA { index, a: a.into() });
         }
-        Ok(Self { a, b })
+        Ok(Self { a, b, time: None })
+    }
+
+    /// The sample taken `time` seconds after the tare.
+    ///
+    /// # Errors
+    /// [`EstimateError::BadSampleTime`] for a time that is not finite and `>= 0`.
+    pub fn at(self, index: usize, time: f64) -> Result<Self, EstimateError> {
+        if !(time.is_finite() && time >= 0.0) {
+            return Err(EstimateError::BadSampleTime { index, value: time });
+        }
+        Ok(Self {
+            time: Some(time),
+            ..self
+        })
     }
 
     /// The distance between the clamp points, `|p(b̃)|` \[m\]: a lower bound on the length.

@@ -22,8 +22,8 @@ use crate::experiment::calibration::{self, rig_seed};
 use crate::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
 use crate::experiment::{Gravity, ModelKind};
 use crate::identify::{
-    Map, Protocol, REST_SAMPLES, ResidualParams, flag_name, linear_density, loaded_config,
-    record_trial, run_identification, truth,
+    Map, Protocol, REST_SAMPLES, Recorded, ResidualParams, flag_name, linear_density,
+    loaded_config, record_trial, run_identification, truth,
 };
 use crate::results::ResultsFolder;
 use crate::setup::SimSetup;
@@ -149,7 +149,7 @@ fn identify_trial(
         0,
         &protocol,
     )?;
-    let pairs: Vec<_> = samples.iter().map(|s| (s.a, s.b)).collect();
+    let pairs: Vec<_> = samples.iter().map(Recorded::sample).collect();
     let config = loaded_config(&ResidualParams::default().config()?, Gravity::On);
     let estimate = run_identification(&pairs, &config, seed)?;
     let truth = truth(wire);

@@ -4,9 +4,10 @@
 use ftwire_control::{BiasObserverParams, NoiseModel, NoiseParams};
 use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
+use ftwire_estimate::identify::{BiasDrift, MeasurementNoise};
 use ftwire_rod::{Load, Rod};
 use ftwire_sim::{BoxObstacle, RigParams, SimRig, Simulator, World};
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{Matrix6, Vector3, Vector6};
 
 use super::{Gravity, ModelKind, SIM_EDGES};
 use crate::error::{LabError, from_rod, from_sim};
@@ -203,6 +204,45 @@ pub fn fuse_rest(noise: NoiseModel) -> bool {
 pub fn mounting(config: &RigParams) -> Result<Mounting, LabError> {
     Mounting::new(config.sensor.sensor_from_clamp())
         .map_err(|e| LabError::bad_input(format!("the sensor's mounting: {e}")))
+}
+
+/// The noise of `ã` that identification models for `setup`'s sensor, from its data sheet as a
+/// user reads it: each rest's white noise (`noise_std` over `rest_samples` readings), the
+/// tare's (over [`TARE_SAMPLES`]) and the bias drift's intensity and time constant, all
+/// mapped to `ã` by the mounting (a force error is a torque error at the clamp, a lever arm
+/// away). The pose noise keeps the library's default.
+///
+/// # Errors
+/// Bad input for a sensor whose mounting or drift is not valid.
+pub fn identification_noise(
+    setup: &SimSetup,
+    rest_samples: usize,
+) -> Result<MeasurementNoise, LabError> {
+    let config = setup.rig_config(0);
+    let sensor = &config.sensor;
+    let mount = mounting(&config)?;
+    let to_a =
+        Matrix6::from_fn(|row, column| mount.to_configuration(&Vector6::ith(column, 1.0))[row]);
+    let scaled = |n: usize| sensor.noise_std.map(|s| s / (n.max(1) as f64).sqrt());
+    let bias = BiasDrift::from_sensor(
+        &to_a,
+        scaled(TARE_SAMPLES),
+        sensor.bias_random_walk,
+        sensor.bias_time_constant,
+    )
+    .map_err(|e| LabError::bad_input(format!("the sensor's drift: {e}")))?;
+    let rest = scaled(rest_samples);
+    let rest =
+        to_a * Matrix6::from_diagonal(&Vector6::from(rest.map(|s| s * s))) * to_a.transpose();
+    let largest =
+        |range: std::ops::Range<usize>| range.map(|i| rest[(i, i)]).fold(0.0, f64::max).sqrt();
+    let defaults = MeasurementNoise::default();
+    Ok(MeasurementNoise {
+        torque: largest(0..3).max(f64::MIN_POSITIVE),
+        force: largest(3..6).max(f64::MIN_POSITIVE),
+        bias: Some(bias),
+        ..defaults
+    })
 }
 
 /// A pipeline with the default rest average ([`SAMPLES_PER_REST`], at least half of them

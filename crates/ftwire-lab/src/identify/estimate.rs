@@ -4,7 +4,9 @@
 
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::KirchhoffModel;
-use ftwire_estimate::identify::{Estimate, Identifier, IdentifierParams, Unidentified, identify};
+use ftwire_estimate::identify::{
+    Estimate, Identifier, IdentifierParams, Sample, Unidentified, identify_samples,
+};
 use nalgebra::Vector6;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -27,7 +29,19 @@ pub fn template_model() -> Result<KirchhoffModel, LabError> {
     Ok(KirchhoffModel::new(wire))
 }
 
-/// Identifies from `samples` (`(ã, b̃)` pairs) with the swarm seeded by `seed` (a fresh
+/// `(ã, b̃)` pairs as samples without times (no drift model applies to them).
+pub fn untimed(pairs: &[(Vector6<f64>, Pose)]) -> Vec<Sample> {
+    pairs
+        .iter()
+        .map(|(a, b)| Sample {
+            a: *a,
+            b: *b,
+            time: None,
+        })
+        .collect()
+}
+
+/// Identifies from `samples` (`(ã, b̃)` and, if known, the time since the tare) with the swarm seeded by `seed` (a fresh
 /// generator per call, so an estimate depends only on its data and the seed, not on what ran
 /// before).
 ///
@@ -35,13 +49,13 @@ pub fn template_model() -> Result<KirchhoffModel, LabError> {
 /// Bad input for data that cannot be identified from (too few samples, too little motion, a
 /// sample outside `A`); no answer for anything else the library reports.
 pub fn run_identification(
-    samples: &[(Vector6<f64>, Pose)],
+    samples: &[Sample],
     config: &IdentifierParams,
     seed: u64,
 ) -> Result<Estimate, LabError> {
     let model = template_model()?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    identify(&model, samples, config, &mut rng)
+    identify_samples(&model, samples, config, &mut rng)
         .map_err(|e| from_estimate(e, "identifying the wire"))
 }
 
@@ -53,15 +67,15 @@ pub fn run_identification(
 /// # Errors
 /// As [`run_identification`].
 pub fn identifier(
-    samples: &[(Vector6<f64>, Pose)],
+    samples: &[Sample],
     config: &IdentifierParams,
     seed: u64,
 ) -> Result<Identifier<KirchhoffModel, ChaCha8Rng>, LabError> {
     let failed = |e| from_estimate(e, "identifying the wire");
     let rng = ChaCha8Rng::seed_from_u64(seed);
     let mut identifier = Identifier::new(template_model()?, config.clone(), rng).map_err(failed)?;
-    for (a, b) in samples {
-        identifier.push(*a, *b).map_err(failed)?;
+    for sample in samples {
+        identifier.push_sample(*sample).map_err(failed)?;
     }
     Ok(identifier)
 }

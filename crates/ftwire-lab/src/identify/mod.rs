@@ -52,14 +52,12 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use ftwire_core::Pose;
 use ftwire_estimate::calibration::Calibration;
-use ftwire_estimate::identify::{IdentifierParams, ParameterConstraints, ResidualForm};
-use nalgebra::Vector6;
+use ftwire_estimate::identify::{IdentifierParams, ParameterConstraints, ResidualForm, Sample};
 use serde::Serialize;
 
 pub use self::estimate::{
-    flag_name, identifier, loaded_config, run_identification, template_model,
+    flag_name, identifier, loaded_config, run_identification, template_model, untimed,
 };
 use self::summary::Row;
 pub use self::summary::{
@@ -198,6 +196,10 @@ pub struct IdentifyParams {
     /// Learnt calibration weights for [`Pipeline::Calibrated`]; `None`: a calibration is first
     /// run on the known wire (with this run's gravity and seed) and cached in the folder.
     pub calibration: Option<PathBuf>,
+    /// Identify with the sensor's shared bias modelled: the tare's offset and its drift
+    /// ([`crate::experiment::rig::identification_noise`]), estimated with the wire; `false`
+    /// treats the errors of the samples as independent.
+    pub bias_model: bool,
     /// Sample each trial until every parameter's 95 % half-width is within this percentage of
     /// its value, up to the largest sample count ([`until`]); `None`: off.
     pub until: Option<f64>,
@@ -214,6 +216,7 @@ impl Default for IdentifyParams {
             rest_samples: REST_SAMPLES,
             pipeline: Pipeline::default(),
             calibration: None,
+            bias_model: true,
             until: None,
         }
     }
@@ -286,8 +289,11 @@ impl IdentifyParams {
         }
         let wires = self.wires()?;
         let counts = self.sample_counts()?;
-        let config = self.settings.config()?;
         let setup = self.common.setup()?;
+        let mut config = self.settings.config()?;
+        if self.bias_model {
+            config.noise = crate::experiment::rig::identification_noise(&setup, self.rest_samples)?;
+        }
         self.check_pipeline(&setup)?;
         let plan = self.plan(counts.last().copied().unwrap_or(2))?;
         let gravity = self.common.gravity;
@@ -422,8 +428,8 @@ pub fn run(
                 ));
             }
             if let (Some(target), Some((_, config))) = (settings.until, models.first()) {
-                let pairs: Vec<(Vector6<f64>, Pose)> = samples.iter().map(|s| (s.a, s.b)).collect();
-                let t = until::sample_until(&pairs, config, seed, target);
+                let timed: Vec<Sample> = samples.iter().map(Recorded::sample).collect();
+                let t = until::sample_until(&timed, config, seed, target);
                 progress(&format!(
                     "identify: {} trial {trial}: {} after {} samples (--until {target} %)",
                     wire.name,
@@ -532,7 +538,7 @@ fn identify_trial(
     rows: &mut Vec<Row>,
     progress: Progress<'_>,
 ) -> String {
-    let pairs: Vec<(Vector6<f64>, Pose)> = samples.iter().map(|s| (s.a, s.b)).collect();
+    let pairs: Vec<Sample> = samples.iter().map(Recorded::sample).collect();
     let mut line = String::new();
     for &n in counts {
         let Some(prefix) = pairs.get(..n) else {

@@ -5,7 +5,7 @@
 use ftwire_core::{Pose, Rig};
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::ft::{FtCalibration, FtPipeline};
-use ftwire_estimate::identify::MotionPlan;
+use ftwire_estimate::identify::{MotionPlan, Sample};
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_rod::{Rod, from_normalised};
 use ftwire_sim::{RigParams, SimRig};
@@ -32,10 +32,23 @@ const START_ATTEMPTS: usize = 20;
 pub struct Recorded {
     /// The rig's clock \[s\].
     pub time: f64,
+    /// The time since the sensor was tared \[s\].
+    pub since_tare: f64,
     /// `ã` (tared, through the map; torque first, base clamp frame).
     pub a: Vector6<f64>,
     /// `b̃`, the believed second-gripper pose relative to the base clamp.
     pub b: Pose,
+}
+
+impl Recorded {
+    /// The sample identification reads: `(ã, b̃)` and the time since the tare.
+    pub fn sample(&self) -> Sample {
+        Sample {
+            a: self.a,
+            b: self.b,
+            time: Some(self.since_tare),
+        }
+    }
 }
 
 /// The map from the tared reading to `ã`: the sensor's mounting (built per trial from the
@@ -116,7 +129,8 @@ fn follow_plan(
 ) -> Result<Vec<Recorded>, LabError> {
     let mut rig = place_wire(wire, gravity, a0, config.clone())?;
     let tared = tare(&mut rig)?;
-    match map {
+    let tared_at = rig.time();
+    let samples = match map {
         Map::Mounting => {
             let pipeline = pipeline(tared, mounting(&config)?)?;
             follow(&mut rig, &pipeline, protocol, rng)
@@ -125,7 +139,14 @@ fn follow_plan(
             let pipeline = pipeline(tared, learnt.clone())?;
             follow(&mut rig, &pipeline, protocol, rng)
         }
-    }
+    }?;
+    Ok(samples
+        .into_iter()
+        .map(|s| Recorded {
+            since_tare: s.time - tared_at,
+            ..s
+        })
+        .collect())
 }
 
 /// Records the sample at the current rest, then one after each move of the plan.
@@ -160,6 +181,7 @@ fn record<C: FtCalibration>(
     let a = measure_over(rig, pipeline, rest_samples)?.a;
     Ok(Recorded {
         time: rig.time(),
+        since_tare: 0.0,
         a,
         b: believed_tip(rig)?,
     })

@@ -6,9 +6,8 @@
 //! recording, the largest `--samples` count; a trial that reaches it unsatisfied counts as
 //! not reached and reports its last estimate.
 
-use ftwire_core::Pose;
+use ftwire_estimate::identify::Sample;
 use ftwire_estimate::identify::{Estimate, IdentifierParams};
-use nalgebra::Vector6;
 use serde::Serialize;
 
 use super::estimate::run_identification;
@@ -48,7 +47,7 @@ pub fn meets(estimate: &Estimate, target_percent: f64) -> bool {
 /// Identifies from growing prefixes of `pairs` (2 up to all of them) with `config` and the
 /// search seed `seed` until the target holds.
 pub fn sample_until(
-    pairs: &[(Vector6<f64>, Pose)],
+    pairs: &[Sample],
     config: &IdentifierParams,
     seed: u64,
     target_percent: f64,

@@ -17,14 +17,14 @@ use std::time::Duration;
 
 use ftwire_core::Pose;
 use ftwire_estimate::ft::MountingSpec;
-use ftwire_estimate::identify::{Estimate, IdentifierParams, Unidentified};
+use ftwire_estimate::identify::{Estimate, IdentifierParams, Sample, Unidentified};
 use nalgebra::{Vector3, Vector6};
 use serde::Serialize;
 
 use super::{LogLine, RawMap, a_tilde, read_log};
 use crate::error::{LabError, from_estimate};
 use crate::experiment::Progress;
-use crate::identify::{Form, ResidualParams, flag_name, identifier};
+use crate::identify::{Form, ResidualParams, flag_name, identifier, untimed};
 
 /// What to identify from: the log, how its records become `ã`, and how to identify.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -164,14 +164,14 @@ pub fn estimate(
     progress: Progress,
 ) -> Result<EstimateReport, LabError> {
     let config = params.config()?;
-    let estimate = search(samples, &config, params.seed, progress)
+    let estimate = search(&untimed(samples), &config, params.seed, progress)
         .map_err(|e| e.context(format!("identifying from {}", params.log.display())))?;
     Ok(EstimateReport::new(&estimate, params.residual.form))
 }
 
 /// The streaming search of [`estimate`], stepped until it is no longer unfinished.
 fn search(
-    samples: &[(Vector6<f64>, Pose)],
+    samples: &[Sample],
     config: &IdentifierParams,
     seed: u64,
     progress: Progress,

@@ -144,6 +144,11 @@ pub struct IdentifyExperimentArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub calibration: CalibrationArgs,
+    /// Treat the errors of the samples' ã as independent, without the sensor's shared bias:
+    /// by default the fit models the tare's offset and the bias drift since the tare (the
+    /// sensor's data-sheet intensity), and estimates the drift with the wire. For comparison.
+    #[arg(long)]
+    pub no_bias_model: bool,
     /// Sample each trial until the wire is known to PCT %: identify from its first 2, 3, …
     /// samples and stop at the first estimate that is identified and whose every 95 %
     /// interval half-width (first-order covariance) is within PCT % of its value. The limit is

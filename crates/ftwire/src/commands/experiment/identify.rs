@@ -51,6 +51,7 @@ fn params(args: &IdentifyExperimentArgs) -> IdentifyParams {
             IdentifyPipeline::Mounting => Pipeline::Mounting,
         },
         calibration: args.calibration.file.clone(),
+        bias_model: !args.no_bias_model,
         until: args.until,
     }
 }

@@ -1,0 +1,274 @@
+//! The final fit with the sensor's shared bias estimated with the wire ([`super::drift`]).
+//!
+//! The unknowns are `η` and the bias path `β_1 … β_N` of the samples; the data are the pose
+//! equations `Γ_η(ã_i − β_i) = b̃_i` and the path's prior `β ~ N(0, K)`,
+//! `K_ij = Cov(β(t_i), β(t_j))`. Gauss–Newton on all of them, with `β` eliminated at each
+//! outer iteration:
+//!
+//! 1. linearise at the current bias estimate `β̂`: the residual of the shifted samples
+//!    `ã_i − β̂_i` is `r(η, β) ≈ r(η, β̂) − G (β − β̂)`, with `G = blockdiag(−W J_i)` the
+//!    residual's derivative in the sample's `a` (`J_i = J_η(ã_i − β̂_i)`);
+//! 2. with `z(η) = r(η, β̂) + G β̂ = G β + noise`, `β` marginalises out: minimise
+//!    `z(η)ᵀ C⁻¹ z(η)`, `C = R + G K Gᵀ` (`R` the samples' own noise), by Levenberg–Marquardt
+//!    on the whitened `L⁻¹ z` ([`super::Whitening::Joint`], `L Lᵀ = C`);
+//! 3. the bias's new estimate is its posterior mean, `β̂ = K Gᵀ C⁻¹ z(η̂)`.
+//!
+//! The first iteration, from `β̂ = 0`, is the generalised least-squares fit with the shared
+//! bias's covariance; later ones correct its linearisation about the unbiased samples, which
+//! matters once the drift is a sizeable part of the wire's force scale. The final `χ²` is
+//! `z(η̂)ᵀ C⁻¹ z(η̂)`, and the whitened Jacobian's `(JᵀJ)⁻¹` the covariance of `η` with the bias
+//! path marginalised.
+
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+
+use super::refine::Refined;
+use super::{
+    BiasDrift, LevenbergMarquardt, MeasurementNoise, ResidualForm, Residuals, Sample, Whitening,
+};
+use crate::WireModel;
+
+/// Outer (relinearisation) iterations at most.
+const OUTER_ITERATIONS: usize = 4;
+
+/// Relative change of `θ` (largest component) below which the outer iterations stop.
+const THETA_TOLERANCE: f64 = 1e-7;
+
+/// The shared bias of a set of samples: its model and each sample's time since the tare.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct SharedBias {
+    bias: BiasDrift,
+    times: Vec<f64>,
+}
+
+/// The shared bias of `residuals`' samples under `noise`: `Some` for the absolute form with a
+/// bias model and every sample's time known.
+pub(super) fn shared_bias<M: WireModel>(
+    residuals: &Residuals<'_, M>,
+    noise: &MeasurementNoise,
+) -> Option<SharedBias> {
+    if residuals.form != ResidualForm::Absolute {
+        return None;
+    }
+    let bias = noise.bias?;
+    let n = residuals.len() / 6;
+    let times = residuals
+        .samples
+        .iter()
+        .take(n)
+        .map(|s| s.time)
+        .collect::<Option<Vec<f64>>>()?;
+    Some(SharedBias { bias, times })
+}
+
+impl SharedBias {
+    /// `K`, the stacked prior covariance of the bias path (`6N × 6N`).
+    fn prior(&self) -> DMatrix<f64> {
+        let n = self.times.len();
+        let mut k = DMatrix::zeros(6 * n, 6 * n);
+        for (i, ti) in self.times.iter().enumerate() {
+            for (j, tj) in self.times.iter().enumerate().take(i + 1) {
+                let block = self.bias.covariance(*ti, *tj);
+                k.fixed_view_mut::<6, 6>(6 * i, 6 * j).copy_from(&block);
+                k.fixed_view_mut::<6, 6>(6 * j, 6 * i)
+                    .copy_from(&block.transpose());
+            }
+        }
+        k
+    }
+
+    /// `C = R + G K Gᵀ`: the stacked residual's covariance, from each sample's `W J_i` (`wj`)
+    /// and own covariance (`own`, the blocks of `R`).
+    pub(super) fn covariance(&self, wj: &[Matrix6<f64>], own: &[Matrix6<f64>]) -> DMatrix<f64> {
+        let n = own.len().min(wj.len()).min(self.times.len());
+        let mut cov = DMatrix::zeros(6 * n, 6 * n);
+        for i in 0..n {
+            for j in 0..=i {
+                let mut block =
+                    wj[i] * self.bias.covariance(self.times[i], self.times[j]) * wj[j].transpose();
+                if i == j {
+                    block += own[i];
+                }
+                cov.fixed_view_mut::<6, 6>(6 * i, 6 * j).copy_from(&block);
+                cov.fixed_view_mut::<6, 6>(6 * j, 6 * i)
+                    .copy_from(&block.transpose());
+            }
+        }
+        cov
+    }
+}
+
+/// The search's weights under a shared bias: each sample's residual scaled by
+/// `√(v₀ / (v₀ + q² k(t_i, t_i)))`, with `v₀` the force variance of a sample's own noise and
+/// the tare's offset and `q²` the drift's (means over the force channels). The search's fixed
+/// weighting treats every sample alike, so a late sample, whose bias has drifted for a
+/// minute, would pull the swarm as hard as the first; these weights are the diagonal of the
+/// shared bias's covariance, without the model's Jacobian, so the search's cost stays cheap.
+/// `None` without a bias model, a sample's time or the absolute form.
+pub(super) fn search_weights(
+    samples: &[Sample],
+    form: ResidualForm,
+    noise: &MeasurementNoise,
+) -> Option<Whitening> {
+    let bias = noise.bias?;
+    if form != ResidualForm::Absolute {
+        return None;
+    }
+    let force = |m: &Matrix6<f64>| (3..6).map(|i| m[(i, i)]).sum::<f64>() / 3.0;
+    let v0 = force(&(noise.wrench_covariance() + bias.tare));
+    let q2 = force(&bias.rate);
+    samples
+        .iter()
+        .map(|s| {
+            let t = s.time?;
+            let w = (v0 / (v0 + q2 * bias.kernel(t, t))).sqrt();
+            Some(Matrix6::identity() * w)
+        })
+        .collect::<Option<Vec<_>>>()
+        .map(Whitening::Blocks)
+}
+
+/// The joint fit: the polished parameters on the last linearisation and the samples shifted
+/// by the bias estimate there.
+#[derive(Debug, Clone)]
+pub(super) struct JointFit {
+    /// Levenberg–Marquardt's result on the whitened `L⁻¹ z`: its cost is the final `χ²`, its
+    /// Jacobian the whitened one.
+    pub refined: Refined,
+    /// The samples with `ã_i − β̂_i` (the bias the last iteration linearised about).
+    pub samples: Vec<Sample>,
+    /// Levenberg–Marquardt's residual evaluations over all iterations.
+    pub evaluations: usize,
+}
+
+/// The joint fit from `start` (see the module docs), or `None` when the samples carry no
+/// shared bias model or a linearisation cannot be computed (the model fails at a sample).
+pub(super) fn polish<M: WireModel>(
+    fine: &Residuals<'_, M>,
+    start: &[f64],
+    noise: &MeasurementNoise,
+    refine: &LevenbergMarquardt,
+    (lower, upper): (&[f64], &[f64]),
+) -> Option<JointFit> {
+    let shared = shared_bias(fine, noise)?;
+    let n = shared.times.len();
+    let k = shared.prior();
+    let original = fine.samples.get(..n)?;
+    let mut beta = DVector::zeros(6 * n);
+    let mut theta = start.to_vec();
+    let mut fit: Option<JointFit> = None;
+    let mut evaluations = 0;
+    for _ in 0..OUTER_ITERATIONS {
+        let samples: Vec<Sample> = original
+            .iter()
+            .enumerate()
+            .map(|(i, s)| Sample {
+                a: s.a - beta.fixed_rows::<6>(6 * i),
+                ..*s
+            })
+            .collect();
+        let shifted = Residuals {
+            samples: &samples,
+            whitening: None,
+            ..*fine
+        };
+        let (wj, own) = shifted.block_covariances(&theta, noise).ok()?;
+        let cholesky = shared.covariance(&wj, &own).cholesky()?;
+        // o = G β̂ = −W J β̂, blockwise.
+        let mut offset = DVector::zeros(6 * n);
+        for (i, j) in wj.iter().enumerate() {
+            let b: Vector6<f64> = beta.fixed_rows::<6>(6 * i).into_owned();
+            offset.fixed_rows_mut::<6>(6 * i).copy_from(&(-(j * b)));
+        }
+        let whitening = Whitening::Joint {
+            factor: cholesky.l(),
+            offset: offset.clone(),
+        };
+        let whitened = Residuals {
+            whitening: Some(&whitening),
+            ..shifted
+        };
+        let refined = refine.minimise(&|t: &[f64]| whitened.evaluate(t), &theta, lower, upper);
+        evaluations += refined.evaluations;
+        // β̂ = K Gᵀ C⁻¹ z at the new θ.
+        let z = shifted.evaluate(&refined.theta) + &offset;
+        let y = cholesky.solve(&z);
+        let mut gty = DVector::zeros(6 * n);
+        for (i, j) in wj.iter().enumerate() {
+            let yi: Vector6<f64> = y.fixed_rows::<6>(6 * i).into_owned();
+            gty.fixed_rows_mut::<6>(6 * i)
+                .copy_from(&(-(j.transpose() * yi)));
+        }
+        let change = refined
+            .theta
+            .iter()
+            .zip(&theta)
+            .map(|(new, old)| (new - old).abs() / old.abs().max(1.0))
+            .fold(0.0, f64::max);
+        theta.clone_from(&refined.theta);
+        let next = &k * gty;
+        fit = Some(JointFit {
+            refined,
+            samples,
+            evaluations,
+        });
+        beta = next;
+        if change < THETA_TOLERANCE {
+            break;
+        }
+    }
+    fit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::identify::{ParameterConstraints, Weights};
+    use crate::{KirchhoffModel, WireModel};
+    use ftwire_core::WireParams;
+
+    /// The linearisation's sign: the weighted residual of a sample moves by `−W J δa` when
+    /// its `a` moves by `δa`, which `G` and the offset assume.
+    #[test]
+    fn residual_moves_by_minus_w_j_delta_a() {
+        let wire = WireParams::new([0.21, 0.28, 0.28], 0.8, 0.0015).expect("valid wire");
+        let model = KirchhoffModel::new(wire);
+        let a = Vector6::new(0.01, 0.03, -0.02, -0.1, 0.2, 0.05);
+        let b = model.tip(&a).expect("solvable");
+        let delta = Vector6::new(1e-5, -2e-5, 1e-5, 3e-5, -1e-5, 2e-5);
+        let samples = [
+            Sample {
+                a,
+                b,
+                time: Some(1.0),
+            },
+            Sample {
+                a: a + delta,
+                b,
+                time: Some(1.0),
+            },
+        ];
+        let constraints = ParameterConstraints::default();
+        let residuals = Residuals {
+            model: &model,
+            samples: &samples,
+            form: ResidualForm::Absolute,
+            weights: Weights {
+                length_scale: 0.5,
+                tangent_rotation: 1.0,
+            },
+            constraints,
+            whitening: None,
+        };
+        let theta = constraints.theta(wire.c(), wire.length(), 0.0);
+        let r = residuals.evaluate(&theta);
+        let moved = r.fixed_rows::<6>(6) - r.fixed_rows::<6>(0);
+        let (wj, _) = residuals
+            .block_covariances(&theta, &MeasurementNoise::default())
+            .expect("solvable");
+        let predicted = -(wj[0] * delta);
+        assert!(
+            (moved - predicted).norm() < 1e-3 * predicted.norm(),
+            "{moved} vs {predicted}"
+        );
+    }
+}
