@@ -1,6 +1,7 @@
 //! ROS 2 bags in MCAP storage, as rosbag2 writes them: profile `ros2`, one schema per message
 //! type (encoding `ros2msg`, the type's full definition, [`RosMessage::DEFINITION`]), one
-//! channel per topic (message encoding `cdr`), each message's bytes as [`crate::cdr::encode`]
+//! channel per topic (message encoding `cdr`, metadata `offered_qos_profiles`: the topic's QoS
+//! as rosbag2's YAML, [`offered_qos_profiles`]), each message's bytes as [`crate::cdr::encode`]
 //! writes them. Foxglove and `ros2 bag` read such a file.
 //!
 //! [`BagWriter`] writes one; [`BagReader`] reads any MCAP file's messages in time order, each
@@ -13,6 +14,8 @@ use std::io::{BufWriter, ErrorKind};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use ros2_client::QosProfile;
+use ros2_client::qos::{Durability, History, Liveliness, Reliability};
 use thiserror::Error;
 
 use crate::cdr::{self, CdrError};
@@ -24,6 +27,90 @@ pub const SCHEMA_ENCODING: &str = "ros2msg";
 pub const MESSAGE_ENCODING: &str = "cdr";
 /// The MCAP profile of a ROS 2 bag.
 pub const PROFILE: &str = "ros2";
+/// The channel metadata key of a topic's QoS profiles.
+pub const QOS_KEY: &str = "offered_qos_profiles";
+
+/// A duration rosbag2 writes for an infinite one (`RMW_DURATION_INFINITE`: `i64::MAX` ns as
+/// seconds and nanoseconds).
+const INFINITE: (u64, u32) = (9_223_372_036, 854_775_807);
+
+/// The QoS a topic's channel carries when none was given: rosbag2's own default (keep the last
+/// 10, reliable, volatile, nothing else limited).
+pub fn default_qos() -> QosProfile {
+    QosProfile::publisher_default().history(History::KeepLast { depth: 10 })
+}
+
+/// `profiles` as rosbag2 writes a channel's `offered_qos_profiles`: a YAML list (yaml-cpp's
+/// block style, no final newline), one map per profile with `history`, `depth`,
+/// `reliability`, `durability`, `deadline`, `lifespan`, `liveliness`,
+/// `liveliness_lease_duration` (each duration `sec` and `nsec`; `None`, infinite, as
+/// 9223372036 s 854775807 ns) and `avoid_ros_namespace_conventions` (false). With the `jazzy`
+/// feature the policies are names (`keep_last`, `reliable`, `transient_local`, `automatic`:
+/// rosbag2's metadata version 9), else numbers (rmw's enum values, as Humble's rosbag2 writes
+/// them: keep_last 1, keep_all 2; reliable 1, best_effort 2; transient_local 1, volatile 2;
+/// automatic 1, manual_by_topic 3). A keep-all history has depth 0.
+///
+/// # Example
+/// ```
+/// use ftwire_ros2::bag::{default_qos, offered_qos_profiles};
+/// let text = offered_qos_profiles(&[default_qos()]);
+/// assert!(text.starts_with("- history: "));
+/// assert!(text.contains("\n  depth: 10\n"));
+/// assert!(text.ends_with("avoid_ros_namespace_conventions: false"));
+/// ```
+pub fn offered_qos_profiles(profiles: &[QosProfile]) -> String {
+    use std::fmt::Write as _;
+    let named = cfg!(feature = "jazzy");
+    let policy = |name: &'static str, number: u8| -> String {
+        if named {
+            name.to_owned()
+        } else {
+            number.to_string()
+        }
+    };
+    let duration =
+        |d: Option<std::time::Duration>| d.map_or(INFINITE, |d| (d.as_secs(), d.subsec_nanos()));
+    let mut out = String::new();
+    for qos in profiles {
+        let (history, depth) = match qos.history {
+            History::KeepLast { depth } => (policy("keep_last", 1), depth),
+            History::KeepAll => (policy("keep_all", 2), 0),
+        };
+        let reliability = match qos.reliability {
+            Reliability::Reliable { .. } => policy("reliable", 1),
+            Reliability::BestEffort => policy("best_effort", 2),
+        };
+        let durability = match qos.durability {
+            Durability::TransientLocal => policy("transient_local", 1),
+            Durability::Volatile => policy("volatile", 2),
+        };
+        let liveliness = match qos.liveliness {
+            Liveliness::Automatic => policy("automatic", 1),
+            Liveliness::ManualByTopic => policy("manual_by_topic", 3),
+        };
+        if !out.is_empty() {
+            out.push('\n');
+        }
+        let _ = write!(
+            out,
+            "- history: {history}\n  depth: {depth}\n  reliability: {reliability}\n  \
+             durability: {durability}\n"
+        );
+        for (key, (sec, nsec)) in [
+            ("deadline", duration(qos.deadline)),
+            ("lifespan", duration(qos.lifespan)),
+        ] {
+            let _ = write!(out, "  {key}:\n    sec: {sec}\n    nsec: {nsec}\n");
+        }
+        let (sec, nsec) = duration(qos.liveliness_lease);
+        let _ = write!(
+            out,
+            "  liveliness: {liveliness}\n  liveliness_lease_duration:\n    sec: {sec}\n    \
+             nsec: {nsec}\n  avoid_ros_namespace_conventions: false"
+        );
+    }
+    out
+}
 
 /// What went wrong with a bag.
 #[derive(Debug, Error)]
@@ -77,6 +164,17 @@ pub enum BagError {
         #[source]
         source: CdrError,
     },
+    /// A topic's QoS was given after its first message.
+    #[error(
+        "{}: topic {topic} already has its channel; give its QoS before its first message",
+        path.display()
+    )]
+    QosTooLate {
+        /// The file.
+        path: PathBuf,
+        /// The topic.
+        topic: String,
+    },
     /// A message's topic is not CDR-encoded ROS 2.
     #[error(
         "{}: topic {topic} has message encoding \"{encoding}\"; a ROS 2 bag's messages are \"cdr\"",
@@ -99,6 +197,8 @@ pub struct BagWriter {
     writer: mcap::Writer<BufWriter<File>>,
     /// Per topic: the channel id, the message type and the next sequence number.
     channels: BTreeMap<String, (u16, &'static str, u32)>,
+    /// Per topic: the QoS its channel is to carry (else [`default_qos`]).
+    qos: BTreeMap<String, QosProfile>,
 }
 
 impl std::fmt::Debug for BagWriter {
@@ -161,7 +261,24 @@ impl BagWriter {
             path,
             writer,
             channels: BTreeMap::new(),
+            qos: BTreeMap::new(),
         })
+    }
+
+    /// Sets the QoS `topic`'s channel carries as `offered_qos_profiles`: the profile the
+    /// node published or subscribed with. A topic without one carries [`default_qos`].
+    ///
+    /// # Errors
+    /// [`BagError::QosTooLate`] once the topic has a message.
+    pub fn set_qos(&mut self, topic: &str, qos: &QosProfile) -> Result<(), BagError> {
+        if self.channels.contains_key(topic) {
+            return Err(BagError::QosTooLate {
+                path: self.path.clone(),
+                topic: topic.to_owned(),
+            });
+        }
+        self.qos.insert(topic.to_owned(), qos.clone());
+        Ok(())
     }
 
     /// Writes `message` on `topic` at `log_time_ns` (ns on the recording's clock; also the
@@ -203,9 +320,14 @@ impl BagWriter {
                     .writer
                     .add_schema(M::TYPE_NAME, SCHEMA_ENCODING, M::DEFINITION.as_bytes())
                     .map_err(io)?;
+                let qos = self.qos.get(topic).cloned().unwrap_or_else(default_qos);
+                let metadata = BTreeMap::from([(
+                    QOS_KEY.to_owned(),
+                    offered_qos_profiles(std::slice::from_ref(&qos)),
+                )]);
                 let id = self
                     .writer
-                    .add_channel(schema, topic, MESSAGE_ENCODING, &BTreeMap::new())
+                    .add_channel(schema, topic, MESSAGE_ENCODING, &metadata)
                     .map_err(io)?;
                 self.channels
                     .insert(topic.to_string(), (id, M::TYPE_NAME, 1));
@@ -256,6 +378,8 @@ pub struct Topic {
     pub encoding: String,
     /// How many messages the bag holds on it.
     pub count: usize,
+    /// The channel's `offered_qos_profiles` ([`offered_qos_profiles`]; empty when it has none).
+    pub offered_qos_profiles: String,
 }
 
 /// One message of a bag.
@@ -314,6 +438,11 @@ impl BagReader {
                             .unwrap_or_default(),
                         encoding: channel.message_encoding.clone(),
                         count: 0,
+                        offered_qos_profiles: channel
+                            .metadata
+                            .get(QOS_KEY)
+                            .cloned()
+                            .unwrap_or_default(),
                     });
                     by_channel.insert(key, topics.len() - 1);
                     topics.len() - 1

@@ -1,8 +1,10 @@
 //! The ROS 2 messages ftwire speaks, written by hand as serde structs.
 //!
-//! Each struct's fields are in the order of its `.msg` definition (ROS 2 Humble and Jazzy agree
-//! on every type here), because CDR serialises fields in declaration order with no names. The
-//! `TYPE_NAME` constants are the DDS type names ROS 2 publishes under (`pkg::msg::dds_::Type_`).
+//! Each struct's fields are in the order of its `.msg` definition, because CDR serialises
+//! fields in declaration order with no names. ROS 2 Humble and Jazzy agree on every field of
+//! every type here; `visualization_msgs/Marker`'s constant `ARROW_STRIP` is Jazzy's only, and
+//! the definition text follows the `jazzy` feature. The `TYPE_NAME` constants are the DDS type
+//! names ROS 2 publishes under (`pkg::msg::dds_::Type_`).
 //! Units are SI: metres, newtons, newton-metres, seconds.
 
 use serde::{Deserialize, Serialize};
@@ -255,7 +257,8 @@ impl Marker {
     pub const MESH_RESOURCE: i32 = 10;
     /// `type`: a triangle per three `points`.
     pub const TRIANGLE_LIST: i32 = 11;
-    /// `type`: arrows along `points` (declared by the message, not drawn by RViz).
+    /// `type`: arrows along `points` (declared by Jazzy's message, not Humble's; not drawn by
+    /// RViz).
     pub const ARROW_STRIP: i32 = 12;
     /// `action`: add or modify.
     pub const ADD: i32 = 0;
@@ -274,6 +277,35 @@ pub struct MarkerArray {
     pub markers: Vec<Marker>,
 }
 
+/// `geometry_msgs/Transform`: a rigid motion, the child frame's pose in the parent frame
+/// (`p_parent = rotation · p_child + translation`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct Transform {
+    /// Translation \[m\].
+    pub translation: Vector3,
+    /// Rotation, a unit quaternion.
+    pub rotation: Quaternion,
+}
+
+/// `geometry_msgs/TransformStamped`: one edge of the TF tree, from `header.frame_id` (the
+/// parent) to `child_frame_id`, at `header.stamp`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TransformStamped {
+    /// Time and the parent frame.
+    pub header: Header,
+    /// The child frame.
+    pub child_frame_id: String,
+    /// The child frame's pose in the parent frame.
+    pub transform: Transform,
+}
+
+/// `tf2_msgs/TFMessage`: the message of `/tf` and `/tf_static`, any number of edges.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TFMessage {
+    /// The edges.
+    pub transforms: Vec<TransformStamped>,
+}
+
 /// A message ftwire speaks: its ROS 2 type name (as in `ros2 topic info`) and its complete
 /// definition (the `.msg` text with every type it uses), as a bag's `ros2msg` schema holds it.
 pub trait RosMessage: Serialize + for<'de> Deserialize<'de> {
@@ -289,6 +321,24 @@ pub trait RosMessage: Serialize + for<'de> Deserialize<'de> {
 /// The line between two definitions of a `ros2msg` schema: 80 `=`.
 pub const DEFINITION_SEPARATOR: &str =
     "================================================================================";
+
+/// `visualization_msgs/Marker`'s constant `ARROW_STRIP`: Jazzy's `.msg` declares it, Humble's
+/// does not (the fields, and so the bytes, are the same). Checked against both distributions'
+/// definitions by `tests/rosbags_check.py`.
+#[cfg(feature = "jazzy")]
+macro_rules! marker_arrow_strip {
+    () => {
+        "int32 ARROW_STRIP=12\n"
+    };
+}
+
+/// Humble's `visualization_msgs/Marker` has no `ARROW_STRIP` (see the `jazzy` version).
+#[cfg(not(feature = "jazzy"))]
+macro_rules! marker_arrow_strip {
+    () => {
+        ""
+    };
+}
 
 /// The `.msg` text of each type, as `concat!` literals (comments and blank lines left out:
 /// the fields, their types and the constants are what a reader of the schema needs).
@@ -358,7 +408,7 @@ macro_rules! msg_text {
             "int32 TEXT_VIEW_FACING=9\n",
             "int32 MESH_RESOURCE=10\n",
             "int32 TRIANGLE_LIST=11\n",
-            "int32 ARROW_STRIP=12\n",
+            marker_arrow_strip!(),
             "int32 ADD=0\n",
             "int32 MODIFY=0\n",
             "int32 DELETE=2\n",
@@ -386,6 +436,15 @@ macro_rules! msg_text {
     };
     ("visualization_msgs/MarkerArray") => {
         "Marker[] markers\n"
+    };
+    ("geometry_msgs/Transform") => {
+        "Vector3 translation\nQuaternion rotation\n"
+    };
+    ("geometry_msgs/TransformStamped") => {
+        "std_msgs/Header header\nstring child_frame_id\nTransform transform\n"
+    };
+    ("tf2_msgs/TFMessage") => {
+        "geometry_msgs/TransformStamped[] transforms\n"
     };
 }
 
@@ -444,6 +503,15 @@ pub const MSG_TEXTS: &[(&str, &str)] = &[
         "visualization_msgs/MarkerArray",
         msg_text!("visualization_msgs/MarkerArray"),
     ),
+    (
+        "geometry_msgs/Transform",
+        msg_text!("geometry_msgs/Transform"),
+    ),
+    (
+        "geometry_msgs/TransformStamped",
+        msg_text!("geometry_msgs/TransformStamped"),
+    ),
+    ("tf2_msgs/TFMessage", msg_text!("tf2_msgs/TFMessage")),
 ];
 
 /// The complete `ros2msg` definition of `root` (`pkg/Type` or `pkg/msg/Type`) from
@@ -543,4 +611,7 @@ ros_message! {
     MeshFile => "visualization_msgs/msg/MeshFile", "visualization_msgs/MeshFile";
     Marker => "visualization_msgs/msg/Marker", "visualization_msgs/Marker", "builtin_interfaces/Duration", "geometry_msgs/Point", "geometry_msgs/Pose", "geometry_msgs/Quaternion", "geometry_msgs/Vector3", "sensor_msgs/CompressedImage", "std_msgs/Header", "builtin_interfaces/Time", "std_msgs/ColorRGBA", "visualization_msgs/MeshFile", "visualization_msgs/UVCoordinate";
     MarkerArray => "visualization_msgs/msg/MarkerArray", "visualization_msgs/MarkerArray", "visualization_msgs/Marker", "builtin_interfaces/Duration", "geometry_msgs/Point", "geometry_msgs/Pose", "geometry_msgs/Quaternion", "geometry_msgs/Vector3", "sensor_msgs/CompressedImage", "std_msgs/Header", "builtin_interfaces/Time", "std_msgs/ColorRGBA", "visualization_msgs/MeshFile", "visualization_msgs/UVCoordinate";
+    Transform => "geometry_msgs/msg/Transform", "geometry_msgs/Transform", "geometry_msgs/Quaternion", "geometry_msgs/Vector3";
+    TransformStamped => "geometry_msgs/msg/TransformStamped", "geometry_msgs/TransformStamped", "geometry_msgs/Transform", "geometry_msgs/Quaternion", "geometry_msgs/Vector3", "std_msgs/Header", "builtin_interfaces/Time";
+    TFMessage => "tf2_msgs/msg/TFMessage", "tf2_msgs/TFMessage", "geometry_msgs/TransformStamped", "geometry_msgs/Transform", "geometry_msgs/Quaternion", "geometry_msgs/Vector3", "std_msgs/Header", "builtin_interfaces/Time";
 }

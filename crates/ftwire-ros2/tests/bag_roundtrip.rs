@@ -217,3 +217,119 @@ fn a_reader_error_names_the_file_and_what_is_wrong() {
         std::fs::remove_file(path).ok();
     }
 }
+
+/// The `key: value` pairs of a YAML list of maps as rosbag2 writes `offered_qos_profiles`
+/// (block style, two spaces per level), one map per `- ` item; a nested map's keys are joined
+/// with a dot (`deadline.sec`). Panics on a line that is not of that form.
+fn qos_items(text: &str) -> Vec<std::collections::BTreeMap<String, String>> {
+    let mut items = Vec::new();
+    let mut parent = String::new();
+    for line in text.lines() {
+        let (indent, rest) = match line.strip_prefix("- ") {
+            Some(rest) => {
+                items.push(std::collections::BTreeMap::new());
+                (2, rest)
+            }
+            None => {
+                let trimmed = line.trim_start_matches(' ');
+                (line.len() - trimmed.len(), trimmed)
+            }
+        };
+        let (key, value) = rest
+            .split_once(':')
+            .unwrap_or_else(|| panic!("not `key: value`: {line:?}"));
+        let value = value.trim();
+        let item = items.last_mut().expect("a line before the first item");
+        match indent {
+            2 if value.is_empty() => parent = key.to_owned(),
+            2 => {
+                item.insert(key.to_owned(), value.to_owned());
+            }
+            4 => {
+                item.insert(format!("{parent}.{key}"), value.to_owned());
+            }
+            _ => panic!("unexpected indentation: {line:?}"),
+        }
+    }
+    items
+}
+
+#[test]
+fn every_channel_carries_its_qos_as_rosbag2_writes_it() {
+    use ftwire_ros2::bag::{default_qos, offered_qos_profiles};
+    use ros2_client::QosProfile;
+    use ros2_client::qos::{Durability, History, WhenFull};
+
+    let path = temp("qos.mcap");
+    let latched = QosProfile::publisher_default()
+        .reliability_reliable(WhenFull::DEFAULT)
+        .durability(Durability::TransientLocal)
+        .history(History::KeepAll);
+    let stream = QosProfile::subscription_default().history(History::KeepLast { depth: 1000 });
+    let mut bag = BagWriter::create(&path, false).expect("creates");
+    bag.set_qos("/tf_static", &latched)
+        .expect("before the topic");
+    bag.set_qos("/ft", &stream).expect("before the topic");
+    bag.write("/tf_static", 1, &TFMessage::default())
+        .expect("writes");
+    bag.write("/ft", 2, &WrenchStamped::default())
+        .expect("writes");
+    bag.write("/note", 3, &StringMsg::default())
+        .expect("writes");
+    assert!(matches!(
+        bag.set_qos("/ft", &latched),
+        Err(BagError::QosTooLate { .. })
+    ));
+    bag.finish().expect("finishes");
+
+    let read = BagReader::open(&path).expect("reads");
+    let named = cfg!(feature = "jazzy");
+    let name = |jazzy: &str, humble: &str| if named { jazzy } else { humble }.to_owned();
+    for (topic, depth, reliability, durability) in [
+        (
+            "/tf_static",
+            "0",
+            name("reliable", "1"),
+            name("transient_local", "1"),
+        ),
+        (
+            "/ft",
+            "1000",
+            name("best_effort", "2"),
+            name("volatile", "2"),
+        ),
+        ("/note", "10", name("reliable", "1"), name("volatile", "2")),
+    ] {
+        let text = &read.topic(topic).expect("the topic").offered_qos_profiles;
+        let items = qos_items(text);
+        assert_eq!(items.len(), 1, "{topic}: {text}");
+        let item = &items[0];
+        assert_eq!(item["depth"], depth, "{topic}: {text}");
+        assert_eq!(item["reliability"], reliability, "{topic}: {text}");
+        assert_eq!(item["durability"], durability, "{topic}: {text}");
+        assert_eq!(item["liveliness"], name("automatic", "1"), "{topic}");
+        for key in ["deadline", "lifespan", "liveliness_lease_duration"] {
+            assert_eq!(item[&format!("{key}.sec")], "9223372036", "{topic}: {key}");
+            assert_eq!(item[&format!("{key}.nsec")], "854775807", "{topic}: {key}");
+        }
+        assert_eq!(item["avoid_ros_namespace_conventions"], "false");
+        assert_eq!(item.len(), 12, "every key rosbag2 writes, once: {text}");
+    }
+    // The layout, spelled out for the default.
+    let h = name("keep_last", "1");
+    let (r, d, l) = (
+        name("reliable", "1"),
+        name("volatile", "2"),
+        name("automatic", "1"),
+    );
+    let infinite = "    sec: 9223372036\n    nsec: 854775807\n";
+    assert_eq!(
+        offered_qos_profiles(&[default_qos()]),
+        format!(
+            "- history: {h}\n  depth: 10\n  reliability: {r}\n  durability: {d}\n  deadline:\n\
+             {infinite}  lifespan:\n{infinite}  liveliness: {l}\n  liveliness_lease_duration:\n\
+             {infinite}  avoid_ros_namespace_conventions: false"
+        )
+    );
+    std::fs::remove_file(&path).ok();
+}

@@ -582,6 +582,131 @@ fn marker_array() {
     );
 }
 
+fn turn(x: f64, y: f64, z: f64, w: f64) -> Quaternion {
+    Quaternion { x, y, z, w }
+}
+
+#[test]
+fn transform() {
+    let message = Transform {
+        translation: Vector3 {
+            x: 0.5,
+            y: -0.25,
+            z: 2.0,
+        },
+        rotation: turn(0.0, 0.6, 0.0, 0.8),
+    };
+    golden(
+        &message,
+        &[
+            &HDR,
+            &f64le(0.5), // 0: translation.x
+            &f64le(-0.25),
+            &f64le(2.0),
+            &f64le(0.0), // 24: rotation.x
+            &f64le(0.6),
+            &f64le(0.0),
+            &f64le(0.8), // 48: rotation.w; 56 bytes
+        ],
+    );
+}
+
+#[test]
+fn transform_stamped() {
+    let message = TransformStamped {
+        header: Header {
+            stamp: Time { sec: 3, nanosec: 4 },
+            frame_id: "world".into(),
+        },
+        child_frame_id: "wire_tip".into(),
+        transform: Transform {
+            translation: Vector3 {
+                x: 1.0,
+                y: 2.0,
+                z: 3.0,
+            },
+            rotation: turn(0.0, 0.0, 0.0, 1.0),
+        },
+    };
+    golden(
+        &message,
+        &[
+            &HDR,
+            &[3, 0, 0, 0], // 0: header.stamp.sec
+            &[4, 0, 0, 0], // 4: header.stamp.nanosec
+            &[6, 0, 0, 0], // 8: frame_id length
+            b"world\0",    // 12: "world" NUL, to 18
+            &[0, 0],       // 18: padding to 20, uint32 alignment
+            &[9, 0, 0, 0], // 20: child_frame_id length
+            b"wire_tip\0", // 24: "wire_tip" NUL, to 33
+            &[0; 7],       // 33: padding to 40, float64 alignment
+            &f64le(1.0),   // 40: transform.translation.x
+            &f64le(2.0),
+            &f64le(3.0),
+            &f64le(0.0), // 64: transform.rotation.x
+            &f64le(0.0),
+            &f64le(0.0),
+            &f64le(1.0), // 88: transform.rotation.w; 96 bytes
+        ],
+    );
+}
+
+#[test]
+fn tf_message() {
+    // Two edges: the second starts at body offset 88, so its paddings differ from the first's.
+    let edge = |frame: &str, child: &str, x: f64| TransformStamped {
+        header: Header {
+            stamp: Time { sec: 7, nanosec: 8 },
+            frame_id: frame.into(),
+        },
+        child_frame_id: child.into(),
+        transform: Transform {
+            translation: Vector3 { x, y: 0.0, z: 0.0 },
+            rotation: turn(1.0, 0.0, 0.0, 0.0),
+        },
+    };
+    let message = TFMessage {
+        transforms: vec![edge("a", "b", 0.25), edge("wire_base", "t", -4.0)],
+    };
+    golden(
+        &message,
+        &[
+            &HDR,
+            &[2, 0, 0, 0], // 0: transforms count
+            &[7, 0, 0, 0], // 4: [0].header.stamp.sec
+            &[8, 0, 0, 0], // 8: [0].header.stamp.nanosec
+            &[2, 0, 0, 0], // 12: [0].frame_id length
+            b"a\0",        // 16: "a" NUL, to 18
+            &[0, 0],       // 18: padding to 20
+            &[2, 0, 0, 0], // 20: [0].child_frame_id length
+            b"b\0",        // 24: "b" NUL, to 26
+            &[0; 6],       // 26: padding to 32
+            &f64le(0.25),  // 32: [0].transform.translation.x
+            &f64le(0.0),
+            &f64le(0.0),
+            &f64le(1.0), // 56: [0].transform.rotation.x
+            &f64le(0.0),
+            &f64le(0.0),
+            &f64le(0.0),
+            &[7, 0, 0, 0],  // 88: [1].header.stamp.sec
+            &[8, 0, 0, 0],  // 92: [1].header.stamp.nanosec
+            &[10, 0, 0, 0], // 96: [1].frame_id length
+            b"wire_base\0", // 100: "wire_base" NUL, to 110
+            &[0, 0],        // 110: padding to 112
+            &[2, 0, 0, 0],  // 112: [1].child_frame_id length
+            b"t\0",         // 116: "t" NUL, to 118
+            &[0; 2],        // 118: padding to 120
+            &f64le(-4.0),   // 120: [1].transform.translation.x
+            &f64le(0.0),
+            &f64le(0.0),
+            &f64le(1.0), // 144: [1].transform.rotation.x
+            &f64le(0.0),
+            &f64le(0.0),
+            &f64le(0.0), // 168: [1].transform.rotation.w; 176 bytes
+        ],
+    );
+}
+
 #[test]
 fn a_big_endian_message_and_middleware_padding_decode() {
     // `00 00`: big-endian; the same Header as `header` above, plus 3 bytes of padding to a
@@ -658,6 +783,9 @@ fn every_definition_is_rosbag2s_full_text() {
     check::<MeshFile>();
     check::<Marker>();
     check::<MarkerArray>();
+    check::<Transform>();
+    check::<TransformStamped>();
+    check::<TFMessage>();
     // The layout, spelled out for one type.
     let sep = "=".repeat(80);
     assert_eq!(

@@ -155,6 +155,101 @@ fn the_estimate_on_ros2_matches_the_simulators_truth_and_loses_nothing() {
     eprintln!("sim: {sim}\nestimate: {estimate}");
 }
 
+/// The tip pose from TF (`--base-frame wire_base --tip-frame wire_tip`: the sim's static
+/// world → wire_base and dynamic world → wire_tip, composed), with the contact check on: the
+/// same shapes and no loss as with the `PoseStamped`, every lookup after the first wrench
+/// answered but for the start, and no contact (the tip found is the gripper's).
+#[test]
+fn the_estimate_with_the_tip_from_tf_frames_matches_the_truth() {
+    let dir = temp_dir("tf");
+    let bag = dir.join("tf.mcap");
+    let (sim, estimate) = run_pair_in(
+        &dir,
+        4.5,
+        3.0,
+        &format!(
+            "--base-frame wire_base --tip-frame wire_tip --contact-miss 20 --record '{}'",
+            bag.display()
+        ),
+    );
+    check_stream(&sim, &estimate, 2000);
+    // Each recorded topic carries the QoS the node used (rosbag2's names with Jazzy, rmw's
+    // numbers with Humble): /tf_static transient local, the rest volatile, all reliable.
+    let reader = ftwire_ros2::bag::BagReader::open(&bag).expect("the recorded bag opens");
+    for (topic, durability, depth) in [
+        ("/tf_static", ["transient_local", "1"], "0"),
+        ("/tf", ["volatile", "2"], "100"),
+        ("/ft_sensor/wrench", ["volatile", "2"], "1000"),
+        ("/wire/shape", ["volatile", "2"], "10"),
+    ] {
+        let qos = &reader.topic(topic).expect("recorded").offered_qos_profiles;
+        let has = |key: &str, values: &[&str]| {
+            values.iter().any(|v| {
+                qos.lines()
+                    .any(|l| l.trim_start_matches(['-', ' ']) == format!("{key}: {v}"))
+            })
+        };
+        assert!(has("durability", &durability), "{topic}: {qos}");
+        assert!(has("reliability", &["reliable", "1"]), "{topic}: {qos}");
+        assert!(has("depth", &[depth]), "{topic}: {qos}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(count(&estimate, "received", "tip_pose"), 0, "{estimate}");
+    assert_eq!(count(&estimate, "received", "tf_static"), 1, "{estimate}");
+    assert!(count(&estimate, "received", "tf") >= 200, "{estimate}");
+    let tf = &estimate["tf"];
+    assert_eq!(tf["edges"], 2, "{estimate}");
+    assert_eq!(tf["stale"], 0, "{estimate}");
+    let answered = tf["answered"].as_u64().unwrap_or(0);
+    let missed = tf["not_available"].as_u64().unwrap_or(u64::MAX);
+    assert!(answered > 100 && missed < answered / 10, "{estimate}");
+    assert_eq!(estimate["contacts"], 0, "{estimate}");
+    let truth = &estimate["truth"];
+    assert!(truth["compared"].as_u64().unwrap_or(0) >= 10, "{estimate}");
+    let mean = truth["mean_mm"].as_f64().unwrap_or(f64::INFINITY);
+    assert!(
+        mean < 4.0,
+        "mean distance to the truth {mean} mm: {estimate}"
+    );
+    let worst = truth["worst_mean_mm"].as_f64().unwrap_or(f64::INFINITY);
+    assert!(worst < 8.0, "worst mean distance {worst} mm: {estimate}");
+    eprintln!("sim: {sim}\nestimate: {estimate}");
+}
+
+/// Giving one TF frame without the other, or with a tip pose topic, is refused before the node
+/// starts, naming the options.
+#[test]
+fn tf_frames_go_together_and_exclude_the_tip_pose_topic() {
+    for (args, needle) in [
+        (&["--base-frame", "wire_base"][..], "--tip-frame"),
+        (
+            &[
+                "--base-frame",
+                "a",
+                "--tip-frame",
+                "b",
+                "--tip-pose-topic",
+                "/t",
+            ][..],
+            "--tip-pose-topic",
+        ),
+        (&["--tf-stale", "1"][..], "--base-frame"),
+        (
+            &["--base-frame", "a", "--tip-frame", "a"][..],
+            "--tip-frame",
+        ),
+    ] {
+        let output = Command::new(BIN)
+            .args(["ros2", "estimate", "--duration", "1"])
+            .args(args)
+            .output()
+            .expect("runs ftwire");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+    }
+}
+
 /// `--record` writes every message the estimator received and published into a ROS 2 bag, and
 /// `ftwire import mcap` reads the session back: one rest (the sim holds still) whose wrench is
 /// the mean of the recorded wrenches after the settle time, and whose pose is the recorded one.

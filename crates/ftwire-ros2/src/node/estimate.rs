@@ -12,8 +12,9 @@
 //! 4. **shape**: [`ftwire_lab::log::shape::shape_record`], the same call `ftwire shape --log`
 //!    makes: the centreline at 64 nodes, `stable` (`ã ∈ A_stable`) and `confident` (stable and
 //!    no jump from the previous estimate);
-//! 5. **contact** (with `contact_miss`): the reported tip pose against the estimated shape's
-//!    tip. A free wire's shape ends at the gripper; a contact is a force the model does not
+//! 5. **contact** (with `contact_miss`): the reported tip pose (the latest on the tip pose
+//!    topic, or with `tf` the pose of the tip frame in the base frame at the batch's newest
+//!    wrench stamp, [`super::tf`]) against the estimated shape's tip. A free wire's shape ends at the gripper; a contact is a force the model does not
 //!    have, so the estimate's tip misses the gripper. A miss above `contact_miss` is a contact.
 //!
 //! It publishes the centreline as `nav_msgs/Path` on [`SHAPE_TOPIC`] (frame [`BASE_FRAME`],
@@ -45,6 +46,7 @@ use ros2_client::MessageInfo;
 use serde::Serialize;
 
 use super::stats::Spread;
+use super::tf::{TfFrames, TfSummary};
 use super::{Counts, NodeError, a_of_raw, check_contact_miss, tare_of};
 use crate::msg::{self, ColorRGBA, Marker, MarkerArray};
 
@@ -68,8 +70,12 @@ pub struct EstimateNodeParams {
     pub rate: f64,
     /// The wrench topic.
     pub wrench_topic: String,
-    /// The tip pose topic.
+    /// The tip pose topic (`geometry_msgs/PoseStamped` in [`super::BASE_FRAME`]); not
+    /// subscribed with `tf`.
     pub tip_pose_topic: String,
+    /// The tip pose from these two TF frames (`/tf`, `/tf_static`) instead of
+    /// `tip_pose_topic` ([`super::tf`]).
+    pub tf: Option<TfFrames>,
     /// A true centreline to compare the shapes with (a simulator's `/wire/truth`).
     pub truth_topic: Option<String>,
     /// A tip miss above this is a contact \[m\]; `None`: no contact check.
@@ -110,7 +116,8 @@ pub struct EstimateSummary {
     pub received: Counts,
     /// Messages published, by topic.
     pub published: Counts,
-    /// Messages refused, by reason: `frame_id`, `non_finite`, `malformed`.
+    /// Messages refused, by reason: `frame_id`, `non_finite`, `malformed`, and TF edges by
+    /// [`super::tf::TfRefusal::name`].
     pub refused: Counts,
     /// Messages the middleware would not publish, by topic.
     pub publish_failed: Counts,
@@ -138,6 +145,8 @@ pub struct EstimateSummary {
     pub truth: Option<TruthError>,
     /// With `--record`: the messages written into the bag.
     pub recorded: Option<Recorded>,
+    /// With TF frames as the tip source: its lookups.
+    pub tf: Option<TfSummary>,
 }
 
 /// What `--record` wrote.
@@ -349,6 +358,9 @@ impl EstimateNodeParams {
             });
         }
         check_contact_miss(self.contact_miss)?;
+        if let Some(frames) = &self.tf {
+            frames.validate()?;
+        }
         if let Some(spec) = self.map.mounting()
             && spec.tool_mass > 0.0
         {
@@ -378,6 +390,7 @@ mod tests {
             rate: 1000.0,
             wrench_topic: "/ft_sensor/wrench".into(),
             tip_pose_topic: "/wire/tip_pose".into(),
+            tf: None,
             truth_topic: None,
             contact_miss: None,
             record: None,

@@ -12,19 +12,22 @@ use ftwire_lab::log::LogRecord;
 use ftwire_lab::log::shape::shape_record;
 use nalgebra::Vector3;
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
-use ros2_client::{Publisher, Subscription};
+use ros2_client::{MessageInfo, Publisher, QosProfile, Subscription};
 
 use super::estimate::{
     EstimateNodeParams, EstimateSummary, Pending, Pipeline, Status, TruthError, arrival,
     finite_wrench, markers, now_ns,
 };
 use super::stats::{LossCounter, Spread};
+use super::tf::{TF_STATIC_TOPIC, TF_TOPIC, TfListener, tf_qos, tf_static_qos};
 use super::{
     BASE_FRAME, Counts, Log, MARKERS_VIZ_TOPIC, NodeError, NodeSettings, RosNode, SENSOR_FRAME,
     SHAPE_TOPIC, STATUS_TOPIC, WRENCH_QUEUE, count, publish, reliable, seconds, should_stop,
 };
 use crate::bag::BagWriter;
-use crate::msg::{self, MarkerArray, Path, PoseStamped, RosMessage, StringMsg, WrenchStamped};
+use crate::msg::{
+    self, MarkerArray, Path, PoseStamped, RosMessage, StringMsg, TFMessage, WrenchStamped,
+};
 use crate::node::sim::{pose_of, ros_point};
 use crate::node::{path_message, path_points};
 
@@ -34,7 +37,9 @@ const POLL_MS: u64 = 20;
 /// The node's subscriptions, publishers and the poll that wakes it.
 struct Io {
     wrench: Subscription<WrenchStamped>,
-    tip: Subscription<PoseStamped>,
+    /// The tip pose topic, or the TF frames.
+    tip: Option<Subscription<PoseStamped>>,
+    tf: Option<TfListener>,
     truth: Option<Subscription<Path>>,
     shape: Publisher<Path>,
     markers: Publisher<MarkerArray>,
@@ -50,12 +55,38 @@ fn ros_error(what: &str, e: &std::io::Error) -> NodeError {
     }
 }
 
+/// Each topic the node subscribes to or publishes, with its QoS (what `--record` writes as
+/// the topic's `offered_qos_profiles`).
+fn topic_qos(params: &EstimateNodeParams) -> Vec<(String, QosProfile)> {
+    let small = reliable(10);
+    let mut topics = vec![(params.wrench_topic.clone(), reliable(WRENCH_QUEUE))];
+    if params.tf.is_some() {
+        topics.push((TF_TOPIC.to_owned(), tf_qos()));
+        topics.push((TF_STATIC_TOPIC.to_owned(), tf_static_qos(false)));
+    } else {
+        topics.push((params.tip_pose_topic.clone(), small.clone()));
+    }
+    if let Some(topic) = &params.truth_topic {
+        topics.push((topic.clone(), small.clone()));
+    }
+    for topic in [SHAPE_TOPIC, MARKERS_VIZ_TOPIC, STATUS_TOPIC] {
+        topics.push((topic.to_owned(), small.clone()));
+    }
+    topics
+}
+
 impl Io {
     fn open(node: &mut RosNode, params: &EstimateNodeParams) -> Result<Self, NodeError> {
         let small = reliable(10);
         let mut wrench =
             node.subscription::<WrenchStamped>(&params.wrench_topic, &reliable(WRENCH_QUEUE))?;
-        let mut tip = node.subscription::<PoseStamped>(&params.tip_pose_topic, &small)?;
+        let (mut tip, mut tf) = match &params.tf {
+            Some(frames) => (None, Some(TfListener::open(node, frames)?)),
+            None => (
+                Some(node.subscription::<PoseStamped>(&params.tip_pose_topic, &small)?),
+                None,
+            ),
+        };
         let mut truth = params
             .truth_topic
             .as_deref()
@@ -65,9 +96,16 @@ impl Io {
         poll.registry()
             .register(&mut wrench, Token(0), Interest::READABLE)
             .map_err(|e| ros_error("a poll of the wrench", &e))?;
-        poll.registry()
-            .register(&mut tip, Token(1), Interest::READABLE)
-            .map_err(|e| ros_error("a poll of the tip pose", &e))?;
+        if let Some(sub) = tip.as_mut() {
+            poll.registry()
+                .register(sub, Token(1), Interest::READABLE)
+                .map_err(|e| ros_error("a poll of the tip pose", &e))?;
+        }
+        if let Some(listener) = tf.as_mut() {
+            listener
+                .register(poll.registry(), 3)
+                .map_err(|e| ros_error("a poll of TF", &e))?;
+        }
         if let Some(sub) = truth.as_mut() {
             poll.registry()
                 .register(sub, Token(2), Interest::READABLE)
@@ -76,6 +114,7 @@ impl Io {
         Ok(Self {
             wrench,
             tip,
+            tf,
             truth,
             shape: node.publisher::<Path>(SHAPE_TOPIC, &small)?,
             markers: node.publisher::<MarkerArray>(MARKERS_VIZ_TOPIC, &small)?,
@@ -175,6 +214,7 @@ impl<'p> State<'p> {
                 solve_ms: None,
                 truth: None,
                 recorded: None,
+                tf: None,
             },
             pipeline: Pipeline::new(params),
             loss: LossCounter::new(params.rate),
@@ -224,6 +264,29 @@ impl<'p> State<'p> {
                 Err(_) => count(&mut self.summary.refused, "malformed"),
             }
         }
+    }
+
+    /// Takes every TF message waiting into the listener's buffer (and the bag).
+    fn take_tf(&mut self, listener: &mut TfListener, log: Log<'_>) {
+        let recorder = &mut self.recorder;
+        let mut record_tf = |topic: &str, info: &MessageInfo, message: &TFMessage| {
+            record(recorder, topic, arrival(info), message);
+        };
+        listener.take(
+            &mut self.summary.received,
+            &mut self.summary.refused,
+            &mut record_tf,
+            log,
+        );
+    }
+
+    /// The tip from TF at the newest wrench's stamp (none before the first wrench).
+    fn tip_from_tf(&mut self, listener: &mut TfListener, log: Log<'_>) {
+        #[allow(clippy::cast_precision_loss)] // sample indices far below 2⁵²
+        let now = self.loss.last().map(|k| k as f64 / self.params.rate);
+        self.tip = now
+            .and_then(|now| listener.tip(now, log))
+            .map(|pose| pose.translation.vector);
     }
 
     /// Takes every wrench waiting through steps 1–3 into the batch.
@@ -481,25 +544,38 @@ pub fn run(
             allowed: "a wire with valid parameters",
         })?;
     let recorder = match &params.record {
-        Some(r) => Some(Recorder {
-            bag: BagWriter::create(&r.path, r.overwrite).map_err(|e| {
+        Some(r) => {
+            let bad = |e: crate::bag::BagError| {
                 NodeError::Lab(ftwire_lab::LabError::bad_input(format!("--record: {e}")))
-            })?,
-            written: 0,
-            failed: 0,
-            first_error: None,
-        }),
+            };
+            let mut bag = BagWriter::create(&r.path, r.overwrite).map_err(bad)?;
+            for (topic, qos) in topic_qos(params) {
+                bag.set_qos(&topic, &qos).map_err(bad)?;
+            }
+            Some(Recorder {
+                bag,
+                written: 0,
+                failed: 0,
+                first_error: None,
+            })
+        }
         None => None,
     };
     let mut node = RosNode::new("ftwire_estimate", settings.domain_id)?;
     let mut io = Io::open(&mut node, params)?;
+    let tip_source = match &params.tf {
+        Some(f) => format!(
+            "{TF_TOPIC} and {TF_STATIC_TOPIC} (the tip frame {:?} in {:?})",
+            f.tip, f.base
+        ),
+        None => format!("{} (frame {BASE_FRAME})", params.tip_pose_topic),
+    };
     log(&format!(
-        "estimate: domain {}; subscribed to {} (frame {SENSOR_FRAME}) and {} (frame \
-         {BASE_FRAME}){}; publishing {SHAPE_TOPIC}, {MARKERS_VIZ_TOPIC}, {STATUS_TOPIC}; wire \
-         {}, tare {} samples, window {}{}",
+        "estimate: domain {}; subscribed to {} (frame {SENSOR_FRAME}) and {tip_source}{}; \
+         publishing {SHAPE_TOPIC}, {MARKERS_VIZ_TOPIC}, {STATUS_TOPIC}; wire {}, tare {} \
+         samples, window {}{}",
         settings.domain_id,
         params.wrench_topic,
-        params.tip_pose_topic,
         params
             .truth_topic
             .as_ref()
@@ -519,12 +595,21 @@ pub fn run(
     );
     while !should_stop(stop, started, settings.duration) {
         io.wait()?;
-        state.take_tips(&io.tip);
+        if let Some(sub) = io.tip.as_ref() {
+            state.take_tips(sub);
+        }
+        if let Some(listener) = io.tf.as_mut() {
+            state.take_tf(listener, log);
+        }
         state.take_wrenches(&io.wrench, log);
+        if let Some(listener) = io.tf.as_mut() {
+            state.tip_from_tf(listener, log);
+        }
         state.publish_batch(&io, log);
         if let Some(sub) = io.truth.as_ref() {
             state.take_truth(sub);
         }
     }
+    state.summary.tf = io.tf.as_ref().map(TfListener::summary);
     state.finish(log)
 }

@@ -14,7 +14,9 @@
 //! - [`control`]: the closed loop of eq. 13–14 to a goal configuration (or along a planned
 //!   path), a rest and a step per iteration, the model's shape on [`SHAPE_TOPIC`];
 //! - [`robot`]: what the last two share: the tare, a target sent and waited for, a rest's
-//!   average mapped to `ã`.
+//!   average mapped to `ã`;
+//! - [`tf`]: the tip pose from two frames of the TF tree (`/tf`, `/tf_static`), the
+//!   estimator's other tip source.
 //!
 //! Conventions: stamps count from the node's clock start (the sim's first sample is stamp 0;
 //! the `k`-th F/T sample is stamped `k / rate` exactly, so that a receiver counts the samples
@@ -37,6 +39,7 @@ pub mod identify;
 pub mod robot;
 pub mod sim;
 pub mod stats;
+pub mod tf;
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -10,7 +10,8 @@
 //!   gripper, as a robot tares its sensor before it picks the wire up; a sensor dropout
 //!   publishes nothing for its tick (counted in `dropouts`);
 //! - at `pose_rate` the second gripper's pose relative to the base clamp, as the robot reports
-//!   it, on [`TIP_POSE_TOPIC`]; at `marker_rate` the seen markers (`geometry_msgs/PoseArray`,
+//!   it, on [`TIP_POSE_TOPIC`], and the same in TF ([`super::tf::SimTfFrames`]: `world` →
+//!   tip clamp on `/tf` with each tip pose, `world` → base clamp once on `/tf_static`); at `marker_rate` the seen markers (`geometry_msgs/PoseArray`,
 //!   positions only, dropped markers left out) on [`MARKERS_TOPIC`] and the true centreline on
 //!   [`TRUTH_TOPIC`], all in [`BASE_FRAME`], and all three again after each move;
 //! - each pose on [`TIP_TARGET_TOPIC`] (frame [`BASE_FRAME`]) moves the second gripper there:
@@ -36,12 +37,13 @@ use nalgebra::{Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
 use ros2_client::{Publisher, Subscription};
 use serde::Serialize;
 
+use super::tf::{SimTfFrames, TF_STATIC_TOPIC, TF_TOPIC, tf_qos, tf_static_qos};
 use super::{
     BASE_FRAME, Counts, Log, MARKERS_TOPIC, NodeError, NodeSettings, RosNode, SENSOR_FRAME,
     TIP_POSE_TOPIC, TIP_TARGET_TOPIC, TRUTH_TOPIC, WRENCH_QUEUE, WRENCH_TOPIC, count, header,
     publish, reliable, seconds, should_stop, sleep_until, tick_stamp,
 };
-use crate::msg::{self, Path, PoseArray, PoseStamped, WrenchStamped};
+use crate::msg::{self, Path, PoseArray, PoseStamped, TFMessage, WrenchStamped};
 use crate::node::path_message;
 
 /// How far a target's orientation quaternion may be from unit length before it is refused.
@@ -75,6 +77,8 @@ pub struct SimNodeParams {
     pub tare_samples: u64,
     /// Longest wait for a subscriber to the wrench before the clock starts anyway \[s\].
     pub wait_subscriber: f64,
+    /// The frames published in TF.
+    pub tf: SimTfFrames,
 }
 
 /// The end of a run: one JSON line.
@@ -125,6 +129,7 @@ impl SimNodeParams {
                 allowed: "a time of 0 s or more",
             });
         }
+        self.tf.validate()?;
         if self.start.iter().any(|v| !v.is_finite()) {
             return Err(NodeError::BadSetting {
                 setting: "--start",
@@ -294,6 +299,7 @@ pub fn truth_message(rig: &SimRig, t: f64) -> Path {
 struct Publishers {
     wrench: Publisher<WrenchStamped>,
     tip: Publisher<PoseStamped>,
+    tf: Publisher<TFMessage>,
     markers: Publisher<PoseArray>,
     truth: Publisher<Path>,
 }
@@ -398,13 +404,18 @@ fn tick(
         Err(_) => summary.dropouts += 1,
     }
     if plan.tip
-        && let Ok(tip) = rig.gripper_poses().map(|p| p.relative())
+        && let Ok(poses) = rig.gripper_poses()
     {
         let message = PoseStamped {
             header: header(t, BASE_FRAME),
-            pose: ros_pose(&tip),
+            pose: ros_pose(&poses.relative()),
         };
         publish(&publishers.tip, message, TIP_POSE_TOPIC, published, failed);
+        let frames = &params.tf;
+        let tf = TFMessage {
+            transforms: vec![frames.edge(&frames.tip, &poses.tip, stamp)],
+        };
+        publish(&publishers.tf, tf, TF_TOPIC, published, failed);
     }
     if plan.markers {
         if let Ok(frame) = rig.observe_markers() {
@@ -466,13 +477,25 @@ pub fn run(
         tip: node.publisher::<PoseStamped>(TIP_POSE_TOPIC, &small)?,
         markers: node.publisher::<PoseArray>(MARKERS_TOPIC, &small)?,
         truth: node.publisher::<Path>(TRUTH_TOPIC, &small)?,
+        tf: node.publisher::<TFMessage>(TF_TOPIC, &tf_qos())?,
     };
+    // The base clamp never moves: its edge goes out once, kept for late subscribers.
+    let tf_static = node.publisher::<TFMessage>(TF_STATIC_TOPIC, &tf_static_qos(true))?;
     let target_sub = node.subscription::<PoseStamped>(TIP_TARGET_TOPIC, &small)?;
     log(&format!(
         "sim: domain {}; publishing {WRENCH_TOPIC} at {} Hz (frame {SENSOR_FRAME}, the first {} \
          samples with an empty gripper), {TIP_POSE_TOPIC} at {} Hz, {MARKERS_TOPIC} and \
-         {TRUTH_TOPIC} at {} Hz (frame {BASE_FRAME}); subscribed to {TIP_TARGET_TOPIC}",
-        settings.domain_id, params.rate, params.tare_samples, params.pose_rate, params.marker_rate
+         {TRUTH_TOPIC} at {} Hz (frame {BASE_FRAME}), {TF_TOPIC} ({:?} → {:?}) with the tip pose \
+         and {TF_STATIC_TOPIC} ({:?} → {:?}) once; subscribed to {TIP_TARGET_TOPIC}",
+        settings.domain_id,
+        params.rate,
+        params.tare_samples,
+        params.pose_rate,
+        params.marker_rate,
+        params.tf.world,
+        params.tf.tip,
+        params.tf.world,
+        params.tf.base
     ));
     wait_for_subscriber(&node, params, (stop, started, settings.duration), log);
 
@@ -488,6 +511,14 @@ pub fn run(
         ticks: 0,
         clock_s: 0.0,
     };
+    if let Ok(poses) = rig.gripper_poses() {
+        let frames = &params.tf;
+        let message = TFMessage {
+            transforms: vec![frames.edge(&frames.base, &poses.base, tick_stamp(0, params.rate))],
+        };
+        let (published, failed) = (&mut summary.published, &mut summary.publish_failed);
+        publish(&tf_static, message, TF_STATIC_TOPIC, published, failed);
+    }
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // rates checked ≥ 1
     let every = |rate: f64| ((params.rate / rate).round() as u64).max(1);
     let (pose_every, marker_every) = (every(params.pose_rate), every(params.marker_rate));
@@ -545,6 +576,7 @@ mod tests {
             marker_rate: 10.0,
             tare_samples: 0,
             wait_subscriber: 0.0,
+            tf: SimTfFrames::default(),
         }
     }
 
@@ -556,6 +588,35 @@ mod tests {
                 orientation: msg::Quaternion::default(),
             },
         }
+    }
+
+    /// The sim's two TF edges, composed by the estimator's buffer, give its `PoseStamped`.
+    #[test]
+    fn the_tf_edges_compose_to_the_tip_pose() {
+        use crate::node::tf::TfBuffer;
+        let p = params();
+        let rig = p.place().expect("placed");
+        let poses = rig.gripper_poses().expect("poses");
+        let stamp = tick_stamp(7, p.rate);
+        let mut tf = TfBuffer::new();
+        tf.insert(
+            &p.tf.edge(&p.tf.base, &poses.base, tick_stamp(0, p.rate)),
+            true,
+        )
+        .expect("the static edge");
+        tf.insert(&p.tf.edge(&p.tf.tip, &poses.tip, stamp), false)
+            .expect("the dynamic edge");
+        let got = tf
+            .lookup(&p.tf.base, &p.tf.tip, seconds(&stamp), 0.5)
+            .expect("a chain");
+        let want = poses.relative();
+        assert!((got.translation.vector - want.translation.vector).norm() < 1e-12);
+        assert!(got.rotation.angle_to(&want.rotation) < 1e-9);
+        let bad = SimTfFrames {
+            tip: p.tf.world.clone(),
+            ..SimTfFrames::default()
+        };
+        assert!(bad.validate().is_err());
     }
 
     #[test]

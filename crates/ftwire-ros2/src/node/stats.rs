@@ -68,6 +68,11 @@ impl LossCounter {
     pub fn first(&self) -> Option<i64> {
         self.first
     }
+
+    /// The largest index received (`k / rate` the newest stamp).
+    pub fn last(&self) -> Option<i64> {
+        self.last
+    }
 }
 
 /// Median, 99th percentile and largest of a set of times \[ms\].

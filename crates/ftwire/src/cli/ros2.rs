@@ -91,6 +91,16 @@ pub struct SimNodeArgs {
     /// Longest wait for a subscriber to the wrench before the clock starts anyway [s].
     #[arg(long, value_name = "S", default_value_t = 10.0, value_parser = parse_finite)]
     pub wait_subscriber: f64,
+    /// The root frame of the TF tree the sim publishes: /tf_static holds world → base clamp
+    /// (once), /tf world → tip clamp (with each tip pose).
+    #[arg(long, value_name = "FRAME", default_value = ftwire_ros2::node::tf::SIM_WORLD_FRAME)]
+    pub tf_world_frame: String,
+    /// The base clamp's TF frame (`ftwire ros2 estimate --base-frame`).
+    #[arg(long, value_name = "FRAME", default_value = ftwire_ros2::node::tf::SIM_BASE_FRAME)]
+    pub tf_base_frame: String,
+    /// The second gripper's clamp TF frame (`ftwire ros2 estimate --tip-frame`).
+    #[arg(long, value_name = "FRAME", default_value = ftwire_ros2::node::tf::SIM_TIP_FRAME)]
+    pub tf_tip_frame: String,
     /// The seed of the sensor's and the markers' noise.
     #[command(flatten)]
     pub seed: SeedArgs,
@@ -139,6 +149,28 @@ pub struct EstimateNodeArgs {
     /// frame wire_base).
     #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_POSE_TOPIC)]
     pub tip_pose_topic: String,
+    /// The tip pose from TF instead of --tip-pose-topic: the base clamp's frame in the TF tree
+    /// (/tf, /tf_static), in which the tip frame's pose is looked up by composing the tree's
+    /// edges; with --tip-frame (the sim publishes wire_base and wire_tip).
+    #[arg(
+        long,
+        value_name = "FRAME",
+        requires = "tip_frame",
+        conflicts_with = "tip_pose_topic"
+    )]
+    pub base_frame: Option<String>,
+    /// The second gripper's clamp frame in the TF tree; with --base-frame.
+    #[arg(
+        long,
+        value_name = "FRAME",
+        requires = "base_frame",
+        conflicts_with = "tip_pose_topic"
+    )]
+    pub tip_frame: Option<String>,
+    /// With --base-frame: a TF edge from /tf older than this before the newest wrench's stamp
+    /// is stale, and the tip pose is then unknown (counted in the summary's `tf`) [s].
+    #[arg(long, value_name = "S", default_value_t = ftwire_ros2::node::tf::DEFAULT_STALE, value_parser = parse_finite, requires = "base_frame")]
+    pub tf_stale: f64,
     /// A true centreline (`nav_msgs/Path`, a simulator's /wire/truth) to measure the shapes
     /// against; the summary's `truth` [default: none].
     #[arg(long, value_name = "TOPIC")]

@@ -15,6 +15,7 @@ use ftwire_ros2::node::estimate::{EstimateNodeParams, Record};
 use ftwire_ros2::node::identify::IdentifyNodeParams;
 use ftwire_ros2::node::robot::RobotParams;
 use ftwire_ros2::node::sim::SimNodeParams;
+use ftwire_ros2::node::tf::{SimTfFrames, TfFrames};
 use ftwire_ros2::node::{NodeError, NodeSettings};
 use nalgebra::Vector6;
 use serde::Serialize;
@@ -135,6 +136,11 @@ fn sim_params(args: &SimNodeArgs) -> Result<(SimNodeParams, NodeSettings), LabEr
         marker_rate: args.marker_rate,
         tare_samples: args.tare_samples,
         wait_subscriber: args.wait_subscriber,
+        tf: SimTfFrames {
+            world: args.tf_world_frame.clone(),
+            base: args.tf_base_frame.clone(),
+            tip: args.tf_tip_frame.clone(),
+        },
     };
     Ok((params, settings))
 }
@@ -152,6 +158,20 @@ fn estimate_params(
         rate: args.rate,
         wrench_topic: args.wrench_topic.clone(),
         tip_pose_topic: args.tip_pose_topic.clone(),
+        tf: match (&args.base_frame, &args.tip_frame) {
+            (Some(base), Some(tip)) => Some(TfFrames {
+                base: base.clone(),
+                tip: tip.clone(),
+                stale: args.tf_stale,
+            }),
+            (None, None) => None,
+            _ => {
+                return Err(LabError::bad_input(
+                    "--base-frame and --tip-frame go together: give both, or neither (the tip \
+                     pose then comes from --tip-pose-topic)",
+                ));
+            }
+        },
         truth_topic: args.truth_topic.clone(),
         contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
         record: args.record.clone().map(|path| Record {
