@@ -34,9 +34,11 @@ pub mod error;
 pub mod estimate;
 pub mod estimate_loop;
 pub mod identify;
+pub mod observe;
 pub mod robot;
 pub mod sim;
 pub mod stats;
+pub mod truth_bias;
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
