@@ -10,7 +10,7 @@
 //!    start (or from the first sample after the tare, for a period that began before the tare
 //!    ended). The tared F/T samples stamped from `settle` after its start to the pose that
 //!    completed the dwell are averaged (`ftwire_estimate::ft::RestAverage`) and mapped to `ã`
-//!    through the calibration or the mounting ([`super::a_of_raw`], as `ftwire shape --log`),
+//!    through the calibration or the mounting (as `ftwire shape --log` maps a record's `raw`),
 //!    with each component's standard error propagated to first order
 //!    (`ftwire_estimate::ft::FtPipeline::measure`); the tip poses of the period are averaged
 //!    (positions, and rotation vectors about the first). One still period gives one rest, at
