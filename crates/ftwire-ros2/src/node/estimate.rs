@@ -465,6 +465,35 @@ mod tests {
     }
 
     #[test]
+    fn the_status_names_the_bias_the_rests_and_which_test_found_the_contact() {
+        let status = Status {
+            stamp: 1.5,
+            a: [0.0, 0.1, 0.0, -0.2, 0.1, 0.0],
+            stable: true,
+            confident: false,
+            contact: true,
+            bias: Some([0.0, 0.0, 0.0, 0.01, 0.0, 0.0]),
+            rests: 12,
+            contact_residual: Some(3.5),
+            contact_source: Some("detector"),
+        };
+        let json: serde_json::Value = serde_json::to_value(&status).expect("the status serialises");
+        assert_eq!(json["contact_source"], "detector");
+        assert_eq!(json["rests"], 12);
+        assert_eq!(json["bias"].as_array().map(Vec::len), Some(6));
+        assert_eq!(json["contact_residual"], 3.5);
+        let quiet = Status {
+            bias: None,
+            contact_residual: None,
+            contact_source: None,
+            contact: false,
+            ..status
+        };
+        let json = serde_json::to_value(&quiet).expect("the status serialises");
+        assert!(json["bias"].is_null() && json["contact_source"].is_null());
+    }
+
+    #[test]
     fn the_drawn_wire_is_green_when_confident_and_the_sphere_is_deleted_without_contact() {
         let h = super::super::header(0.0, BASE_FRAME);
         let points = [
