@@ -86,7 +86,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use self::closed::{ClosedSetup, ClosedTrial};
-pub use self::collision::Collision;
+pub use self::collision::{Collision, DETECTOR_QUANTILE, FLOOR_SIGMAS, detector_from_free_moves};
 use self::collision::{DetectorSetup, calibrate_detector, contact_runs, count_false_alarm};
 pub use self::pairs::PairDraws;
 use self::pairs::draw_pairs;

@@ -10,18 +10,28 @@
 //! 3. **ã**: the mean through the learnt calibration or the mounting
 //!    ([`ftwire_lab::log::a_tilde`], exactly as `ftwire shape --log` maps a record's `raw`);
 //! 4. **shape**: [`ftwire_lab::log::shape::shape_record`], the same call `ftwire shape --log`
-//!    makes: the centreline at 64 nodes, `stable` (`ã ∈ A_stable`) and `confident` (stable and
-//!    no jump from the previous estimate);
-//! 5. **contact** (with `contact_miss`): the reported tip pose (the latest on the tip pose
+//!    makes, of `ã − β̂` (the bias observer's estimate taken out, step 6): the centreline at 64
+//!    nodes, `stable` (`ã ∈ A_stable`) and `confident` (stable and no jump from the previous
+//!    estimate);
+//! 5. **contact miss** (with `contact_miss`): the reported tip pose (the latest on the tip pose
 //!    topic, or with `tf` the pose of the tip frame in the base frame at the batch's newest
-//!    wrench stamp, [`super::tf`]) against the estimated shape's tip. A free wire's shape ends at the gripper; a contact is a force the model does not
-//!    have, so the estimate's tip misses the gripper. A miss above `contact_miss` is a contact.
+//!    wrench stamp, [`super::tf`]) against the estimated shape's tip. A free wire's shape ends
+//!    at the gripper; a contact is a force the model does not have, so the estimate's tip
+//!    misses the gripper. A miss above `contact_miss` is a contact;
+//! 6. **per rest and per move** ([`super::observe`]): the rests of the second gripper found
+//!    from the tip pose and the tared samples, the bias observer updated at each, and the
+//!    collision detector on each move between two rests (calibrated on the first moves).
 //!
 //! It publishes the centreline as `nav_msgs/Path` on [`SHAPE_TOPIC`] (frame [`BASE_FRAME`],
 //! orientation left at the identity), the wire as a `LINE_STRIP` (green when confident,
-//! orange otherwise) with a `SPHERE` at the shape's tip when there is a contact (`DELETE`
-//! when none) on [`MARKERS_VIZ_TOPIC`], and `{"stamp", "a", "stable", "confident",
-//! "contact"}` on [`STATUS_TOPIC`], each stamped with the wrench's stamp.
+//! orange otherwise) with a `SPHERE` at the shape's tip when there is a contact by either
+//! test (`DELETE` when none) on [`MARKERS_VIZ_TOPIC`], and on [`STATUS_TOPIC`] `{"stamp",
+//! "a", "stable", "confident", "contact", "bias", "rests", "contact_residual",
+//! "contact_source"}`: `a` the configuration shaped (`ã − β̂`), `bias` `β̂` (torque first,
+//! base clamp frame, N·m and N; `null` without the observer), `rests` the rests so far,
+//! `contact_residual` the detector's residual of the last move (`null` until calibrated), and
+//! `contact_source` which test found the contact (`detector`, `contact_miss`,
+//! `detector+contact_miss`, or `null`), each stamped with the wrench's stamp.
 //!
 //! **Keeping up.** Steps 1–3 are a few hundred floating-point operations per sample; the
 //! shape solve costs more. After each wake-up the node takes every sample waiting and runs
@@ -45,6 +55,7 @@ use nalgebra::Vector6;
 use ros2_client::MessageInfo;
 use serde::Serialize;
 
+use super::observe::{DetectorSummary, ObserveParams, ObserverSummary};
 use super::stats::Spread;
 use super::tf::{TfFrames, TfSummary};
 use super::{Counts, NodeError, a_of_raw, check_contact_miss, tare_of};
@@ -80,6 +91,8 @@ pub struct EstimateNodeParams {
     pub truth_topic: Option<String>,
     /// A tip miss above this is a contact \[m\]; `None`: no contact check.
     pub contact_miss: Option<f64>,
+    /// The rests, the bias observer and the collision detector ([`super::observe`]).
+    pub observe: ObserveParams,
     /// Record what the node receives and publishes into this ROS 2 bag (MCAP), replacing an
     /// existing file only with `overwrite`.
     pub record: Option<Record>,
@@ -135,8 +148,16 @@ pub struct EstimateSummary {
     pub no_shape: u64,
     /// Estimates flagged not confident.
     pub not_confident: u64,
-    /// Estimates with a contact.
+    /// Estimates with a contact (by either test).
     pub contacts: u64,
+    /// Rests of the second gripper found and measured.
+    pub rests: u64,
+    /// Moves between rests the collision detector flagged.
+    pub contact_moves: u64,
+    /// The bias observer's last estimate and counts, with the observer on.
+    pub bias_observer: Option<ObserverSummary>,
+    /// The collision detector, once calibrated.
+    pub detector: Option<DetectorSummary>,
     /// From a wrench's arrival to its shape's publication \[ms\].
     pub latency_ms: Option<Spread>,
     /// One shape solve (step 4) \[ms\].
@@ -327,11 +348,22 @@ pub(super) fn markers(
 /// The status line of one estimate.
 #[derive(Serialize)]
 pub(super) struct Status {
+    /// The wrench's stamp \[s\].
     pub(super) stamp: f64,
+    /// The configuration the shape is of: `ã − β̂` \[N·m, N\].
     pub(super) a: [f64; 6],
     pub(super) stable: bool,
     pub(super) confident: bool,
     pub(super) contact: bool,
+    /// The bias estimate `β̂` (torque first, base clamp frame) \[N·m, N\]; `None` without the
+    /// observer.
+    pub(super) bias: Option<[f64; 6]>,
+    /// Rests so far.
+    pub(super) rests: u64,
+    /// The collision detector's residual of the last move, once calibrated.
+    pub(super) contact_residual: Option<f64>,
+    /// Which test found the contact: `detector`, `contact_miss` or `detector+contact_miss`.
+    pub(super) contact_source: Option<&'static str>,
 }
 
 impl EstimateNodeParams {
@@ -361,6 +393,7 @@ impl EstimateNodeParams {
         if let Some(frames) = &self.tf {
             frames.validate()?;
         }
+        self.observe.validate()?;
         if let Some(spec) = self.map.mounting()
             && spec.tool_mass > 0.0
         {
@@ -393,6 +426,7 @@ mod tests {
             tf: None,
             truth_topic: None,
             contact_miss: None,
+            observe: ObserveParams::default(),
             record: None,
         }
     }
@@ -441,6 +475,35 @@ mod tests {
             })
         ));
         assert!(params(0, 0).validate().is_err());
+    }
+
+    #[test]
+    fn the_status_names_the_bias_the_rests_and_which_test_found_the_contact() {
+        let status = Status {
+            stamp: 1.5,
+            a: [0.0, 0.1, 0.0, -0.2, 0.1, 0.0],
+            stable: true,
+            confident: false,
+            contact: true,
+            bias: Some([0.0, 0.0, 0.0, 0.01, 0.0, 0.0]),
+            rests: 12,
+            contact_residual: Some(3.5),
+            contact_source: Some("detector"),
+        };
+        let json: serde_json::Value = serde_json::to_value(&status).expect("the status serialises");
+        assert_eq!(json["contact_source"], "detector");
+        assert_eq!(json["rests"], 12);
+        assert_eq!(json["bias"].as_array().map(Vec::len), Some(6));
+        assert_eq!(json["contact_residual"], 3.5);
+        let quiet = Status {
+            bias: None,
+            contact_residual: None,
+            contact_source: None,
+            contact: false,
+            ..status
+        };
+        let json = serde_json::to_value(&quiet).expect("the status serialises");
+        assert!(json["bias"].is_null() && json["contact_source"].is_null());
     }
 
     #[test]

@@ -10,7 +10,7 @@ use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
 use ftwire_lab::log::LogRecord;
 use ftwire_lab::log::shape::shape_record;
-use nalgebra::Vector3;
+use nalgebra::{Vector3, Vector6};
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::{MessageInfo, Publisher, QosProfile, Subscription};
 
@@ -18,6 +18,7 @@ use super::estimate::{
     EstimateNodeParams, EstimateSummary, Pending, Pipeline, Status, TruthError, arrival,
     finite_wrench, markers, now_ns,
 };
+use super::observe::{Observer, RestEvent};
 use super::stats::{LossCounter, Spread};
 use super::tf::{TF_STATIC_TOPIC, TF_TOPIC, TfListener, tf_qos, tf_static_qos};
 use super::{
@@ -183,6 +184,8 @@ struct State<'p> {
     stale_ns: i64,
     tared_logged: bool,
     last_error: Option<String>,
+    /// Rests, the bias observer and the collision detector.
+    observe: Observer,
 }
 
 impl<'p> State<'p> {
@@ -190,6 +193,7 @@ impl<'p> State<'p> {
         params: &'p EstimateNodeParams,
         estimator: ShapeEstimator<KirchhoffModel>,
         recorder: Option<Recorder>,
+        observe: Observer,
     ) -> Self {
         #[allow(clippy::cast_possible_truncation)] // a period of at least 0.1 ms
         let stale_ns = (1e9 / params.rate) as i64;
@@ -210,6 +214,10 @@ impl<'p> State<'p> {
                 no_shape: 0,
                 not_confident: 0,
                 contacts: 0,
+                rests: 0,
+                contact_moves: 0,
+                bias_observer: None,
+                detector: None,
                 latency_ms: None,
                 solve_ms: None,
                 truth: None,
@@ -228,6 +236,7 @@ impl<'p> State<'p> {
             stale_ns,
             tared_logged: params.tare == 0,
             last_error: None,
+            observe,
         }
     }
 
@@ -239,8 +248,9 @@ impl<'p> State<'p> {
         }
     }
 
-    /// Takes every tip pose waiting: the contact check of the next batch uses the latest.
-    fn take_tips(&mut self, sub: &Subscription<PoseStamped>) {
+    /// Takes every tip pose waiting: the contact check of the next batch uses the latest, and
+    /// each goes to the rest detection.
+    fn take_tips(&mut self, sub: &Subscription<PoseStamped>, log: Log<'_>) {
         loop {
             match sub.take() {
                 Ok(Some((pose, info))) => {
@@ -255,7 +265,13 @@ impl<'p> State<'p> {
                         count(&mut self.summary.refused, "frame_id");
                     } else {
                         match pose_of(&pose.pose) {
-                            Ok(p) => self.tip = Some(p.translation.vector),
+                            Ok(p) => {
+                                self.tip = Some(p.translation.vector);
+                                let t = seconds(&pose.header.stamp);
+                                let tare = self.pipeline.tare;
+                                let events = self.observe.pose(t, &p, tare, &self.params.map);
+                                log_rests(&events, log);
+                            }
                             Err(_) => count(&mut self.summary.refused, "non_finite"),
                         }
                     }
@@ -284,9 +300,13 @@ impl<'p> State<'p> {
     fn tip_from_tf(&mut self, listener: &mut TfListener, log: Log<'_>) {
         #[allow(clippy::cast_precision_loss)] // sample indices far below 2⁵²
         let now = self.loss.last().map(|k| k as f64 / self.params.rate);
-        self.tip = now
-            .and_then(|now| listener.tip(now, log))
-            .map(|pose| pose.translation.vector);
+        let pose = now.and_then(|now| listener.tip(now, log).map(|pose| (now, pose)));
+        self.tip = pose.map(|(_, pose)| pose.translation.vector);
+        if let Some((t, p)) = pose {
+            let tare = self.pipeline.tare;
+            let events = self.observe.pose(t, &p, tare, &self.params.map);
+            log_rests(&events, log);
+        }
     }
 
     /// Takes every wrench waiting through steps 1–3 into the batch.
@@ -326,6 +346,9 @@ impl<'p> State<'p> {
         };
         let t = seconds(&wrench.header.stamp);
         self.loss.add(t);
+        if self.pipeline.tare.is_some() {
+            self.observe.sample(t, raw);
+        }
         match self.pipeline.add(raw, t) {
             None => {}
             Some(Ok(a)) => self.batch.push(Pending {
@@ -357,15 +380,17 @@ impl<'p> State<'p> {
 
     fn estimate(&mut self, sample: &Pending, io: &Io, log: Log<'_>) {
         let solve_start = Instant::now();
+        // The bias estimate taken out, as the experiments' controller steers by it.
+        let a = self.observe.correct(&sample.a);
         let record = LogRecord {
             time: seconds(&sample.stamp),
             raw: None,
-            a: Some(sample.a.into()),
+            a: Some(a.into()),
             b: None,
             markers: None,
             gravity: None,
         };
-        let solved = shape_record(&mut self.estimator, self.index, &record, &sample.a);
+        let solved = shape_record(&mut self.estimator, self.index, &record, &a);
         self.index += 1;
         self.solves.push(1e3 * solve_start.elapsed().as_secs_f64());
         match solved {
@@ -375,11 +400,10 @@ impl<'p> State<'p> {
                 self.shape.extend(points.iter().map(|p| Vector3::from(*p)));
                 let stable = result.confidence != Some("not_stable");
                 let confident = result.confidence == Some("confident");
-                self.publish(sample, io, stable, confident);
+                self.publish(sample, &a, io, (stable, confident));
             }
             Ok(result) => {
                 self.summary.no_shape += 1;
-                let a = sample.a;
                 self.note(log, result.error.unwrap_or_default(), |e| {
                     format!("estimate: no shape for ã = {:?}: {e}", a.as_slice())
                 });
@@ -391,12 +415,29 @@ impl<'p> State<'p> {
         }
     }
 
-    /// Publishes (and records) the shape, the drawn wire and the status of `sample`.
-    fn publish(&mut self, sample: &Pending, io: &Io, stable: bool, confident: bool) {
-        let contact = match (self.params.contact_miss, self.tip, self.shape.last()) {
-            (Some(miss), Some(tip), Some(end)) if (end - tip).norm() > miss => Some(ros_point(end)),
-            _ => None,
+    /// Publishes (and records) the shape of `a` (the sample's `ã`, corrected), the drawn wire
+    /// and the status of `sample`.
+    fn publish(
+        &mut self,
+        sample: &Pending,
+        a: &Vector6<f64>,
+        io: &Io,
+        (stable, confident): (bool, bool),
+    ) {
+        let missed = matches!(
+            (self.params.contact_miss, self.tip, self.shape.last()),
+            (Some(miss), Some(tip), Some(end)) if (end - tip).norm() > miss
+        );
+        let residual = self.observe.residual();
+        let detected = residual.is_some_and(|(_, contact)| contact);
+        let source = match (detected, missed) {
+            (true, true) => Some("detector+contact_miss"),
+            (true, false) => Some("detector"),
+            (false, true) => Some("contact_miss"),
+            (false, false) => None,
         };
+        // The detector gives no location: the contact is drawn at the shape's tip.
+        let contact = source.and(self.shape.last().map(ros_point));
         self.summary.not_confident += u64::from(!confident);
         self.summary.contacts += u64::from(contact.is_some());
         let header = msg::Header {
@@ -408,10 +449,14 @@ impl<'p> State<'p> {
         let drawn = markers(&header, &ros_points, confident, contact.as_ref());
         let status = Status {
             stamp: seconds(&sample.stamp),
-            a: sample.a.into(),
+            a: (*a).into(),
             stable,
             confident,
             contact: contact.is_some(),
+            bias: self.observe.bias(),
+            rests: self.observe.count,
+            contact_residual: residual.map(|(r, _)| r),
+            contact_source: source,
         };
         let status = serde_json::to_string(&status)
             .ok()
@@ -482,6 +527,10 @@ impl<'p> State<'p> {
         summary.first_sample = self.loss.first();
         summary.latency_ms = Spread::of(&mut self.latencies);
         summary.solve_ms = Spread::of(&mut self.solves);
+        summary.rests = self.observe.count;
+        summary.contact_moves = self.observe.contact_moves;
+        summary.bias_observer = self.observe.observer();
+        summary.detector = self.observe.detector();
         let (sum, worst, max, n) = self.truth;
         #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
         if n > 0 {
@@ -588,15 +637,13 @@ pub fn run(
             r.path.display()
         ))
     ));
-    let mut state = State::new(
-        params,
-        ShapeEstimator::new(KirchhoffModel::new(wire)),
-        recorder,
-    );
+    let model = KirchhoffModel::new(wire);
+    let observe = Observer::new(model, &params.observe)?;
+    let mut state = State::new(params, ShapeEstimator::new(model), recorder, observe);
     while !should_stop(stop, started, settings.duration) {
         io.wait()?;
         if let Some(sub) = io.tip.as_ref() {
-            state.take_tips(sub);
+            state.take_tips(sub, log);
         }
         if let Some(listener) = io.tf.as_mut() {
             state.take_tf(listener, log);
@@ -612,4 +659,38 @@ pub fn run(
     }
     state.summary.tf = io.tf.as_ref().map(TfListener::summary);
     state.finish(log)
+}
+
+/// Logs what the rests gave: each rest, the detector's calibration and each contact.
+fn log_rests(events: &[RestEvent], log: Log<'_>) {
+    for event in events {
+        match event {
+            RestEvent::Rest {
+                index,
+                time,
+                samples,
+                residual,
+                contact,
+                bias_used,
+            } => log(&format!(
+                "estimate: rest {index} at t = {time:.3} s ({samples} samples){}{}",
+                match bias_used {
+                    Some(true) => "; bias observer updated",
+                    Some(false) => "; beyond the bias observer's gate",
+                    None => "",
+                },
+                residual.map_or_else(String::new, |r| format!(
+                    "; move residual {r:.3}{}",
+                    if *contact { ": CONTACT" } else { "" }
+                ))
+            )),
+            RestEvent::Calibrated(d) => log(&format!(
+                "estimate: collision detector calibrated on {} free moves: threshold {:.3}, \
+                 floor {:.4}, slope {:.3}, window {}",
+                d.calibrated_on, d.threshold, d.floor, d.slope, d.window
+            )),
+            RestEvent::NotCalibrated(e) => log(&format!("estimate: {e}; trying again")),
+            RestEvent::Failed(e) => log(&format!("estimate: a rest not measured: {e}")),
+        }
+    }
 }

@@ -4,10 +4,12 @@
 //!   (`geometry_msgs/WrenchStamped` on [`WRENCH_TOPIC`], frame [`SENSOR_FRAME`]), the second
 //!   gripper's pose relative to the base clamp ([`TIP_POSE_TOPIC`], frame [`BASE_FRAME`]),
 //!   the motion-capture markers ([`MARKERS_TOPIC`]) and the true centreline ([`TRUTH_TOPIC`],
-//!   for tests), and moves the gripper to each pose on [`TIP_TARGET_TOPIC`];
+//!   for tests; and the sensor's true bias drift, [`truth_bias`]), and moves the gripper to
+//!   each pose on [`TIP_TARGET_TOPIC`];
 //! - [`estimate`]: the wire's shape from each F/T sample, published as `nav_msgs/Path`
 //!   ([`SHAPE_TOPIC`]), a `visualization_msgs/MarkerArray` ([`MARKERS_VIZ_TOPIC`]) and a JSON
-//!   status ([`STATUS_TOPIC`]);
+//!   status ([`STATUS_TOPIC`]), with the experiments' bias observer and collision detector
+//!   run at the rests it finds in the streams ([`observe`]);
 //! - [`identify`]: the identification motion sent on [`TIP_TARGET_TOPIC`], a rest at each pose,
 //!   and the identified `c` and `L` with their covariance as JSON on
 //!   [`identify::IDENTIFIED_TOPIC`];
@@ -36,10 +38,12 @@ pub mod error;
 pub mod estimate;
 pub mod estimate_loop;
 pub mod identify;
+pub mod observe;
 pub mod robot;
 pub mod sim;
 pub mod stats;
 pub mod tf;
+pub mod truth_bias;
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};

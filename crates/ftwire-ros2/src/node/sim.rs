@@ -1,6 +1,6 @@
 //! `ftwire ros2 sim`: the simulator as a ROS 2 robot.
 //!
-//! The lab's simulated rig ([`ftwire_lab::experiment::rig::place_wire`]: the true wire held
+//! The lab's simulated rig ([`ftwire_lab::experiment::rig::place_among`]: the true wire held
 //! with the base clamp at the origin and the second gripper at `Γ(a0)`, the F/T sensor model,
 //! the motion capture) behind ROS 2 topics:
 //!
@@ -11,14 +11,19 @@
 //!   publishes nothing for its tick (counted in `dropouts`);
 //! - at `pose_rate` the second gripper's pose relative to the base clamp, as the robot reports
 //!   it, on [`TIP_POSE_TOPIC`], and the same in TF ([`super::tf::SimTfFrames`]: `world` →
-//!   tip clamp on `/tf` with each tip pose, `world` → base clamp once on `/tf_static`); at `marker_rate` the seen markers (`geometry_msgs/PoseArray`,
-//!   positions only, dropped markers left out) on [`MARKERS_TOPIC`] and the true centreline on
-//!   [`TRUTH_TOPIC`], all in [`BASE_FRAME`], and all three again after each move;
+//!   tip clamp on `/tf` with each tip pose, `world` → base clamp once on `/tf_static`); at
+//!   `marker_rate` the seen markers (`geometry_msgs/PoseArray`, positions only, dropped markers
+//!   left out) on [`MARKERS_TOPIC`], the true centreline on [`TRUTH_TOPIC`], all in
+//!   [`BASE_FRAME`], and the sensor's true bias drift since the tare on [`TRUTH_BIAS_TOPIC`]
+//!   ([`super::truth_bias`]), and all four again after each move;
 //! - each pose on [`TIP_TARGET_TOPIC`] (frame [`BASE_FRAME`]) moves the second gripper there:
 //!   the simulator solves the new equilibrium on the receiving thread (the sensor's ticks that
 //!   pass meanwhile are published after it, with their own stamps). A target out of reach
 //!   (farther than the wire is long, or no equilibrium on the way) is refused, logged and
 //!   counted as `unreachable`; the wire stays where it was.
+//!
+//! The world may hold boxes (`obstacles`) that the wire touches: the contact forces are in the
+//! wrench, as in the simulator experiments' collision runs.
 //!
 //! The clock starts with the first sample, once a subscriber to the wrench is discovered (at
 //! most `wait_subscriber` s after the start), so that a receiver that taring from its first
@@ -28,11 +33,11 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use ftwire_core::{Command, FtSample, Pose, Rig};
-use ftwire_lab::experiment::Gravity;
-use ftwire_lab::experiment::rig::{place_wire, true_centreline};
+use ftwire_lab::experiment::rig::{place_among, touches, true_centreline};
+use ftwire_lab::experiment::{Gravity, ModelKind};
 use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
-use ftwire_sim::SimRig;
+use ftwire_sim::{BoxObstacle, SimRig};
 use nalgebra::{Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
 use ros2_client::{Publisher, Subscription};
 use serde::Serialize;
@@ -43,8 +48,9 @@ use super::{
     TIP_POSE_TOPIC, TIP_TARGET_TOPIC, TRUTH_TOPIC, WRENCH_QUEUE, WRENCH_TOPIC, count, header,
     publish, reliable, seconds, should_stop, sleep_until, tick_stamp,
 };
-use crate::msg::{self, Path, PoseArray, PoseStamped, TFMessage, WrenchStamped};
+use crate::msg::{self, Path, PoseArray, PoseStamped, StringMsg, TFMessage, WrenchStamped};
 use crate::node::path_message;
+use crate::node::truth_bias::{TRUTH_BIAS_TOPIC, TruthBias};
 
 /// How far a target's orientation quaternion may be from unit length before it is refused.
 pub const QUATERNION_TOLERANCE: f64 = 1e-3;
@@ -79,6 +85,8 @@ pub struct SimNodeParams {
     pub wait_subscriber: f64,
     /// The frames published in TF.
     pub tf: SimTfFrames,
+    /// Boxes in the world (base clamp frame) the wire can touch (default none).
+    pub obstacles: Vec<BoxObstacle>,
 }
 
 /// The end of a run: one JSON line.
@@ -99,12 +107,21 @@ pub struct SimSummary {
     pub dropouts: u64,
     /// Moves made to a target.
     pub moves: u64,
+    /// Moves after which the wire touches a box (a contact force on some node, as the
+    /// experiments score a touch: `ftwire_lab::experiment::rig::touches`).
+    pub touching_moves: u64,
+    /// The first of them (1 is the first move).
+    pub first_touching_move: Option<u64>,
     /// Sensor ticks the loop published later than one period after their time.
     pub late_ticks: u64,
     /// The last tick's index plus one: samples the clock gave.
     pub ticks: u64,
     /// Seconds on the node's clock.
     pub clock_s: f64,
+    /// The sensor's true bias drift since the tare at the last sample, in `A` (torque first,
+    /// base clamp frame) \[N·m, N\] ([`super::truth_bias`]): ground truth for the estimator's
+    /// bias observer.
+    pub bias_drift: [f64; 6],
 }
 
 impl SimNodeParams {
@@ -143,13 +160,15 @@ impl SimNodeParams {
     /// The simulated rig at its start.
     ///
     /// # Errors
-    /// As [`place_wire`].
+    /// As [`place_among`].
     pub fn place(&self) -> Result<SimRig, NodeError> {
-        Ok(place_wire(
+        Ok(place_among(
             &self.wire,
             self.gravity,
+            ModelKind::Weightless,
             &self.start,
             self.setup.rig_config(self.seed),
+            &self.obstacles,
         )?)
     }
 }
@@ -302,6 +321,7 @@ struct Publishers {
     tf: Publisher<TFMessage>,
     markers: Publisher<PoseArray>,
     truth: Publisher<Path>,
+    truth_bias: Publisher<StringMsg>,
 }
 
 /// Waits until someone listens to the wrench (or `wait_subscriber` is over), then a grace
@@ -346,6 +366,10 @@ fn take_targets(
                     Ok(()) => {
                         summary.moves += 1;
                         moved = true;
+                        if touches(&rig.equilibrium().contact_forces) {
+                            summary.touching_moves += 1;
+                            summary.first_touching_move.get_or_insert(summary.moves);
+                        }
                         log(&format!(
                             "sim: moved the tip to ({:.4}, {:.4}, {:.4}) m",
                             target.pose.position.x, target.pose.position.y, target.pose.position.z
@@ -384,12 +408,15 @@ fn tick(
     params: &SimNodeParams,
     (publishers, plan): (&Publishers, TickPlan),
     summary: &mut SimSummary,
+    truth_bias: &mut TruthBias,
 ) {
     let stamp = tick_stamp(k, params.rate);
     let t = seconds(&stamp);
     let (published, failed) = (&mut summary.published, &mut summary.publish_failed);
     let sample = if k < params.tare_samples {
-        rig.read_ft_empty_gripper()
+        let sample = rig.read_ft_empty_gripper();
+        truth_bias.tare_sample(rig);
+        sample
     } else {
         rig.read_ft()
     };
@@ -446,6 +473,15 @@ fn tick(
             published,
             failed,
         );
+        if let Some(message) = truth_bias.message(rig, t) {
+            publish(
+                &publishers.truth_bias,
+                message,
+                TRUTH_BIAS_TOPIC,
+                published,
+                failed,
+            );
+        }
     }
 }
 
@@ -478,9 +514,11 @@ pub fn run(
         markers: node.publisher::<PoseArray>(MARKERS_TOPIC, &small)?,
         truth: node.publisher::<Path>(TRUTH_TOPIC, &small)?,
         tf: node.publisher::<TFMessage>(TF_TOPIC, &tf_qos())?,
+        truth_bias: node.publisher::<StringMsg>(TRUTH_BIAS_TOPIC, &small)?,
     };
     // The base clamp never moves: its edge goes out once, kept for late subscribers.
     let tf_static = node.publisher::<TFMessage>(TF_STATIC_TOPIC, &tf_static_qos(true))?;
+    let mut truth_bias = TruthBias::new(&params.setup.rig_config(params.seed))?;
     let target_sub = node.subscription::<PoseStamped>(TIP_TARGET_TOPIC, &small)?;
     log(&format!(
         "sim: domain {}; publishing {WRENCH_TOPIC} at {} Hz (frame {SENSOR_FRAME}, the first {} \
@@ -507,9 +545,12 @@ pub fn run(
         publish_failed: Counts::new(),
         dropouts: 0,
         moves: 0,
+        touching_moves: 0,
+        first_touching_move: None,
         late_ticks: 0,
         ticks: 0,
         clock_s: 0.0,
+        bias_drift: [0.0; 6],
     };
     if let Ok(poses) = rig.gripper_poses() {
         let frames = &params.tf;
@@ -538,7 +579,14 @@ pub fn run(
                 tip: moved || k.is_multiple_of(pose_every),
                 markers: moved || k.is_multiple_of(marker_every),
             };
-            tick(k, &mut rig, params, (&publishers, plan), &mut summary);
+            tick(
+                k,
+                &mut rig,
+                params,
+                (&publishers, plan),
+                &mut summary,
+                &mut truth_bias,
+            );
             moved = false;
             k += 1;
         }
@@ -548,6 +596,7 @@ pub fn run(
     }
     summary.ticks = k;
     summary.clock_s = clock.elapsed().as_secs_f64();
+    summary.bias_drift = truth_bias.bias(&rig).into();
     log(&format!(
         "sim: stopped after {k} ticks ({:.1} s on the clock)",
         summary.clock_s
@@ -577,6 +626,7 @@ mod tests {
             tare_samples: 0,
             wait_subscriber: 0.0,
             tf: SimTfFrames::default(),
+            obstacles: Vec::new(),
         }
     }
 

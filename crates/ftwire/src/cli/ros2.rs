@@ -4,7 +4,7 @@ use clap::{Args, Subcommand};
 use ftwire::args::{SeedArgs, SimSetupArgs, Vec6, parse_finite, parse_numbers};
 use ftwire_lab::experiment::Gravity;
 
-use crate::cli::groups::{CalibrationArgs, MountingArgs};
+use crate::cli::groups::{CalibrationArgs, MountingArgs, NoiseModelArg, OnOff};
 use crate::cli::identify::IdentifySettingsArgs;
 
 /// `ftwire ros2 <node>`.
@@ -101,6 +101,10 @@ pub struct SimNodeArgs {
     /// The second gripper's clamp TF frame (`ftwire ros2 estimate --tip-frame`).
     #[arg(long, value_name = "FRAME", default_value = ftwire_ros2::node::tf::SIM_TIP_FRAME)]
     pub tf_tip_frame: String,
+    /// A box the wire can touch: centre and half extents cx,cy,cz,hx,hy,hz [m], in the base
+    /// clamp frame, its edges along the frame's axes; repeat for more boxes [default: none].
+    #[arg(long = "box", value_name = "CX,CY,CZ,HX,HY,HZ", allow_hyphen_values = true, value_parser = parse_numbers::<6>)]
+    pub boxes: Vec<Vec6>,
     /// The seed of the sensor's and the markers' noise.
     #[command(flatten)]
     pub seed: SeedArgs,
@@ -176,9 +180,13 @@ pub struct EstimateNodeArgs {
     #[arg(long, value_name = "TOPIC")]
     pub truth_topic: Option<String>,
     /// A contact is the estimated shape's tip missing the reported tip pose by more than this
-    /// [mm] [default: no contact check].
+    /// [mm], checked at every estimate, beside the collision detector's check of each move
+    /// [default: no such check].
     #[arg(long, value_name = "MM", value_parser = parse_finite)]
     pub contact_miss: Option<f64>,
+    /// The rests, the bias observer and the collision detector.
+    #[command(flatten)]
+    pub observe: ObserveArgs,
     /// Record every message received and published into this ROS 2 bag (MCAP storage, CDR
     /// messages with their `ros2msg` schemas), readable by Foxglove, Rerun and `ros2 bag`;
     /// `ftwire import mcap` reads its wrench and tip pose back into a log. An existing file is
@@ -188,6 +196,49 @@ pub struct EstimateNodeArgs {
     /// Replace an existing --record file.
     #[arg(long, requires = "record")]
     pub force: bool,
+}
+
+/// What `ftwire ros2 estimate` does at each rest of the second gripper and on each move
+/// between two rests.
+#[derive(Debug, Clone, Args)]
+pub struct ObserveArgs {
+    /// A rest: the reported tip pose stays within this distance of where the still period
+    /// began [mm] …
+    #[arg(long, value_name = "MM", default_value_t = 1.0, value_parser = parse_finite)]
+    pub rest_tolerance_mm: f64,
+    /// … and within this angle [degrees] …
+    #[arg(long, value_name = "DEG", default_value_t = 1.0, value_parser = parse_finite)]
+    pub rest_tolerance_deg: f64,
+    /// … for this long [s]: then the tared samples from --rest-settle on are averaged into
+    /// one rest's ã, with the mean tip pose.
+    #[arg(long, value_name = "S", default_value_t = 0.5, value_parser = parse_finite)]
+    pub rest_dwell: f64,
+    /// The first seconds of a rest, left out of its average while the robot settles [s].
+    #[arg(long, value_name = "S", default_value_t = 0.1, value_parser = parse_finite)]
+    pub rest_settle: f64,
+    /// Estimate the F/T sensor's bias drift at each rest from the model and the reported tip
+    /// pose (`ftwire_control::BiasObserver`, as the simulator experiments' closed loop) and
+    /// take it out of every later ã before its shape; `off` shapes the tared ã alone.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub bias_observer: OnOff,
+    /// The sensor's noise and drift, for the bias observer's settings: a preset of the
+    /// simulated sensor (distorted, undistorted, real-like) or a sensor file (TOML, the keys
+    /// of `ftwire init`'s example; give the data sheet's noise and drift) [default:
+    /// distorted, the simulated default sensor].
+    #[arg(long, value_name = "PRESET|FILE.toml")]
+    pub sensor: Option<String>,
+    /// How the reported tip pose errs, for the bias observer: `none`, it is where the gripper
+    /// is to the robot's repeatability (each rest is also fused with it); `offset`, off by a
+    /// constant unknown calibration error (10 mm / 3°); `absolute`, off anew at every rest
+    /// (no observer then).
+    #[arg(long, value_enum, default_value_t = NoiseModelArg::None)]
+    pub pose_error: NoiseModelArg,
+    /// The first N moves between rests are free of contact and calibrate the collision
+    /// detector, as `ftwire experiment goal` calibrates it (floor from the rests' noise,
+    /// slope and threshold from the moves); from then on a move whose residual exceeds the
+    /// threshold is a contact. At least 10; 0: no detector.
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    pub collision_calibration: usize,
 }
 
 const MOVING_HELP: &str = "The node tares on the first --tare samples (the sim streams them \

@@ -7,22 +7,26 @@ use std::sync::atomic::AtomicBool;
 
 use ftwire_control::ControlParams;
 use ftwire_lab::error::LabError;
+use ftwire_lab::experiment::rig::bias_observer;
 use ftwire_lab::log::RawMap;
 use ftwire_lab::plan::{PlanParams, PlanWireParams};
+use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
 use ftwire_ros2::node::control::ControlNodeParams;
 use ftwire_ros2::node::estimate::{EstimateNodeParams, Record};
 use ftwire_ros2::node::identify::IdentifyNodeParams;
+use ftwire_ros2::node::observe::{ObserveParams, RestParams};
 use ftwire_ros2::node::robot::RobotParams;
 use ftwire_ros2::node::sim::SimNodeParams;
 use ftwire_ros2::node::tf::{SimTfFrames, TfFrames};
 use ftwire_ros2::node::{NodeError, NodeSettings};
+use ftwire_sim::BoxObstacle;
 use nalgebra::Vector6;
 use serde::Serialize;
 
 use crate::cli::ros2::{
-    ControlNodeArgs, EstimateNodeArgs, IdentifyNodeArgs, NodeArgs, RobotArgs, Ros2Args, Ros2Node,
-    SimNodeArgs,
+    ControlNodeArgs, EstimateNodeArgs, IdentifyNodeArgs, NodeArgs, ObserveArgs, RobotArgs,
+    Ros2Args, Ros2Node, SimNodeArgs,
 };
 
 /// Runs the chosen node until `--duration` ends or Ctrl-C.
@@ -141,6 +145,18 @@ fn sim_params(args: &SimNodeArgs) -> Result<(SimNodeParams, NodeSettings), LabEr
             base: args.tf_base_frame.clone(),
             tip: args.tf_tip_frame.clone(),
         },
+        obstacles: args
+            .boxes
+            .iter()
+            .map(|b| {
+                let [cx, cy, cz, hx, hy, hz] = b.0;
+                BoxObstacle::new(
+                    ftwire_core::Pose::translation(cx, cy, cz),
+                    nalgebra::Vector3::new(hx, hy, hz),
+                )
+                .map_err(|e| LabError::bad_input(format!("--box {:?}: {e}", b.0)))
+            })
+            .collect::<Result<_, _>>()?,
     };
     Ok((params, settings))
 }
@@ -174,12 +190,30 @@ fn estimate_params(
         },
         truth_topic: args.truth_topic.clone(),
         contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
+        observe: observe_params(&args.observe)?,
         record: args.record.clone().map(|path| Record {
             path,
             overwrite: args.force,
         }),
     };
     Ok((params, settings))
+}
+
+/// The rests, and the bias observer's settings for `--sensor` and `--pose-error` by
+/// `ftwire_lab::experiment::rig::bias_observer` (the experiments' builder).
+fn observe_params(args: &ObserveArgs) -> Result<ObserveParams, LabError> {
+    let setup = SimSetup::load(args.sensor.as_deref(), None)
+        .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
+    Ok(ObserveParams {
+        rest: RestParams {
+            position_tolerance: 1e-3 * args.rest_tolerance_mm,
+            angle_tolerance: args.rest_tolerance_deg.to_radians(),
+            dwell: args.rest_dwell,
+            settle: args.rest_settle,
+        },
+        bias_observer: bias_observer(&setup, args.pose_error.model(), args.bias_observer.on()),
+        calibration_moves: args.collision_calibration,
+    })
 }
 
 fn robot_params(args: &RobotArgs, truth_topic: Option<String>) -> Result<RobotParams, LabError> {
