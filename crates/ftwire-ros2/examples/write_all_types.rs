@@ -158,10 +158,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     std::fs::create_dir_all(&dir)?;
     let mut bag = BagWriter::create(dir.join("all_types.mcap"), true)?;
+    let entries = write_every_type(&mut bag)?;
+    bag.finish()?;
+    let distro = if cfg!(feature = "jazzy") {
+        "jazzy"
+    } else {
+        "humble"
+    };
+    let count = entries.len();
+    let text = serde_json::to_string_pretty(&json!({ "distro": distro, "topics": entries }))?;
+    std::fs::write(dir.join("all_types.json"), text)?;
+    println!(
+        "wrote {count} messages into {}",
+        dir.join("all_types.mcap").display()
+    );
+    Ok(())
+}
+
+/// One message of every type, each on its own topic; their known values.
+fn write_every_type(
+    b: &mut BagWriter,
+) -> Result<Vec<serde_json::Value>, Box<dyn std::error::Error>> {
     let mut time = 1_700_000_000_000_000_000u64;
     let t = &mut time;
-    let b = &mut bag;
-    let entries = vec![
+    let mut entries = vec![
         write(
             b,
             t,
@@ -204,6 +224,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 poses: vec![pose(0.1), pose(0.2), pose(0.3)],
             },
         )?,
+    ];
+    entries.extend(write_the_rest(b, t)?);
+    Ok(entries)
+}
+
+/// The second half of [`write_every_type`].
+fn write_the_rest(
+    b: &mut BagWriter,
+    t: &mut u64,
+) -> Result<Vec<serde_json::Value>, Box<dyn std::error::Error>> {
+    Ok(vec![
         write(
             b,
             t,
@@ -306,19 +337,5 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 transforms: vec![transform_stamped("wire_base", 0.0)],
             },
         )?,
-    ];
-    bag.finish()?;
-    let distro = if cfg!(feature = "jazzy") {
-        "jazzy"
-    } else {
-        "humble"
-    };
-    let count = entries.len();
-    let text = serde_json::to_string_pretty(&json!({ "distro": distro, "topics": entries }))?;
-    std::fs::write(dir.join("all_types.json"), text)?;
-    println!(
-        "wrote {count} messages into {}",
-        dir.join("all_types.mcap").display()
-    );
-    Ok(())
+    ])
 }

@@ -1,9 +1,7 @@
-//! The exact bytes ROS 2 puts on the wire for each message type, written out by hand from the
-//! `.msg` definitions: the encapsulation header `00 01 00 00` (CDR little-endian), then the
-//! fields in order, each primitive aligned to its size counted from the body's start (the byte
-//! after the header), strings as a length counting a NUL, the bytes and the NUL, sequences as a
-//! count then the elements. Offsets in the comments are from the body's start. A wrong field
-//! order, type or alignment changes the bytes.
+//! The exact bytes ROS 2 puts on the wire per message type, written by hand from the `.msg`
+//! definitions: header `00 01 00 00` (CDR little-endian), then the fields in order, each aligned
+//! to its size from the body's start (offsets in the comments), strings as length (with NUL),
+//! bytes, NUL; sequences as count, elements. A wrong field order, type or alignment shows.
 
 use std::fmt::Debug;
 
