@@ -46,6 +46,7 @@ fn a_saved_identification_log_gives_the_live_estimate() {
         residual: ResidualParams::default(),
         gravity: None,
         seed: 3,
+        drift: None,
     };
     params.check().expect("good settings");
     let samples = identify::samples(&params).expect("the saved log reads");
@@ -125,4 +126,82 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
         assert!(sigma.iter().all(|s| s.is_finite() && *s >= 0.0));
         assert!(sigma[63] > 0.0);
     }
+}
+
+/// A rig's log of a long identification motion (30 rests, about 95 s) of a soft wire: the log
+/// command with the sensor's data sheet (`--sensor`) models the bias the records share and
+/// identifies the wire from the log as the live run does; without it, the drift goes into the
+/// wire.
+#[test]
+fn a_long_log_of_a_soft_wire_is_identified_with_the_sensor_s_drift_modelled() {
+    let dir = TempDir::new("log-identify-drift");
+    let wire = dir.0.join("soft.toml");
+    std::fs::write(
+        &wire,
+        "name = \"soft\"\nc = [0.0315, 0.042, 0.042]\nlength = 0.91\nradius = 0.001\n\
+         density = 6450.0\n",
+    )
+    .expect("the wire file");
+    let folder = dir.results("identify");
+    let settings = ftwire_lab::identify::IdentifyParams {
+        common: CommonParams {
+            wire: Some(wire.display().to_string()),
+            seed: 2,
+            trials: Some(3),
+            gravity: Gravity::Off,
+            sensor: Some("undistorted".to_owned()),
+            ..CommonParams::default()
+        },
+        samples: Some(vec![30]),
+        pipeline: ftwire_lab::identify::Pipeline::Mounting,
+        save_log: true,
+        ..ftwire_lab::identify::IdentifyParams::default()
+    };
+    ftwire_lab::identify::run(&settings, &folder, &mut |_| {}).expect("runs");
+    let sensor = ftwire_lab::setup::SensorSpec::load("undistorted").expect("a preset");
+    let truth = [0.0315, 0.042, 0.042, 0.91];
+    let (mut modelled, mut independent) = (0.0, 0.0);
+    for trial in 0..3 {
+        let log = folder
+            .dir()
+            .join("logs")
+            .join(format!("soft-trial{trial}.jsonl"));
+        let mut params = IdentifyLogParams {
+            log,
+            calibration: None,
+            mounting: None,
+            samples: None,
+            residual: ResidualParams::default(),
+            gravity: None,
+            seed: 2,
+            drift: None,
+        };
+        let samples = identify::samples(&params).expect("the saved log reads");
+        assert_eq!(samples.len(), 30);
+        let error = |params: &IdentifyLogParams| {
+            let report = identify::estimate(params, &samples, &mut |_| {}).expect("estimates");
+            let values = [report.c[0], report.c[1], report.c[2], report.length];
+            let errors = values.iter().zip(truth).map(|(v, t)| (v / t - 1.0).abs());
+            (report.reason.is_none(), errors.collect::<Vec<f64>>())
+        };
+        let (_, without) = error(&params);
+        params.drift = Some(identify::LogDrift {
+            sensor: "undistorted".to_owned(),
+            params: sensor.config.clone(),
+            rest_samples: ftwire_lab::identify::REST_SAMPLES,
+            tare_samples: ftwire_lab::experiment::rig::TARE_SAMPLES,
+            tare_time: None,
+        });
+        let (identified, with) = error(&params);
+        assert!(identified, "trial {trial}: {with:?}");
+        for e in &with {
+            assert!(*e < 0.005, "trial {trial}: {with:?}");
+        }
+        modelled += with.iter().sum::<f64>();
+        independent += without.iter().sum::<f64>();
+    }
+    assert!(
+        modelled < independent,
+        "{modelled} with the drift, {independent} without"
+    );
 }

@@ -348,6 +348,7 @@ fn shape_needs_no_b_but_identify_does() {
         residual: ResidualParams::default(),
         gravity: None,
         seed: 0,
+        drift: None,
     })
     .expect_err("identification needs b");
     assert_eq!(error.kind(), "bad_input");

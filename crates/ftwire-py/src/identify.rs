@@ -4,8 +4,9 @@
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
+use ftwire_estimate::identify::Sample;
 use ftwire_lab::identify::{Form, ResidualParams};
-use ftwire_lab::log::identify::{EstimateReport, IdentifyLogParams, estimate};
+use ftwire_lab::log::identify::{EstimateReport, IdentifyLogParams, LogDrift, estimate};
 use numpy::PyArray2;
 use numpy::ndarray::Array2;
 use pyo3::prelude::*;
@@ -83,11 +84,19 @@ impl Identification {
 /// - gravity: (3,) [m/s²] in the base clamp frame: the loaded model, identifying the linear
 ///   density too; None: the weightless model.
 /// - seed: the particle swarm's seed: the same seed gives the same answer.
+/// - sensor: the F/T sensor's data sheet, a preset name ("distorted", "undistorted",
+///   "real-like") or a sensor TOML file (`noise_std`, `bias_random_walk`, `bias_time_constant`,
+///   its clamp's place): the bias every sample shares (the tare's offset and its drift) is
+///   modelled and estimated with the wire, as `ftwire identify --log --sensor`; None: the
+///   samples' errors are independent.
+/// - times: (N,) each sample's time [s] (any clock; needed with sensor).
+/// - tare_time: when the sensor was tared, on the same clock [s]; None: the first sample's.
+/// - rest_samples, tare_samples: F/T readings averaged per sample and by the tare.
 ///
 /// Releases the GIL. Raises ValueError naming the argument for bad input (shapes, values,
 /// too few samples or too little motion); RuntimeError when the search has no answer.
 #[pyfunction]
-#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0))]
+#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0, sensor = None, times = None, tare_time = None, rest_samples = 400, tare_samples = 500))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -99,6 +108,11 @@ pub fn identify(
     torsion_ratio: Option<f64>,
     gravity: Option<&Bound<'_, PyAny>>,
     seed: u64,
+    sensor: Option<&str>,
+    times: Option<Vec<f64>>,
+    tare_time: Option<f64>,
+    rest_samples: usize,
+    tare_samples: usize,
 ) -> PyResult<Identification> {
     let rows = input::rows(
         a,
@@ -152,9 +166,38 @@ pub fn identify(
         },
         gravity,
         seed,
+        drift: drift(
+            sensor,
+            times.is_some(),
+            tare_time,
+            (rest_samples, tare_samples),
+        )?,
     };
     params.check().map_err(|e| lab_error(&e, "identify"))?;
-    let samples: Vec<_> = a.into_iter().zip(b).collect();
+    let times = match times {
+        Some(t) if t.len() != a.len() => {
+            return Err(value_error(format!(
+                "times has {} entries and a {} configurations: one time per sample",
+                t.len(),
+                a.len()
+            )));
+        }
+        Some(t) => {
+            if let Some(bad) = t.iter().find(|v| !v.is_finite()) {
+                return Err(value_error(format!(
+                    "times holds {bad}; allowed: finite seconds"
+                )));
+            }
+            t.into_iter().map(Some).collect()
+        }
+        None => vec![None; a.len()],
+    };
+    let samples: Vec<Sample> = a
+        .into_iter()
+        .zip(b)
+        .zip(times)
+        .map(|((a, b), time)| Sample { a, b, time })
+        .collect();
     let report: EstimateReport = py
         .detach(|| estimate(&params, &samples, &mut |_: &str| {}))
         .map_err(|e| lab_error(&e, "identify"))?;
@@ -219,4 +262,45 @@ fn intervals_or_none(py: Python<'_>, rows: Option<&[[f64; 2]]>) -> PyResult<Py<P
     let array = Array2::from_shape_vec((rows.len(), 2), flat)
         .map_err(|e| value_error(format!("interval95: {e}")))?;
     Ok(PyArray2::from_owned_array(py, array).into_any().unbind())
+}
+
+/// The log command's drift settings from the keyword arguments (`None` without a sensor).
+fn drift(
+    sensor: Option<&str>,
+    timed: bool,
+    tare_time: Option<f64>,
+    (rest_samples, tare_samples): (usize, usize),
+) -> PyResult<Option<LogDrift>> {
+    let Some(given) = sensor else {
+        return Ok(None);
+    };
+    if !timed {
+        return Err(value_error(
+            "sensor is given without times: the drift is counted from each sample's time",
+        ));
+    }
+    for (name, n) in [
+        ("rest_samples", rest_samples),
+        ("tare_samples", tare_samples),
+    ] {
+        if n == 0 {
+            return Err(value_error(format!(
+                "{name} = 0; allowed: at least 1 reading"
+            )));
+        }
+    }
+    if let Some(t) = tare_time.filter(|t| !t.is_finite()) {
+        return Err(value_error(format!(
+            "tare_time = {t}; allowed: finite seconds"
+        )));
+    }
+    let spec = ftwire_lab::setup::SensorSpec::load(given)
+        .map_err(|e| value_error(format!("sensor: {e}")))?;
+    Ok(Some(LogDrift {
+        sensor: given.to_owned(),
+        params: spec.config,
+        rest_samples,
+        tare_samples,
+        tare_time,
+    }))
 }

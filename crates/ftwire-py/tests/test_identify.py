@@ -105,3 +105,26 @@ def test_bad_arguments_name_them(samples):
     skew[1, 0, 0] = 2.0
     with pytest.raises(ValueError, match=r"b\[1\] is not a rigid transform"):
         ftwire.identify(a, skew)
+
+
+def test_the_sensor_s_drift_modelled_is_the_cli_to_the_last_digit(samples):
+    path, a, b = samples
+    out = cli_json("identify", "--log", str(path), "--json", "--seed", "3",
+                   "--sensor", "distorted", "--tare-time", "-0.5")
+    times = np.arange(len(a), dtype=float)
+    found = ftwire.identify(a, b, seed=3, sensor="distorted", times=times, tare_time=-0.5)
+    assert found.c == tuple(out["c"]) and found.length == out["length"]
+    assert found.covariance.tolist() == out["covariance"]
+    assert found.chi2_per_dof == out["chi2_per_dof"]
+    # The drift model changes the fit's weighting: not the independent-noise answer.
+    assert found.chi2_per_dof != ftwire.identify(a, b, seed=3).chi2_per_dof
+
+
+def test_a_sensor_without_times_or_a_bad_sensor_is_a_value_error(samples):
+    _, a, b = samples
+    with pytest.raises(ValueError, match="times"):
+        ftwire.identify(a, b, sensor="distorted")
+    with pytest.raises(ValueError, match="times"):
+        ftwire.identify(a, b, sensor="distorted", times=[0.0, 1.0])
+    with pytest.raises(ValueError, match="sensor"):
+        ftwire.identify(a, b, sensor="/no/such/sensor.toml", times=np.arange(len(a), dtype=float))

@@ -95,6 +95,35 @@ fn a_saved_log_gives_the_live_estimate() {
         "9",
     ]);
     assert_exit(&wrong, 2, "holds only 3 records", "too many samples asked");
+    // The sensor's data sheet: the drift modelled, counted from the first record; a tare
+    // after a record, a tare time without a sensor, or a sensor file that is not one are bad
+    // input.
+    let log = log.to_string_lossy();
+    let modelled = ftwire(&["identify", "--log", &log, "--sensor", "distorted", "--json"]);
+    assert!(
+        matches!(modelled.status.code(), Some(0 | 1)),
+        "{modelled:?}"
+    );
+    let late = ftwire(&[
+        "identify",
+        "--log",
+        &log,
+        "--sensor",
+        "distorted",
+        "--tare-time",
+        "1e6",
+    ]);
+    assert_exit(&late, 2, "before the tare", "a tare after the records");
+    let alone = ftwire(&["identify", "--log", &log, "--tare-time", "0"]);
+    assert_exit(&alone, 2, "--sensor", "--tare-time without --sensor");
+    let missing = ftwire(&[
+        "identify",
+        "--log",
+        &log,
+        "--sensor",
+        "/no/such/sensor.toml",
+    ]);
+    assert_exit(&missing, 2, "--sensor", "a sensor file that is not there");
 }
 
 #[test]

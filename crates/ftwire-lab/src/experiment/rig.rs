@@ -219,14 +219,32 @@ pub fn identification_noise(
     rest_samples: usize,
 ) -> Result<MeasurementNoise, LabError> {
     let config = setup.rig_config(0);
-    let sensor = &config.sensor;
-    let mount = mounting(&config)?;
+    identification_noise_of(
+        &config.sensor,
+        &mounting(&config)?,
+        rest_samples,
+        TARE_SAMPLES,
+    )
+}
+
+/// [`identification_noise`] of a sensor's data sheet `sensor` (its white noise, drift
+/// intensity and time constant, in its own frame) mounted by `mount`, with `rest_samples`
+/// readings averaged per sample and `tare_samples` in the tare.
+///
+/// # Errors
+/// Bad input for a drift that is not valid.
+pub fn identification_noise_of(
+    sensor: &ftwire_sim::FtSensorParams,
+    mount: &Mounting,
+    rest_samples: usize,
+    tare_samples: usize,
+) -> Result<MeasurementNoise, LabError> {
     let to_a =
         Matrix6::from_fn(|row, column| mount.to_configuration(&Vector6::ith(column, 1.0))[row]);
     let scaled = |n: usize| sensor.noise_std.map(|s| s / (n.max(1) as f64).sqrt());
     let bias = BiasDrift::from_sensor(
         &to_a,
-        scaled(TARE_SAMPLES),
+        scaled(tare_samples),
         sensor.bias_random_walk,
         sensor.bias_time_constant,
     )

@@ -2,12 +2,11 @@
 //! give the same answer on the same data and seed: the model template, the swarm's random
 //! generator, the loaded model's settings and the estimate's flag name.
 
-use ftwire_core::{Pose, WireParams};
+use ftwire_core::WireParams;
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::identify::{
     Estimate, Identifier, IdentifierParams, Sample, Unidentified, identify_samples,
 };
-use nalgebra::Vector6;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -27,18 +26,6 @@ pub fn template_model() -> Result<KirchhoffModel, LabError> {
     let wire = WireParams::new([0.1, 0.1, 0.1], 1.0, radius)
         .map_err(|e| LabError::bad_input(format!("the identification template: {e}")))?;
     Ok(KirchhoffModel::new(wire))
-}
-
-/// `(ã, b̃)` pairs as samples without times (no drift model applies to them).
-pub fn untimed(pairs: &[(Vector6<f64>, Pose)]) -> Vec<Sample> {
-    pairs
-        .iter()
-        .map(|(a, b)| Sample {
-            a: *a,
-            b: *b,
-            time: None,
-        })
-        .collect()
 }
 
 /// Identifies from `samples` (`(ã, b̃)` and, if known, the time since the tare) with the swarm seeded by `seed` (a fresh

@@ -57,7 +57,7 @@ use ftwire_estimate::identify::{IdentifierParams, ParameterConstraints, Residual
 use serde::Serialize;
 
 pub use self::estimate::{
-    flag_name, identifier, loaded_config, run_identification, template_model, untimed,
+    flag_name, identifier, loaded_config, run_identification, template_model,
 };
 use self::summary::Row;
 pub use self::summary::{

@@ -24,7 +24,7 @@ use serde::Serialize;
 use super::{LogLine, RawMap, a_tilde, read_log};
 use crate::error::{LabError, from_estimate};
 use crate::experiment::Progress;
-use crate::identify::{Form, ResidualParams, flag_name, identifier, untimed};
+use crate::identify::{Form, ResidualParams, flag_name, identifier};
 
 /// What to identify from: the log, how its records become `ã`, and how to identify.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -46,6 +46,28 @@ pub struct IdentifyLogParams {
     pub gravity: Option<Vector3<f64>>,
     /// The seed of the particle swarm.
     pub seed: u64,
+    /// The sensor's data sheet, to model the bias all records share (the tare's offset and its
+    /// drift, estimated with the wire); `None`: the records' errors are independent.
+    pub drift: Option<LogDrift>,
+}
+
+/// What `identify --log` needs to model the sensor's shared bias
+/// ([`crate::experiment::rig::identification_noise_of`]): the sensor's data sheet, how many
+/// readings each record and the tare averaged, and when the tare was taken.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LogDrift {
+    /// The sensor preset or file (`--sensor`), as given.
+    pub sensor: String,
+    /// Its settings: `noise_std`, `bias_random_walk`, `bias_time_constant` and, without
+    /// `--mounting`, its clamp's place.
+    #[serde(skip)]
+    pub params: ftwire_sim::FtSensorParams,
+    /// Readings averaged per record (`--rest-samples`).
+    pub rest_samples: usize,
+    /// Readings averaged by the tare (`--tare-samples`).
+    pub tare_samples: usize,
+    /// The tare's time on the log's clock \[s\] (`--tare-time`); `None`: the first record's.
+    pub tare_time: Option<f64>,
 }
 
 impl IdentifyLogParams {
@@ -56,6 +78,22 @@ impl IdentifyLogParams {
     /// Bad input for a torsion ratio that is not positive, or a gravity the library refuses.
     pub fn config(&self) -> Result<IdentifierParams, LabError> {
         let mut config = self.residual.config()?;
+        if let Some(drift) = &self.drift {
+            let mount = match &self.mounting {
+                Some(spec) => spec
+                    .mounting()
+                    .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?,
+                None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
+                    .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
+            };
+            config.noise = crate::experiment::rig::identification_noise_of(
+                &drift.params,
+                &mount,
+                drift.rest_samples,
+                drift.tare_samples,
+            )
+            .map_err(|e| e.context("--sensor"))?;
+        }
         if let Some(g) = self.gravity {
             config.constraints.weight = Some(g);
             config
@@ -74,16 +112,25 @@ impl IdentifyLogParams {
     }
 }
 
-/// The `(ã, b̃)` pairs of the log, in order, the first [`IdentifyLogParams::samples`] of
-/// them.
+/// The log's samples `(ã, b̃)` and their times on the log's clock, in order, the first
+/// [`IdentifyLogParams::samples`] of them.
 ///
 /// # Errors
 /// Bad input for a log [`read_log`] refuses, a calibration or mounting [`RawMap::load`]
 /// refuses, a record [`samples_of`] refuses, or more samples asked for than the log holds.
-pub fn samples(params: &IdentifyLogParams) -> Result<Vec<(Vector6<f64>, Pose)>, LabError> {
+pub fn samples(params: &IdentifyLogParams) -> Result<Vec<Sample>, LabError> {
     let map = RawMap::load(params.calibration.as_deref(), params.mounting.clone())?;
     let lines = read_log(&params.log)?;
-    let mut samples = samples_of(&lines, &map, &params.log)?;
+    let pairs = samples_of(&lines, &map, &params.log)?;
+    let mut samples: Vec<Sample> = pairs
+        .into_iter()
+        .zip(&lines)
+        .map(|((a, b), line)| Sample {
+            a,
+            b,
+            time: Some(line.record.time),
+        })
+        .collect();
     if let Some(n) = params.samples {
         if n > samples.len() {
             return Err(LabError::bad_input(format!(
@@ -160,13 +207,48 @@ pub const PROGRESS_TICK: Duration = Duration::from_millis(200);
 /// log named.
 pub fn estimate(
     params: &IdentifyLogParams,
-    samples: &[(Vector6<f64>, Pose)],
+    samples: &[Sample],
     progress: Progress,
 ) -> Result<EstimateReport, LabError> {
     let config = params.config()?;
-    let estimate = search(&untimed(samples), &config, params.seed, progress)
+    let samples = since_tare(params, samples)?;
+    let estimate = search(&samples, &config, params.seed, progress)
         .map_err(|e| e.context(format!("identifying from {}", params.log.display())))?;
     Ok(EstimateReport::new(&estimate, params.residual.form))
+}
+
+/// The samples as identification takes them: with a drift model, each time measured from the
+/// tare (`--tare-time`, or the first record's time); without one, no times.
+///
+/// # Errors
+/// Bad input for a record before the tare.
+fn since_tare(params: &IdentifyLogParams, samples: &[Sample]) -> Result<Vec<Sample>, LabError> {
+    let Some(drift) = &params.drift else {
+        return Ok(samples
+            .iter()
+            .map(|s| Sample { time: None, ..*s })
+            .collect());
+    };
+    let first = samples.first().and_then(|s| s.time).unwrap_or(0.0);
+    let tare = drift.tare_time.unwrap_or(first);
+    samples
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let time = s.time.unwrap_or(first);
+            if time < tare {
+                return Err(LabError::bad_input(format!(
+                    "--tare-time {tare}: record {i} of {} is at time {time}, before the tare; \
+                     give the tare's time on the log's clock, at or before the first record",
+                    params.log.display()
+                )));
+            }
+            Ok(Sample {
+                time: Some(time - tare),
+                ..*s
+            })
+        })
+        .collect()
 }
 
 /// The streaming search of [`estimate`], stepped until it is no longer unfinished.
@@ -373,6 +455,7 @@ mod tests {
             residual: ResidualParams::default(),
             gravity: None,
             seed: 0,
+            drift: None,
         };
         let error = samples(&params).expect_err("one record, two asked for");
         assert!(

@@ -150,9 +150,13 @@ class Identification:
 def identify(a: ArrayLike, b: ArrayLike, wire_guess: Optional[Wire] = None,
              form: str = "absolute", isotropic: bool = False,
              torsion_ratio: Optional[float] = None, gravity: Optional[ArrayLike] = None,
-             seed: int = 0) -> Identification:
+             seed: int = 0, sensor: Optional[str] = None,
+             times: Optional[ArrayLike] = None, tare_time: Optional[float] = None,
+             rest_samples: int = 400, tare_samples: int = 500) -> Identification:
     """(c1, c2, c3, L) from a (N, 6) ã and b (N, 4, 4) | (N, 6) | (N, 7) poses; the GIL is
-    released; the same seed gives the same answer."""
+    released; the same seed gives the same answer. With sensor (a preset or a sensor TOML
+    file) and times (N,) [s], the bias all samples share (the tare's offset and its drift since
+    tare_time, default the first sample's time) is estimated with the wire."""
 
 class Controller:
     """The paper's Jacobian controller (eq. 13–14): δb = s K J(ã)(a_g − ã), b' = b M(δb),

@@ -440,9 +440,15 @@ impl<'p> State<'p> {
         let contact = source.and(self.shape.last().map(ros_point));
         self.summary.not_confident += u64::from(!confident);
         self.summary.contacts += u64::from(contact.is_some());
+        // The shape is in the base clamp's frame: with TF, the frame the user named for it.
+        let frame_id = self
+            .params
+            .tf
+            .as_ref()
+            .map_or(BASE_FRAME, |frames| frames.base.as_str());
         let header = msg::Header {
             stamp: sample.stamp,
-            frame_id: BASE_FRAME.to_owned(),
+            frame_id: frame_id.to_owned(),
         };
         let ros_points: Vec<msg::Point> = self.shape.iter().map(ros_point).collect();
         let path = path_message(header.clone(), ros_points.iter().copied());

@@ -111,10 +111,38 @@ pub struct IdentifyArgs {
     /// The residual form and the known relations between the parameters.
     #[command(flatten)]
     pub settings: IdentifySettingsArgs,
+    /// The sensor's shared bias (`--sensor`, `--rest-samples`, `--tare-samples`,
+    /// `--tare-time`).
+    #[command(flatten)]
+    pub drift: LogDriftArgs,
     /// The seed of the particle swarm.
     #[command(flatten)]
     pub seed: SeedArgs,
     /// Output format.
     #[command(flatten)]
     pub output: JsonArgs,
+}
+
+/// The sensor's data sheet for the bias every record shares.
+#[derive(Debug, Clone, Args, Serialize)]
+pub struct LogDriftArgs {
+    /// The F/T sensor's data sheet, to model the bias all records share and estimate it with
+    /// the wire: the tare's offset (its white noise `noise_std` over --tare-samples readings)
+    /// and the drift since (`bias_random_walk` [N/√s, N·m/√s], `bias_time_constant` [s]), force
+    /// first in the sensor frame, mapped to ã by --mounting (or the file's clamp keys). A preset
+    /// (`distorted`, `undistorted`, `real-like`: the simulated sensors) or a sensor file (TOML,
+    /// `docs/config.md`) [default: none; the records' errors are treated as independent].
+    /// Record times are read from each record's `time`.
+    #[arg(long, value_name = "PRESET|FILE.toml")]
+    pub sensor: Option<String>,
+    /// F/T readings averaged into each record, for its own noise (with --sensor), 1 to 1000000.
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = LOG_SAMPLES, requires = "sensor")]
+    pub rest_samples: usize,
+    /// F/T readings averaged by the tare (with --sensor), 1 to 1000000.
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = LOG_SAMPLES, requires = "sensor")]
+    pub tare_samples: usize,
+    /// When the sensor was tared, on the log's clock [s] (with --sensor): the drift is counted
+    /// from it [default: the first record's time].
+    #[arg(long, value_name = "T", value_parser = parse_finite, allow_hyphen_values = true, requires = "sensor")]
+    pub tare_time: Option<f64>,
 }
