@@ -8,7 +8,8 @@
 //! - against the simulator's wire (placed at `Γ(a)`), with `σ(s)² = σ_a(s)² + σ_model(s)²`
 //!   (`with_model_error`): `σ_model(s) = e·s` with `e` = [`MODEL_ERROR_MM`] over the wire, the
 //!   bound `crates/ftwire/tests/model_vs_sim.rs` asserts on the model's shape against the
-//!   simulator, not a number fitted here. The simulator's points are matched by arc length:
+//!   simulator, not a number fitted here. The simulator's points are matched by arc length
+//!   (`ftwire_lab::experiment::coverage::matched_nodes`):
 //!   `wire_centreline` holds the clamp points and the interior nodes at `(k − ½)h`, `h =
 //!   L/(N − 1)`, so the estimate is solved at every multiple of `h/2` (`2N − 1` nodes) and
 //!   its nodes `0, 1, 3, …, 2N − 3, 2N − 2` are compared (evenly spaced nodes at `L/N` would
@@ -26,6 +27,7 @@ mod common;
 use ftwire_estimate::shape::{ConfigurationStd, EstimatorParams, ModelError, ShapeEstimator};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::coverage::matched_nodes;
 use ftwire_lab::experiment::rig::{place_wire, true_centreline};
 use ftwire_lab::wire::WireSpec;
 use ftwire_rod::sampling::Sampler;
@@ -153,13 +155,8 @@ fn two_sigma_covers_the_true_centreline() {
             continue;
         };
         let centreline = true_centreline(&rig);
-        let edges = centreline.len() - 1;
-        let nodes = 2 * edges - 1;
-        let index = |k: usize| match k {
-            0 => 0,
-            k if k == edges => nodes - 1,
-            k => 2 * k - 1,
-        };
+        let (nodes, matched) = matched_nodes(centreline.len()).expect("interior nodes");
+        let index = |k: usize| matched[k];
         let mut estimator = ShapeEstimator::new(model)
             .with_config(EstimatorParams {
                 nodes,
