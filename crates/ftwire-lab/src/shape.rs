@@ -39,7 +39,7 @@ use ftwire_core::Rig;
 use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_estimate::shape::{
-    DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance, marker_distances,
+    ConfigurationStd, DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance, marker_distances,
 };
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
@@ -54,6 +54,7 @@ use serde::Serialize;
 use crate::csv_table::{CsvTable, text, value};
 use crate::error::{LabError, from_estimate, from_rod, from_sim};
 use crate::experiment::calibration::{load_or_run_reporting, rig_seed};
+use crate::experiment::coverage::{SigmaCheck, check_sigma};
 use crate::experiment::rig::{
     SAMPLES_PER_REST, believed_tip, bias_observer, measure_over, mounting, pipeline, place_wire,
     tare, true_centreline,
@@ -183,6 +184,15 @@ pub struct WireResult {
     /// Configurations skipped (and replaced by another draw) because the simulator could not
     /// place the wire, too few F/T samples survived, or the model could not solve at `ã`.
     pub skipped: usize,
+    /// With the calibration's test error (module docs): the mean `σ(s)` of the estimate along
+    /// the wire \[mm\], over the configurations; left out without it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma_mean_mm: Option<f64>,
+    /// With the calibration's test error: the share of the true centreline's points (at the
+    /// simulator's nodes, the base clamp left out) within `2σ(s)` of the estimate, over the
+    /// configurations; left out without it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coverage_2sigma: Option<f64>,
 }
 
 /// `summary.json`'s body.
@@ -232,6 +242,8 @@ struct ConfigResult {
     truth: Vec<Vector3<f64>>,
     markers: Vec<Option<Point3<f64>>>,
     record: LogRecord,
+    /// The error bars against the truth, with the calibration's test error.
+    sigma: Option<SigmaCheck>,
 }
 
 fn mean(values: &[f64]) -> f64 {
@@ -244,6 +256,9 @@ struct Readout<'a> {
     calibration: &'a Calibration,
     fusion: BiasObserverParams,
     rest_samples: usize,
+    /// The calibration's per-channel test RMSE as the standard deviations of `ã`, if it has
+    /// one: the error bars.
+    a_std: Option<ConfigurationStd>,
 }
 
 /// The median time \[µs\] of [`TIMED_REPEATS`] shape estimates at `a_tilde` (each a fresh
@@ -318,6 +333,11 @@ fn run_config(
         rig.time(),
     );
     let fused_mean = shape_mean(estimator.model(), &fused)?;
+    let sigma = match &readout.a_std {
+        Some(std) => check_sigma(estimator.model(), &a_tilde, std, None, &truth)
+            .map_err(|e| from_estimate(e, "the error bars"))?,
+        None => None,
+    };
     let seen: Vec<Point3<f64>> = frame.positions.iter().flatten().copied().collect();
     let marker_mean =
         mean(&marker_distances(&seen, &positions).map_err(|e| from_estimate(e, "marker errors"))?);
@@ -349,6 +369,7 @@ fn run_config(
         truth,
         markers: frame.positions,
         record,
+        sigma,
     }))
 }
 
@@ -470,7 +491,16 @@ fn wire_result(
             other_m
         },
         fused_mean_mm: mean_of(&|r| 1e3 * r.fused_mean),
+        sigma_mean_mm: all_sigma(rows, |s| 1e3 * s.sigma_mean()),
+        coverage_2sigma: all_sigma(rows, SigmaCheck::coverage_2sigma),
     }
+}
+
+/// The mean of `f` over the configurations' error bars; `None` unless every configuration
+/// has them.
+fn all_sigma(rows: &[ConfigResult], f: impl Fn(&SigmaCheck) -> f64) -> Option<f64> {
+    let values: Option<Vec<f64>> = rows.iter().map(|r| r.sigma.as_ref().map(&f)).collect();
+    values.filter(|v| !v.is_empty()).map(|v| mean(&v))
 }
 
 /// Runs the shape experiment into `folder` (see the module docs for what it writes), reports
@@ -497,10 +527,17 @@ pub fn run(
         (&setup, common.seed),
         progress,
     )?;
+    let a_std = calibration
+        .record()
+        .test_rmse
+        .map(ConfigurationStd::new)
+        .transpose()
+        .map_err(|e| LabError::bad_input(format!("the calibration's test_rmse: {e}")))?;
     let readout = Readout {
         calibration: &calibration,
         fusion,
         rest_samples: settings.rest_samples,
+        a_std,
     };
     let mut csv = CsvTable::new(
         "configs.csv",
@@ -571,16 +608,32 @@ fn write_figures(
             .flatten()
             .map(|p| [p.x, p.y, p.z])
             .collect();
-        let chart = Chart3d::new(format!("{name}: shape from F/T against the truth"))
-            .with_curve("truth (simulator)", to_points(&row.truth), SeriesKind::Line)
-            .with_curve(
+        let chart = Chart3d::new(format!("{name}: shape from F/T against the truth")).with_curve(
+            "truth (simulator)",
+            to_points(&row.truth),
+            SeriesKind::Line,
+        );
+        let chart = match &row.sigma {
+            Some(check) => chart.with_tube(
+                "estimate from F/T, 2σ tube",
+                to_points(&check.estimate),
+                check.sigma.iter().map(|s| 2.0 * s).collect(),
+                SeriesKind::Line,
+            ),
+            None => chart.with_curve(
                 "estimate from F/T",
                 to_points(&row.estimate),
                 SeriesKind::Line,
-            )
-            .with_curve("markers", markers, SeriesKind::Points);
+            ),
+        }
+        .with_curve("markers", markers, SeriesKind::Points);
         let stem = format!("shape_{}", file_stem(name));
         folder.write_figure(&stem, |dir| chart.write(dir, &stem))?;
+        if let Some(check) = &row.sigma {
+            let stem = format!("shape_error_{}", file_stem(name));
+            let chart = sigma_chart(name, check, row.truth.len());
+            folder.write_figure(&stem, |dir| chart.write(dir, &stem))?;
+        }
     }
     let points: Vec<(f64, f64)> = results
         .iter()
@@ -604,4 +657,39 @@ fn write_figures(
             .with_error_bars(results.iter().map(|r| r.std_mm).collect()),
     );
     folder.write_figure("error_per_wire", |dir| chart.write(dir, "error_per_wire"))
+}
+
+/// The error of the first configuration's estimate along the wire, with the `±2σ(s)` band
+/// around zero: a point of the error curve inside the band is covered.
+fn sigma_chart(name: &str, check: &SigmaCheck, points: usize) -> LineChart {
+    // The simulator's points' arc lengths as fractions of L: the clamp points, and the
+    // interior nodes at (k − ½)h with L = (N − 1)h, N = points − 1 (ftwire_sim's
+    // wire_centreline).
+    #[allow(clippy::cast_precision_loss)] // a few hundred points
+    let s = |k: usize| -> f64 {
+        if k == 0 {
+            0.0
+        } else if k + 1 >= points {
+            1.0
+        } else {
+            (k as f64 - 0.5) / (points as f64 - 2.0)
+        }
+    };
+    let error: Vec<(f64, f64)> = check
+        .error
+        .iter()
+        .enumerate()
+        .map(|(k, e)| (s(k), 1e3 * e))
+        .collect();
+    let zero: Vec<(f64, f64)> = (0..check.sigma.len()).map(|k| (s(k), 0.0)).collect();
+    LineChart::new(
+        format!("{name}: error along the wire and ±2σ"),
+        "arc length s / L",
+        "distance to the truth [mm]",
+    )
+    .with_series(
+        Series::line("±2σ(s) (calibration test error)", zero)
+            .with_band(check.sigma.iter().map(|s| 2e3 * s).collect()),
+    )
+    .with_series(Series::line("‖estimate − truth‖", error))
 }

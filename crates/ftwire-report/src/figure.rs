@@ -89,6 +89,9 @@ pub struct Series {
     pub kind: SeriesKind,
     /// Half-height of an error bar at each point (same length as `points`), if any.
     pub error_bars: Option<Vec<f64>>,
+    /// Half-height of a shaded band `y ± h` at each point (same length as `points`), if any:
+    /// a continuous error bar such as `±2σ(s)` along a wire.
+    pub band: Option<Vec<f64>>,
 }
 
 impl Series {
@@ -99,6 +102,7 @@ impl Series {
             points,
             kind: SeriesKind::Line,
             error_bars: None,
+            band: None,
         }
     }
 
@@ -123,6 +127,27 @@ impl Series {
     pub fn with_error_bars(mut self, half_heights: Vec<f64>) -> Self {
         self.error_bars = Some(half_heights);
         self
+    }
+
+    /// With a shaded band `y ± h` of these half-heights (ignored where the lengths differ).
+    #[must_use]
+    pub fn with_band(mut self, half_heights: Vec<f64>) -> Self {
+        self.band = Some(half_heights);
+        self
+    }
+
+    /// The half-heights of the error bars and the band at each point (0 where there are
+    /// none): the larger of the two, for the axes' bounds.
+    fn half_height(&self, i: usize) -> f64 {
+        let at = |v: &Option<Vec<f64>>| {
+            v.as_ref()
+                .filter(|v| v.len() == self.points.len())
+                .and_then(|v| v.get(i))
+                .copied()
+                .filter(|e| e.is_finite())
+                .map_or(0.0, f64::abs)
+        };
+        at(&self.error_bars).max(at(&self.band))
     }
 
     fn finite_points(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
@@ -204,13 +229,11 @@ impl LineChart {
             f64::NEG_INFINITY,
         );
         for s in &self.series {
-            let errors = s.error_bars.as_ref().filter(|e| e.len() == s.points.len());
             for (i, (x, y)) in s.points.iter().copied().enumerate() {
                 if !(x.is_finite() && y.is_finite()) || (self.log_y && y <= 0.0) {
                     continue;
                 }
-                let e = errors.and_then(|e| e.get(i)).copied().unwrap_or(0.0);
-                let e = if e.is_finite() { e.abs() } else { 0.0 };
+                let e = s.half_height(i);
                 let low = if self.log_y && y - e <= 0.0 { y } else { y - e };
                 b = (b.0.min(x), b.1.max(x), b.2.min(low), b.3.max(y + e));
             }
@@ -297,6 +320,35 @@ impl LineChart {
             let legend = move |(x, y): (i32, i32)| {
                 PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
             };
+            if let Some(band) = s.band.as_ref().filter(|b| b.len() == s.points.len()) {
+                // The band's outline: up along y + h, back along y − h (finite points only;
+                // on a log axis the lower edge stays above zero).
+                let edge: Vec<(f64, f64, f64)> = s
+                    .points
+                    .iter()
+                    .zip(band)
+                    .filter(|((x, y), h)| x.is_finite() && y.is_finite() && h.is_finite())
+                    .map(|(&(x, y), &h)| {
+                        let low = if self.log_y && y - h.abs() <= 0.0 {
+                            y
+                        } else {
+                            y - h.abs()
+                        };
+                        (x, low, y + h.abs())
+                    })
+                    .filter(|&(_, low, _)| positive(&(0.0, low)))
+                    .collect();
+                let outline: Vec<(f64, f64)> = edge
+                    .iter()
+                    .map(|&(x, _, high)| (x, high))
+                    .chain(edge.iter().rev().map(|&(x, low, _)| (x, low)))
+                    .collect();
+                if outline.len() >= 4 {
+                    chart
+                        .draw_series(std::iter::once(Polygon::new(outline, c.mix(0.2).filled())))
+                        .map_err(|e| e.to_string())?;
+                }
+            }
             if matches!(s.kind, SeriesKind::Line | SeriesKind::LinePoints) {
                 chart
                     .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))
@@ -347,6 +399,75 @@ pub struct Curve3 {
     pub points: Vec<[f64; 3]>,
     /// How to draw them.
     pub kind: SeriesKind,
+    /// The radius of a tube around the curve at each point \[m\] (same length as `points`),
+    /// if any: drawn as rings about the curve's tangent, such as `2σ(s)` along a wire.
+    pub tube: Option<Vec<f64>>,
+}
+
+impl Curve3 {
+    /// The rings of its tube ([`tube_rings`]); none without a tube.
+    fn rings(&self) -> Vec<Vec<(f64, f64, f64)>> {
+        self.tube
+            .as_ref()
+            .map_or_else(Vec::new, |radius| tube_rings(&self.points, radius))
+    }
+}
+
+/// Rings of a tube drawn at most, spread evenly along the curve.
+const TUBE_RINGS: usize = 40;
+
+/// Segments of one ring of a tube.
+const RING_SEGMENTS: usize = 24;
+
+/// The rings of a tube of `radius` about the polyline `points` (same lengths): at most
+/// [`TUBE_RINGS`] closed loops of [`RING_SEGMENTS`] segments, each about the local tangent
+/// (central difference), skipping points that are not finite or have no tangent.
+fn tube_rings(points: &[[f64; 3]], radius: &[f64]) -> Vec<Vec<(f64, f64, f64)>> {
+    let n = points.len();
+    if n < 2 || radius.len() != n {
+        return Vec::new();
+    }
+    let every = n.div_ceil(TUBE_RINGS).max(1);
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let unit = |a: [f64; 3]| {
+        let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        (norm > 0.0 && norm.is_finite()).then(|| a.map(|v| v / norm))
+    };
+    (0..n)
+        .step_by(every)
+        .filter_map(|i| {
+            let (p, r) = (points[i], radius[i]);
+            let t = unit(sub(points[(i + 1).min(n - 1)], points[i.saturating_sub(1)]))?;
+            if !(r.is_finite() && r > 0.0 && p.iter().all(|v| v.is_finite())) {
+                return None;
+            }
+            // Any axis not along t gives the ring's two directions.
+            let helper = if t[0].abs() < 0.9 {
+                [1.0, 0.0, 0.0]
+            } else {
+                [0.0, 1.0, 0.0]
+            };
+            let u = unit(cross(t, helper))?;
+            let v = cross(t, u);
+            Some(
+                (0..=RING_SEGMENTS)
+                    .map(|k| {
+                        let phi = std::f64::consts::TAU * k as f64 / RING_SEGMENTS as f64;
+                        let (sin, cos) = phi.sin_cos();
+                        let at = |j: usize| p[j] + r * (cos * u[j] + sin * v[j]);
+                        (at(0), at(1), at(2))
+                    })
+                    .collect(),
+            )
+        })
+        .collect()
 }
 
 /// A 3-D view of curves (e.g. an estimated and a true wire), with equal scales on every axis.
@@ -379,6 +500,33 @@ impl Chart3d {
             name: name.into(),
             points,
             kind,
+            tube: None,
+        });
+        self
+    }
+
+    /// Adds a curve with a tube of `radius` \[m\] at each point (ignored where the lengths
+    /// differ), e.g. an estimated wire with its `2σ(s)`.
+    ///
+    /// ```
+    /// use ftwire_report::{Chart3d, SeriesKind};
+    /// let wire = vec![[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.2, 0.0, 0.01]];
+    /// let chart = Chart3d::new("a wire").with_tube("estimate ± 2σ", wire, vec![0.0, 0.002, 0.004], SeriesKind::Line);
+    /// assert_eq!(chart.curves[0].tube.as_ref().map(Vec::len), Some(3));
+    /// ```
+    #[must_use]
+    pub fn with_tube(
+        mut self,
+        name: impl Into<String>,
+        points: Vec<[f64; 3]>,
+        radius: Vec<f64>,
+        kind: SeriesKind,
+    ) -> Self {
+        self.curves.push(Curve3 {
+            name: name.into(),
+            points,
+            kind,
+            tube: Some(radius),
         });
         self
     }
@@ -403,7 +551,19 @@ impl Chart3d {
     fn cube(&self) -> Option<([f64; 3], f64)> {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
-        for p in self.curves.iter().flat_map(|c| &c.points) {
+        let ring_points: Vec<[f64; 3]> = self
+            .curves
+            .iter()
+            .flat_map(Curve3::rings)
+            .flatten()
+            .map(|(x, y, z)| [x, y, z])
+            .collect();
+        for p in self
+            .curves
+            .iter()
+            .flat_map(|c| &c.points)
+            .chain(&ring_points)
+        {
             if p.iter().all(|v| v.is_finite()) {
                 for k in 0..3 {
                     lo[k] = lo[k].min(p[k]);
@@ -456,6 +616,11 @@ impl Chart3d {
             let legend = move |(x, y): (i32, i32)| {
                 PathElement::new(vec![(x, y), (x + 24, y)], col.stroke_width(3))
             };
+            for ring in curve.rings() {
+                chart
+                    .draw_series(LineSeries::new(ring, col.mix(0.35).stroke_width(1)))
+                    .map_err(|e| e.to_string())?;
+            }
             if matches!(curve.kind, SeriesKind::Line | SeriesKind::LinePoints) {
                 chart
                     .draw_series(LineSeries::new(points.iter().copied(), col.stroke_width(2)))

@@ -11,7 +11,7 @@ use ftwire_core::ensure_finite;
 use ftwire_rod::{Shape, to_normalised};
 use nalgebra::Vector6;
 
-use crate::shape::{ConfigurationStd, setting, shape_sigma};
+use crate::shape::{ConfigurationStd, ModelError, setting, shape_sigma, with_model_error};
 use crate::{EstimateError, WireModel};
 
 /// Settings of the shape estimator.
@@ -75,8 +75,9 @@ pub struct ShapeEstimate {
     /// `ã` in normalised units.
     pub normalised: Vector6<f64>,
     /// `σ(s)` \[m\] at each node of `shape`: the RMS radius of the point's first-order error
-    /// ([`shape_sigma`]); `None` unless the estimator was given the standard deviations of `ã`
-    /// ([`ShapeEstimator::with_a_std`]).
+    /// ([`shape_sigma`]), with the model's own error added in quadrature when it was given
+    /// ([`ShapeEstimator::with_model_error`], [`with_model_error`]); `None` unless the
+    /// estimator was given the standard deviations of `ã` or the model error.
     pub sigma: Option<Vec<f64>>,
 }
 
@@ -105,6 +106,7 @@ pub struct ShapeEstimator<M> {
     model: M,
     config: EstimatorParams,
     a_std: Option<ConfigurationStd>,
+    model_error: Option<ModelError>,
     previous: Option<Vector6<f64>>,
 }
 
@@ -116,6 +118,7 @@ impl<M: WireModel> ShapeEstimator<M> {
             model,
             config: EstimatorParams::default(),
             a_std: None,
+            model_error: None,
             previous: None,
         }
     }
@@ -147,6 +150,21 @@ impl<M: WireModel> ShapeEstimator<M> {
     #[must_use]
     pub fn with_a_std(self, a_std: Option<ConfigurationStd>) -> Self {
         Self { a_std, ..self }
+    }
+
+    /// The same estimator with the model's own error (`None`: not counted): each estimate's
+    /// `σ(s)` then adds `σ_model(s) = e · s` in quadrature ([`with_model_error`]).
+    #[must_use]
+    pub fn with_model_error(self, model_error: Option<ModelError>) -> Self {
+        Self {
+            model_error,
+            ..self
+        }
+    }
+
+    /// The model's own error, if given.
+    pub fn model_error(&self) -> Option<&ModelError> {
+        self.model_error.as_ref()
     }
 
     /// The standard deviations of `ã`, if given.
@@ -182,11 +200,18 @@ impl<M: WireModel> ShapeEstimator<M> {
         ensure_finite("a_tilde", a_tilde.as_slice())?;
         let shape = self.model.shape(a_tilde, self.config.nodes)?;
         let stable = self.model.is_stable(a_tilde)?;
-        let sigma = match &self.a_std {
+        let sigma_a = match &self.a_std {
             Some(std) => {
                 Some(shape_sigma(&self.model, a_tilde, self.config.nodes, &std.covariance())?.sigma)
             }
             None => None,
+        };
+        let sigma = match (&self.model_error, sigma_a) {
+            (Some(e), sigma_a) => {
+                let sigma_a = sigma_a.unwrap_or_else(|| vec![0.0; self.config.nodes]);
+                Some(with_model_error(&sigma_a, e, self.model.wire().length()))
+            }
+            (None, sigma_a) => sigma_a,
         };
         let confidence = self.flag_solved(a_tilde, stable);
         Ok(ShapeEstimate {

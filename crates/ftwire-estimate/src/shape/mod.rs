@@ -39,4 +39,7 @@ pub use metrics::{
     DEFAULT_METRIC_SAMPLES, MIN_METRIC_SAMPLES, centreline_distance, marker_distances,
 };
 pub use polyline::{ClosestPoint, closest_point, cumulative_length};
-pub use sigma::{ConfigurationStd, RELATIVE_STEP, ShapeSigma, shape_jacobians, shape_sigma};
+pub use sigma::{
+    ConfigurationStd, MAX_MODEL_ERROR, ModelError, RELATIVE_STEP, ShapeSigma, shape_jacobians,
+    shape_sigma, with_model_error,
+};

@@ -16,6 +16,24 @@
 //! points move mostly sideways) up to 99.3 % when it is isotropic, and `‖δp‖ ≤ σ` with 68.3 %
 //! down to 60.8 %.
 //!
+//! **The model's own error.** `σ_a(s)`, the above, carries the error of `ã` only: at the true
+//! `a` it is zero, but the model's shape is not the real wire there (discretisation of a
+//! simulator, unmodelled weight, a clamp that is not ideal, a wrong `c` or `L`). With the model
+//! error given as an RMS radius per metre of arc length `e` ([`ModelError`]: zero at the base
+//! clamp, which both share, and growing along the wire as an error of the integrated
+//! curvature does), the bar is
+//!
+//! ```text
+//! σ_model(s) = e · s,        σ(s)² = σ_a(s)² + σ_model(s)²
+//! ```
+//!
+//! ([`with_model_error`]): the two errors are independent, the model's being the same at the
+//! true `a` and at `ã` to first order. `e` is what a user measures with markers at rests where
+//! `a` is known (a calibration's held-out split: each inner marker's distance to the model's
+//! shape at its label, divided by its arc length, RMS over the markers), or the documented
+//! agreement of the model with another model (the coverage test uses the Kirchhoff model's
+//! bound against the simulator, 0.5 mm over the wire, of `crates/ftwire/tests/model_vs_sim.rs`).
+//!
 //! `D(s)` at every node comes from central differences of the shape ([`shape_jacobians`]):
 //! 12 shape solves, each the cheapest solve of the model, instead of one truncated Jacobian
 //! solve per node ([`super::centreline_point`]). The step in component `i` is
@@ -29,6 +47,10 @@ use ftwire_rod::Shape;
 use nalgebra::{Matrix3, Matrix3x6, Matrix6, Vector6};
 
 use crate::{EstimateError, WireModel};
+
+/// Largest model error per metre of arc length [`ModelError`] accepts \[m/m\]: an error as
+/// large as the wire is no model.
+pub const MAX_MODEL_ERROR: f64 = 1.0;
 
 /// The central-difference step of [`shape_jacobians`], relative to `max(|a_i|, u_i)`: the
 /// truncation error is of order its square, and it is large enough that a change of the
@@ -185,4 +207,64 @@ pub fn shape_sigma<M: WireModel>(
         .map(|c| c.trace().max(0.0).sqrt())
         .collect();
     Ok(ShapeSigma { covariance, sigma })
+}
+
+/// The model's own error against the real wire (module docs): an RMS radius per metre of arc
+/// length from the base clamp `e` \[m/m\], so that `σ_model(s) = e · s` \[m\].
+///
+/// # Example
+/// ```
+/// use ftwire_estimate::shape::{ModelError, with_model_error};
+/// // 0.5 mm at the tip of a 0.5 m wire: 1 mm per metre.
+/// let model = ModelError::new(1e-3)?;
+/// let sigma_a = [0.0, 3e-4, 4e-4];
+/// let sigma = with_model_error(&sigma_a, &model, 0.5);
+/// assert!(sigma[0] < 1e-15);
+/// assert!((sigma[2] - 5e-4_f64.hypot(4e-4)).abs() < 1e-15);
+/// assert!(ModelError::new(-1e-3).is_err());
+/// # Ok::<(), ftwire_estimate::EstimateError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelError {
+    per_length: f64,
+}
+
+impl ModelError {
+    /// The model error `per_length` \[m per m of arc length\].
+    ///
+    /// # Errors
+    /// [`EstimateError::BadShapeSetting`] unless `per_length` is finite, `>= 0` and at most
+    /// [`MAX_MODEL_ERROR`].
+    pub fn new(per_length: f64) -> Result<Self, EstimateError> {
+        if !(per_length.is_finite() && (0.0..=MAX_MODEL_ERROR).contains(&per_length)) {
+            return Err(EstimateError::BadShapeSetting {
+                name: "model_error",
+                value: per_length,
+                allowed: "finite, >= 0 and <= 1 (m per m of arc length; 1 mm/m is 0.001)",
+            });
+        }
+        Ok(Self { per_length })
+    }
+
+    /// `e` \[m/m\].
+    pub fn per_length(&self) -> f64 {
+        self.per_length
+    }
+
+    /// `σ_model(s) = e · s` \[m\] at arc length `s` \[m\].
+    pub fn sigma_at(&self, s: f64) -> f64 {
+        self.per_length * s
+    }
+}
+
+/// `σ(s_i) = sqrt(σ_a(s_i)² + σ_model(s_i)²)` \[m\] (module docs) at nodes evenly spaced in arc
+/// length from the base clamp (`s_i = i·L/(n − 1)`, `L` = `length` \[m\]), for `σ_a` \[m\] at
+/// those nodes (e.g. [`ShapeSigma::sigma`]; all zeros for the model's error alone).
+pub fn with_model_error(sigma_a: &[f64], model: &ModelError, length: f64) -> Vec<f64> {
+    let step = length / sigma_a.len().saturating_sub(1).max(1) as f64;
+    sigma_a
+        .iter()
+        .enumerate()
+        .map(|(i, a)| a.hypot(model.sigma_at(step * i as f64)))
+        .collect()
 }

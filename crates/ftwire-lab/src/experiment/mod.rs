@@ -6,6 +6,7 @@
 //! (raw F/T samples and the believed gripper poses).
 
 pub mod calibration;
+pub mod coverage;
 pub mod rig;
 pub mod stats;
 
