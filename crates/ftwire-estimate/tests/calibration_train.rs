@@ -263,3 +263,32 @@ fn a_time_split_keeps_the_order_of_the_samples() -> Result<(), EstimateError> {
     assert_ne!(random.train, split.train);
     Ok(())
 }
+
+/// A map trained `through_zero` is zero at a zero reading, exactly and after a save and load,
+/// and still learns the sensor's nonlinear map (its gated network improves on the linear part).
+#[test]
+fn a_map_through_zero_is_zero_at_zero_and_survives_its_file() {
+    let config = TrainParams {
+        through_zero: true,
+        hidden: vec![16, 16],
+        learning_rate: 1e-2,
+        max_epochs: 400,
+        patience: 100,
+        ..small()
+    };
+    let data = data(300, 4);
+    let calibration = Calibration::train(&data, &config, 9).expect("trained");
+    assert_eq!(calibration.apply(&Vector6::zeros()), Vector6::zeros());
+    let back = Calibration::from_json(&calibration.to_json().expect("json")).expect("loads");
+    assert!(back.record().config.through_zero);
+    for raw in data.raw().iter().take(20) {
+        assert_eq!(back.apply(raw), calibration.apply(raw));
+    }
+    let record = calibration.record();
+    assert!(
+        record.validation_loss < 0.5 * record.initial_validation_loss,
+        "{} against the linear part's {}",
+        record.validation_loss,
+        record.initial_validation_loss
+    );
+}

@@ -36,6 +36,29 @@ impl Affine {
         }
     }
 
+    /// The least-squares linear fit through the origin over `(u, y)` pairs: minimises
+    /// `Σ |B u − y|²` by the normal equations in `u`, solved by SVD as [`Affine::fit`]; the
+    /// offset is zero.
+    pub fn fit_linear<'a>(
+        pairs: impl Iterator<Item = (&'a Vector6<f64>, &'a Vector6<f64>)>,
+    ) -> Self {
+        let mut normal = Matrix6::<f64>::zeros();
+        let mut right = Matrix6::<f64>::zeros();
+        for (u, y) in pairs {
+            normal += u * u.transpose();
+            right += u * y.transpose();
+        }
+        let svd = normal.svd(true, true);
+        let tolerance = 1e-12 * svd.singular_values.max();
+        let Ok(solution) = svd.solve(&right, tolerance) else {
+            return Self::zero();
+        };
+        Self {
+            matrix: solution.transpose(),
+            offset: Vector6::zeros(),
+        }
+    }
+
     /// The map to zero.
     pub fn zero() -> Self {
         Self {

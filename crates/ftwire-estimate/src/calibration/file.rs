@@ -26,7 +26,8 @@
 //!
 //! The map is `a = F(raw) − F(0)` when `training.config.anchored` (absent: `false`), else
 //! `a = F(raw)`, with `F(raw) = μ_out + σ_out ⊙ (A z + c + f(z))`, `z = (raw − μ_in) ⊘ σ_in` (see
-//! [`Calibration`]). Numbers are written shortest-round-trip and read back exactly, so a saved
+//! [`Calibration`]); when `training.config.through_zero` (absent: `false`, so older files keep
+//! their meaning) the network's term is `ρ f(z)`, `ρ = q / (1 + q)`, `q = |raw ⊘ σ_in|²`. Numbers are written shortest-round-trip and read back exactly, so a saved
 //! calibration loads bit-identical (guarded by `tests/calibration_file.rs`). Loading checks the
 //! format and version, every array's length against the architecture, and that every number is
 //! finite (and every `std` positive), and names the offending array.

@@ -11,7 +11,10 @@ use super::{Affine, Mlp, Normaliser, TrainingRecord};
 /// for tared readings) or `a = F(raw)`, with `F(raw) = μ_a + σ_a ⊙ (A z + c + f(z))` and
 /// `z = (raw − μ_raw) ⊘ σ_raw`: per-channel standardisation fitted on the training split, an
 /// optional least-squares affine part `A z + c` ([`Affine`]) and the network `f` ([`Mlp`]) that
-/// learns what the affine part leaves.
+/// learns what the affine part leaves. Trained
+/// [`through_zero`](super::TrainParams::through_zero), the affine part is zero at a zero
+/// reading and the network's term is `ρ(raw) f(z)`, `ρ = q / (1 + q)`, `q = |raw ⊘ σ_raw|²`, so
+/// that `F(0) = 0` exactly.
 ///
 /// Build one with [`Calibration::train`]; save and load it with [`Calibration::save`] and
 /// [`Calibration::load`] (format in [`super::file`]).
@@ -69,6 +72,9 @@ impl Calibration {
     fn unanchored(&self, raw: &Vector6<f64>) -> Vector6<f64> {
         let z = self.input.normalise(raw);
         let mut y = self.mlp.forward(&z);
+        if self.record.config.through_zero {
+            y *= super::train::remainder_gate(&self.input, raw);
+        }
         if let Some(affine) = &self.affine {
             y += affine.apply(&z);
         }

@@ -260,7 +260,7 @@ impl Mlp {
         let mut gradient = vec![0.0; self.parameters.len()];
         let loss = workspace.accumulate(
             self,
-            inputs.iter().zip(targets),
+            inputs.iter().zip(targets).map(|(x, y)| (x, y, 1.0)),
             inputs.len(),
             &mut gradient,
         );
@@ -292,25 +292,26 @@ impl Backprop {
         }
     }
 
-    /// Adds the gradient of the loss `(1 / 6n) Σ |f(x) − y|²` over `pairs` to `gradient` and
-    /// returns that loss; `n` is the number of pairs (given, so that the caller's iterator
-    /// need not be counted first).
+    /// Adds the gradient of the loss `(1 / 6n) Σ |g f(x) − y|²` over the triples `(x, y, g)`
+    /// to `gradient` and returns that loss: `g` is a fixed gate on the network's output (1 for
+    /// the plain loss; see [`super::TrainParams::through_zero`]); `n` is the number of triples
+    /// (given, so that the caller's iterator need not be counted first).
     pub(crate) fn accumulate<'a>(
         &mut self,
         mlp: &Mlp,
-        pairs: impl Iterator<Item = (&'a Vector6<f64>, &'a Vector6<f64>)>,
+        triples: impl Iterator<Item = (&'a Vector6<f64>, &'a Vector6<f64>, f64)>,
         n: usize,
         gradient: &mut [f64],
     ) -> f64 {
         #[allow(clippy::cast_precision_loss)] // sample counts are far below 2⁵²
         let scale = 2.0 / (IO as f64 * n.max(1) as f64);
         let mut sum = 0.0;
-        for (x, y) in pairs {
+        for (x, y, gate) in triples {
             let output = self.forward(mlp, x);
             for ((d, o), t) in self.delta.iter_mut().zip(output.iter()).zip(y.iter()) {
-                let e = o - t;
+                let e = gate * o - t;
                 sum += e * e;
-                *d = scale * e;
+                *d = scale * gate * e;
             }
             self.backward(mlp, gradient);
         }

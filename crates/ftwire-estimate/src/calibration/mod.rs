@@ -26,6 +26,11 @@
 //! validation split. With few samples this is much better than learning the whole map (see
 //! `tests/calibration_synthetic.rs`, which measures both).
 //!
+//! **Through zero.** For readings tared with the gripper empty, [`TrainParams::through_zero`]
+//! fits the linear part without intercept and gates the network's remainder so that it
+//! vanishes at small readings: the map is the sensor's own, zero at a zero wrench, and carries
+//! over to wires of other wrench scales (guarded by `ftwire-lab`'s `tests/calibration_scales.rs`).
+//!
 //! **Why hand-written, not `candle`.** `candle-core` + `candle-nn` 0.11 lock 157 packages and
 //! take minutes to build; this module is a few hundred lines with no new dependency beyond
 //! `serde_json`. A 6-64-64-6 network has about 5 000 parameters, so a forward pass is a few

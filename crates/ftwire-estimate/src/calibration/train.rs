@@ -37,6 +37,19 @@ pub struct TrainParams {
     /// files without this setting read as `false`, so they keep their meaning.
     #[serde(default)]
     pub anchored: bool,
+    /// The map of the sensor's own form, zero at a zero reading: for readings tared with the
+    /// gripper empty, whose zero is a zero wrench on any wire (default `false`). The linear
+    /// part is fitted through the origin in raw units (`a ≈ W raw`, no intercept: mounting,
+    /// gain and cross-talk are linear and the tare removed the bias), and the network's
+    /// remainder is gated, `ρ(raw) f(z)` with `ρ = q / (1 + q)`, `q = |raw ⊘ σ_raw|²`, so that it
+    /// vanishes quadratically at small readings, as a sensor's nonlinearity does (it is cubic
+    /// in the reading), and cannot put the calibration wire's label biases or an extrapolation
+    /// onto a soft wire's small wrenches. Without it the least-squares intercept and the
+    /// network add a few mN (gravity off) at every reading: per cent of a soft wire's forces.
+    /// Leave it off for untared readings, whose offset the map must learn. Weight files
+    /// without this setting read as `false`, so they keep their meaning.
+    #[serde(default)]
+    pub through_zero: bool,
     /// Split fractions (default 70 % training, 15 % validation, 15 % test).
     pub split: SplitFractions,
     /// Samples per mini-batch, `≥ 1` (default `32`).
@@ -63,6 +76,7 @@ impl Default for TrainParams {
             activation: Activation::Tanh,
             residual: true,
             anchored: false,
+            through_zero: false,
             split: SplitFractions::default(),
             batch_size: 32,
             learning_rate: 1e-3,
@@ -241,7 +255,7 @@ impl Calibration {
         config.validate()?;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let split = data.split(&config.split, &mut rng)?;
-        let problem = Problem::new(data, &split.train, config.residual);
+        let problem = Problem::new(data, &split.train, config);
         let train = problem.targets(data, &split.train);
         let validation = problem.targets(data, &split.validation);
         let mut mlp = Mlp::new(&config.hidden, config.activation, &mut rng)?;
@@ -252,8 +266,8 @@ impl Calibration {
         let test_loss = if split.test.is_empty() {
             None
         } else {
-            let (test_z, test_t) = problem.targets(data, &split.test);
-            Some(descent.best.loss(&test_z, &test_t)?)
+            let test = problem.targets(data, &split.test);
+            Some(gated_loss(&descent.best, &test)?)
         };
         descent.best.scale_outputs(&problem.scale);
         let record = TrainingRecord {
@@ -288,6 +302,9 @@ impl Calibration {
     }
 }
 
+/// The network's inputs (normalised readings), targets and output gates of some samples.
+type Targets = (Vec<Vector6<f64>>, Vec<Vector6<f64>>, Vec<f64>);
+
 /// What the network is trained on, fitted on the training split: the standardisations, the
 /// affine part, and the per-channel scale of what the affine part leaves.
 struct Problem {
@@ -297,10 +314,12 @@ struct Problem {
     /// The network's targets are the affine fit's residuals divided by this, per channel (ones
     /// without an affine part).
     scale: Vector6<f64>,
+    /// Gate the network's output by [`remainder_gate`] ([`TrainParams::through_zero`]).
+    gated: bool,
 }
 
 impl Problem {
-    fn new(data: &Dataset, train: &[usize], residual: bool) -> Self {
+    fn new(data: &Dataset, train: &[usize], config: &TrainParams) -> Self {
         let input = Normaliser::fit(data.pairs(train).map(|(r, _)| r));
         let output = Normaliser::fit(data.pairs(train).map(|(_, l)| l));
         let mut problem = Self {
@@ -308,13 +327,18 @@ impl Problem {
             output,
             affine: None,
             scale: Vector6::repeat(1.0),
+            gated: config.through_zero,
         };
-        if residual {
+        if config.residual {
             let normalised: Vec<_> = data
                 .pairs(train)
                 .map(|(r, l)| (input.normalise(r), output.normalise(l)))
                 .collect();
-            let affine = Affine::fit(normalised.iter().map(|(z, y)| (z, y)));
+            let affine = if config.through_zero {
+                through_zero(data, train, &input, &output)
+            } else {
+                Affine::fit(normalised.iter().map(|(z, y)| (z, y)))
+            };
             // Each channel's residual in units of its own spread, so that every channel weighs
             // alike in the loss (a channel the affine part fits precisely would otherwise be
             // invisible next to a noisy one).
@@ -328,17 +352,74 @@ impl Problem {
         problem
     }
 
-    /// The network's inputs (normalised readings) and targets for the samples at `indices`.
-    fn targets(&self, data: &Dataset, indices: &[usize]) -> (Vec<Vector6<f64>>, Vec<Vector6<f64>>) {
-        data.pairs(indices)
-            .map(|(r, l)| {
-                let z = self.input.normalise(r);
-                let y = self.output.normalise(l);
-                let left = self.affine.as_ref().map_or(y, |a| y - a.apply(&z));
-                (z, left.component_div(&self.scale))
-            })
-            .unzip()
+    /// The network's inputs (normalised readings), targets and output gates for the samples
+    /// at `indices`.
+    fn targets(&self, data: &Dataset, indices: &[usize]) -> Targets {
+        let mut out: Targets = (Vec::new(), Vec::new(), Vec::new());
+        for (r, l) in data.pairs(indices) {
+            let z = self.input.normalise(r);
+            let y = self.output.normalise(l);
+            let left = self.affine.as_ref().map_or(y, |a| y - a.apply(&z));
+            out.0.push(z);
+            out.1.push(left.component_div(&self.scale));
+            out.2.push(if self.gated {
+                remainder_gate(&self.input, r)
+            } else {
+                1.0
+            });
+        }
+        out
     }
+}
+
+/// The linear map through the origin in raw units, `a ≈ W raw`, fitted on the samples `train`
+/// and written as the affine part in normalised units: with `u = raw ⊘ σ_raw` and
+/// `ŷ = a ⊘ σ_a`, the fit `ŷ ≈ B u` is `y = B z + B (μ_raw ⊘ σ_raw) − μ_a ⊘ σ_a` in the
+/// normalised `z`, `y`, so that the whole map is zero at a zero reading.
+fn through_zero(
+    data: &Dataset,
+    train: &[usize],
+    input: &Normaliser,
+    output: &Normaliser,
+) -> Affine {
+    let scaled: Vec<_> = data
+        .pairs(train)
+        .map(|(r, l)| (r.component_div(input.std()), l.component_div(output.std())))
+        .collect();
+    let linear = Affine::fit_linear(scaled.iter().map(|(u, y)| (u, y)));
+    let offset = linear.matrix * input.mean().component_div(input.std())
+        - output.mean().component_div(output.std());
+    Affine {
+        matrix: linear.matrix,
+        offset,
+    }
+}
+
+/// The gate `ρ = q / (1 + q)`, `q = |raw ⊘ σ_raw|²`, on the network's remainder of a map
+/// trained [`TrainParams::through_zero`]: zero at a zero reading, quadratic below the
+/// training spread `σ_raw`, near one at the training readings.
+pub(crate) fn remainder_gate(input: &Normaliser, raw: &Vector6<f64>) -> f64 {
+    let q = raw.component_div(input.std()).norm_squared();
+    q / (1.0 + q)
+}
+
+/// The loss `(1 / 6n) Σ |g f(z) − t|²` of the network over `(z, t, g)`.
+fn gated_loss(mlp: &Mlp, (inputs, targets, gates): &Targets) -> Result<f64, EstimateError> {
+    if inputs.len() != targets.len() || inputs.len() != gates.len() {
+        return Err(EstimateError::SampleCountMismatch {
+            raw: inputs.len(),
+            labels: targets.len(),
+            first_unpaired: inputs.len().min(targets.len()).min(gates.len()),
+        });
+    }
+    Ok(super::mlp::mean_squared_error(
+        inputs
+            .iter()
+            .zip(targets)
+            .zip(gates)
+            .map(|((z, t), g)| (*g * mlp.forward(z) - t).norm_squared()),
+        inputs.len(),
+    ))
 }
 
 /// The outcome of [`descend`].
@@ -355,15 +436,14 @@ struct Descent {
 /// plateaus and early stopping on the loss over `validation`, keeping the best weights.
 fn descend(
     mut mlp: Mlp,
-    train: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
-    validation: &(Vec<Vector6<f64>>, Vec<Vector6<f64>>),
+    train: &Targets,
+    validation: &Targets,
     config: &TrainParams,
     rng: &mut ChaCha8Rng,
     progress: &mut impl FnMut(&EpochProgress),
 ) -> Result<Descent, EstimateError> {
-    let (train_z, train_t) = train;
-    let (validation_z, validation_t) = validation;
-    let initial_validation_loss = mlp.loss(validation_z, validation_t)?;
+    let (train_z, train_t, train_g) = train;
+    let initial_validation_loss = gated_loss(&mlp, validation)?;
     let mut descent = Descent {
         best: mlp.clone(),
         best_epoch: 0,
@@ -383,10 +463,10 @@ fn descend(
         let mut sum = 0.0;
         for batch in order.chunks(config.batch_size) {
             gradient.fill(0.0);
-            let pairs = batch
+            let triples = batch
                 .iter()
-                .filter_map(|&i| Some((train_z.get(i)?, train_t.get(i)?)));
-            let loss = workspace.accumulate(&mlp, pairs, batch.len(), &mut gradient);
+                .filter_map(|&i| Some((train_z.get(i)?, train_t.get(i)?, *train_g.get(i)?)));
+            let loss = workspace.accumulate(&mlp, triples, batch.len(), &mut gradient);
             #[allow(clippy::cast_precision_loss)] // batch sizes are far below 2⁵²
             let weight = batch.len() as f64;
             sum += loss * weight;
@@ -394,7 +474,7 @@ fn descend(
         }
         #[allow(clippy::cast_precision_loss)] // sample counts are far below 2⁵²
         let train_loss = sum / order.len().max(1) as f64;
-        let validation_loss = mlp.loss(validation_z, validation_t)?;
+        let validation_loss = gated_loss(&mlp, validation)?;
         if !(train_loss.is_finite() && validation_loss.is_finite()) {
             descent.stop = StopReason::Diverged;
             break;
