@@ -74,6 +74,7 @@ fn bench(c: &mut Criterion) {
         calibration: None,
         mounting: Some(MountingSpec::default()),
         a_std: None,
+        model_error: None,
     };
     let out = dir.join("shapes.jsonl");
     let mut group = c.benchmark_group("shape --log --out");

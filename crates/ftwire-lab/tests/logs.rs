@@ -99,6 +99,7 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
         calibration: None,
         mounting: None,
         a_std: None,
+        model_error: None,
     };
     let error = LogShapes::new(&params)
         .err()

@@ -60,6 +60,7 @@ fn params(log: PathBuf) -> ShapeLogParams {
         calibration: None,
         mounting: None,
         a_std: None,
+        model_error: None,
     }
 }
 
@@ -445,6 +446,7 @@ fn error_bars_only_with_standard_deviations() {
     let std = [1e-4, 2e-4, 1e-4, 5e-3, 5e-3, 1e-2];
     let with = ShapeLogParams {
         a_std: Some(std),
+        model_error: None,
         ..params(log.clone())
     };
     let (_, lines, summary) = write(&dir, "with", &with, 30);
@@ -470,6 +472,29 @@ fn error_bars_only_with_standard_deviations() {
         .expect("sigma_mean_mm");
     assert_relative_eq!(got, mean, max_relative = 1e-12);
 
+    // The model's own error e·s adds in quadrature: the same σ at the base clamp, more along
+    // the wire, exactly sqrt(σ_a² + (e s)²) with s the arc length of each of the 30 points.
+    let e = 2e-3;
+    let modelled = ShapeLogParams {
+        model_error: Some(e),
+        ..with.clone()
+    };
+    let (_, lines, _) = write(&dir, "model", &modelled, 30);
+    let length = ftwire_estimate::WireModel::wire(&model()).length();
+    let sigma = numbers(&lines[0]["sigma_mm"]);
+    for (k, (got, want)) in sigma.iter().zip(&expected.sigma).enumerate() {
+        let s = length * k as f64 / 29.0;
+        assert_relative_eq!(*got, 1e3 * want.hypot(e * s), max_relative = 1e-9);
+    }
+    let bad = ShapeLogParams {
+        model_error: Some(-1.0),
+        ..with.clone()
+    };
+    let Err(error) = LogShapes::new(&bad) else {
+        panic!("a negative model error is refused");
+    };
+    assert!(error.to_string().contains("--model-error"), "{error}");
+
     let (_, lines, summary) = write(&dir, "without", &params(log.clone()), 30);
     assert!(lines.iter().all(|row| row.get("sigma_mm").is_none()));
     assert!(
@@ -493,6 +518,7 @@ fn error_bars_only_with_standard_deviations() {
 
     let bad = ShapeLogParams {
         a_std: Some([0.0, 0.0, 0.0, -1.0, 0.0, 0.0]),
+        model_error: None,
         ..params(log)
     };
     let error = ShapeLog::load(&bad).expect_err("a negative std");

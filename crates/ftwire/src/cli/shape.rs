@@ -53,6 +53,12 @@ pub struct ShapeArgs {
     #[arg(long, value_name = "T1,T2,T3,F1,F2,F3", value_parser = parse_numbers::<6>, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub a_std: Option<Vec6>,
+    /// The model's own error e per metre of arc length [m/m], 0 to 1: each σ(s) adds
+    /// σ_model(s) = e·s in quadrature, zero at the base clamp (e: the model's RMS distance from
+    /// the wire per metre, e.g. measured with markers where ã is known) [default: not counted].
+    #[arg(long, value_name = "E", value_parser = ftwire::args::parse_finite)]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_error: Option<f64>,
     /// Points of each shape in shapes.jsonl, evenly spaced in arc length from the base clamp
     /// to the tip, 2 to 10000 [default: 100]. Only with --out.
     #[arg(long, value_name = "N", requires = "out", value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]

@@ -37,6 +37,7 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
         calibration: args.calibration.file.clone(),
         mounting: args.mounting.given()?,
         a_std: args.a_std.map(|s| s.0),
+        model_error: args.model_error,
     };
     if args.results.out.is_some() {
         return write_folder(&args, &params);

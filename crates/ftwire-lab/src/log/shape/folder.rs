@@ -43,7 +43,9 @@ use std::io::Write;
 use std::time::Instant;
 
 use ftwire_core::ensure_finite;
-use ftwire_estimate::shape::{ConfigurationStd, ShapeEstimator, marker_distances, shape_sigma};
+use ftwire_estimate::shape::{
+    ConfigurationStd, ModelError, ShapeEstimator, marker_distances, shape_sigma, with_model_error,
+};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::Shape;
 use nalgebra::{Point3, Vector3, Vector6};
@@ -237,7 +239,8 @@ impl ShapeLog {
         }
         let start = Instant::now();
         let model = self.model();
-        let mut estimator = ShapeEstimator::new(*model);
+        let model_error = self.model_error();
+        let mut estimator = ShapeEstimator::new(*model).with_model_error(model_error);
         let mut tally = Tally::default();
         // Each holds the text of LINES_PER_BUFFER lines; kept from block to block.
         let mut buffers: Vec<Vec<u8>> = Vec::new();
@@ -248,7 +251,10 @@ impl ShapeLog {
                 .par_iter()
                 .zip(a)
                 .enumerate()
-                .map(|(i, (line, a))| solve(model, line, a, points, self.a_std(first + i)))
+                .map(|(i, (line, a))| {
+                    let std = (self.a_std(first + i), model_error.as_ref());
+                    solve(model, line, a, points, std)
+                })
                 .collect::<Result<_, _>>()?;
             // The jump flag needs the previous solved record: in order.
             let confident: Vec<bool> = solved
@@ -383,7 +389,7 @@ fn solve(
     line: &LogLine,
     a: &Vector6<f64>,
     points: usize,
-    a_std: Option<&ConfigurationStd>,
+    (a_std, model_error): (Option<&ConfigurationStd>, Option<&ModelError>),
 ) -> Result<Result<Solved, String>, LabError> {
     let (shape, stable) = match shape_and_stability(model, a, points) {
         Ok(solved) => solved,
@@ -392,7 +398,11 @@ fn solve(
     let sigma_mm = a_std.and_then(|std| {
         shape_sigma(model, a, points, &std.covariance())
             .ok()
-            .map(|sigma| sigma.sigma.iter().map(|s| 1e3 * s).collect())
+            .map(|sigma| match model_error {
+                Some(e) => with_model_error(&sigma.sigma, e, model.wire().length()),
+                None => sigma.sigma,
+            })
+            .map(|sigma| sigma.iter().map(|s| 1e3 * s).collect())
     });
     let inner: Vec<Point3<f64>> = line
         .record

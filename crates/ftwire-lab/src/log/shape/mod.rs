@@ -33,7 +33,8 @@ use std::path::PathBuf;
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::ft::MountingSpec;
 use ftwire_estimate::shape::{
-    Confidence, ConfigurationStd, ShapeEstimator, marker_distances, shape_sigma,
+    Confidence, ConfigurationStd, ModelError, ShapeEstimator, marker_distances, shape_sigma,
+    with_model_error,
 };
 use nalgebra::{Point3, Vector6};
 use serde::Serialize;
@@ -65,6 +66,11 @@ pub struct ShapeLogParams {
     /// the records read through it, no error bars for the others.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub a_std: Option<[f64; 6]>,
+    /// The model's own error `e` per metre of arc length \[m/m\] (`--model-error`): each
+    /// `σ(s)` adds `σ_model(s) = e · s` in quadrature ([`ftwire_estimate::shape::ModelError`]);
+    /// `None`: not counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_error: Option<f64>,
 }
 
 /// A log read and checked for shaping: every record with its line in the file and its `ã`,
@@ -79,6 +85,8 @@ pub struct ShapeLog {
     given_std: Option<ConfigurationStd>,
     /// The calibration's test error, if a calibration with one was given.
     calibration_std: Option<ConfigurationStd>,
+    /// `--model-error`.
+    model_error: Option<ModelError>,
 }
 
 impl ShapeLog {
@@ -108,6 +116,11 @@ impl ShapeLog {
             .map(ConfigurationStd::new)
             .transpose()
             .map_err(|e| LabError::bad_input(format!("the calibration's test_rmse: {e}")))?;
+        let model_error = params
+            .model_error
+            .map(ModelError::new)
+            .transpose()
+            .map_err(|e| LabError::bad_input(format!("--model-error: {e}")))?;
         let lines = read_log(&params.log)?;
         let a_tilde = lines
             .iter()
@@ -121,7 +134,13 @@ impl ShapeLog {
             model: KirchhoffModel::new(wire_params),
             given_std,
             calibration_std,
+            model_error,
         })
+    }
+
+    /// The model's own error (`--model-error`), if given.
+    pub fn model_error(&self) -> Option<ModelError> {
+        self.model_error
     }
 
     /// The standard deviations of the `ã` of record `index` (the module docs), if known.
@@ -249,9 +268,14 @@ pub fn shape_record_with_std(
             shape.points = Some(positions.iter().map(|p| [p.x, p.y, p.z]).collect());
             if let Some(std) = a_std {
                 let nodes = positions.len();
+                let length = ftwire_estimate::WireModel::wire(estimator.model()).length();
                 shape.sigma_mm = shape_sigma(estimator.model(), a, nodes, &std.covariance())
                     .ok()
-                    .map(|sigma| sigma.sigma.iter().map(|s| 1e3 * s).collect());
+                    .map(|sigma| match estimator.model_error() {
+                        Some(model) => with_model_error(&sigma.sigma, model, length),
+                        None => sigma.sigma,
+                    })
+                    .map(|sigma| sigma.iter().map(|s| 1e3 * s).collect());
             }
         }
         Err(e) => shape.error = Some(e.to_string()),
@@ -275,7 +299,7 @@ impl LogShapes {
     /// As [`ShapeLog::load`].
     pub fn new(params: &ShapeLogParams) -> Result<Self, LabError> {
         let log = ShapeLog::load(params)?;
-        let estimator = ShapeEstimator::new(*log.model());
+        let estimator = ShapeEstimator::new(*log.model()).with_model_error(log.model_error);
         Ok(Self {
             log,
             estimator,
@@ -371,6 +395,7 @@ mod tests {
             calibration: None,
             mounting: None,
             a_std: None,
+            model_error: None,
         };
         let shapes: Result<Vec<RecordShape>, LabError> =
             LogShapes::new(&params).and_then(Iterator::collect);
@@ -400,6 +425,7 @@ mod tests {
             calibration: None,
             mounting: None,
             a_std: None,
+            model_error: None,
         };
         let error = LogShapes::new(&params).err();
         let _ = std::fs::remove_file(&path);
