@@ -150,9 +150,10 @@ pub struct IdentifyExperimentArgs {
     #[arg(long)]
     pub no_bias_model: bool,
     /// Sample each trial until the wire is known to PCT %: identify from its first 2, 3, …
-    /// samples and stop at the first estimate that is identified and whose every 95 %
-    /// interval half-width (first-order covariance) is within PCT % of its value. The limit is
-    /// the largest --samples count. summary.json gets `until` per wire. 0.01 to 100.
+    /// samples and stop at the first estimate that is identified and whose 95 % interval
+    /// half-widths (first-order covariance) of c1, c2, c3 and L are each within PCT % of the
+    /// value (the loaded model's density does not hold the stop). The limit is the largest
+    /// --samples count. summary.json gets `until` per wire. 0.01 to 100.
     #[arg(long, value_name = "PCT", value_parser = ftwire::args::parse_finite)]
     pub until: Option<f64>,
 }
