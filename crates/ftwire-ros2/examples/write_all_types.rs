@@ -157,7 +157,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .ok_or("usage: write_all_types DIR (writes DIR/all_types.mcap and .json)")?,
     );
     std::fs::create_dir_all(&dir)?;
-    let mut bag = BagWriter::create(dir.join("all_types.mcap"), true)?;
+    // Never replaces a file: DIR must not hold the two files yet.
+    let known = dir.join("all_types.json");
+    if known.exists() {
+        return Err(format!("{} exists: give a new DIR", known.display()).into());
+    }
+    let mut bag = BagWriter::create(dir.join("all_types.mcap"), false)?;
     let entries = write_every_type(&mut bag)?;
     bag.finish()?;
     let distro = if cfg!(feature = "jazzy") {
