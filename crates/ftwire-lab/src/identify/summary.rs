@@ -396,7 +396,8 @@ pub(super) fn timings(
     }
 }
 
-/// `identify.csv`: one row per model, wire, trial and sample count.
+/// `identify.csv`: one row per model, wire, trial and sample count, with the 95 % interval of
+/// each of `(c1, c2, c3, L)` (empty without a covariance).
 pub(super) fn csv(wires: &[WireSpec], rows: &[Row]) -> Result<Vec<u8>, LabError> {
     let mut table = CsvTable::new(
         "identify.csv",
@@ -418,6 +419,14 @@ pub(super) fn csv(wires: &[WireSpec], rows: &[Row]) -> Result<Vec<u8>, LabError>
             "flag",
             "model",
             "linear_density",
+            "low95_c1",
+            "high95_c1",
+            "low95_c2",
+            "high95_c2",
+            "low95_c3",
+            "high95_c3",
+            "low95_L",
+            "high95_L",
         ],
     )?;
     for row in rows {
@@ -441,6 +450,10 @@ pub(super) fn csv(wires: &[WireSpec], rows: &[Row]) -> Result<Vec<u8>, LabError>
             text(row.model.name()),
             row.linear_density.map_or_else(Cell::empty, value),
         ]);
+        match row.interval95 {
+            Some(intervals) => cells.extend(intervals.iter().flatten().map(|&v| value(v))),
+            None => cells.extend((0..8).map(|_| Cell::empty())),
+        }
         table.row(cells)?;
     }
     table.into_bytes()
