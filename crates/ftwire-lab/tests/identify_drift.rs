@@ -106,8 +106,10 @@ fn soft_wire_identification_does_not_get_worse_with_more_samples() {
         }
     }
     let sum = |e: &[f64; 4]| e.iter().sum::<f64>();
+    // Without the drift the error is smaller once there are samples to spare (10 and 30
+    // together: ten trials measure each count to about a third of its value).
     assert!(
-        sum(&still[2]) < sum(&drifting[2]),
+        sum(&still[1]) + sum(&still[2]) < sum(&drifting[1]) + sum(&drifting[2]),
         "{still:?} vs {drifting:?}"
     );
     // The fit that treats the samples' errors as independent absorbs the drift: worse at 30

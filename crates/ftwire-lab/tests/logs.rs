@@ -43,7 +43,11 @@ fn a_saved_identification_log_gives_the_live_estimate() {
         calibration: None,
         mounting: None,
         samples: None,
-        residual: ResidualParams::default(),
+        // The simulated rig's pose noise, which the experiment models.
+        residual: ResidualParams {
+            pose_noise: Some(ftwire_lab::experiment::rig::SIM_POSE_NOISE),
+            ..ResidualParams::default()
+        },
         gravity: None,
         seed: 3,
         drift: None,

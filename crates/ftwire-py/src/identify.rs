@@ -92,11 +92,15 @@ impl Identification {
 /// - times: (N,) each sample's time [s] (any clock; needed with sensor).
 /// - tare_time: when the sensor was tared, on the same clock [s]; None: the first sample's.
 /// - rest_samples, tare_samples: F/T readings averaged per sample and by the tare.
+/// - pose_noise_deg, pose_noise_mm: the robot's repeatability at the rests, per axis [°, mm];
+///   None: 0.05° and 0.1 mm.
+/// - gain_error: the calibration's accuracy [%]: a relative error of each channel of ã that
+///   every sample shares, estimated with the wire (`--gain-error`); None: 0.
 ///
 /// Releases the GIL. Raises ValueError naming the argument for bad input (shapes, values,
 /// too few samples or too little motion); RuntimeError when the search has no answer.
 #[pyfunction]
-#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0, sensor = None, times = None, tare_time = None, rest_samples = 400, tare_samples = 500))]
+#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0, sensor = None, times = None, tare_time = None, rest_samples = 400, tare_samples = 500, pose_noise_deg = None, pose_noise_mm = None, gain_error = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -113,6 +117,9 @@ pub fn identify(
     tare_time: Option<f64>,
     rest_samples: usize,
     tare_samples: usize,
+    pose_noise_deg: Option<f64>,
+    pose_noise_mm: Option<f64>,
+    gain_error: Option<f64>,
 ) -> PyResult<Identification> {
     let rows = input::rows(
         a,
@@ -163,6 +170,14 @@ pub fn identify(
             form,
             isotropic,
             torsion_ratio,
+            pose_noise: (pose_noise_deg.is_some() || pose_noise_mm.is_some()).then(|| {
+                let defaults = ftwire_estimate::identify::MeasurementNoise::default();
+                [
+                    pose_noise_deg.map_or(defaults.rotation, f64::to_radians),
+                    pose_noise_mm.map_or(defaults.translation, |mm| 1e-3 * mm),
+                ]
+            }),
+            gain_error: gain_error.map(|pct| 1e-2 * pct),
         },
         gravity,
         seed,
@@ -174,24 +189,7 @@ pub fn identify(
         )?,
     };
     params.check().map_err(|e| lab_error(&e, "identify"))?;
-    let times = match times {
-        Some(t) if t.len() != a.len() => {
-            return Err(value_error(format!(
-                "times has {} entries and a {} configurations: one time per sample",
-                t.len(),
-                a.len()
-            )));
-        }
-        Some(t) => {
-            if let Some(bad) = t.iter().find(|v| !v.is_finite()) {
-                return Err(value_error(format!(
-                    "times holds {bad}; allowed: finite seconds"
-                )));
-            }
-            t.into_iter().map(Some).collect()
-        }
-        None => vec![None; a.len()],
-    };
+    let times = sample_times(times, a.len())?;
     let samples: Vec<Sample> = a
         .into_iter()
         .zip(b)
@@ -303,4 +301,23 @@ fn drift(
         tare_samples,
         tare_time,
     }))
+}
+
+/// Each sample's time from `times` (one finite time per configuration of `n`), or `None`s.
+fn sample_times(times: Option<Vec<f64>>, n: usize) -> PyResult<Vec<Option<f64>>> {
+    match times {
+        Some(t) if t.len() != n => Err(value_error(format!(
+            "times has {} entries and a {n} configurations: one time per sample",
+            t.len()
+        ))),
+        Some(t) => {
+            if let Some(bad) = t.iter().find(|v| !v.is_finite()) {
+                return Err(value_error(format!(
+                    "times holds {bad}; allowed: finite seconds"
+                )));
+            }
+            Ok(t.into_iter().map(Some).collect())
+        }
+        None => Ok(vec![None; n]),
+    }
 }

@@ -120,6 +120,23 @@ def test_the_sensor_s_drift_modelled_is_the_cli_to_the_last_digit(samples):
     assert found.chi2_per_dof != ftwire.identify(a, b, seed=3).chi2_per_dof
 
 
+def test_pose_noise_and_gain_error_are_the_cli_to_the_last_digit(samples):
+    path, a, b = samples
+    out = cli_json("identify", "--log", str(path), "--json", "--seed", "3",
+                   "--pose-noise-deg", "0.01", "--pose-noise-mm", "0.02", "--gain-error", "0.3")
+    found = ftwire.identify(a, b, seed=3, pose_noise_deg=0.01, pose_noise_mm=0.02,
+                            gain_error=0.3)
+    assert found.c == tuple(out["c"]) and found.length == out["length"]
+    assert found.covariance.tolist() == out["covariance"]
+    # A gain error no sample averages away widens the stiffnesses' intervals.
+    plain = ftwire.identify(a, b, seed=3, pose_noise_deg=0.01, pose_noise_mm=0.02)
+    assert all(g > p for g, p in zip(found.c_std, plain.c_std))
+    with pytest.raises(ValueError, match="gain-error"):
+        ftwire.identify(a, b, gain_error=150.0)
+    with pytest.raises(ValueError, match="pose-noise-mm"):
+        ftwire.identify(a, b, pose_noise_mm=0.0)
+
+
 def test_a_sensor_without_times_or_a_bad_sensor_is_a_value_error(samples):
     _, a, b = samples
     with pytest.raises(ValueError, match="times"):

@@ -249,8 +249,11 @@ fn an_undistorted_sensor_without_gravity_identifies_both_wires() {
 fn bad_options_are_bad_input() {
     let tmp = TempDir::new("identify-bad-options");
     let out = tmp.0.join("run").to_string_lossy().into_owned();
-    let cases: [(&[&str], &str); 8] = [
+    let cases: [(&[&str], &str); 11] = [
         (&["--wire", "copper"], "unknown wire"),
+        (&["--gain-error", "100"], "--gain-error 100"),
+        (&["--pose-noise-deg", "0"], "--pose-noise-deg 0"),
+        (&["--pose-noise-mm", "-0.1"], "--pose-noise-mm -0.1"),
         (&["--rest-samples", "99"], "--rest-samples 99: at least 100"),
         (&["--samples", "1"], "at least two samples"),
         (&["--trials", "0"], "--trials"),
@@ -352,6 +355,11 @@ fn assert_replay_gives_the_live_estimate(out: &Path) {
         "3",
         "--seed",
         "5",
+        // The simulated rig's pose noise, which `experiment identify` models.
+        "--pose-noise-deg",
+        "0.005",
+        "--pose-noise-mm",
+        "0.01",
         "--json",
     ]);
     // Exit 0 when identified, 1 when the estimate is flagged; either way it is printed.
@@ -511,6 +519,11 @@ fn the_loaded_model_identifies_the_weight_and_its_log_replays() {
         "5",
         "--gravity",
         "0,0,-9.81",
+        // The simulated rig's pose noise, which `experiment identify` models.
+        "--pose-noise-deg",
+        "0.005",
+        "--pose-noise-mm",
+        "0.01",
         "--json",
     ]);
     let answer = json(&replay);

@@ -10,6 +10,10 @@
 //! `FTWIRE_UNSEEN_REST` sets `--rest-samples` (default the experiment's);
 //! `FTWIRE_UNSEEN_GRAVITY=on` runs it with gravity on (the loaded model, its calibration
 //! labelled with the loaded model, the issue-16 target of 0.5 % on `c` and `L`).
+//! `FTWIRE_UNSEEN_ARGS` adds options to every `experiment identify` (space-separated).
+//! `FTWIRE_UNSEEN_UNTIL=PCT` also samples each trial until `--until PCT` (up to 10 samples)
+//! and prints how many samples each wire needed. Every run prints the coverage of the 95 %
+//! intervals at three samples over all the wires' trials.
 
 mod cli_support;
 
@@ -42,6 +46,8 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
         _ => "off",
     };
     let rest = std::env::var("FTWIRE_UNSEEN_REST").ok();
+    let until = std::env::var("FTWIRE_UNSEEN_UNTIL").ok();
+    let extra = std::env::var("FTWIRE_UNSEEN_ARGS").unwrap_or_default();
     let dir = std::env::temp_dir().join(format!("ftwire-unseen-{}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).expect("creates a temporary folder");
@@ -62,6 +68,8 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
 
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut worst = [0.0_f64; 4];
+    let mut covered = [0.0_f64; 4];
+    let mut until_failures = Vec::new();
     let mut failures = Vec::new();
     for k in 0..count {
         let c2: f64 = (rng.random_range(0.03_f64.ln()..0.5_f64.ln())).exp();
@@ -87,7 +95,7 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
             "--gravity",
             gravity,
             "--samples",
-            "3",
+            if until.is_some() { "3,10" } else { "3" },
             "--seed",
             &seed_text,
             "--wire",
@@ -100,6 +108,10 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
         if let Some(rest) = &rest {
             args.extend(["--rest-samples", rest.as_str()]);
         }
+        if let Some(until) = &until {
+            args.extend(["--until", until.as_str()]);
+        }
+        args.extend(extra.split_whitespace());
         let output = ftwire(&args);
         assert_success(&output, &name);
         let summary: serde_json::Value =
@@ -109,7 +121,7 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
         let errors = numbers(&row["mean_abs_relative_error"]);
         println!(
             "gravity {gravity}, {name}: c = ({:.4}, {c2:.4}, {c2:.4}) N·m², L = {length:.3} m, r = {:.2} mm: \
-             mean |error| c1 c2 c3 L = {:.3} {:.3} {:.3} {:.3} %, identified {}/{}",
+             mean |error| c1 c2 c3 L = {:.3} {:.3} {:.3} {:.3} %, identified {}/{}, coverage {}",
             ratio * c2,
             1e3 * radius,
             100.0 * errors[0],
@@ -118,9 +130,33 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
             100.0 * errors[3],
             row["identified"],
             row["estimated"],
+            row["coverage95"],
         );
         for (w, e) in worst.iter_mut().zip(&errors) {
             *w = w.max(*e);
+        }
+        for (c, share) in covered.iter_mut().zip(numbers(&row["coverage95"])) {
+            *c += share / count as f64;
+        }
+        if until.is_some() {
+            let u = &summary["summary"]["until"];
+            let largest = numbers(&u["max_abs_relative_error"]);
+            println!(
+                "  --until: reached {}/{}, samples median {} max {}, largest |error| c1 c2 c3 L = \
+                 {:.3} {:.3} {:.3} {:.3} %, coverage {}",
+                u["reached"],
+                u["trials"],
+                u["samples_median"],
+                u["samples_max"],
+                100.0 * largest[0],
+                100.0 * largest[1],
+                100.0 * largest[2],
+                100.0 * largest[3],
+                u["coverage95"],
+            );
+            if u["reached"] != u["trials"] || largest.iter().any(|e| *e > 0.005) {
+                until_failures.push(name.clone());
+            }
         }
         if errors.iter().any(|e| *e > 0.005) {
             failures.push(name);
@@ -133,6 +169,14 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
         100.0 * worst[2],
         100.0 * worst[3]
     );
+    println!(
+        "coverage of the 95 % intervals at three samples over every trial: c1 c2 c3 L = \
+         {:.3} {:.3} {:.3} {:.3}",
+        covered[0], covered[1], covered[2], covered[3]
+    );
+    if until.is_some() {
+        println!("--until not reached or above 0.5 % on: {until_failures:?}");
+    }
     let _ = fs::remove_dir_all(&dir);
     assert!(
         failures.is_empty(),

@@ -436,9 +436,27 @@ fn control_on_ros2_steers_the_simulated_wire_to_a_nearby_goal() {
 
 #[test]
 fn identify_on_ros2_identifies_the_simulated_wire_within_a_few_percent() {
-    let (sim, identify, log) = run_with_sim("identify", 20.0, "identify --seed 1");
+    // The sim's default sensor's data sheet: the rests' shared bias is estimated with the wire.
+    let (sim, identify, log) =
+        run_with_sim("identify", 20.0, "identify --seed 1 --sensor distorted");
     check_moves(&sim, &identify);
     assert_eq!(identify["samples"], 5, "{identify}\n{log}");
+    let times: Vec<f64> = log
+        .lines()
+        .filter_map(|l| {
+            l.split(", ")
+                .nth(1)?
+                .split_once(" s after the tare")?
+                .0
+                .parse()
+                .ok()
+        })
+        .collect();
+    assert_eq!(times.len(), 5, "{log}");
+    assert!(
+        times[0] > 0.0 && times.windows(2).all(|w| w[0] < w[1]),
+        "rest times since the tare: {times:?}"
+    );
     let estimate = &identify["identified"];
     assert_eq!(estimate["identified"], true, "{identify}");
     let truth = ftwire_lab::wire::WireSpec::load("nitinol-3mm-820")

@@ -1,9 +1,11 @@
-//! The final fit with the sensor's shared bias estimated with the wire ([`super::drift`]).
+//! The final fit with what the samples share estimated with the wire: the sensor's bias
+//! ([`super::drift`]) and the map's gain error ([`MeasurementNoise::gain`]).
 //!
-//! The unknowns are `η` and the bias path `β_1 … β_N` of the samples; the data are the pose
+//! The unknowns are `η` and the shared path `β_1 … β_N` of the samples (the bias, plus
+//! `diag(ã_i) γ` for a gain error `γ ~ N(0, g² I)` common to all); the data are the pose
 //! equations `Γ_η(ã_i − β_i) = b̃_i` and the path's prior `β ~ N(0, K)`,
-//! `K_ij = Cov(β(t_i), β(t_j))`. Gauss–Newton on all of them, with `β` eliminated at each
-//! outer iteration:
+//! `K_ij = Cov(β(t_i), β(t_j)) + g² diag(ã_i) diag(ã_j)`. Gauss–Newton on all of them, with `β`
+//! eliminated at each outer iteration:
 //!
 //! 1. linearise at the current bias estimate `β̂`: the residual of the shifted samples
 //!    `ã_i − β̂_i` is `r(η, β) ≈ r(η, β̂) − G (β − β̂)`, with `G = blockdiag(−W J_i)` the
@@ -33,15 +35,18 @@ const OUTER_ITERATIONS: usize = 4;
 /// Relative change of `θ` (largest component) below which the outer iterations stop.
 const THETA_TOLERANCE: f64 = 1e-7;
 
-/// The shared bias of a set of samples: its model and each sample's time since the tare.
+/// What every sample shares: the bias with each sample's time since the tare, and the
+/// relative gain error with each sample's `ã`.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct SharedBias {
-    bias: BiasDrift,
-    times: Vec<f64>,
+    /// The bias and the samples' times, when both are known.
+    bias: Option<(BiasDrift, Vec<f64>)>,
+    /// [`MeasurementNoise::gain`] and the samples' `ã`.
+    gain: (f64, Vec<Vector6<f64>>),
 }
 
-/// The shared bias of `residuals`' samples under `noise`: `Some` for the absolute form with a
-/// bias model and every sample's time known.
+/// What `residuals`' samples share under `noise`: `Some` for the absolute form with a bias
+/// model and every sample's time known, or a gain error.
 pub(super) fn shared_bias<M: WireModel>(
     residuals: &Residuals<'_, M>,
     noise: &MeasurementNoise,
@@ -49,25 +54,48 @@ pub(super) fn shared_bias<M: WireModel>(
     if residuals.form != ResidualForm::Absolute {
         return None;
     }
-    let bias = noise.bias?;
     let n = residuals.len() / 6;
-    let times = residuals
-        .samples
-        .iter()
-        .take(n)
-        .map(|s| s.time)
-        .collect::<Option<Vec<f64>>>()?;
-    Some(SharedBias { bias, times })
+    let samples = residuals.samples.get(..n)?;
+    let bias = noise.bias.and_then(|bias| {
+        let times = samples
+            .iter()
+            .map(|s| s.time)
+            .collect::<Option<Vec<f64>>>()?;
+        Some((bias, times))
+    });
+    if bias.is_none() && noise.gain <= 0.0 {
+        return None;
+    }
+    Some(SharedBias {
+        bias,
+        gain: (noise.gain, samples.iter().map(|s| s.a).collect()),
+    })
 }
 
 impl SharedBias {
-    /// `K`, the stacked prior covariance of the bias path (`6N × 6N`).
+    /// The samples.
+    fn len(&self) -> usize {
+        self.gain.1.len()
+    }
+
+    /// `Cov(β_i, β_j)`: the bias's `Σ₀ + Q k(t_i, t_j)` and the gain's
+    /// `gain² diag(ã_i) diag(ã_j)`.
+    fn block(&self, i: usize, j: usize) -> Matrix6<f64> {
+        let (gain, a) = &self.gain;
+        let mut block = Matrix6::from_diagonal(&a[i].component_mul(&a[j])) * gain.powi(2);
+        if let Some((bias, times)) = &self.bias {
+            block += bias.covariance(times[i], times[j]);
+        }
+        block
+    }
+
+    /// `K`, the stacked prior covariance of the shared path (`6N × 6N`).
     fn prior(&self) -> DMatrix<f64> {
-        let n = self.times.len();
+        let n = self.len();
         let mut k = DMatrix::zeros(6 * n, 6 * n);
-        for (i, ti) in self.times.iter().enumerate() {
-            for (j, tj) in self.times.iter().enumerate().take(i + 1) {
-                let block = self.bias.covariance(*ti, *tj);
+        for i in 0..n {
+            for j in 0..=i {
+                let block = self.block(i, j);
                 k.fixed_view_mut::<6, 6>(6 * i, 6 * j).copy_from(&block);
                 k.fixed_view_mut::<6, 6>(6 * j, 6 * i)
                     .copy_from(&block.transpose());
@@ -79,12 +107,11 @@ impl SharedBias {
     /// `C = R + G K Gᵀ`: the stacked residual's covariance, from each sample's `W J_i` (`wj`)
     /// and own covariance (`own`, the blocks of `R`).
     pub(super) fn covariance(&self, wj: &[Matrix6<f64>], own: &[Matrix6<f64>]) -> DMatrix<f64> {
-        let n = own.len().min(wj.len()).min(self.times.len());
+        let n = own.len().min(wj.len()).min(self.len());
         let mut cov = DMatrix::zeros(6 * n, 6 * n);
         for i in 0..n {
             for j in 0..=i {
-                let mut block =
-                    wj[i] * self.bias.covariance(self.times[i], self.times[j]) * wj[j].transpose();
+                let mut block = wj[i] * self.block(i, j) * wj[j].transpose();
                 if i == j {
                     block += own[i];
                 }
@@ -150,7 +177,7 @@ pub(super) fn polish<M: WireModel>(
     (lower, upper): (&[f64], &[f64]),
 ) -> Option<JointFit> {
     let shared = shared_bias(fine, noise)?;
-    let n = shared.times.len();
+    let n = shared.len();
     let k = shared.prior();
     let original = fine.samples.get(..n)?;
     let mut beta = DVector::zeros(6 * n);

@@ -22,6 +22,17 @@ pub struct MeasurementNoise {
     pub torque: f64,
     /// Force error of `ã` per axis after taring and averaging \[N\] (default `2e-3`).
     pub force: f64,
+    /// The full covariance of a sample's own error of `ã` (torque first) \[N²·m², N·m·N,
+    /// N²\], in place of the diagonal of [`Self::torque`] and [`Self::force`] when given
+    /// (default `None`): a sensor mounted a lever arm from the clamp turns its force noise into
+    /// torque noise at the clamp too, so the two are correlated.
+    pub wrench: Option<Matrix6<f64>>,
+    /// The relative error of each channel of `ã` that every sample shares, as a fraction of
+    /// the channel's value (default `0`): a calibration's gain error, or the wire model's own
+    /// scale error against the wire. `ã_i` then carries `diag(ã_i) γ` with `γ ~ N(0, gain² I)`
+    /// the same for every sample, so more samples do not average it away; the final fit
+    /// estimates it with the wire as it does the bias (absolute form only).
+    pub gain: f64,
     /// The tare's offset and the bias drift that all samples share, or `None` to treat the
     /// errors of `ã` as independent between samples (default `None`). Used with samples
     /// that carry their time since the tare ([`super::Sample::time`]), absolute form only.
@@ -35,6 +46,8 @@ impl Default for MeasurementNoise {
             translation: 1e-4,
             torque: 1e-4,
             force: 2e-3,
+            wrench: None,
+            gain: 0.0,
             bias: None,
         }
     }
@@ -61,6 +74,32 @@ impl MeasurementNoise {
                 });
             }
         }
+        if !(self.gain.is_finite() && (0.0..1.0).contains(&self.gain)) {
+            return Err(EstimateError::BadIdentifySetting {
+                field: "noise.gain",
+                value: self.gain,
+                allowed: "finite, from 0 to below 1 (a fraction of each channel)",
+            });
+        }
+        if let Some(m) = &self.wrench {
+            let bad = |value, allowed| {
+                Err(EstimateError::BadIdentifySetting {
+                    field: "noise.wrench",
+                    value,
+                    allowed,
+                })
+            };
+            if let Some(v) = m.iter().find(|v| !v.is_finite()) {
+                return bad(*v, "finite");
+            }
+            let asymmetry = (m - m.transpose()).amax();
+            if asymmetry > 1e-12 * m.amax().max(f64::MIN_POSITIVE) {
+                return bad(asymmetry, "a symmetric matrix");
+            }
+            if m.cholesky().is_none() {
+                return bad(m.diagonal().min(), "a positive-definite covariance");
+            }
+        }
         self.bias.as_ref().map_or(Ok(()), BiasDrift::validate)
     }
 
@@ -70,8 +109,12 @@ impl MeasurementNoise {
         Matrix6::from_diagonal(&Vector6::new(r, r, r, t, t, t))
     }
 
-    /// The covariance of a configuration error `(δτ, δf)`.
+    /// The covariance of a configuration error `(δτ, δf)`: [`Self::wrench`] when given,
+    /// otherwise the diagonal of [`Self::torque`] and [`Self::force`].
     pub fn wrench_covariance(&self) -> Matrix6<f64> {
+        if let Some(m) = self.wrench {
+            return m;
+        }
         let (m, f) = (self.torque.powi(2), self.force.powi(2));
         Matrix6::from_diagonal(&Vector6::new(m, m, m, f, f, f))
     }

@@ -267,9 +267,9 @@ impl<M: WireModel> Residuals<'_, M> {
     /// W Σ_i W` the covariance of the weighted residual `i` that `noise` predicts to first
     /// order (`Σ_b + J Σ_a Jᵀ` for the absolute form, twice both terms for the differential
     /// forms, with `J` at the first sample of each pair); or, for the absolute form with a bias
-    /// model ([`MeasurementNoise::bias`]) and every sample's time known, the Cholesky factor
-    /// of the stacked covariance with the shared bias's cross terms
-    /// `W J_i Cov(β(t_i), β(t_j)) J_jᵀ W` ([`super::drift`]).
+    /// model ([`MeasurementNoise::bias`]) and every sample's time known, or a gain error
+    /// ([`MeasurementNoise::gain`]), the Cholesky factor of the stacked covariance with the
+    /// shared cross terms `W J_i K_ij J_jᵀ W` ([`super::drift`], `identify/joint.rs`).
     ///
     /// # Errors
     /// The model's error if it cannot be solved at `θ` or at a sample;

@@ -53,6 +53,8 @@ pub fn noise_model(wire: &WireParams, noise: Noise) -> MeasurementNoise {
         translation: noise.translation,
         torque: noise.wrench * wire.torque_scale(),
         force: noise.wrench * wire.force_scale(),
+        wrench: None,
+        gain: 0.0,
         bias: None,
     }
 }

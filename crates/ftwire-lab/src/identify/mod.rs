@@ -53,7 +53,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use ftwire_estimate::calibration::Calibration;
-use ftwire_estimate::identify::{IdentifierParams, ParameterConstraints, ResidualForm, Sample};
+use ftwire_estimate::identify::{
+    IdentifierParams, MeasurementNoise, ParameterConstraints, ResidualForm, Sample,
+};
 use serde::Serialize;
 
 pub use self::estimate::{
@@ -135,6 +137,13 @@ pub struct ResidualParams {
     /// A known torsion ratio `ν = c1/c2` (a round rod: `1/(1 + Poisson's ratio)`); `None`:
     /// identified.
     pub torsion_ratio: Option<f64>,
+    /// The standard deviation of the pose `b̃` per axis, rotation \[rad\] and translation
+    /// \[m\]: the robot's repeatability at the rests, as the fit weights it and as its
+    /// covariance counts it; `None`: the library's default (0.05°, 0.1 mm).
+    pub pose_noise: Option<[f64; 2]>,
+    /// The relative error of each channel of `ã` that every sample shares (a calibration's
+    /// gain error), as a fraction ([`MeasurementNoise::gain`]); `None`: the command's default.
+    pub gain_error: Option<f64>,
 }
 
 impl ResidualParams {
@@ -143,7 +152,7 @@ impl ResidualParams {
     /// # Errors
     /// Bad input (exit 2) for a torsion ratio that is not positive.
     pub fn config(&self) -> Result<IdentifierParams, LabError> {
-        let config = IdentifierParams {
+        let mut config = IdentifierParams {
             form: self.form.residual(),
             constraints: ParameterConstraints {
                 isotropic: self.isotropic,
@@ -156,7 +165,48 @@ impl ResidualParams {
         config
             .validate()
             .map_err(|e| LabError::bad_input(format!("--torsion-ratio: {e}")))?;
+        config.noise = self.with_noise_settings(config.noise)?;
         Ok(config)
+    }
+
+    /// `noise` with [`Self::pose_noise`] and [`Self::gain_error`] in place of its own, where
+    /// given.
+    ///
+    /// # Errors
+    /// Bad input (exit 2) naming a pose noise that is not finite and positive, or a gain error
+    /// outside `[0, 100)` %.
+    pub fn with_noise_settings(
+        &self,
+        noise: MeasurementNoise,
+    ) -> Result<MeasurementNoise, LabError> {
+        let mut noise = noise;
+        if let Some(gain) = self.gain_error {
+            if !(gain.is_finite() && (0.0..1.0).contains(&gain)) {
+                return Err(LabError::bad_input(format!(
+                    "--gain-error {}: give a percentage from 0 to below 100",
+                    1e2 * gain
+                )));
+            }
+            noise.gain = gain;
+        }
+        let Some([rotation, translation]) = self.pose_noise else {
+            return Ok(noise);
+        };
+        for (option, value, unit) in [
+            ("--pose-noise-deg", rotation.to_degrees(), "degrees"),
+            ("--pose-noise-mm", 1e3 * translation, "mm"),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(LabError::bad_input(format!(
+                    "{option} {value}: give a finite standard deviation > 0 [{unit}]"
+                )));
+            }
+        }
+        Ok(MeasurementNoise {
+            rotation,
+            translation,
+            ..noise
+        })
     }
 }
 
@@ -196,8 +246,9 @@ pub struct IdentifyParams {
     /// Learnt calibration weights for [`Pipeline::Calibrated`]; `None`: a calibration is first
     /// run on the known wire (with this run's gravity and seed) and cached in the folder.
     pub calibration: Option<PathBuf>,
-    /// Identify with the sensor's shared bias modelled: the tare's offset and its drift
-    /// ([`crate::experiment::rig::identification_noise`]), estimated with the wire; `false`
+    /// Identify with what the samples share modelled: the tare's offset and its drift
+    /// ([`crate::experiment::rig::identification_noise`]) and the map's gain error
+    /// ([`crate::experiment::rig::simulated_rig_errors`]), estimated with the wire; `false`
     /// treats the errors of the samples as independent.
     pub bias_model: bool,
     /// Sample each trial until every parameter's 95 % half-width is within this percentage of
@@ -294,6 +345,18 @@ impl IdentifyParams {
         if self.bias_model {
             config.noise = crate::experiment::rig::identification_noise(&setup, self.rest_samples)?;
         }
+        // The simulated rig's own pose noise and, with the shared errors modelled, the map's
+        // gain error, unless given.
+        let (pose, gain) = crate::experiment::rig::simulated_rig_errors(
+            &setup,
+            self.pipeline == Pipeline::Calibrated,
+        );
+        config.noise.rotation = pose[0];
+        config.noise.translation = pose[1];
+        if self.bias_model {
+            config.noise.gain = gain;
+        }
+        config.noise = self.settings.with_noise_settings(config.noise)?;
         self.check_pipeline(&setup)?;
         let plan = self.plan(counts.last().copied().unwrap_or(2))?;
         let gravity = self.common.gravity;

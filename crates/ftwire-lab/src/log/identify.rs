@@ -86,13 +86,15 @@ impl IdentifyLogParams {
                 None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
                     .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
             };
-            config.noise = crate::experiment::rig::identification_noise_of(
-                &drift.params,
-                &mount,
-                drift.rest_samples,
-                drift.tare_samples,
-            )
-            .map_err(|e| e.context("--sensor"))?;
+            config.noise = self.residual.with_noise_settings(
+                crate::experiment::rig::identification_noise_of(
+                    &drift.params,
+                    &mount,
+                    drift.rest_samples,
+                    drift.tare_samples,
+                )
+                .map_err(|e| e.context("--sensor"))?,
+            )?;
         }
         if let Some(g) = self.gravity {
             config.constraints.weight = Some(g);

@@ -9,7 +9,9 @@
 //!    the simulator. Each pose is sent on `/wire/tip_target` and waited for;
 //! 3. **rest**: at the start and after each move reached, the wrench is averaged over the rest
 //!    and mapped to `ã` ([`super::robot`]), and `(ã, b̃)` (the reported pose) is pushed into
-//!    the streaming identifier (`ftwire_lab::identify::identifier`: the template model, the
+//!    the streaming identifier with the rest's time since the tare (the wrench stamps' clock:
+//!    with a sensor drift in [`IdentifyNodeParams::config`]'s noise, the bias every rest
+//!    shares is estimated with the wire, as `ftwire identify --log --sensor` does) (`ftwire_lab::identify::identifier`: the template model, the
 //!    swarm seeded by `seed`, exactly as `ftwire identify --log`);
 //! 4. **identify**: run to completion; the estimate is published once as `std_msgs/String` JSON
 //!    on [`IDENTIFIED_TOPIC`] (transient-local, so a late subscriber still gets it) and returned
@@ -210,11 +212,12 @@ pub fn run(
             }
         }
         let rest = robot.rest(since, stop)?.map_err(|_| stopped())?;
-        match id.push(rest.a, rest.tip) {
+        match id.push_at(rest.since_tare.max(0.0), rest.a, rest.tip) {
             Ok(()) => {
                 pushed += 1;
                 log(&format!(
-                    "identify: sample {pushed} at move {k}: ã = {:?}{}",
+                    "identify: sample {pushed} at move {k}, {:.3} s after the tare: ã = {:?}{}",
+                    rest.since_tare,
                     rest.a.as_slice(),
                     if rest.settled { "" } else { " (unsettled)" }
                 ));

@@ -164,6 +164,9 @@ pub(crate) struct Rest {
     pub tip: Pose,
     /// Whether the two halves agreed.
     pub settled: bool,
+    /// The mean stamp of the averaged samples, less the tare's mean stamp \[s\]: when the
+    /// rest was read, on the bias drift's clock.
+    pub since_tare: f64,
 }
 
 /// The counts every moving node reports.
@@ -198,6 +201,8 @@ pub(crate) struct Robot {
     params: RobotParams,
     tare_samples: Vec<FtSample>,
     tare: Option<Tare>,
+    /// The mean stamp of the tare's samples \[s\] (0 without a tare).
+    tare_time: f64,
     /// Tared samples `(stamp, wrench)` since the last rest.
     buffer: Vec<(f64, Vector6<f64>)>,
     /// The latest tip pose and its stamp.
@@ -261,6 +266,7 @@ impl Robot {
             params: params.clone(),
             tare_samples: Vec::with_capacity(params.tare),
             tare: (params.tare == 0).then(Tare::none),
+            tare_time: 0.0,
             buffer: Vec::new(),
             tip: None,
             fresh_tips: Vec::new(),
@@ -394,7 +400,10 @@ impl Robot {
             });
             if self.tare_samples.len() >= self.params.tare {
                 match tare_of(&self.tare_samples) {
-                    Ok(tare) => self.tare = Some(tare),
+                    Ok(tare) => {
+                        self.tare = Some(tare);
+                        self.tare_time = mean_time(&self.tare_samples);
+                    }
                     Err(_) => self.tare_samples.clear(),
                 }
             }
@@ -477,6 +486,7 @@ impl Robot {
         let first = since - 0.25 / self.params.rate;
         let mut skip = settle;
         let mut rest: Vec<Vector6<f64>> = Vec::with_capacity(n);
+        let mut stamps = 0.0;
         let mut tries = 0;
         loop {
             for (t, w) in self.buffer.drain(..) {
@@ -487,6 +497,7 @@ impl Robot {
                     skip -= 1;
                 } else if rest.len() < n {
                     rest.push(w);
+                    stamps += t;
                 }
             }
             if rest.len() >= n {
@@ -498,11 +509,21 @@ impl Robot {
                         return Ok(Err(Halt::Stopped));
                     };
                     #[allow(clippy::cast_precision_loss)] // a rest far below 2⁵²
-                    let mean = rest.iter().sum::<Vector6<f64>>() / n as f64;
+                    let (mean, stamp) = (
+                        rest.iter().sum::<Vector6<f64>>() / n as f64,
+                        stamps / n as f64,
+                    );
                     let a = self.a_tilde(&mean)?;
-                    return Ok(Ok(Rest { a, tip, settled }));
+                    let since_tare = stamp - self.tare_time;
+                    return Ok(Ok(Rest {
+                        a,
+                        tip,
+                        settled,
+                        since_tare,
+                    }));
                 }
                 rest.clear();
+                stamps = 0.0;
             }
             if self.stopped(stop) {
                 return Ok(Err(Halt::Stopped));
@@ -515,6 +536,13 @@ impl Robot {
     fn a_tilde(&self, mean: &Vector6<f64>) -> Result<Vector6<f64>, NodeError> {
         a_of_raw(mean, 0.0, &self.params.map).map_err(NodeError::Incomplete)
     }
+}
+
+/// The mean stamp of `samples` \[s\] (0 for none).
+fn mean_time(samples: &[FtSample]) -> f64 {
+    #[allow(clippy::cast_precision_loss)] // a tare far below 2⁵² samples
+    let n = samples.len().max(1) as f64;
+    samples.iter().map(|s| s.time).sum::<f64>() / n
 }
 
 /// Whether the means of the two halves of `rest` agree within [`SETTLE_Z`] standard errors

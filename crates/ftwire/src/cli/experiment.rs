@@ -144,12 +144,15 @@ pub struct IdentifyExperimentArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub calibration: CalibrationArgs,
-    /// Treat the errors of the samples' ã as independent, without the sensor's shared bias:
-    /// by default the fit models the tare's offset and the bias drift since the tare (the
-    /// sensor's data-sheet intensity), and estimates the drift with the wire. For comparison.
+    /// Treat the errors of the samples' ã as independent, without what they share: by default
+    /// the fit models the tare's offset and the bias drift since the tare (the sensor's
+    /// data-sheet intensity) and the map's gain error (--gain-error; by default 0.08 % through
+    /// the learnt calibration, its accuracy against the sensor's exact inverse, or the
+    /// sensor's own gain and cross-talk through the mounting alone), and estimates them with
+    /// the wire. For comparison.
     #[arg(long)]
     pub no_bias_model: bool,
-    /// Sample each trial until the wire is known to PCT %: identify from its first 2, 3, …
+    /// Sample each trial until the wire is known to PCT %: identify from its first 3, 4, …
     /// samples and stop at the first estimate that is identified and whose 95 % interval
     /// half-widths (first-order covariance) of c1, c2, c3 and L are each within PCT % of the
     /// value (the loaded model's density does not hold the stop). The limit is the largest

@@ -55,15 +55,41 @@ pub struct IdentifySettingsArgs {
         value_parser = parse_finite
     )]
     pub torsion_ratio: Option<f64>,
+    /// The robot's repeatability at the rests: the standard deviation of the gripper pose
+    /// b̃'s rotation about each axis [degrees], as the fit weights the pose equation and as
+    /// the covariance and 95 % intervals count it [default: 0.05].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub pose_noise_deg: Option<f64>,
+    /// The same for b̃'s position along each axis [mm] [default: 0.1].
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub pose_noise_mm: Option<f64>,
+    /// The relative error of each channel of ã that every sample shares, the F/T calibration's
+    /// accuracy [% of the value, standard deviation]: unlike the noise it does not average
+    /// away over samples, so it bounds how narrow the intervals get; the fit estimates it with
+    /// the wire [default: 0; `experiment identify`: its map's, see its --no-bias-model].
+    #[arg(long, value_name = "PCT", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub gain_error: Option<f64>,
 }
 
 impl IdentifySettingsArgs {
     /// The lab's settings of these flags.
     pub fn settings(&self) -> ResidualParams {
+        let defaults = ftwire_estimate::identify::MeasurementNoise::default();
+        let pose_noise =
+            (self.pose_noise_deg.is_some() || self.pose_noise_mm.is_some()).then(|| {
+                [
+                    self.pose_noise_deg
+                        .map_or(defaults.rotation, f64::to_radians),
+                    self.pose_noise_mm
+                        .map_or(defaults.translation, |mm| 1e-3 * mm),
+                ]
+            });
         ResidualParams {
             form: self.form.form(),
             isotropic: self.isotropic,
             torsion_ratio: self.torsion_ratio,
+            pose_noise,
+            gain_error: self.gain_error.map(|pct| 1e-2 * pct),
         }
     }
 }

@@ -316,6 +316,14 @@ pub struct IdentifyNodeArgs {
     /// The residual form and the known relations.
     #[command(flatten)]
     pub settings: IdentifySettingsArgs,
+    /// The sensor's data sheet, to model the bias every rest shares (the tare's offset and
+    /// the drift since, on the wrench stamps' clock) and estimate it with the wire, as
+    /// `ftwire identify --log --sensor` does: a preset of the simulated sensor (distorted,
+    /// undistorted, real-like) or a sensor file (TOML, the keys of `ftwire init`'s example:
+    /// noise_std, bias_random_walk, bias_time_constant). Without it the rests' errors are
+    /// independent.
+    #[arg(long, value_name = "PRESET|FILE.toml")]
+    pub sensor: Option<String>,
     /// The seed of the motion plan and of the identifier's swarm.
     #[command(flatten)]
     pub seed: SeedArgs,

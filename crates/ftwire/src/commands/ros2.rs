@@ -237,12 +237,32 @@ fn identify_params(
     args: &IdentifyNodeArgs,
 ) -> Result<(IdentifyNodeParams, NodeSettings), LabError> {
     let settings = settings(&args.node)?;
+    let mut config = args.settings.settings().config()?;
+    if let Some(given) = &args.sensor {
+        let sensor = ftwire_lab::setup::SensorSpec::load(given)
+            .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
+        let mount = args
+            .robot
+            .mounting
+            .load()?
+            .mounting()
+            .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
+        config.noise = args.settings.settings().with_noise_settings(
+            ftwire_lab::experiment::rig::identification_noise_of(
+                &sensor.config,
+                &mount,
+                args.robot.rest_samples,
+                args.robot.tare,
+            )
+            .map_err(|e| e.context("--sensor"))?,
+        )?;
+    }
     let params = IdentifyNodeParams {
         robot: robot_params(&args.robot, None)?,
         samples: args.samples,
         twist: args.twist.to_radians(),
         seed: args.seed.seed,
-        config: args.settings.settings().config()?,
+        config,
     };
     Ok((params, settings))
 }
