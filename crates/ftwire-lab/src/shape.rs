@@ -20,6 +20,10 @@
 //! reported pose (`ftwire_control::BiasObserver` with `fuse_rest`, one rest after the tare,
 //! the robot's repeatability as the pose's prior): what a robot that knows where its gripper
 //! is gets from the same rest. `mean_mm` stays the F/T sensor's alone, as in Table II.
+//! The error bars `σ(s)` (`sigma_mean_mm`, `coverage_2sigma`) carry to the shape, to first
+//! order, the covariance of `ã` from the sensor's data sheet (the rest's noise, the tare's,
+//! the drift since the tare), the learnt calibration's gain error, and the model's own error
+//! against the simulated rod.
 //!
 //! [`run`] writes `configs.csv`, `calibration.json` (when it ran one), figures
 //! `shape_<wire>` (the first configuration, estimate against truth and markers, 3-D;
@@ -37,16 +41,17 @@ use std::time::Instant;
 use ftwire_control::{BiasObserver, BiasObserverParams, NoiseModel};
 use ftwire_core::Rig;
 use ftwire_estimate::calibration::Calibration;
+use ftwire_estimate::identify::MeasurementNoise;
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_estimate::shape::{
-    ConfigurationStd, DEFAULT_METRIC_SAMPLES, ShapeEstimator, centreline_distance, marker_distances,
+    DEFAULT_METRIC_SAMPLES, ModelError, ShapeEstimator, centreline_distance, marker_distances,
 };
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
 use ftwire_sim::RigParams;
-use nalgebra::{Point3, Vector3, Vector6};
+use nalgebra::{Matrix6, Point3, Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -56,8 +61,8 @@ use crate::error::{LabError, from_estimate, from_rod, from_sim};
 use crate::experiment::calibration::{load_or_run_reporting, rig_seed};
 use crate::experiment::coverage::{SigmaCheck, check_sigma};
 use crate::experiment::rig::{
-    SAMPLES_PER_REST, believed_tip, bias_observer, measure_over, mounting, pipeline, place_wire,
-    tare, true_centreline,
+    LEARNT_GAIN_ERROR, SAMPLES_PER_REST, SIM_MODEL_ERROR_MM, believed_tip, bias_observer,
+    identification_noise, measure_over, mounting, pipeline, place_wire, tare, true_centreline,
 };
 use crate::experiment::stats::median;
 use crate::experiment::{CommonParams, Gravity, ModelKind, Progress, known_model};
@@ -184,13 +189,14 @@ pub struct WireResult {
     /// Configurations skipped (and replaced by another draw) because the simulator could not
     /// place the wire, too few F/T samples survived, or the model could not solve at `ã`.
     pub skipped: usize,
-    /// With the calibration's test error (module docs): the mean `σ(s)` of the estimate along
-    /// the wire \[mm\], over the configurations; left out without it.
+    /// The mean `σ(s)` of the estimate along the wire \[mm\] (from the sensor's data sheet,
+    /// the calibration's gain error and the model's error), over the configurations; left out
+    /// where the simulator's wire has too few nodes to match.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sigma_mean_mm: Option<f64>,
-    /// With the calibration's test error: the share of the true centreline's points (at the
-    /// simulator's nodes, the base clamp left out) within `2σ(s)` of the estimate, over the
-    /// configurations; left out without it.
+    /// The share of the true centreline's points (at the simulator's nodes, the base clamp
+    /// left out) within `2σ(s)` of the estimate, over the configurations; left out as
+    /// [`Self::sigma_mean_mm`] is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coverage_2sigma: Option<f64>,
 }
@@ -242,7 +248,7 @@ struct ConfigResult {
     truth: Vec<Vector3<f64>>,
     markers: Vec<Option<Point3<f64>>>,
     record: LogRecord,
-    /// The error bars against the truth, with the calibration's test error.
+    /// The error bars against the truth, from the sensor's and the calibration's error.
     sigma: Option<SigmaCheck>,
 }
 
@@ -256,9 +262,22 @@ struct Readout<'a> {
     calibration: &'a Calibration,
     fusion: BiasObserverParams,
     rest_samples: usize,
-    /// The calibration's per-channel test RMSE as the standard deviations of `ã`, if it has
-    /// one: the error bars.
-    a_std: Option<ConfigurationStd>,
+    /// The error of `ã` the error bars are drawn from: the sensor's data sheet (the rest's
+    /// noise, the tare's, the drift since the tare) and the learnt calibration's gain error
+    /// ([`crate::experiment::rig::identification_noise`], [`LEARNT_GAIN_ERROR`]).
+    noise: MeasurementNoise,
+}
+
+impl Readout<'_> {
+    /// The covariance of a configuration `ã` read `since_tare` seconds after the tare.
+    fn covariance(&self, a_tilde: &Vector6<f64>, since_tare: f64) -> Matrix6<f64> {
+        let noise = &self.noise;
+        let shared = noise
+            .bias
+            .map_or_else(Matrix6::zeros, |b| b.covariance(since_tare, since_tare));
+        let gain = Matrix6::from_diagonal(&a_tilde.component_mul(a_tilde)) * noise.gain.powi(2);
+        noise.wrench_covariance() + shared + gain
+    }
 }
 
 /// The median time \[µs\] of [`TIMED_REPEATS`] shape estimates at `a_tilde` (each a fresh
@@ -288,9 +307,11 @@ fn run_config(
         return Ok(None);
     };
     let tared = pipeline(tare(&mut rig)?, readout.calibration.clone())?;
+    let tared_at = rig.time();
     let Ok(measured) = measure_over(&mut rig, &tared, readout.rest_samples) else {
         return Ok(None);
     };
+    let since_tare = rig.time() - tared_at;
     let raw = tared.tare().apply(&measured.raw.mean);
     let a_tilde = measured.a;
     let frame = rig
@@ -333,11 +354,17 @@ fn run_config(
         rig.time(),
     );
     let fused_mean = shape_mean(estimator.model(), &fused)?;
-    let sigma = match &readout.a_std {
-        Some(std) => check_sigma(estimator.model(), &a_tilde, std, None, &truth)
-            .map_err(|e| from_estimate(e, "the error bars"))?,
-        None => None,
-    };
+    let covariance = readout.covariance(&a_tilde, since_tare);
+    let model_error = ModelError::new(1e-3 * SIM_MODEL_ERROR_MM / wire.length)
+        .map_err(|e| from_estimate(e, "the model error"))?;
+    let sigma = check_sigma(
+        estimator.model(),
+        &a_tilde,
+        &covariance,
+        Some(&model_error),
+        &truth,
+    )
+    .map_err(|e| from_estimate(e, "the error bars"))?;
     let seen: Vec<Point3<f64>> = frame.positions.iter().flatten().copied().collect();
     let marker_mean =
         mean(&marker_distances(&seen, &positions).map_err(|e| from_estimate(e, "marker errors"))?);
@@ -527,17 +554,15 @@ pub fn run(
         (&setup, common.seed),
         progress,
     )?;
-    let a_std = calibration
-        .record()
-        .test_rmse
-        .map(ConfigurationStd::new)
-        .transpose()
-        .map_err(|e| LabError::bad_input(format!("the calibration's test_rmse: {e}")))?;
+    let noise = MeasurementNoise {
+        gain: LEARNT_GAIN_ERROR,
+        ..identification_noise(&setup, settings.rest_samples)?
+    };
     let readout = Readout {
         calibration: &calibration,
         fusion,
         rest_samples: settings.rest_samples,
-        a_std,
+        noise,
     };
     let mut csv = CsvTable::new(
         "configs.csv",
@@ -688,7 +713,7 @@ fn sigma_chart(name: &str, check: &SigmaCheck, points: usize) -> LineChart {
         "distance to the truth [mm]",
     )
     .with_series(
-        Series::line("±2σ(s) (calibration test error)", zero)
+        Series::line("±2σ(s) (sensor, calibration and model error)", zero)
             .with_band(check.sigma.iter().map(|s| 2e3 * s).collect()),
     )
     .with_series(Series::line("‖estimate − truth‖", error))

@@ -10,9 +10,9 @@
 //! where `σ = 0` and the error is zero, is not counted. Guarded by
 //! `tests/shape_sigma_coverage.rs`, which asserts the coverage over 50 configurations.
 
-use ftwire_estimate::shape::{ConfigurationStd, ModelError, shape_sigma, with_model_error};
+use ftwire_estimate::shape::{ModelError, shape_sigma, with_model_error};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{Matrix6, Vector3, Vector6};
 
 /// The nodes count `2N − 1` of the estimate and, for each of the `points = N + 1` points of
 /// the simulator's wire, the index of the estimate's node at its arc length (module docs).
@@ -66,8 +66,8 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
     sum / n
 }
 
-/// The shape of `model` at `a_tilde` and its `σ(s)` (the standard deviations `std` of `ã`,
-/// and the model error when given) at the arc lengths of the simulator's wire `truth`
+/// The shape of `model` at `a_tilde` and its `σ(s)` (from the `covariance` of `ã`, and the
+/// model error when given) at the arc lengths of the simulator's wire `truth`
 /// (module docs); `None` when `truth` has fewer than 3 points.
 ///
 /// # Errors
@@ -75,7 +75,7 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
 pub fn check_sigma(
     model: &KirchhoffModel,
     a_tilde: &Vector6<f64>,
-    std: &ConfigurationStd,
+    covariance: &Matrix6<f64>,
     model_error: Option<&ModelError>,
     truth: &[Vector3<f64>],
 ) -> Result<Option<SigmaCheck>, EstimateError> {
@@ -83,7 +83,7 @@ pub fn check_sigma(
         return Ok(None);
     };
     let shape = model.shape(a_tilde, nodes)?;
-    let mut sigma = shape_sigma(model, a_tilde, nodes, &std.covariance())?.sigma;
+    let mut sigma = shape_sigma(model, a_tilde, nodes, covariance)?.sigma;
     if let Some(e) = model_error {
         sigma = with_model_error(&sigma, e, model.wire().length());
     }

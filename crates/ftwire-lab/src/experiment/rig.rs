@@ -241,6 +241,11 @@ pub const SIM_POSE_NOISE: [f64; 2] = [0.005 * std::f64::consts::PI / 180.0, 1e-5
 /// about 0.01 %.
 pub const SIM_MODEL_GAIN_ERROR: f64 = 1e-4;
 
+/// The model's shape error against the simulated rod at the tip \[mm\], as `σ_model(s) = e·s`
+/// with `e` this over the wire's length (`ftwire_estimate::shape::ModelError`): the bound
+/// `crates/ftwire/tests/model_vs_sim.rs` holds the model's centreline to.
+pub const SIM_MODEL_ERROR_MM: f64 = 0.5;
+
 /// The learnt calibration's relative error per channel against the sensor's exact inverse
 /// (`docs/calibration.md`: 0.05 % in torque and 0.08 % in force on every wire), the larger.
 pub const LEARNT_GAIN_ERROR: f64 = 8e-4;
