@@ -184,6 +184,7 @@ fn identify_recovers_the_wire_and_writes_its_files() {
         "pipeline",
         "calibration",
         "trials",
+        "noise",
         "sample_counts",
         "wire",
         "by_samples",
@@ -192,6 +193,13 @@ fn identify_recovers_the_wire_and_writes_its_files() {
     ] {
         assert!(summary.get(key).is_some(), "{key} missing: {summary}");
     }
+    // The default sensor through its mounting alone: its own gain and cross-talk (about
+    // 1.5 %) are the shared gain error; the simulated robot's pose noise.
+    let noise = &run.summary.noise;
+    assert!(noise.bias_model, "{noise:?}");
+    assert!((1.0..2.0).contains(&noise.gain_error_percent), "{noise:?}");
+    assert!((noise.pose_noise_deg - 0.005).abs() < 1e-12, "{noise:?}");
+    assert!((noise.pose_noise_mm - 0.01).abs() < 1e-12, "{noise:?}");
     assert_eq!(summary["pipeline"], "mounting");
     assert_eq!(summary["form"], "absolute");
     assert!(summary["calibration"].is_null());

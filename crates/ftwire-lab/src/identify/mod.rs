@@ -64,7 +64,7 @@ pub use self::estimate::{
 use self::summary::Row;
 pub use self::summary::{
     BySamples, DensityStats, IdentifySummary, IdentifyTimings, MedianTiming, ModelResults,
-    PARAMETERS, Timing, WireOut, WireResults, linear_density, truth,
+    NoiseOut, PARAMETERS, Timing, WireOut, WireResults, linear_density, truth,
 };
 pub use self::trial::{Map, Protocol, Recorded, record_trial};
 use crate::error::{LabError, from_estimate};
@@ -537,6 +537,7 @@ pub fn run(
         pipeline: settings.pipeline,
         calibration,
         trials,
+        noise: summary::NoiseOut::new(&models.first().map(|(_, c)| c.noise).unwrap_or_default()),
         sample_counts: counts.clone(),
         wire: first.wire,
         by_samples: first.by_samples,

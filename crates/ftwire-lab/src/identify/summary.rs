@@ -154,6 +154,8 @@ pub struct IdentifySummary {
     pub calibration: Option<String>,
     /// Trials per wire.
     pub trials: usize,
+    /// The noise model the fits weight the samples by and their intervals count.
+    pub noise: NoiseOut,
     /// The sample counts identified from, ascending.
     pub sample_counts: Vec<usize>,
     /// The first wire (its entry of `wires`).
@@ -167,6 +169,31 @@ pub struct IdentifySummary {
     pub wires: Vec<WireResults>,
     /// Every model run on the same data (with gravity on, both), `model` first.
     pub by_model: Vec<ModelResults>,
+}
+
+/// The noise model of a run's fits, as `summary.json` reports it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NoiseOut {
+    /// The pose noise of `b̃` per axis: rotation \[degrees\].
+    pub pose_noise_deg: f64,
+    /// The pose noise of `b̃` per axis: position \[mm\].
+    pub pose_noise_mm: f64,
+    /// The relative error of each channel of `ã` every sample shares \[%\] (0: none).
+    pub gain_error_percent: f64,
+    /// Whether the tare's offset and the drift since are modelled and estimated.
+    pub bias_model: bool,
+}
+
+impl NoiseOut {
+    /// The report of `noise`.
+    pub fn new(noise: &ftwire_estimate::identify::MeasurementNoise) -> Self {
+        Self {
+            pose_noise_deg: noise.rotation.to_degrees(),
+            pose_noise_mm: 1e3 * noise.translation,
+            gain_error_percent: 1e2 * noise.gain,
+            bias_model: noise.bias.is_some(),
+        }
+    }
 }
 
 /// `timings.json`: the wall-clock times, kept out of the summary.
