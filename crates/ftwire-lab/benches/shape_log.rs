@@ -75,6 +75,8 @@ fn bench(c: &mut Criterion) {
         mounting: Some(MountingSpec::default()),
         a_std: None,
         model_error: None,
+        sensor: None,
+        gain_error: None,
     };
     let out = dir.join("shapes.jsonl");
     let mut group = c.benchmark_group("shape --log --out");

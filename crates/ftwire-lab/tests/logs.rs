@@ -104,6 +104,8 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
         mounting: None,
         a_std: None,
         model_error: None,
+        sensor: None,
+        gain_error: None,
     };
     let error = LogShapes::new(&params)
         .err()

@@ -61,6 +61,8 @@ fn params(log: PathBuf) -> ShapeLogParams {
         mounting: None,
         a_std: None,
         model_error: None,
+        sensor: None,
+        gain_error: None,
     }
 }
 
@@ -524,4 +526,74 @@ fn error_bars_only_with_standard_deviations() {
     let error = ShapeLog::load(&bad).expect_err("a negative std");
     assert_eq!(error.kind(), "bad_input");
     assert!(error.to_string().contains("--a-std"), "{error}");
+}
+
+/// With the sensor's data sheet, every record carries error bars from its time since the
+/// tare: the same `ã` read later has drifted further, so its `σ` is larger; a gain error adds
+/// to them; and `--a-std`, when given, is used instead.
+#[test]
+fn error_bars_from_the_sensor_grow_with_the_drift() {
+    let dir = TempDir::new("shape-log-sensor");
+    let a = a_of([0.5, 2.0, -1.0, -3.0, 1.5, 0.5]);
+    let text = format!(
+        "{}\n{}\n",
+        line(&a_record(10.0, &a)),
+        line(&a_record(70.0, &a))
+    );
+    let log = write_log(&dir.0, "rig.jsonl", &text);
+    let spec = ftwire_lab::setup::SensorSpec::load("undistorted").expect("the preset");
+    let sensor = |tare_time| ftwire_lab::log::identify::LogDrift {
+        sensor: "undistorted".to_owned(),
+        params: spec.config.clone(),
+        rest_samples: 400,
+        tare_samples: 500,
+        tare_time,
+    };
+    let mean = |sigma: &[f64]| sigma.iter().sum::<f64>() / sigma.len() as f64;
+    let shaped = |params: &ShapeLogParams| -> Vec<f64> {
+        LogShapes::new(params)
+            .expect("a good log")
+            .map(|r| mean(r.expect("a record").sigma_mm.as_deref().expect("sigma_mm")))
+            .collect()
+    };
+    let with = ShapeLogParams {
+        sensor: Some(sensor(None)),
+        ..params(log.clone())
+    };
+    let drifted = shaped(&with);
+    assert!(drifted[1] > 1.5 * drifted[0], "{drifted:?}");
+    // Tared just before the first record: its error is the tare's and the rest's noise.
+    let early = shaped(&ShapeLogParams {
+        sensor: Some(sensor(Some(10.0))),
+        ..params(log.clone())
+    });
+    assert!(
+        (early[0] - drifted[0]).abs() < 1e-12,
+        "{early:?} {drifted:?}"
+    );
+    let late = shaped(&ShapeLogParams {
+        sensor: Some(sensor(Some(-100.0))),
+        ..params(log.clone())
+    });
+    assert!(late[0] > drifted[0], "{late:?} {drifted:?}");
+    let gain = shaped(&ShapeLogParams {
+        gain_error: Some(0.01),
+        ..with.clone()
+    });
+    assert!(gain[0] > drifted[0], "{gain:?} {drifted:?}");
+    let given = shaped(&ShapeLogParams {
+        a_std: Some([1e-4, 2e-4, 1e-4, 5e-3, 5e-3, 1e-2]),
+        ..with.clone()
+    });
+    let only_given = shaped(&ShapeLogParams {
+        a_std: Some([1e-4, 2e-4, 1e-4, 5e-3, 5e-3, 1e-2]),
+        ..params(log.clone())
+    });
+    assert_eq!(given, only_given, "--a-std is used instead");
+    let bad = ShapeLogParams {
+        gain_error: Some(2.0),
+        ..with
+    };
+    let error = ShapeLog::load(&bad).expect_err("a gain error of 200 %");
+    assert!(error.to_string().contains("--gain-error"), "{error}");
 }

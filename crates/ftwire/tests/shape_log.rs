@@ -253,8 +253,36 @@ fn bad_input_with_out_is_exit_2_and_writes_nothing() {
     )
     .expect("w");
     let base = ["shape", "--wire", "nitinol-2mm-630"];
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 8] = [
         (&["--log", text(&raw), "--out", text(&out)], "--mounting"),
+        (
+            &["--log", text(&log), "--sensor", "nope", "--out", text(&out)],
+            "--sensor",
+        ),
+        (
+            &[
+                "--log",
+                text(&log),
+                "--gain-error",
+                "0.1",
+                "--out",
+                text(&out),
+            ],
+            "--sensor",
+        ),
+        (
+            &[
+                "--log",
+                text(&log),
+                "--sensor",
+                "undistorted",
+                "--gain-error",
+                "100",
+                "--out",
+                text(&out),
+            ],
+            "--gain-error 100",
+        ),
         (
             &[
                 "--log",

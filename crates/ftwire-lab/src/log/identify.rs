@@ -70,6 +70,30 @@ pub struct LogDrift {
     pub tare_time: Option<f64>,
 }
 
+impl LogDrift {
+    /// The sensor preset or file `sensor` (`--sensor`, as given), with the readings averaged
+    /// per record and by the tare and the tare's time.
+    ///
+    /// # Errors
+    /// Bad input naming `--sensor` for an unknown preset or a bad sensor file.
+    pub fn load(
+        sensor: &str,
+        rest_samples: usize,
+        tare_samples: usize,
+        tare_time: Option<f64>,
+    ) -> Result<Self, LabError> {
+        let spec = crate::setup::SensorSpec::load(sensor)
+            .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
+        Ok(Self {
+            sensor: sensor.to_owned(),
+            params: spec.config,
+            rest_samples,
+            tare_samples,
+            tare_time,
+        })
+    }
+}
+
 impl IdentifyLogParams {
     /// The library's settings: [`ResidualParams::config`] with the loaded model's weight when
     /// [`Self::gravity`] is given.

@@ -48,8 +48,8 @@ pub struct ShapeArgs {
     /// whole error of ã (sensor noise and calibration error). Each shape then carries σ(s) at
     /// each point, sqrt(trace D Σ D^T) with D = ∂p(s)/∂a and Σ = diag(std²): the RMS radius of
     /// the point's first-order error [mm] (`sigma_mm`; 12 more shape solves per record)
-    /// [default: the calibration file's per-channel test RMSE for the raw records read through
-    /// it; otherwise no error bars].
+    /// [default: from --sensor; otherwise the calibration file's per-channel test RMSE for the
+    /// raw records read through it; otherwise no error bars].
     #[arg(long, value_name = "T1,T2,T3,F1,F2,F3", value_parser = parse_numbers::<6>, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub a_std: Option<Vec6>,
@@ -59,6 +59,32 @@ pub struct ShapeArgs {
     #[arg(long, value_name = "E", value_parser = ftwire::args::parse_finite)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_error: Option<f64>,
+    /// The F/T sensor's data sheet, for every record's error bars in place of the
+    /// calibration's test error (which carries its labels' own error): the record's white
+    /// noise (`noise_std` over --rest-samples readings), the tare's (over --tare-samples) and
+    /// the drift since the tare at the record's time (`bias_random_walk`,
+    /// `bias_time_constant`), force first in the sensor frame, mapped to ã by --mounting (or
+    /// the file's clamp keys). A preset (`distorted`, `undistorted`, `real-like`) or a sensor
+    /// file (TOML, `docs/config.md`). --a-std, when given, is used instead.
+    #[arg(long, value_name = "PRESET|FILE.toml")]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<String>,
+    /// F/T readings averaged into each record (with --sensor), 1 to 1000000.
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = crate::cli::identify::LOG_SAMPLES, requires = "sensor")]
+    pub rest_samples: usize,
+    /// F/T readings averaged by the tare (with --sensor), 1 to 1000000.
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = crate::cli::identify::LOG_SAMPLES, requires = "sensor")]
+    pub tare_samples: usize,
+    /// When the sensor was tared, on the log's clock [s] (with --sensor) [default: the first
+    /// record's time].
+    #[arg(long, value_name = "T", value_parser = ftwire::args::parse_finite, allow_hyphen_values = true, requires = "sensor")]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tare_time: Option<f64>,
+    /// The calibration's accuracy (with --sensor): a relative error of each channel of ã that
+    /// every record shares [% of the value, standard deviation] [default: 0].
+    #[arg(long, value_name = "PCT", value_parser = ftwire::args::parse_finite, allow_hyphen_values = true, requires = "sensor")]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gain_error: Option<f64>,
     /// Points of each shape in shapes.jsonl, evenly spaced in arc length from the base clamp
     /// to the tip, 2 to 10000 [default: 100]. Only with --out.
     #[arg(long, value_name = "N", requires = "out", value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]

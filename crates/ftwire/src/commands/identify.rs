@@ -29,20 +29,19 @@ fn params(args: &IdentifyArgs) -> Result<IdentifyLogParams, LabError> {
         residual: args.settings.settings(),
         gravity: args.gravity.map(|g| Vector3::from(g.0)),
         seed: args.seed.seed,
-        drift: match &args.drift.sensor {
-            None => None,
-            Some(given) => {
-                let spec = ftwire_lab::setup::SensorSpec::load(given)
-                    .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
-                Some(ftwire_lab::log::identify::LogDrift {
-                    sensor: given.clone(),
-                    params: spec.config,
-                    rest_samples: args.drift.rest_samples,
-                    tare_samples: args.drift.tare_samples,
-                    tare_time: args.drift.tare_time,
-                })
-            }
-        },
+        drift: args
+            .drift
+            .sensor
+            .as_deref()
+            .map(|given| {
+                ftwire_lab::log::identify::LogDrift::load(
+                    given,
+                    args.drift.rest_samples,
+                    args.drift.tare_samples,
+                    args.drift.tare_time,
+                )
+            })
+            .transpose()?,
     })
 }
 

@@ -5,8 +5,8 @@
 //!
 //! Output per record without `--out`: with `--json`, one JSON object per line: `record` (from
 //! 0), `time`, `a_tilde`, `confidence`, `points` (\[m\]), `sigma_mm` (\[mm\], with error
-//! bars: `--a-std` or the calibration's test error) and `marker_mean_mm` when the record has
-//! markers; without, one line of text. With `--out DIR`: `DIR/shapes.jsonl` (one line per
+//! bars: `--a-std`, `--sensor` or the calibration's test error) and `marker_mean_mm` when the
+//! record has markers; without, one line of text. With `--out DIR`: `DIR/shapes.jsonl` (one line per
 //! record, [`ftwire_lab::log::shape::folder`]), `summary.json` (`records`, `not_stable`,
 //! `not_confident`, `marker_mean_mm`, and `sigma_mean_mm` with error bars), `timings.json`
 //! and the report; the summary is printed
@@ -38,6 +38,19 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
         mounting: args.mounting.given()?,
         a_std: args.a_std.map(|s| s.0),
         model_error: args.model_error,
+        sensor: args
+            .sensor
+            .as_deref()
+            .map(|given| {
+                ftwire_lab::log::identify::LogDrift::load(
+                    given,
+                    args.rest_samples,
+                    args.tare_samples,
+                    args.tare_time,
+                )
+            })
+            .transpose()?,
+        gain_error: args.gain_error.map(|pct| 1e-2 * pct),
     };
     if args.results.out.is_some() {
         return write_folder(&args, &params);

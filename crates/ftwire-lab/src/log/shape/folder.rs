@@ -44,11 +44,11 @@ use std::time::Instant;
 
 use ftwire_core::ensure_finite;
 use ftwire_estimate::shape::{
-    ConfigurationStd, ModelError, ShapeEstimator, marker_distances, shape_sigma, with_model_error,
+    ModelError, ShapeEstimator, marker_distances, shape_sigma, with_model_error,
 };
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
 use ftwire_rod::Shape;
-use nalgebra::{Point3, Vector3, Vector6};
+use nalgebra::{Matrix6, Point3, Vector3, Vector6};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -252,8 +252,14 @@ impl ShapeLog {
                 .zip(a)
                 .enumerate()
                 .map(|(i, (line, a))| {
-                    let std = (self.a_std(first + i), model_error.as_ref());
-                    solve(model, line, a, points, std)
+                    let covariance = self.a_covariance(first + i);
+                    solve(
+                        model,
+                        line,
+                        a,
+                        points,
+                        (covariance.as_ref(), model_error.as_ref()),
+                    )
                 })
                 .collect::<Result<_, _>>()?;
             // The jump flag needs the previous solved record: in order.
@@ -380,7 +386,7 @@ fn shape_and_stability(
 }
 
 /// One record solved, or why the model has no shape for it; with the standard deviations
-/// `a_std` of `ã`, its error bars too (none when a shifted `ã` has no shape).
+/// covariance of `ã`, its error bars too (none when a shifted `ã` has no shape).
 ///
 /// # Errors
 /// Bad input for markers the distance refuses.
@@ -389,14 +395,14 @@ fn solve(
     line: &LogLine,
     a: &Vector6<f64>,
     points: usize,
-    (a_std, model_error): (Option<&ConfigurationStd>, Option<&ModelError>),
+    (a_covariance, model_error): (Option<&Matrix6<f64>>, Option<&ModelError>),
 ) -> Result<Result<Solved, String>, LabError> {
     let (shape, stable) = match shape_and_stability(model, a, points) {
         Ok(solved) => solved,
         Err(e) => return Ok(Err(e.to_string())),
     };
-    let sigma_mm = a_std.and_then(|std| {
-        shape_sigma(model, a, points, &std.covariance())
+    let sigma_mm = a_covariance.and_then(|covariance| {
+        shape_sigma(model, a, points, covariance)
             .ok()
             .map(|sigma| match model_error {
                 Some(e) => with_model_error(&sigma.sigma, e, model.wire().length()),

@@ -16,10 +16,11 @@
 //! **Error bars.** When the standard deviations of a record's `ã` are known, its shape
 //! carries `σ(s)` at each point ([`ftwire_estimate::shape::shape_sigma`]: the RMS radius of
 //! the point's first-order error, `sqrt(trace D Σ_ã Dᵀ)`), in mm. They are those given
-//! (`--a-std`, [`ShapeLogParams::a_std`]: the whole error of `ã`, for every record), or else,
-//! for a record whose `raw` reading went through the learnt calibration, the calibration's
-//! per-channel RMS error on its test split (`training.test_rmse` of `calibration.json`: the
-//! test readings' noise included). Otherwise a record has no `σ`, and none is computed: the
+//! (`--a-std`, [`ShapeLogParams::a_std`]: the whole error of `ã`, for every record); or the
+//! covariance the sensor's data sheet gives at the record's time since the tare, with the
+//! calibration's gain error ([`ShapeLogParams::sensor`]); or else, for a record whose `raw`
+//! reading went through the learnt calibration, the calibration's per-channel RMS error on
+//! its test split (`training.test_rmse` of `calibration.json`: its labels' error included). Otherwise a record has no `σ`, and none is computed: the
 //! error bars cost 12 more shape solves per record.
 //!
 //! Guarded by this module's tests, `tests/logs.rs` and `crates/ftwire/tests/shape_log.rs` (a
@@ -32,11 +33,12 @@ use std::path::PathBuf;
 
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::ft::MountingSpec;
+use ftwire_estimate::identify::MeasurementNoise;
 use ftwire_estimate::shape::{
     Confidence, ConfigurationStd, ModelError, ShapeEstimator, marker_distances, shape_sigma,
     with_model_error,
 };
-use nalgebra::{Point3, Vector6};
+use nalgebra::{Matrix6, Point3, Vector6};
 use serde::Serialize;
 
 pub use folder::{
@@ -71,6 +73,16 @@ pub struct ShapeLogParams {
     /// `None`: not counted.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_error: Option<f64>,
+    /// The sensor's data sheet (`--sensor`), for the error bars of every record: its rest's
+    /// noise, the tare's and the drift since the tare at the record's time, mapped to `ã`
+    /// ([`crate::experiment::rig::identification_noise_of`]), in place of the calibration's
+    /// test error; `None`: not given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<super::identify::LogDrift>,
+    /// With [`Self::sensor`], the map's relative gain error per channel of `ã` as a fraction
+    /// (`--gain-error`; `None`: 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gain_error: Option<f64>,
 }
 
 /// A log read and checked for shaping: every record with its line in the file and its `ã`,
@@ -87,6 +99,8 @@ pub struct ShapeLog {
     calibration_std: Option<ConfigurationStd>,
     /// `--model-error`.
     model_error: Option<ModelError>,
+    /// `--sensor`: the noise of `ã` from the data sheet, and the tare's time.
+    sensor: Option<(MeasurementNoise, f64)>,
 }
 
 impl ShapeLog {
@@ -127,6 +141,22 @@ impl ShapeLog {
             .map(|line| a_tilde(line, &map))
             .collect::<Result<_, _>>()
             .map_err(|e| e.context(format!("log {}", params.log.display())))?;
+        let first_time = lines.first().map_or(0.0, |line| line.record.time);
+        let sensor = params
+            .sensor
+            .as_ref()
+            .map(|drift| sensor_noise(drift, params.mounting.as_ref(), params.gain_error))
+            .transpose()?
+            .map(|noise| {
+                (
+                    noise,
+                    params
+                        .sensor
+                        .as_ref()
+                        .and_then(|d| d.tare_time)
+                        .unwrap_or(first_time),
+                )
+            });
         Ok(Self {
             log: params.log.clone(),
             lines,
@@ -135,6 +165,7 @@ impl ShapeLog {
             given_std,
             calibration_std,
             model_error,
+            sensor,
         })
     }
 
@@ -143,16 +174,27 @@ impl ShapeLog {
         self.model_error
     }
 
-    /// The standard deviations of the `ã` of record `index` (the module docs), if known.
-    pub fn a_std(&self, index: usize) -> Option<&ConfigurationStd> {
-        let through_calibration = self
-            .lines
-            .get(index)
-            .is_some_and(|line| line.record.raw().is_some());
-        self.given_std.as_ref().or(self
-            .calibration_std
+    /// The covariance of the `ã` of record `index` (the module docs), if known: from
+    /// `--a-std`, from the sensor's data sheet at the record's time since the tare, or from
+    /// the calibration's test error for a record read through it.
+    pub fn a_covariance(&self, index: usize) -> Option<Matrix6<f64>> {
+        let line = self.lines.get(index)?;
+        if let Some(std) = &self.given_std {
+            return Some(std.covariance());
+        }
+        if let Some((noise, tare_time)) = &self.sensor {
+            let a = self.a_tilde.get(index)?;
+            let since = (line.record.time - tare_time).max(0.0);
+            let shared = noise
+                .bias
+                .map_or_else(Matrix6::zeros, |b| b.covariance(since, since));
+            let gain = Matrix6::from_diagonal(&a.component_mul(a)) * noise.gain.powi(2);
+            return Some(noise.wrench_covariance() + shared + gain);
+        }
+        self.calibration_std
             .as_ref()
-            .filter(|_| through_calibration))
+            .filter(|_| line.record.raw().is_some())
+            .map(ConfigurationStd::covariance)
     }
 
     /// The log's records, each with its line in the file.
@@ -231,7 +273,7 @@ pub fn shape_record(
     shape_record_with_std(estimator, index, record, a, None)
 }
 
-/// [`shape_record`], and with the standard deviations `a_std` of `ã` also `σ(s)` at each
+/// [`shape_record`], and with the covariance `a_covariance` of `ã` also `σ(s)` at each
 /// point ([`RecordShape::sigma_mm`]).
 ///
 /// # Errors
@@ -241,7 +283,7 @@ pub fn shape_record_with_std(
     index: usize,
     record: &LogRecord,
     a: &Vector6<f64>,
-    a_std: Option<&ConfigurationStd>,
+    a_covariance: Option<&Matrix6<f64>>,
 ) -> Result<RecordShape, LabError> {
     let mut shape = RecordShape {
         record: index,
@@ -266,10 +308,10 @@ pub fn shape_record_with_std(
             }
             shape.confidence = Some(confidence_name(&estimate.confidence));
             shape.points = Some(positions.iter().map(|p| [p.x, p.y, p.z]).collect());
-            if let Some(std) = a_std {
+            if let Some(covariance) = a_covariance {
                 let nodes = positions.len();
                 let length = ftwire_estimate::WireModel::wire(estimator.model()).length();
-                shape.sigma_mm = shape_sigma(estimator.model(), a, nodes, &std.covariance())
+                shape.sigma_mm = shape_sigma(estimator.model(), a, nodes, covariance)
                     .ok()
                     .map(|sigma| match estimator.model_error() {
                         Some(model) => with_model_error(&sigma.sigma, model, length),
@@ -321,15 +363,46 @@ impl Iterator for LogShapes {
         let line = self.log.lines.get(index)?;
         let a = self.log.a_tilde.get(index)?;
         self.next += 1;
-        let a_std = self.log.a_std(index);
+        let covariance = self.log.a_covariance(index);
         Some(shape_record_with_std(
             &mut self.estimator,
             index,
             &line.record,
             a,
-            a_std,
+            covariance.as_ref(),
         ))
     }
+}
+
+/// The noise of `ã` from the sensor's data sheet `drift`, mapped by `mounting` (or the
+/// sensor's own clamp), with the gain error `gain` (a fraction).
+///
+/// # Errors
+/// Bad input naming `--sensor`, `--mounting` or `--gain-error`.
+fn sensor_noise(
+    drift: &super::identify::LogDrift,
+    mounting: Option<&MountingSpec>,
+    gain: Option<f64>,
+) -> Result<MeasurementNoise, LabError> {
+    let mount = match mounting {
+        Some(spec) => spec
+            .mounting()
+            .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?,
+        None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
+            .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
+    };
+    let noise = crate::experiment::rig::identification_noise_of(
+        &drift.params,
+        &mount,
+        drift.rest_samples,
+        drift.tare_samples,
+    )
+    .map_err(|e| e.context("--sensor"))?;
+    let residual = crate::identify::ResidualParams {
+        gain_error: gain,
+        ..crate::identify::ResidualParams::default()
+    };
+    residual.with_noise_settings(noise)
 }
 
 /// One line of text: the confidence and the tip, or why there is no shape.
@@ -396,6 +469,8 @@ mod tests {
             mounting: None,
             a_std: None,
             model_error: None,
+            sensor: None,
+            gain_error: None,
         };
         let shapes: Result<Vec<RecordShape>, LabError> =
             LogShapes::new(&params).and_then(Iterator::collect);
@@ -426,6 +501,8 @@ mod tests {
             mounting: None,
             a_std: None,
             model_error: None,
+            sensor: None,
+            gain_error: None,
         };
         let error = LogShapes::new(&params).err();
         let _ = std::fs::remove_file(&path);
