@@ -9,10 +9,11 @@
 //!    the simulator. Each pose is sent on `/wire/tip_target` and waited for;
 //! 3. **rest**: at the start and after each move reached, the wrench is averaged over the rest
 //!    and mapped to `ã` ([`super::robot`]), and `(ã, b̃)` (the reported pose) is pushed into
-//!    the streaming identifier with the rest's time since the tare (the wrench stamps' clock:
-//!    with a sensor drift in [`IdentifyNodeParams::config`]'s noise, the bias every rest
-//!    shares is estimated with the wire, as `ftwire identify --log --sensor` does) (`ftwire_lab::identify::identifier`: the template model, the
-//!    swarm seeded by `seed`, exactly as `ftwire identify --log`);
+//!    the streaming identifier (`ftwire_lab::identify::identifier`: the template model, the
+//!    swarm seeded by `seed`, exactly as `ftwire identify --log`) with the rest's time since
+//!    the tare on the wrench stamps' clock: with a sensor drift in
+//!    [`IdentifyNodeParams::config`]'s noise (`--sensor`), the bias every rest shares is
+//!    estimated with the wire, as `ftwire identify --log --sensor` does;
 //! 4. **identify**: run to completion; the estimate is published once as `std_msgs/String` JSON
 //!    on [`IDENTIFIED_TOPIC`] (transient-local, so a late subscriber still gets it) and returned
 //!    in the summary: `{c, length, c_std, length_std, covariance, interval95, chi2_per_dof,
