@@ -1,7 +1,6 @@
 //! `--until PCT`: sample until the wire is known to a stated precision.
 //!
-//! Each trial identifies from its first `n = 3, 4, …` samples ([`FIRST_SAMPLES`]) and stops
-//! at the first `n`
+//! Each trial identifies from its first `n = 2, 3, …` samples and stops at the first `n`
 //! whose estimate is identified (no flag) and whose every 95 % half-width
 //! ([`Estimate::interval95`]) is within `PCT` % of its value. The limit is the trial's
 //! recording, the largest `--samples` count; a trial that reaches it unsatisfied counts as
@@ -19,11 +18,6 @@ use crate::wire::WireSpec;
 pub const MIN_TARGET_PERCENT: f64 = 0.01;
 /// Largest `--until` target \[%\].
 pub const MAX_TARGET_PERCENT: f64 = 100.0;
-
-/// The fewest samples a stop is judged on: two rests give the fit one difference of poses
-/// against the wire's four parameters and the bias they share, so a first-order interval from
-/// them can be far narrower than the error (a record of 2 is judged at 2).
-pub const FIRST_SAMPLES: usize = 3;
 
 /// One trial sampled until the target.
 #[derive(Debug, Clone)]
@@ -53,8 +47,8 @@ pub fn meets(estimate: &Estimate, target_percent: f64) -> bool {
             .all(|(v, [low, high])| 0.5 * (high - low) <= 0.01 * target_percent * v.abs())
 }
 
-/// Identifies from growing prefixes of `pairs` ([`FIRST_SAMPLES`] up to all of them) with
-/// `config` and the search seed `seed` until the target holds.
+/// Identifies from growing prefixes of `pairs` (2 up to all of them) with `config` and the
+/// search seed `seed` until the target holds.
 pub fn sample_until(
     pairs: &[Sample],
     config: &IdentifierParams,
@@ -62,7 +56,7 @@ pub fn sample_until(
     target_percent: f64,
 ) -> UntilTrial {
     let mut last = None;
-    for n in FIRST_SAMPLES.min(pairs.len())..=pairs.len() {
+    for n in 2..=pairs.len() {
         let Ok(estimate) = run_identification(&pairs[..n], config, seed) else {
             continue;
         };

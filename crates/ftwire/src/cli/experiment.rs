@@ -152,7 +152,7 @@ pub struct IdentifyExperimentArgs {
     /// the wire. For comparison.
     #[arg(long)]
     pub no_bias_model: bool,
-    /// Sample each trial until the wire is known to PCT %: identify from its first 3, 4, …
+    /// Sample each trial until the wire is known to PCT %: identify from its first 2, 3, …
     /// samples and stop at the first estimate that is identified and whose 95 % interval
     /// half-widths (first-order covariance) of c1, c2, c3 and L are each within PCT % of the
     /// value (the loaded model's density does not hold the stop). The limit is the largest
