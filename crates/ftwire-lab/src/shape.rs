@@ -51,7 +51,7 @@ use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
 use ftwire_sim::RigParams;
-use nalgebra::{Matrix6, Point3, Vector3, Vector6};
+use nalgebra::{Point3, Vector3, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -268,18 +268,6 @@ struct Readout<'a> {
     noise: MeasurementNoise,
 }
 
-impl Readout<'_> {
-    /// The covariance of a configuration `ã` read `since_tare` seconds after the tare.
-    fn covariance(&self, a_tilde: &Vector6<f64>, since_tare: f64) -> Matrix6<f64> {
-        let noise = &self.noise;
-        let shared = noise
-            .bias
-            .map_or_else(Matrix6::zeros, |b| b.covariance(since_tare, since_tare));
-        let gain = Matrix6::from_diagonal(&a_tilde.component_mul(a_tilde)) * noise.gain.powi(2);
-        noise.wrench_covariance() + shared + gain
-    }
-}
-
 /// The median time \[µs\] of [`TIMED_REPEATS`] shape estimates at `a_tilde` (each a fresh
 /// start).
 fn time_estimate(estimator: &mut ShapeEstimator<KirchhoffModel>, a_tilde: &Vector6<f64>) -> f64 {
@@ -354,7 +342,7 @@ fn run_config(
         rig.time(),
     );
     let fused_mean = shape_mean(estimator.model(), &fused)?;
-    let covariance = readout.covariance(&a_tilde, since_tare);
+    let covariance = readout.noise.sample_covariance(&a_tilde, since_tare);
     let model_error = ModelError::new(1e-3 * SIM_MODEL_ERROR_MM / wire.length)
         .map_err(|e| from_estimate(e, "the model error"))?;
     let sigma = check_sigma(

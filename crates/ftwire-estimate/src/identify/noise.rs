@@ -109,6 +109,18 @@ impl MeasurementNoise {
         Matrix6::from_diagonal(&Vector6::new(r, r, r, t, t, t))
     }
 
+    /// The whole covariance of one sample's `ã` read `since_tare` seconds after the tare: its
+    /// own ([`Self::wrench_covariance`]), the bias's `Σ₀ + Q k(t, t)` ([`Self::bias`]) and the
+    /// gain error's `gain² diag(ã)²` ([`Self::gain`]) — what a single sample's shape or
+    /// estimate carries, the shared parts included.
+    pub fn sample_covariance(&self, a: &Vector6<f64>, since_tare: f64) -> Matrix6<f64> {
+        let shared = self
+            .bias
+            .map_or_else(Matrix6::zeros, |b| b.covariance(since_tare, since_tare));
+        let gain = Matrix6::from_diagonal(&a.component_mul(a)) * self.gain.powi(2);
+        self.wrench_covariance() + shared + gain
+    }
+
     /// The covariance of a configuration error `(δτ, δf)`: [`Self::wrench`] when given,
     /// otherwise the diagonal of [`Self::torque`] and [`Self::force`].
     pub fn wrench_covariance(&self) -> Matrix6<f64> {

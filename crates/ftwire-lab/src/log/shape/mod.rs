@@ -183,13 +183,8 @@ impl ShapeLog {
             return Some(std.covariance());
         }
         if let Some((noise, tare_time)) = &self.sensor {
-            let a = self.a_tilde.get(index)?;
             let since = (line.record.time - tare_time).max(0.0);
-            let shared = noise
-                .bias
-                .map_or_else(Matrix6::zeros, |b| b.covariance(since, since));
-            let gain = Matrix6::from_diagonal(&a.component_mul(a)) * noise.gain.powi(2);
-            return Some(noise.wrench_covariance() + shared + gain);
+            return Some(noise.sample_covariance(self.a_tilde.get(index)?, since));
         }
         self.calibration_std
             .as_ref()
