@@ -230,10 +230,10 @@ pub fn identification_noise(
 
 /// The pose noise the simulated rig leaves in `b̃` when its robot reports the gripper
 /// exactly: the simulator's own accuracy against the continuous model (its rod's
-/// discretisation and equilibrium tolerance) \[rad, m\], per axis. At 0.005° and 0.01 mm the
-/// fits of the soft, mid and stiff unseen wires (`docs/wires`) have `χ²/dof` of about 1
-/// (0.8–1.0), where the library's default for a real robot (0.05°, 0.1 mm) leaves it far
-/// below 1 and every interval too wide.
+/// discretisation and equilibrium tolerance) \[rad, m\], per axis: 0.005° and 0.01 mm, the
+/// level at which the fits' `χ²/dof` is about 1 across wires, where the library's default for
+/// a real robot (0.05°, 0.1 mm) leaves it far below 1 and every interval too wide
+/// (`docs/identify-soft-wires.md`).
 pub const SIM_POSE_NOISE: [f64; 2] = [0.005 * std::f64::consts::PI / 180.0, 1e-5];
 
 /// The relative error the wire model itself leaves in `ã` against the simulated rod (its
