@@ -37,6 +37,7 @@ fn noise(gain: f64) -> Result<MeasurementNoise, EstimateError> {
         force: 2.5e-3,
         wrench: None,
         gain,
+        torque_gain: None,
         bias: Some(drift()?),
     })
 }
@@ -229,7 +230,8 @@ fn a_shared_gain_error_is_counted_only_when_modelled() -> Result<(), EstimateErr
 }
 
 #[test]
-fn bad_gain_and_wrench_covariances_are_refused_by_name() -> Result<(), EstimateError> {
+fn gains_split_by_channel_and_bad_gain_and_wrench_covariances_are_refused_by_name()
+-> Result<(), EstimateError> {
     let field = |noise: MeasurementNoise| match noise.validate() {
         Err(EstimateError::BadIdentifySetting { field, .. }) => field,
         other => panic!("{other:?}"),
@@ -238,7 +240,44 @@ fn bad_gain_and_wrench_covariances_are_refused_by_name() -> Result<(), EstimateE
     good.validate()?;
     for gain in [-1e-3, 1.0, f64::NAN] {
         assert_eq!(field(MeasurementNoise { gain, ..good }), "noise.gain");
+        let torque_gain = Some(gain);
+        let bad = MeasurementNoise {
+            torque_gain,
+            ..good
+        };
+        assert_eq!(field(bad), "noise.torque_gain");
     }
+    // The torque channels' own gain error: in `gains` and in one sample's covariance.
+    let split = MeasurementNoise {
+        gain: 8e-4,
+        torque_gain: Some(5e-4),
+        bias: None,
+        ..good
+    };
+    split.validate()?;
+    let gains = split.gains();
+    assert_eq!(
+        (gains[0], gains[2], gains[3], gains[5]),
+        (5e-4, 5e-4, 8e-4, 8e-4)
+    );
+    let a = nalgebra::Vector6::repeat(2.0);
+    let extra = split.sample_covariance(&a, 0.0) - split.wrench_covariance();
+    assert!(
+        (extra[(1, 1)] - (2.0 * 5e-4_f64).powi(2)).abs() < 1e-18,
+        "{extra}"
+    );
+    assert!(
+        (extra[(4, 4)] - (2.0 * 8e-4_f64).powi(2)).abs() < 1e-18,
+        "{extra}"
+    );
+    assert_eq!(
+        MeasurementNoise {
+            torque_gain: None,
+            ..split
+        }
+        .gains(),
+        nalgebra::Vector6::repeat(8e-4)
+    );
     let mut asymmetric = Matrix6::identity() * 1e-6;
     asymmetric[(0, 3)] = 1e-7;
     let mut singular = Matrix6::identity() * 1e-6;

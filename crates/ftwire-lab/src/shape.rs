@@ -543,7 +543,8 @@ pub fn run(
         progress,
     )?;
     let noise = MeasurementNoise {
-        gain: LEARNT_GAIN_ERROR,
+        torque_gain: Some(LEARNT_GAIN_ERROR[0]),
+        gain: LEARNT_GAIN_ERROR[1],
         ..identification_noise(&setup, settings.rest_samples)?
     };
     let readout = Readout {

@@ -41,8 +41,8 @@ const THETA_TOLERANCE: f64 = 1e-7;
 pub(super) struct SharedBias {
     /// The bias and the samples' times, when both are known.
     bias: Option<(BiasDrift, Vec<f64>)>,
-    /// [`MeasurementNoise::gain`] and the samples' `ã`.
-    gain: (f64, Vec<Vector6<f64>>),
+    /// Each channel's squared gain error ([`MeasurementNoise::gains`]) and the samples' `ã`.
+    gain: (Vector6<f64>, Vec<Vector6<f64>>),
 }
 
 /// What `residuals`' samples share under `noise`: `Some` for the absolute form with a bias
@@ -63,12 +63,16 @@ pub(super) fn shared_bias<M: WireModel>(
             .collect::<Option<Vec<f64>>>()?;
         Some((bias, times))
     });
-    if bias.is_none() && noise.gain <= 0.0 {
+    let gains = noise.gains();
+    if bias.is_none() && gains.amax() <= 0.0 {
         return None;
     }
     Some(SharedBias {
         bias,
-        gain: (noise.gain, samples.iter().map(|s| s.a).collect()),
+        gain: (
+            gains.component_mul(&gains),
+            samples.iter().map(|s| s.a).collect(),
+        ),
     })
 }
 
@@ -79,10 +83,10 @@ impl SharedBias {
     }
 
     /// `Cov(β_i, β_j)`: the bias's `Σ₀ + Q k(t_i, t_j)` and the gain's
-    /// `gain² diag(ã_i) diag(ã_j)`.
+    /// `diag(g)² diag(ã_i) diag(ã_j)`.
     fn block(&self, i: usize, j: usize) -> Matrix6<f64> {
-        let (gain, a) = &self.gain;
-        let mut block = Matrix6::from_diagonal(&a[i].component_mul(&a[j])) * gain.powi(2);
+        let (squared, a) = &self.gain;
+        let mut block = Matrix6::from_diagonal(&a[i].component_mul(&a[j]).component_mul(squared));
         if let Some((bias, times)) = &self.bias {
             block += bias.covariance(times[i], times[j]);
         }

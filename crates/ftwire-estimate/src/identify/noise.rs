@@ -33,6 +33,10 @@ pub struct MeasurementNoise {
     /// the same for every sample, so more samples do not average it away; the final fit
     /// estimates it with the wire as it does the bias (absolute form only).
     pub gain: f64,
+    /// The torque channels' shared relative error where it differs from [`Self::gain`], which
+    /// is then the force channels' (default `None`: [`Self::gain`] for all six). A learnt
+    /// calibration is typically closer in torque than in force.
+    pub torque_gain: Option<f64>,
     /// The tare's offset and the bias drift that all samples share, or `None` to treat the
     /// errors of `ã` as independent between samples (default `None`). Used with samples
     /// that carry their time since the tare ([`super::Sample::time`]), absolute form only.
@@ -48,6 +52,7 @@ impl Default for MeasurementNoise {
             force: 2e-3,
             wrench: None,
             gain: 0.0,
+            torque_gain: None,
             bias: None,
         }
     }
@@ -74,12 +79,18 @@ impl MeasurementNoise {
                 });
             }
         }
-        if !(self.gain.is_finite() && (0.0..1.0).contains(&self.gain)) {
-            return Err(EstimateError::BadIdentifySetting {
-                field: "noise.gain",
-                value: self.gain,
-                allowed: "finite, from 0 to below 1 (a fraction of each channel)",
-            });
+        let gains = [
+            ("noise.gain", self.gain),
+            ("noise.torque_gain", self.torque_gain.unwrap_or(0.0)),
+        ];
+        for (field, value) in gains {
+            if !(value.is_finite() && (0.0..1.0).contains(&value)) {
+                return Err(EstimateError::BadIdentifySetting {
+                    field,
+                    value,
+                    allowed: "finite, from 0 to below 1 (a fraction of each channel)",
+                });
+            }
         }
         if let Some(m) = &self.wrench {
             let bad = |value, allowed| {
@@ -111,14 +122,22 @@ impl MeasurementNoise {
 
     /// The whole covariance of one sample's `ã` read `since_tare` seconds after the tare: its
     /// own ([`Self::wrench_covariance`]), the bias's `Σ₀ + Q k(t, t)` ([`Self::bias`]) and the
-    /// gain error's `gain² diag(ã)²` ([`Self::gain`]) — what a single sample's shape or
+    /// gain error's `diag(g ∘ ã)²` ([`Self::gains`]) — what a single sample's shape or
     /// estimate carries, the shared parts included.
     pub fn sample_covariance(&self, a: &Vector6<f64>, since_tare: f64) -> Matrix6<f64> {
         let shared = self
             .bias
             .map_or_else(Matrix6::zeros, |b| b.covariance(since_tare, since_tare));
-        let gain = Matrix6::from_diagonal(&a.component_mul(a)) * self.gain.powi(2);
+        let scaled = a.component_mul(&self.gains());
+        let gain = Matrix6::from_diagonal(&scaled.component_mul(&scaled));
         self.wrench_covariance() + shared + gain
+    }
+
+    /// The shared relative error of each channel of `ã` (torque first): [`Self::torque_gain`]
+    /// (or [`Self::gain`]) for the torques, [`Self::gain`] for the forces.
+    pub fn gains(&self) -> Vector6<f64> {
+        let t = self.torque_gain.unwrap_or(self.gain);
+        Vector6::new(t, t, t, self.gain, self.gain, self.gain)
     }
 
     /// The covariance of a configuration error `(δτ, δf)`: [`Self::wrench`] when given,

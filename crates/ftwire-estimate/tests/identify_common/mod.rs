@@ -55,6 +55,7 @@ pub fn noise_model(wire: &WireParams, noise: Noise) -> MeasurementNoise {
         force: noise.wrench * wire.force_scale(),
         wrench: None,
         gain: 0.0,
+        torque_gain: None,
         bias: None,
     }
 }

@@ -188,6 +188,7 @@ impl ResidualParams {
                 )));
             }
             noise.gain = gain;
+            noise.torque_gain = None;
         }
         let Some([rotation, translation]) = self.pose_noise else {
             return Ok(noise);
@@ -354,7 +355,8 @@ impl IdentifyParams {
         config.noise.rotation = pose[0];
         config.noise.translation = pose[1];
         if self.bias_model {
-            config.noise.gain = gain;
+            config.noise.torque_gain = Some(gain[0]);
+            config.noise.gain = gain[1];
         }
         config.noise = self.settings.with_noise_settings(config.noise)?;
         self.check_pipeline(&setup)?;

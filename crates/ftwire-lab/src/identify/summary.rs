@@ -178,8 +178,11 @@ pub struct NoiseOut {
     pub pose_noise_deg: f64,
     /// The pose noise of `b̃` per axis: position \[mm\].
     pub pose_noise_mm: f64,
-    /// The relative error of each channel of `ã` every sample shares \[%\] (0: none).
+    /// The relative error of each force channel of `ã` every sample shares \[%\] (0: none),
+    /// and of each torque channel unless [`Self::torque_gain_error_percent`] differs.
     pub gain_error_percent: f64,
+    /// The relative error of each torque channel of `ã` every sample shares \[%\].
+    pub torque_gain_error_percent: f64,
     /// Whether the tare's offset and the drift since are modelled and estimated.
     pub bias_model: bool,
 }
@@ -191,6 +194,7 @@ impl NoiseOut {
             pose_noise_deg: noise.rotation.to_degrees(),
             pose_noise_mm: 1e3 * noise.translation,
             gain_error_percent: 1e2 * noise.gain,
+            torque_gain_error_percent: 1e2 * noise.gains()[0],
             bias_model: noise.bias.is_some(),
         }
     }
