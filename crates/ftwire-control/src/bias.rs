@@ -297,6 +297,29 @@ impl<M: WireModel> BiasObserver<M> {
         self.recovered
     }
 
+    /// The covariance of the bias estimate `β̂` (torque first, base clamp frame) \[N²·m²,
+    /// N·m·N, N²\] at `time` \[s\]: the filter's own at its last rest, with the drift
+    /// `Q·(time − t_last)` of [`BiasObserverParams::torque_drift`] and
+    /// [`BiasObserverParams::force_drift`] since (none before the first rest, or for a time
+    /// before it). What a shape of `ã − β̂` carries of the bias.
+    pub fn bias_covariance(&self, time: f64) -> Matrix6<f64> {
+        let wire = self.model.wire();
+        let (ts, fs) = (wire.torque_scale(), wire.force_scale());
+        let scale = Vector6::new(ts, ts, ts, fs, fs, fs);
+        let normalised = self.covariance.fixed_view::<6, 6>(0, 0).into_owned();
+        let mut covariance =
+            Matrix6::from_diagonal(&scale) * normalised * Matrix6::from_diagonal(&scale);
+        let dt = self
+            .last_time
+            .filter(|_| time.is_finite())
+            .map_or(0.0, |t| (time - t).max(0.0));
+        for i in 0..3 {
+            covariance[(i, i)] += self.settings.torque_drift.powi(2) * dt;
+            covariance[(i + 3, i + 3)] += self.settings.force_drift.powi(2) * dt;
+        }
+        covariance
+    }
+
     /// `a` corrected by the current bias estimate.
     pub fn correct(&self, a: &Vector6<f64>) -> Vector6<f64> {
         a - self.bias()

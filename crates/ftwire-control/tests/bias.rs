@@ -60,14 +60,7 @@ fn track_with(
     let rests = path(60);
     let (mut corrected_sq, mut raw_sq) = (0.0, 0.0);
     for (k, a) in rests.iter().enumerate() {
-        for i in 0..6 {
-            let q = if i < 3 {
-                settings.torque_drift
-            } else {
-                settings.force_drift
-            };
-            bias[i] += q * dt.sqrt() * normal();
-        }
+        drift(&mut bias, &settings, dt, &mut normal);
         let noise = Vector6::from_fn(|i, _| std[i] * normal());
         let measured = a + bias + noise;
         // The robot believes it holds the gripper at b; it really is at b · Δ₀ = Γ(a).
@@ -83,6 +76,23 @@ fn track_with(
         (raw_sq / 10.0).sqrt(),
         observer,
     )
+}
+
+/// One step `dt` \[s\] of the bias random walk at the intensities of `settings`.
+fn drift(
+    bias: &mut Vector6<f64>,
+    settings: &BiasObserverParams,
+    dt: f64,
+    normal: &mut impl FnMut() -> f64,
+) {
+    for i in 0..6 {
+        let q = if i < 3 {
+            settings.torque_drift
+        } else {
+            settings.force_drift
+        };
+        bias[i] += q * dt.sqrt() * normal();
+    }
 }
 
 /// The paper's spread: one draw of 10 mm / 3° per axis.
@@ -389,4 +399,56 @@ fn a_rest_whose_noise_folds_it_off_its_branch_is_fused_on_the_last_estimates_bra
     let far = a + from_normalised(&w, &Vector6::repeat(40.0));
     fresh.update(&far, &std, &tip, 0.0);
     assert_eq!((fresh.recovered(), fresh.rejected()), (0, 1));
+}
+
+/// The bias estimate's covariance is what its error is: over 40 seeded runs of the drifting
+/// bias (drawn from the observer's own prior and drift), the normalised estimation error
+/// squared `eᵀ P⁻¹ e` averages near its 6 degrees of freedom, and after the last rest the
+/// covariance grows by the drift's `q² dt` alone.
+#[test]
+fn the_bias_covariance_matches_the_bias_error() {
+    let model = model();
+    let settings = BiasObserverParams::default();
+    let std = from_normalised(&wire(), &Vector6::repeat(0.01));
+    let dt: f64 = 0.5;
+    let runs = 40;
+    let mut nees = 0.0;
+    for seed in 0..runs {
+        let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
+        let mut normal = || -> f64 { StandardNormal.sample(&mut rng) };
+        let mut observer = BiasObserver::new(model, settings).expect("valid");
+        let mut bias = Vector6::from_fn(|i, _| {
+            normal()
+                * if i < 3 {
+                    settings.initial_torque_std
+                } else {
+                    settings.initial_force_std
+                }
+        });
+        let rests = path(30);
+        for (k, a) in rests.iter().enumerate() {
+            drift(&mut bias, &settings, dt, &mut normal);
+            let noise = Vector6::from_fn(|i, _| std[i] * normal());
+            let tip = model.tip(a).expect("solves");
+            observer.update(&(a + bias + noise), &std, &tip, k as f64 * dt);
+        }
+        let last = (rests.len() - 1) as f64 * dt;
+        let p = observer.bias_covariance(last);
+        let e = observer.bias() - bias;
+        nees += (e.transpose() * p.try_inverse().expect("positive definite") * e)[0];
+        // After the last rest only the drift is added.
+        let later = observer.bias_covariance(last + 2.0) - p;
+        assert!((later[(0, 0)] - 2.0 * settings.torque_drift.powi(2)).abs() < 1e-15);
+        assert!((later[(4, 4)] - 2.0 * settings.force_drift.powi(2)).abs() < 1e-15);
+        assert!(later[(1, 4)].abs() < 1e-18);
+        assert_eq!(
+            observer.bias_covariance(last - 1.0),
+            p,
+            "no drift back in time"
+        );
+    }
+    let mean = nees / runs as f64;
+    // A consistent filter: mean 6 (a χ² of 6 dof averaged over 40 runs: 6 ± 0.6).
+    println!("mean NEES of the bias over {runs} runs: {mean:.2}");
+    assert!((3.5..9.0).contains(&mean), "mean NEES {mean}");
 }

@@ -136,12 +136,23 @@ fn check_stream(sim: &Value, estimate: &Value, min_wrenches: u64) {
     );
 }
 
+/// The shapes against the truth, with their error bars: the uncalibrated default sensor's
+/// gain and cross-talk (about 1.5 %) given as the gain error, and the model's 0.5 mm at the
+/// tip against the simulated rod.
 #[test]
 fn the_estimate_on_ros2_matches_the_simulators_truth_and_loses_nothing() {
-    let (sim, estimate) = run_pair("short", 4.5, 3.0);
+    let dir = temp_dir("short");
+    let (sim, estimate) = run_pair_in(&dir, 4.5, 3.0, "--gain-error 1.5 --model-error 6e-4");
+    let _ = std::fs::remove_dir_all(&dir);
     check_stream(&sim, &estimate, 2000);
     check_truth(&estimate);
     eprintln!("sim: {sim}\nestimate: {estimate}");
+    let sigma = &estimate["sigma"];
+    let tip = sigma["tip_mean_mm"].as_f64().unwrap_or(f64::NAN);
+    let largest = sigma["tip_max_mm"].as_f64().unwrap_or(f64::NAN);
+    assert!(tip > 0.1 && tip <= largest && largest < 50.0, "{sigma}");
+    let within = sigma["within_2sigma"].as_f64().unwrap_or(0.0);
+    assert!(within >= 0.9, "{sigma}");
 }
 
 /// The shapes from the uncalibrated default sensor (its gain and cross-talk of about 1 %)

@@ -22,16 +22,23 @@
 //!    from the tip pose and the tared samples, the bias observer updated at each, and the
 //!    collision detector on each move between two rests (calibrated on the first moves).
 //!
+//! 7. **error bars** (with [`EstimateNodeParams::error_bars`]): `σ(s)` of the shape at each
+//!    node, from the sensor's data sheet, the gain error and the bias observer's covariance
+//!    ([`super::sigma`]).
+//!
 //! It publishes the centreline as `nav_msgs/Path` on [`SHAPE_TOPIC`] (frame [`BASE_FRAME`],
 //! orientation left at the identity), the wire as a `LINE_STRIP` (green when confident,
 //! orange otherwise) with a `SPHERE` at the shape's tip when there is a contact by either
-//! test (`DELETE` when none) on [`MARKERS_VIZ_TOPIC`], and on [`STATUS_TOPIC`] `{"stamp",
-//! "a", "stable", "confident", "contact", "bias", "rests", "contact_residual",
-//! "contact_source"}`: `a` the configuration shaped (`ã − β̂`), `bias` `β̂` (torque first,
-//! base clamp frame, N·m and N; `null` without the observer), `rests` the rests so far,
-//! `contact_residual` the detector's residual of the last move (`null` until calibrated), and
-//! `contact_source` which test found the contact (`detector`, `contact_miss`,
-//! `detector+contact_miss`, or `null`), each stamped with the wrench's stamp.
+//! test (`DELETE` when none) and, with error bars, [`SIGMA_SPHERES`] translucent spheres of
+//! diameter `4σ` along the wire (namespace `sigma`: the 2σ tube) on [`MARKERS_VIZ_TOPIC`],
+//! and on [`STATUS_TOPIC`] `{"stamp", "a", "stable", "confident", "contact", "bias",
+//! "rests", "contact_residual", "contact_source", "sigma_mm"}`: `a` the configuration shaped
+//! (`ã − β̂`), `bias` `β̂` (torque first, base clamp frame, N·m and N; `null` without the
+//! observer), `rests` the rests so far, `contact_residual` the detector's residual of the
+//! last move (`null` until calibrated), `contact_source` which test found the contact
+//! (`detector`, `contact_miss`, `detector+contact_miss`, or `null`), and `sigma_mm` `σ` at
+//! each node of the shape \[mm\] (`null` without error bars), each stamped with the wrench's
+//! stamp.
 //!
 //! **Keeping up.** Steps 1–3 are a few hundred floating-point operations per sample; the
 //! shape solve costs more. After each wake-up the node takes every sample waiting and runs
@@ -43,7 +50,7 @@
 //!
 //! With `truth_topic` (a simulator's `/wire/truth`), each true centreline received is compared
 //! with the latest shape: the distance of each true node to the estimated polyline, averaged
-//! per message (`truth_mm`).
+//! per message (`truth_mm`), and with error bars the share of true points within `2σ`.
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -56,6 +63,7 @@ use ros2_client::MessageInfo;
 use serde::Serialize;
 
 use super::observe::{DetectorSummary, ObserveParams, ObserverSummary};
+use super::sigma::{ErrorBars, SigmaSummary};
 use super::stats::Spread;
 use super::tf::{TfFrames, TfSummary};
 use super::{Counts, NodeError, a_of_raw, check_contact_miss, tare_of};
@@ -65,6 +73,9 @@ use crate::msg::{self, ColorRGBA, Marker, MarkerArray};
 const LINE_WIDTH: f64 = 0.004;
 /// The diameter of the contact sphere \[m\].
 const SPHERE_DIAMETER: f64 = 0.03;
+/// The spheres drawn along the wire for its error bars, from the first node after the base
+/// clamp to the tip.
+pub const SIGMA_SPHERES: usize = 8;
 
 /// What the estimator listens to and how it maps a reading to `ã`.
 #[derive(Debug, Clone)]
@@ -93,6 +104,8 @@ pub struct EstimateNodeParams {
     pub contact_miss: Option<f64>,
     /// The rests, the bias observer and the collision detector ([`super::observe`]).
     pub observe: ObserveParams,
+    /// Each shape's error bars `σ(s)` ([`super::sigma`]); `None`: none.
+    pub error_bars: Option<ErrorBars>,
     /// Record what the node receives and publishes into this ROS 2 bag (MCAP), replacing an
     /// existing file only with `overwrite`.
     pub record: Option<Record>,
@@ -164,6 +177,8 @@ pub struct EstimateSummary {
     pub solve_ms: Option<Spread>,
     /// The shapes against the truth, with `truth_topic`.
     pub truth: Option<TruthError>,
+    /// The error bars of the shapes published, with [`EstimateNodeParams::error_bars`].
+    pub sigma: Option<SigmaSummary>,
     /// With `--record`: the messages written into the bag.
     pub recorded: Option<Recorded>,
     /// With TF frames as the tip source: its lookups.
@@ -184,6 +199,8 @@ pub(super) struct Pipeline {
     tare_samples: Vec<FtSample>,
     tare_target: usize,
     pub(super) tare: Option<Tare>,
+    /// The tare's time: the mean stamp of its samples (the first sample's without a tare).
+    pub(super) tare_time: Option<f64>,
     window: Vec<Vector6<f64>>,
     next: usize,
     filled: usize,
@@ -197,6 +214,7 @@ impl Pipeline {
             tare_samples: Vec::with_capacity(params.tare),
             tare_target: params.tare,
             tare: (params.tare == 0).then(Tare::none),
+            tare_time: None,
             window: vec![Vector6::zeros(); params.window],
             next: 0,
             filled: 0,
@@ -211,6 +229,9 @@ impl Pipeline {
         raw: Vector6<f64>,
         time: f64,
     ) -> Option<Result<Vector6<f64>, String>> {
+        if self.tare_time.is_none() && self.tare.is_some() {
+            self.tare_time = Some(time);
+        }
         let Some(tare) = &self.tare else {
             self.tare_samples.push(FtSample {
                 time,
@@ -221,6 +242,10 @@ impl Pipeline {
                 return match tare_of(&self.tare_samples) {
                     Ok(tare) => {
                         self.tare = Some(tare);
+                        #[allow(clippy::cast_precision_loss)] // a tare far below 2⁵² samples
+                        let n = self.tare_samples.len() as f64;
+                        self.tare_time =
+                            Some(self.tare_samples.iter().map(|s| s.time).sum::<f64>() / n);
                         None
                     }
                     Err(e) => {
@@ -276,12 +301,14 @@ pub(super) fn arrival(info: &MessageInfo) -> i64 {
         .map_or_else(now_ns, |t| t.to_nanos())
 }
 
-/// The drawn wire and the contact sphere.
+/// The drawn wire, the contact sphere and, with `sigma` (\[m\], one per point), the error
+/// bars' spheres.
 pub(super) fn markers(
     header: &msg::Header,
     points: &[msg::Point],
     confident: bool,
     contact: Option<&msg::Point>,
+    sigma: Option<&[f64]>,
 ) -> MarkerArray {
     let color = if confident {
         ColorRGBA {
@@ -340,9 +367,48 @@ pub(super) fn markers(
         },
         ..Marker::default()
     };
-    MarkerArray {
-        markers: vec![line, sphere],
+    let mut markers = vec![line, sphere];
+    if let Some(sigma) = sigma.filter(|s| s.len() == points.len() && points.len() > 1) {
+        markers.extend(sigma_spheres(header, points, sigma));
     }
+    MarkerArray { markers }
+}
+
+/// [`SIGMA_SPHERES`] translucent spheres of diameter `4σ` (the 2σ tube's), evenly along the
+/// wire from the first node after the base clamp to the tip.
+fn sigma_spheres<'a>(
+    header: &'a msg::Header,
+    points: &'a [msg::Point],
+    sigma: &'a [f64],
+) -> impl Iterator<Item = Marker> + 'a {
+    let last = points.len() - 1;
+    (1..=SIGMA_SPHERES).map(move |j| {
+        let k = (j * last).div_ceil(SIGMA_SPHERES).min(last);
+        let diameter = 4.0 * sigma[k];
+        Marker {
+            header: header.clone(),
+            ns: "sigma".to_owned(),
+            id: i32::try_from(j).unwrap_or(i32::MAX),
+            kind: Marker::SPHERE,
+            action: Marker::ADD,
+            pose: msg::Pose {
+                position: points[k],
+                orientation: msg::Quaternion::default(),
+            },
+            scale: msg::Vector3 {
+                x: diameter,
+                y: diameter,
+                z: diameter,
+            },
+            color: ColorRGBA {
+                r: 0.2,
+                g: 0.4,
+                b: 1.0,
+                a: 0.3,
+            },
+            ..Marker::default()
+        }
+    })
 }
 
 /// The status line of one estimate.
@@ -364,6 +430,8 @@ pub(super) struct Status {
     pub(super) contact_residual: Option<f64>,
     /// Which test found the contact: `detector`, `contact_miss` or `detector+contact_miss`.
     pub(super) contact_source: Option<&'static str>,
+    /// `σ` at each node of the shape \[mm\], with error bars.
+    pub(super) sigma_mm: Option<Vec<f64>>,
 }
 
 impl EstimateNodeParams {
@@ -427,6 +495,7 @@ mod tests {
             truth_topic: None,
             contact_miss: None,
             observe: ObserveParams::default(),
+            error_bars: None,
             record: None,
         }
     }
@@ -489,13 +558,16 @@ mod tests {
             rests: 12,
             contact_residual: Some(3.5),
             contact_source: Some("detector"),
+            sigma_mm: Some(vec![0.0, 0.4, 0.9]),
         };
         let json: serde_json::Value = serde_json::to_value(&status).expect("the status serialises");
         assert_eq!(json["contact_source"], "detector");
         assert_eq!(json["rests"], 12);
         assert_eq!(json["bias"].as_array().map(Vec::len), Some(6));
         assert_eq!(json["contact_residual"], 3.5);
+        assert_eq!(json["sigma_mm"][2], 0.9);
         let quiet = Status {
+            sigma_mm: None,
             bias: None,
             contact_residual: None,
             contact_source: None,
@@ -504,6 +576,7 @@ mod tests {
         };
         let json = serde_json::to_value(&quiet).expect("the status serialises");
         assert!(json["bias"].is_null() && json["contact_source"].is_null());
+        assert!(json["sigma_mm"].is_null());
     }
 
     #[test]
@@ -517,15 +590,39 @@ mod tests {
                 z: 0.0,
             },
         ];
-        let free = markers(&h, &points, true, None);
+        let free = markers(&h, &points, true, None, None);
+        assert_eq!(free.markers.len(), 2, "no error bars without sigma");
         assert_eq!(free.markers[0].kind, Marker::LINE_STRIP);
         assert!(free.markers[0].color.g > free.markers[0].color.r);
         assert_eq!(free.markers[1].action, Marker::DELETE);
-        let touched = markers(&h, &points, false, Some(&points[1]));
+        let touched = markers(&h, &points, false, Some(&points[1]), None);
         assert!(touched.markers[0].color.r > touched.markers[0].color.g);
         assert_eq!(
             (touched.markers[1].kind, touched.markers[1].action),
             (Marker::SPHERE, Marker::ADD)
+        );
+        // With σ: the tube's spheres, 4σ across, the last at the tip.
+        let wire: Vec<msg::Point> = (0..17)
+            .map(|k| msg::Point {
+                x: 0.05 * f64::from(k),
+                y: 0.0,
+                z: 0.0,
+            })
+            .collect();
+        let sigma: Vec<f64> = (0..17).map(|k| 1e-4 * f64::from(k)).collect();
+        let barred = markers(&h, &wire, true, None, Some(&sigma));
+        let tube: Vec<&Marker> = barred.markers.iter().filter(|m| m.ns == "sigma").collect();
+        assert_eq!(tube.len(), SIGMA_SPHERES);
+        let tip = tube[SIGMA_SPHERES - 1];
+        assert!((tip.pose.position.x - 0.8).abs() < 1e-12);
+        assert!((tip.scale.x - 4.0 * 1.6e-3).abs() < 1e-12);
+        assert!(tube[0].pose.position.x > 0.0, "not at the base clamp");
+        // A σ of another length is not drawn.
+        assert_eq!(
+            markers(&h, &wire, true, None, Some(&sigma[..3]))
+                .markers
+                .len(),
+            2
         );
     }
 }

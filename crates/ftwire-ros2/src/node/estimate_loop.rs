@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
 use ftwire_lab::log::LogRecord;
-use ftwire_lab::log::shape::shape_record;
+use ftwire_lab::log::shape::shape_record_with_std;
 use nalgebra::{Vector3, Vector6};
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::{MessageInfo, Publisher, QosProfile, Subscription};
@@ -19,6 +19,7 @@ use super::estimate::{
     finite_wrench, markers, now_ns,
 };
 use super::observe::{Observer, RestEvent};
+use super::sigma::{Coverage, SigmaSummary};
 use super::stats::{LossCounter, Spread};
 use super::tf::{TF_STATIC_TOPIC, TF_TOPIC, TfListener, tf_qos, tf_static_qos};
 use super::{
@@ -175,6 +176,12 @@ struct State<'p> {
     loss: LossCounter,
     tip: Option<Vector3<f64>>,
     shape: Vec<Vector3<f64>>,
+    /// `σ` of the latest shape at its nodes \[m\], with error bars.
+    sigma: Option<Vec<f64>>,
+    /// `σ` at the tip of each shape published \[m\].
+    tip_sigmas: Vec<f64>,
+    /// The error bars against the truth.
+    coverage: Coverage,
     latencies: Vec<f64>,
     solves: Vec<f64>,
     /// Sum, worst and largest node distance \[mm\], and the count of true centrelines.
@@ -221,6 +228,7 @@ impl<'p> State<'p> {
                 latency_ms: None,
                 solve_ms: None,
                 truth: None,
+                sigma: None,
                 recorded: None,
                 tf: None,
             },
@@ -228,6 +236,9 @@ impl<'p> State<'p> {
             loss: LossCounter::new(params.rate),
             tip: None,
             shape: Vec::new(),
+            sigma: None,
+            tip_sigmas: Vec::new(),
+            coverage: Coverage::default(),
             latencies: Vec::with_capacity(1 << 16),
             solves: Vec::with_capacity(1 << 16),
             truth: (0.0, 0.0, 0.0, 0),
@@ -390,7 +401,17 @@ impl<'p> State<'p> {
             markers: None,
             gravity: None,
         };
-        let solved = shape_record(&mut self.estimator, self.index, &record, &a);
+        let covariance = self.params.error_bars.as_ref().map(|bars| {
+            let since_tare = self.pipeline.tare_time.map_or(0.0, |t| record.time - t);
+            bars.covariance(&a, since_tare, self.observe.bias_covariance(record.time))
+        });
+        let solved = shape_record_with_std(
+            &mut self.estimator,
+            self.index,
+            &record,
+            &a,
+            covariance.as_ref(),
+        );
         self.index += 1;
         self.solves.push(1e3 * solve_start.elapsed().as_secs_f64());
         match solved {
@@ -398,6 +419,9 @@ impl<'p> State<'p> {
                 let points = result.points.unwrap_or_default();
                 self.shape.clear();
                 self.shape.extend(points.iter().map(|p| Vector3::from(*p)));
+                self.sigma = result
+                    .sigma_mm
+                    .map(|s| s.into_iter().map(|v| 1e-3 * v).collect());
                 let stable = result.confidence != Some("not_stable");
                 let confident = result.confidence == Some("confident");
                 self.publish(sample, &a, io, (stable, confident));
@@ -452,7 +476,11 @@ impl<'p> State<'p> {
         };
         let ros_points: Vec<msg::Point> = self.shape.iter().map(ros_point).collect();
         let path = path_message(header.clone(), ros_points.iter().copied());
-        let drawn = markers(&header, &ros_points, confident, contact.as_ref());
+        let sigma = self.sigma.as_deref();
+        let drawn = markers(&header, &ros_points, confident, contact.as_ref(), sigma);
+        if let Some(tip) = sigma.and_then(<[f64]>::last) {
+            self.tip_sigmas.push(*tip);
+        }
         let status = Status {
             stamp: seconds(&sample.stamp),
             a: (*a).into(),
@@ -463,6 +491,7 @@ impl<'p> State<'p> {
             rests: self.observe.count,
             contact_residual: residual.map(|(r, _)| r),
             contact_source: source,
+            sigma_mm: sigma.map(|s| s.iter().map(|v| 1e3 * v).collect()),
         };
         let status = serde_json::to_string(&status)
             .ok()
@@ -508,6 +537,11 @@ impl<'p> State<'p> {
                     }
                     match marker_distances(&nodes, &self.shape) {
                         Ok(d) if !d.is_empty() => {
+                            if let Some(sigma) = &self.sigma {
+                                let truth: Vec<Vector3<f64>> =
+                                    nodes.iter().map(|p| p.coords).collect();
+                                self.coverage.add(&truth, &self.shape, sigma);
+                            }
                             #[allow(clippy::cast_precision_loss)] // a few hundred nodes
                             let mean = 1e3 * d.iter().sum::<f64>() / d.len() as f64;
                             let (sum, worst, max, n) = &mut self.truth;
@@ -545,6 +579,15 @@ impl<'p> State<'p> {
                 mean_mm: sum / n as f64,
                 worst_mean_mm: worst,
                 max_mm: max,
+            });
+        }
+        if !self.tip_sigmas.is_empty() {
+            #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
+            let n = self.tip_sigmas.len() as f64;
+            summary.sigma = Some(SigmaSummary {
+                tip_mean_mm: 1e3 * self.tip_sigmas.iter().sum::<f64>() / n,
+                tip_max_mm: 1e3 * self.tip_sigmas.iter().copied().fold(0.0, f64::max),
+                within_2sigma: self.coverage.share(),
             });
         }
         log(&format!(
@@ -645,7 +688,9 @@ pub fn run(
     ));
     let model = KirchhoffModel::new(wire);
     let observe = Observer::new(model, &params.observe)?;
-    let mut state = State::new(params, ShapeEstimator::new(model), recorder, observe);
+    let estimator = ShapeEstimator::new(model)
+        .with_model_error(params.error_bars.as_ref().and_then(|b| b.model_error));
+    let mut state = State::new(params, estimator, recorder, observe);
     while !should_stop(stop, started, settings.duration) {
         io.wait()?;
         if let Some(sub) = io.tip.as_ref() {

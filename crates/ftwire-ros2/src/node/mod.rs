@@ -9,7 +9,8 @@
 //! - [`estimate`]: the wire's shape from each F/T sample, published as `nav_msgs/Path`
 //!   ([`SHAPE_TOPIC`]), a `visualization_msgs/MarkerArray` ([`MARKERS_VIZ_TOPIC`]) and a JSON
 //!   status ([`STATUS_TOPIC`]), with the experiments' bias observer and collision detector
-//!   run at the rests it finds in the streams ([`observe`]);
+//!   run at the rests it finds in the streams ([`observe`]) and each shape's error bars
+//!   ([`sigma`]);
 //! - [`identify`]: the identification motion sent on [`TIP_TARGET_TOPIC`], a rest at each pose,
 //!   and the identified `c` and `L` with their covariance as JSON on
 //!   [`identify::IDENTIFIED_TOPIC`];
@@ -40,6 +41,7 @@ pub mod estimate_loop;
 pub mod identify;
 pub mod observe;
 pub mod robot;
+pub mod sigma;
 pub mod sim;
 pub mod stats;
 pub mod tf;

@@ -563,6 +563,15 @@ impl Observer {
         self.observer.as_ref().map(|o| o.bias().into())
     }
 
+    /// The covariance of the bias estimate at `time` \[s\] (`BiasObserver::bias_covariance`),
+    /// once the observer has used a rest; `None` before, or without an observer.
+    pub fn bias_covariance(&self, time: f64) -> Option<nalgebra::Matrix6<f64>> {
+        self.observer
+            .as_ref()
+            .filter(|o| o.updates() > 0)
+            .map(|o| o.bias_covariance(time))
+    }
+
     /// The last move's residual once the detector is armed, and whether it is a contact.
     pub fn residual(&self) -> Option<(f64, bool)> {
         self.residual

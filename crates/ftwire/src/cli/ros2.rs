@@ -187,6 +187,23 @@ pub struct EstimateNodeArgs {
     /// The rests, the bias observer and the collision detector.
     #[command(flatten)]
     pub observe: ObserveArgs,
+    /// Error bars σ(s) on every shape (the status's `sigma_mm`, the `sigma` spheres of
+    /// /wire/markers_viz, the summary's `sigma`), to first order from --sensor's data sheet:
+    /// the window's noise, the tare's, and the drift since the tare, or once the bias observer
+    /// has used a rest its estimate's covariance; with --gain-error and --model-error.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub error_bars: OnOff,
+    /// The map's relative gain error per channel of ã, shared by every sample, in the error
+    /// bars [% of the value, standard deviation]: a learnt calibration's accuracy (about 0.05 %
+    /// in torque, 0.08 % in force on the simulator), or through the mounting alone the
+    /// sensor's own gain and cross-talk (about 1.5 % for the simulated default sensor)
+    /// [default: 0].
+    #[arg(long, value_name = "PCT", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub gain_error: Option<f64>,
+    /// The model's own error against the wire per metre of arc length, in the error bars:
+    /// σ_model(s) = E·s added in quadrature [m/m] [default: not counted].
+    #[arg(long, value_name = "E", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub model_error: Option<f64>,
     /// Record every message received and published into this ROS 2 bag (MCAP storage, CDR
     /// messages with their `ros2msg` schemas), readable by Foxglove, Rerun and `ros2 bag`;
     /// `ftwire import mcap` reads its wrench and tip pose back into a log. An existing file is

@@ -17,6 +17,7 @@ use ftwire_ros2::node::estimate::{EstimateNodeParams, Record};
 use ftwire_ros2::node::identify::IdentifyNodeParams;
 use ftwire_ros2::node::observe::{ObserveParams, RestParams};
 use ftwire_ros2::node::robot::RobotParams;
+use ftwire_ros2::node::sigma::ErrorBars;
 use ftwire_ros2::node::sim::SimNodeParams;
 use ftwire_ros2::node::tf::{SimTfFrames, TfFrames};
 use ftwire_ros2::node::{NodeError, NodeSettings};
@@ -191,12 +192,50 @@ fn estimate_params(
         truth_topic: args.truth_topic.clone(),
         contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
         observe: observe_params(&args.observe)?,
+        error_bars: error_bars(args)?,
         record: args.record.clone().map(|path| Record {
             path,
             overwrite: args.force,
         }),
     };
     Ok((params, settings))
+}
+
+/// `ftwire ros2 estimate`'s error bars: `--sensor`'s data sheet with the window and the tare
+/// (`ftwire_lab::experiment::rig::identification_noise_of`), `--gain-error` and
+/// `--model-error`; `None` with `--error-bars off`.
+fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
+    if !args.error_bars.on() {
+        return Ok(None);
+    }
+    let sensor =
+        ftwire_lab::setup::SensorSpec::load(args.observe.sensor.as_deref().unwrap_or("distorted"))
+            .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
+    let mount = args
+        .mounting
+        .load()?
+        .mounting()
+        .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
+    let noise = ftwire_lab::experiment::rig::identification_noise_of(
+        &sensor.config,
+        &mount,
+        args.window,
+        args.tare,
+    )
+    .map_err(|e| e.context("--sensor"))?;
+    let gain = ftwire_lab::identify::ResidualParams {
+        gain_error: args.gain_error.map(|pct| 1e-2 * pct),
+        ..ftwire_lab::identify::ResidualParams::default()
+    };
+    let model_error = args
+        .model_error
+        .map(ftwire_estimate::shape::ModelError::new)
+        .transpose()
+        .map_err(|e| LabError::bad_input(format!("--model-error: {e}")))?;
+    Ok(Some(ErrorBars {
+        noise: gain.with_noise_settings(noise)?,
+        model_error,
+    }))
 }
 
 /// The rests, and the bias observer's settings for `--sensor` and `--pose-error` by
