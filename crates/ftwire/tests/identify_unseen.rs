@@ -12,8 +12,8 @@
 //! `FTWIRE_UNSEEN_GRAVITY=on` runs it with gravity on (the loaded model, its calibration
 //! labelled with the loaded model, the issue-16 target of 0.5 % on `c` and `L`).
 //! `FTWIRE_UNSEEN_ARGS` adds options to every `experiment identify` (space-separated).
-//! `FTWIRE_UNSEEN_UNTIL=PCT` also samples each trial until `--until PCT` (up to 10 samples)
-//! and prints how many samples each wire needed. Every run prints the coverage of the 95 %
+//! `FTWIRE_UNSEEN_UNTIL=PCT` also samples each trial until `--until PCT` (up to
+//! `FTWIRE_UNSEEN_LIMIT` samples, default 10) and prints how many samples each wire needed. Every run prints the coverage of the 95 %
 //! intervals at three samples over all the wires' trials.
 
 mod cli_support;
@@ -48,6 +48,7 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
     };
     let rest = std::env::var("FTWIRE_UNSEEN_REST").ok();
     let until = std::env::var("FTWIRE_UNSEEN_UNTIL").ok();
+    let counts = format!("3,{}", env_or("FTWIRE_UNSEEN_LIMIT", 10));
     let extra = std::env::var("FTWIRE_UNSEEN_ARGS").unwrap_or_default();
     let dir = std::env::temp_dir().join(format!("ftwire-unseen-{}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
@@ -96,7 +97,11 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
             "--gravity",
             gravity,
             "--samples",
-            if until.is_some() { "3,10" } else { "3" },
+            if until.is_some() {
+                counts.as_str()
+            } else {
+                "3"
+            },
             "--seed",
             &seed_text,
             "--wire",

@@ -14,7 +14,10 @@
 //!    [`IdentifierParams::search_rounds`] rounds; the best fit is kept;
 //! 4. **polish**: Levenberg–Marquardt from the best fit on the residuals whitened by the
 //!    noise's predicted covariance (generalised least squares, [`super::residual`]), which
-//!    the fixed weighting of steps 1–3 only approximates.
+//!    the fixed weighting of steps 1–3 only approximates; for the absolute form jointly with
+//!    what the samples share and each rest's own noise, relinearised at the estimated true
+//!    configurations and, with many samples, continued from the fits of fewer
+//!    ([`super::joint`]).
 //!
 //! Why two stages: in the full 4-D box, `c_i ∈ [1e-3, 5]`, the absolute residual is rugged
 //! along `c1` (a tiny torsional stiffness spins the wire about its axis), and a 20-particle
@@ -472,8 +475,9 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     }
 
     /// Step 4 of the driver: Levenberg–Marquardt on the noise-whitened residuals from the
-    /// search's best fit (generalised least squares, see [`super::residual`]; with a shared
-    /// bias model, jointly with the bias path, [`super::joint`]), and the estimate there.
+    /// search's best fit (generalised least squares, see [`super::residual`]; for the
+    /// absolute form jointly with the samples' path, [`super::joint::polish_continued`]), and
+    /// the estimate there.
     /// `None` when the whitening cannot be computed at the best fit (the model fails at a
     /// sample), or the independent-noise polish ends at a higher `χ²` (never expected: it
     /// starts from the best fit and only accepts steps that lower its cost); the caller keeps
@@ -487,35 +491,40 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     ) -> Option<Estimate> {
         let noise = &self.config.noise;
         let bounds = (&space.lower[..], &space.upper[..]);
-        let (polished, samples, chi2) =
-            match super::joint::polish(fine, &best.theta, noise, &self.config.refine, bounds) {
-                Some(joint) => {
-                    let chi2 = joint.refined.cost;
-                    let refined = Refined {
-                        evaluations: joint.evaluations,
-                        ..joint.refined
-                    };
-                    (refined, joint.samples, Some(chi2))
+        let (polished, samples, chi2) = match super::joint::polish_continued(
+            fine,
+            &best.theta,
+            noise,
+            &self.config.refine,
+            bounds,
+        ) {
+            Some(joint) => {
+                let chi2 = joint.refined.cost;
+                let refined = Refined {
+                    evaluations: joint.evaluations,
+                    ..joint.refined
+                };
+                (refined, joint.samples, Some(chi2))
+            }
+            None => {
+                let whitening = fine.whitening(&best.theta, noise).ok()?;
+                let whitened = Residuals {
+                    whitening: Some(&whitening),
+                    ..*fine
+                };
+                let residual = |theta: &[f64]| whitened.evaluate(theta);
+                let polished =
+                    self.config
+                        .refine
+                        .minimise(&residual, &best.theta, bounds.0, bounds.1);
+                let before = fine.chi_squared(&best.theta, noise).ok()?;
+                let after = fine.chi_squared(&polished.theta, noise).ok()?;
+                if after > before {
+                    return None;
                 }
-                None => {
-                    let whitening = fine.whitening(&best.theta, noise).ok()?;
-                    let whitened = Residuals {
-                        whitening: Some(&whitening),
-                        ..*fine
-                    };
-                    let residual = |theta: &[f64]| whitened.evaluate(theta);
-                    let polished =
-                        self.config
-                            .refine
-                            .minimise(&residual, &best.theta, bounds.0, bounds.1);
-                    let before = fine.chi_squared(&best.theta, noise).ok()?;
-                    let after = fine.chi_squared(&polished.theta, noise).ok()?;
-                    if after > before {
-                        return None;
-                    }
-                    (polished, fine.samples.to_vec(), None)
-                }
-            };
+                (polished, fine.samples.to_vec(), None)
+            }
+        };
         // Judge the polished fit exactly as the unpolished one: the fixed weighting's cost and
         // Jacobian (its conditioning threshold is in those units), at the polished θ, on the
         // samples the polish ended with.
