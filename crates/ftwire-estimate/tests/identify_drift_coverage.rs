@@ -304,9 +304,8 @@ fn gains_split_by_channel_and_bad_gain_and_wrench_covariances_are_refused_by_nam
 /// rest's white noise is about a tenth of the force scale, where `Γ` is not linear. With that
 /// noise alone (no drift, no tare offset), 20 trials: the mean error at 30 samples is below
 /// the one at 3 on every parameter, and at 30 samples the intervals still hold the truth at
-/// least 16 times in 20. A fit linearised only at the noisy `ã` fails both: its error grows
-/// with the samples (c2 0.65 % at 3, 0.79 % at 30) and its intervals on `L` hold the truth
-/// 8 times in 20.
+/// least 16 times in 20. A fit linearised only at the noisy `ã` fails both: it is biased, so
+/// its error does not fall with the samples while its intervals shrink.
 #[test]
 fn the_softest_wire_improves_with_more_samples_under_white_noise() -> Result<(), EstimateError> {
     let wire = WireParams::new([0.0241, 0.0374, 0.0374], 1.182, 0.00091)?;

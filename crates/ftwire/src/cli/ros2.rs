@@ -194,10 +194,9 @@ pub struct EstimateNodeArgs {
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub error_bars: OnOff,
     /// The map's relative gain error per channel of ã, shared by every sample, in the error
-    /// bars [% of the value, standard deviation]: a learnt calibration's accuracy (about 0.05 %
-    /// in torque, 0.08 % in force on the simulator), or through the mounting alone the
-    /// sensor's own gain and cross-talk (about 1.5 % for the simulated default sensor)
-    /// [default: 0].
+    /// bars [% of the value, standard deviation]: a learnt calibration's accuracy against the
+    /// sensor, or through the mounting alone the sensor's own gain and cross-talk (its data
+    /// sheet's gain matrix less the identity) [default: 0].
     #[arg(long, value_name = "PCT", allow_hyphen_values = true, value_parser = parse_finite)]
     pub gain_error: Option<f64>,
     /// The model's own error against the wire per metre of arc length, in the error bars:

@@ -202,7 +202,7 @@ fn estimate_params(
 }
 
 /// `ftwire ros2 estimate`'s error bars: `--sensor`'s data sheet with the window and the tare
-/// (`ftwire_lab::experiment::rig::identification_noise_of`), `--gain-error` and
+/// and `--gain-error` (`ftwire_lab::experiment::rig::data_sheet_noise`), and
 /// `--model-error`; `None` with `--error-bars off`.
 fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
     if !args.error_bars.on() {
@@ -216,26 +216,18 @@ fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
         .load()?
         .mounting()
         .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
-    let noise = ftwire_lab::experiment::rig::identification_noise_of(
+    let noise = ftwire_lab::experiment::rig::data_sheet_noise(
         &sensor.config,
         &mount,
-        args.window,
-        args.tare,
-    )
-    .map_err(|e| e.context("--sensor"))?;
-    let gain = ftwire_lab::identify::ResidualParams {
-        gain_error: args.gain_error.map(|pct| 1e-2 * pct),
-        ..ftwire_lab::identify::ResidualParams::default()
-    };
+        (args.window, args.tare),
+        args.gain_error.map(|pct| 1e-2 * pct),
+    )?;
     let model_error = args
         .model_error
         .map(ftwire_estimate::shape::ModelError::new)
         .transpose()
         .map_err(|e| LabError::bad_input(format!("--model-error: {e}")))?;
-    Ok(Some(ErrorBars {
-        noise: gain.with_noise_settings(noise)?,
-        model_error,
-    }))
+    Ok(Some(ErrorBars { noise, model_error }))
 }
 
 /// The rests, and the bias observer's settings for `--sensor` and `--pose-error` by

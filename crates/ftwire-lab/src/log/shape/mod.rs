@@ -386,18 +386,12 @@ fn sensor_noise(
         None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
             .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
     };
-    let noise = crate::experiment::rig::identification_noise_of(
+    crate::experiment::rig::data_sheet_noise(
         &drift.params,
         &mount,
-        drift.rest_samples,
-        drift.tare_samples,
+        (drift.rest_samples, drift.tare_samples),
+        gain,
     )
-    .map_err(|e| e.context("--sensor"))?;
-    let residual = crate::identify::ResidualParams {
-        gain_error: gain,
-        ..crate::identify::ResidualParams::default()
-    };
-    residual.with_noise_settings(noise)
 }
 
 /// One line of text: the confidence and the tip, or why there is no shape.
