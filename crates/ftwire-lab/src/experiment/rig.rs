@@ -281,28 +281,6 @@ pub fn simulated_rig_errors(setup: &SimSetup, learnt: bool) -> ([f64; 2], [f64; 
     (pose, map.map(|g| g.hypot(SIM_MODEL_GAIN_ERROR)))
 }
 
-/// [`identification_noise_of`] with the map's relative gain error `gain` of every channel
-/// (a fraction; `None`: none): the error of `ã` a rig's log or a node draws its error bars and
-/// intervals from, given the sensor's data sheet.
-///
-/// # Errors
-/// Bad input naming `--sensor` for a drift that is not valid, or `--gain-error` outside
-/// `[0, 100)` %.
-pub fn data_sheet_noise(
-    sensor: &ftwire_sim::FtSensorParams,
-    mount: &Mounting,
-    (rest_samples, tare_samples): (usize, usize),
-    gain: Option<f64>,
-) -> Result<MeasurementNoise, LabError> {
-    let noise = identification_noise_of(sensor, mount, rest_samples, tare_samples)
-        .map_err(|e| e.context("--sensor"))?;
-    crate::identify::ResidualParams {
-        gain_error: gain,
-        ..crate::identify::ResidualParams::default()
-    }
-    .with_noise_settings(noise)
-}
-
 /// [`identification_noise`] of a sensor's data sheet `sensor` (its white noise, drift
 /// intensity and time constant, in its own frame) mounted by `mount`, with `rest_samples`
 /// readings averaged per sample and `tare_samples` in the tare.

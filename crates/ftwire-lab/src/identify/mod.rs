@@ -211,6 +211,29 @@ impl ResidualParams {
     }
 }
 
+/// [`crate::experiment::rig::identification_noise_of`] with the map's relative gain error `gain` of every channel
+/// (a fraction; `None`: none): the error of `ã` a rig's log or a node draws its error bars and
+/// intervals from, given the sensor's data sheet.
+///
+/// # Errors
+/// Bad input naming `--sensor` for a drift that is not valid, or `--gain-error` outside
+/// `[0, 100)` %.
+pub fn data_sheet_noise(
+    sensor: &ftwire_sim::FtSensorParams,
+    mount: &ftwire_estimate::ft::Mounting,
+    (rest_samples, tare_samples): (usize, usize),
+    gain: Option<f64>,
+) -> Result<MeasurementNoise, LabError> {
+    let noise =
+        crate::experiment::rig::identification_noise_of(sensor, mount, rest_samples, tare_samples)
+            .map_err(|e| e.context("--sensor"))?;
+    ResidualParams {
+        gain_error: gain,
+        ..ResidualParams::default()
+    }
+    .with_noise_settings(noise)
+}
+
 /// How `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

@@ -202,7 +202,7 @@ fn estimate_params(
 }
 
 /// `ftwire ros2 estimate`'s error bars: `--sensor`'s data sheet with the window and the tare
-/// and `--gain-error` (`ftwire_lab::experiment::rig::data_sheet_noise`), and
+/// and `--gain-error` (`ftwire_lab::identify::data_sheet_noise`), and
 /// `--model-error`; `None` with `--error-bars off`.
 fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
     if !args.error_bars.on() {
@@ -216,7 +216,7 @@ fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
         .load()?
         .mounting()
         .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
-    let noise = ftwire_lab::experiment::rig::data_sheet_noise(
+    let noise = ftwire_lab::identify::data_sheet_noise(
         &sensor.config,
         &mount,
         (args.window, args.tare),

@@ -386,7 +386,7 @@ fn sensor_noise(
         None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
             .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
     };
-    crate::experiment::rig::data_sheet_noise(
+    crate::identify::data_sheet_noise(
         &drift.params,
         &mount,
         (drift.rest_samples, drift.tare_samples),
