@@ -211,9 +211,9 @@ impl ResidualParams {
     }
 }
 
-/// [`crate::experiment::rig::identification_noise_of`] with the map's relative gain error `gain` of every channel
-/// (a fraction; `None`: none): the error of `ã` a rig's log or a node draws its error bars and
-/// intervals from, given the sensor's data sheet.
+/// [`crate::experiment::rig::identification_noise_of`] with the map's relative gain error
+/// `gain` of every channel (a fraction; `None`: none): the error of `ã` a rig's log or a node
+/// draws its error bars and intervals from, given the sensor's data sheet.
 ///
 /// # Errors
 /// Bad input naming `--sensor` for a drift that is not valid, or `--gain-error` outside
