@@ -46,6 +46,73 @@ fn covariance_agrees_with_the_standard_deviations_and_is_positive_semidefinite()
     Ok(())
 }
 
+/// The model's own error widens every parameter's variance by `(ε η)²`, exactly, and moves
+/// neither the estimate nor the fit; a tied parameter shares its error (with `c3 = c2`, their
+/// covariance grows by `ε² c2 c3` too); a floor of 1 or more is refused.
+#[test]
+fn the_model_error_adds_its_relative_variance_and_moves_nothing_else() -> Result<(), EstimateError>
+{
+    let model = thick()?;
+    let data = samples(&model, 41, 3, 0.5, Some(SENSOR))?;
+    for isotropic in [false, true] {
+        let plain = IdentifierParams {
+            noise: noise_model(model.wire(), SENSOR),
+            constraints: ftwire_estimate::identify::ParameterConstraints {
+                isotropic,
+                ..Default::default()
+            },
+            ..IdentifierParams::default()
+        };
+        let floored = IdentifierParams {
+            model_error: 2e-3,
+            ..plain.clone()
+        };
+        let run = |config: &IdentifierParams| {
+            identify(&model, &data, config, &mut ChaCha8Rng::seed_from_u64(5))
+        };
+        let (a, b) = (run(&plain)?, run(&floored)?);
+        assert_eq!(
+            (a.c, a.length, a.chi2_per_dof),
+            (b.c, b.length, b.chi2_per_dof)
+        );
+        let (ca, cb) = (
+            a.covariance.expect("covariance"),
+            b.covariance.expect("covariance"),
+        );
+        let values = a.values();
+        let (ra, rb) = (ca.rows(), cb.rows());
+        for i in 0..4 {
+            for j in 0..4 {
+                let tied = i == j || (isotropic && i >= 1 && j >= 1 && i < 3 && j < 3);
+                let added = if tied {
+                    4e-6 * values[i] * values[j]
+                } else {
+                    0.0
+                };
+                let scale = (ra[i][i] * ra[j][j]).sqrt();
+                assert!(
+                    (rb[i][j] - ra[i][j] - added).abs() <= 1e-9 * (scale + added.abs()),
+                    "isotropic {isotropic}, entry ({i}, {j}): {} − {} against {added}",
+                    rb[i][j],
+                    ra[i][j]
+                );
+            }
+        }
+        let std = [b.c_std[0], b.c_std[1], b.c_std[2], b.length_std];
+        for (i, s) in std.into_iter().enumerate() {
+            assert!((cb.std(i) - s).abs() <= 1e-9 * s, "parameter {i}");
+        }
+    }
+    let bad = IdentifierParams {
+        model_error: 1.0,
+        ..IdentifierParams::default()
+    };
+    let err = identify(&model, &data, &bad, &mut ChaCha8Rng::seed_from_u64(5))
+        .expect_err("a model error of 100 % is refused");
+    assert!(err.to_string().contains("model_error"), "{err}");
+    Ok(())
+}
+
 /// Coverage of the 95 % intervals over random wires (c2 in [0.03, 0.5] N·m², c1/c2 in
 /// [0.6, 0.9], L in [0.4, 1.2] m), three samples each with the default noise. Returns, per
 /// parameter, the share of trials whose interval holds the truth.

@@ -96,11 +96,13 @@ impl Identification {
 ///   None: 0.05° and 0.1 mm.
 /// - gain_error: the calibration's accuracy [%]: a relative error of each channel of ã that
 ///   every sample shares, estimated with the wire (`--gain-error`); None: 0.
+/// - model_floor: the wire model's own error against the wire [% of each parameter], added to
+///   every parameter's variance: no number of samples lowers it (`--model-floor`); None: 0.
 ///
 /// Releases the GIL. Raises ValueError naming the argument for bad input (shapes, values,
 /// too few samples or too little motion); RuntimeError when the search has no answer.
 #[pyfunction]
-#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0, sensor = None, times = None, tare_time = None, rest_samples = 400, tare_samples = 500, pose_noise_deg = None, pose_noise_mm = None, gain_error = None))]
+#[pyo3(signature = (a, b, wire_guess = None, form = "absolute", isotropic = false, torsion_ratio = None, gravity = None, seed = 0, sensor = None, times = None, tare_time = None, rest_samples = 400, tare_samples = 500, pose_noise_deg = None, pose_noise_mm = None, gain_error = None, model_floor = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -120,6 +122,7 @@ pub fn identify(
     pose_noise_deg: Option<f64>,
     pose_noise_mm: Option<f64>,
     gain_error: Option<f64>,
+    model_floor: Option<f64>,
 ) -> PyResult<Identification> {
     let rows = input::rows(
         a,
@@ -178,6 +181,7 @@ pub fn identify(
                 ]
             }),
             gain_error: gain_error.map(|pct| 1e-2 * pct),
+            model_floor: model_floor.map(|pct| 1e-2 * pct),
         },
         gravity,
         seed,

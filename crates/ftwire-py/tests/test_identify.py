@@ -137,6 +137,22 @@ def test_pose_noise_and_gain_error_are_the_cli_to_the_last_digit(samples):
         ftwire.identify(a, b, pose_noise_mm=0.0)
 
 
+def test_the_model_floor_is_the_cli_to_the_last_digit(samples):
+    path, a, b = samples
+    out = cli_json("identify", "--log", str(path), "--json", "--seed", "3",
+                   "--model-floor", "0.2")
+    found = ftwire.identify(a, b, seed=3, model_floor=0.2)
+    assert found.c == tuple(out["c"]) and found.length == out["length"]
+    assert found.covariance.tolist() == out["covariance"]
+    # The floor widens every interval and moves no estimate.
+    plain = ftwire.identify(a, b, seed=3)
+    assert found.c == plain.c and found.length == plain.length
+    assert all(f > p for f, p in zip(found.c_std, plain.c_std))
+    assert found.length_std > plain.length_std
+    with pytest.raises(ValueError, match="model-floor"):
+        ftwire.identify(a, b, model_floor=-1.0)
+
+
 def test_a_sensor_without_times_or_a_bad_sensor_is_a_value_error(samples):
     _, a, b = samples
     with pytest.raises(ValueError, match="times"):

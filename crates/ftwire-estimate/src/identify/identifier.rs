@@ -598,14 +598,24 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
             None => (&best.jacobian, best.cost / dof),
         };
         let jtj = jacobian.transpose() * jacobian;
-        let inverse = jtj.try_inverse().filter(|_| condition > 0.0);
-        let std: Vec<f64> = match &inverse {
-            Some(inv) => (0..p).map(|i| (s2 * inv[(i, i)]).max(0.0).sqrt()).collect(),
+        // The fit's covariance in θ, with the model's own error: a relative variance ε² of
+        // every search parameter (the stiffnesses and λ are searched as logarithms, L as
+        // itself), which no number of samples lowers.
+        let floor = self.config.model_error.powi(2);
+        let theta_covariance = jtj.try_inverse().filter(|_| condition > 0.0).map(|inv| {
+            let mut cov = inv * s2;
+            for i in 0..p {
+                cov[(i, i)] += floor * if i == l { length * length } else { 1.0 };
+            }
+            cov
+        });
+        let std: Vec<f64> = match &theta_covariance {
+            Some(cov) => (0..p).map(|i| cov[(i, i)].max(0.0).sqrt()).collect(),
             None => vec![f64::INFINITY; p],
         };
-        let covariance = inverse.and_then(|inv| {
+        let covariance = theta_covariance.and_then(|cov| {
             let g = constraints.eta_jacobian(&best.theta);
-            ParameterCovariance::from_matrix(&(&g * (inv * s2) * g.transpose()))
+            ParameterCovariance::from_matrix(&(&g * cov * g.transpose()))
         });
         let index = constraints.stiffness_index();
         let c_std = [0, 1, 2].map(|i| c[i] * std.get(index[i]).copied().unwrap_or(f64::INFINITY));

@@ -144,6 +144,9 @@ pub struct ResidualParams {
     /// The relative error of each channel of `ã` that every sample shares (a calibration's
     /// gain error), as a fraction ([`MeasurementNoise::gain`]); `None`: the command's default.
     pub gain_error: Option<f64>,
+    /// The wire model's own relative error in each parameter, as a fraction
+    /// ([`IdentifierParams::model_error`]); `None`: the command's default.
+    pub model_floor: Option<f64>,
 }
 
 impl ResidualParams {
@@ -166,7 +169,28 @@ impl ResidualParams {
             .validate()
             .map_err(|e| LabError::bad_input(format!("--torsion-ratio: {e}")))?;
         config.noise = self.with_noise_settings(config.noise)?;
+        self.with_model_floor(&mut config, 0.0)?;
         Ok(config)
+    }
+
+    /// Sets `config`'s model error to [`Self::model_floor`], or to `default` when not given.
+    ///
+    /// # Errors
+    /// Bad input (exit 2) naming a model floor outside `[0, 100)` %.
+    pub fn with_model_floor(
+        &self,
+        config: &mut IdentifierParams,
+        default: f64,
+    ) -> Result<(), LabError> {
+        let floor = self.model_floor.unwrap_or(default);
+        if !(floor.is_finite() && (0.0..1.0).contains(&floor)) {
+            return Err(LabError::bad_input(format!(
+                "--model-floor {}: give a percentage from 0 to below 100",
+                1e2 * floor
+            )));
+        }
+        config.model_error = floor;
+        Ok(())
     }
 
     /// `noise` with [`Self::pose_noise`] and [`Self::gain_error`] in place of its own, where
@@ -382,6 +406,11 @@ impl IdentifyParams {
             config.noise.gain = gain[1];
         }
         config.noise = self.settings.with_noise_settings(config.noise)?;
+        // The wire model against the simulated rod, unless given.
+        self.settings.with_model_floor(
+            &mut config,
+            crate::experiment::rig::SIM_MODEL_PARAMETER_ERROR,
+        )?;
         self.check_pipeline(&setup)?;
         let plan = self.plan(counts.last().copied().unwrap_or(2))?;
         let gravity = self.common.gravity;
@@ -562,7 +591,7 @@ pub fn run(
         pipeline: settings.pipeline,
         calibration,
         trials,
-        noise: summary::NoiseOut::new(&models.first().map(|(_, c)| c.noise).unwrap_or_default()),
+        noise: summary::NoiseOut::new(&models.first().map(|(_, c)| c.clone()).unwrap_or_default()),
         sample_counts: counts.clone(),
         wire: first.wire,
         by_samples: first.by_samples,

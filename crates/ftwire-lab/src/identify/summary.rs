@@ -185,17 +185,22 @@ pub struct NoiseOut {
     pub torque_gain_error_percent: f64,
     /// Whether the tare's offset and the drift since are modelled and estimated.
     pub bias_model: bool,
+    /// The wire model's own relative error in each parameter, added to every interval \[%\]
+    /// ([`ftwire_estimate::identify::IdentifierParams::model_error`]).
+    pub model_floor_percent: f64,
 }
 
 impl NoiseOut {
-    /// The report of `noise`.
-    pub fn new(noise: &ftwire_estimate::identify::MeasurementNoise) -> Self {
+    /// The report of `config`'s noise model and model error.
+    pub fn new(config: &ftwire_estimate::identify::IdentifierParams) -> Self {
+        let noise = &config.noise;
         Self {
             pose_noise_deg: noise.rotation.to_degrees(),
             pose_noise_mm: 1e3 * noise.translation,
             gain_error_percent: 1e2 * noise.gain,
             torque_gain_error_percent: 1e2 * noise.gains()[0],
             bias_model: noise.bias.is_some(),
+            model_floor_percent: 1e2 * config.model_error,
         }
     }
 }

@@ -154,13 +154,16 @@ def identify(a: ArrayLike, b: ArrayLike, wire_guess: Optional[Wire] = None,
              times: Optional[ArrayLike] = None, tare_time: Optional[float] = None,
              rest_samples: int = 400, tare_samples: int = 500,
              pose_noise_deg: Optional[float] = None, pose_noise_mm: Optional[float] = None,
-             gain_error: Optional[float] = None) -> Identification:
+             gain_error: Optional[float] = None,
+             model_floor: Optional[float] = None) -> Identification:
     """(c1, c2, c3, L) from a (N, 6) ã and b (N, 4, 4) | (N, 6) | (N, 7) poses; the GIL is
     released; the same seed gives the same answer. With sensor (a preset or a sensor TOML
     file) and times (N,) [s], the bias all samples share (the tare's offset and its drift since
     tare_time, default the first sample's time) is estimated with the wire. pose_noise_deg,
     pose_noise_mm: the robot's repeatability [°, mm] (default 0.05, 0.1); gain_error: the
-    calibration's accuracy [%], a relative error of ã that every sample shares (default 0)."""
+    calibration's accuracy [%], a relative error of ã that every sample shares (default 0);
+    model_floor: the wire model's own error [% of each parameter], added to every interval
+    (default 0)."""
 
 class Controller:
     """The paper's Jacobian controller (eq. 13–14): δb = s K J(ã)(a_g − ã), b' = b M(δb),

@@ -69,6 +69,13 @@ pub struct IdentifySettingsArgs {
     /// the wire [default: 0; `experiment identify`: its map's, see its --no-bias-model].
     #[arg(long, value_name = "PCT", allow_hyphen_values = true, value_parser = parse_finite)]
     pub gain_error: Option<f64>,
+    /// The wire model's own error against the wire [% of each of c1, c2, c3, L (and the
+    /// density), standard deviation]: what the model leaves out biases the estimate whatever
+    /// the number of samples, so it is added in quadrature to each parameter's standard
+    /// deviation and interval; it moves no estimate [default: 0; `experiment identify`: 0.01,
+    /// the model's error against the simulated rod].
+    #[arg(long, value_name = "PCT", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub model_floor: Option<f64>,
 }
 
 impl IdentifySettingsArgs {
@@ -90,6 +97,7 @@ impl IdentifySettingsArgs {
             torsion_ratio: self.torsion_ratio,
             pose_noise,
             gain_error: self.gain_error.map(|pct| 1e-2 * pct),
+            model_floor: self.model_floor.map(|pct| 1e-2 * pct),
         }
     }
 }

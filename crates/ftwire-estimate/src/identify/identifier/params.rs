@@ -51,6 +51,12 @@ pub struct IdentifierParams {
     /// (default `1e-4`: a parameter combination `1e4` times less visible than the best
     /// one is determined `1e4` times less precisely, tens of per cent at this noise).
     pub min_condition: f64,
+    /// The wire model's own relative error in each identified parameter against the wire, a
+    /// fraction (default `0`): what the model leaves out (a simulator's discretisation, a real
+    /// wire's imperfections) biases the estimate by about this much whatever the number of
+    /// samples, so `ε²` is added to each parameter's relative variance (`c`, `L` and `λ`;
+    /// parameters tied to another share its error).
+    pub model_error: f64,
 }
 
 impl Default for IdentifierParams {
@@ -71,6 +77,7 @@ impl Default for IdentifierParams {
             min_motion: 10.0,
             max_chi2_per_dof: 25.0,
             min_condition: 1e-4,
+            model_error: 0.0,
         }
     }
 }
@@ -118,6 +125,13 @@ impl IdentifierParams {
             if !(value.is_finite() && value >= 0.0) {
                 return bad(field, value, "finite and >= 0");
             }
+        }
+        if !(self.model_error.is_finite() && (0.0..1.0).contains(&self.model_error)) {
+            return bad(
+                "model_error",
+                self.model_error,
+                "finite, from 0 to below 1 (a fraction of each parameter)",
+            );
         }
         Ok(())
     }
