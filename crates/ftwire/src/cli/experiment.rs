@@ -146,10 +146,10 @@ pub struct IdentifyExperimentArgs {
     pub calibration: CalibrationArgs,
     /// Treat the errors of the samples' ã as independent, without what they share: by default
     /// the fit models the tare's offset and the bias drift since the tare (the sensor's
-    /// data-sheet intensity) and the map's gain error (--gain-error; by default 0.05 % in torque
-    /// and 0.1 % in force through the learnt calibration, its accuracy against the sensor's exact inverse, or the
-    /// sensor's own gain and cross-talk through the mounting alone), and estimates them with
-    /// the wire. For comparison.
+    /// data-sheet intensity) and the map's gain error (--gain-error; by default 0.05 % in
+    /// torque and 0.1 % in force through the learnt calibration, its accuracy against the
+    /// sensor's exact inverse, or the sensor's own gain and cross-talk through the mounting
+    /// alone), and estimates them with the wire. For comparison.
     #[arg(long)]
     pub no_bias_model: bool,
     /// Sample each trial until the wire is known to PCT %: identify from its first 2, 3, …
