@@ -48,7 +48,10 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
     };
     let rest = std::env::var("FTWIRE_UNSEEN_REST").ok();
     let until = std::env::var("FTWIRE_UNSEEN_UNTIL").ok();
-    let counts = format!("3,{}", env_or("FTWIRE_UNSEEN_LIMIT", 10));
+    let samples = match until {
+        Some(_) => format!("3,{}", env_or("FTWIRE_UNSEEN_LIMIT", 10)),
+        None => "3".to_owned(),
+    };
     let extra = std::env::var("FTWIRE_UNSEEN_ARGS").unwrap_or_default();
     let dir = std::env::temp_dir().join(format!("ftwire-unseen-{}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
@@ -97,11 +100,7 @@ fn unseen_wires_identify_within_half_a_percent_from_three_samples() {
             "--gravity",
             gravity,
             "--samples",
-            if until.is_some() {
-                counts.as_str()
-            } else {
-                "3"
-            },
+            samples.as_str(),
             "--seed",
             &seed_text,
             "--wire",
