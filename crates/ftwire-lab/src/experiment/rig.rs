@@ -242,10 +242,9 @@ pub const SIM_POSE_NOISE: [f64; 2] = [0.005 * std::f64::consts::PI / 180.0, 1e-5
 pub const SIM_MODEL_GAIN_ERROR: f64 = 1e-4;
 
 /// The relative error the wire model itself leaves in each identified parameter against the
-/// simulated rod (its discretisation), which no number of samples removes: with a sensor a
-/// hundred times quieter than the default and a perfect map, the stiff unseen wire's `c` and
-/// `L` come out 0.006–0.013 % off on average at 3 and at 10 samples, gravity off and on
-/// (`docs/identify-soft-wires.md`).
+/// simulated rod (its discretisation), which no number of samples removes: the error of `c`
+/// and `L` identified through a perfect map from a nearly noiseless sensor
+/// (`docs/identify-soft-wires.md#error-bars`).
 pub const SIM_MODEL_PARAMETER_ERROR: f64 = 1e-4;
 
 /// The model's shape error against the simulated rod at the tip \[mm\], as `σ_model(s) = e·s`
@@ -254,9 +253,8 @@ pub const SIM_MODEL_PARAMETER_ERROR: f64 = 1e-4;
 pub const SIM_MODEL_ERROR_MM: f64 = 0.5;
 
 /// The learnt calibration's relative error per channel against the sensor's exact inverse,
-/// `[torque, force]`: the mean over the calibrations of seeds 0, 2, 7 and 11, gravity off and
-/// on, each on four wires of 5 mN to 1 N force scale (`docs/calibration.md`: 0.03–0.09 % in
-/// torque, 0.07–0.17 % in force, and the same on every wire of one calibration).
+/// `[torque, force]`: the mean over calibrations of several seeds, gravity off and on, each
+/// measured on wires across the force scales (`docs/calibration.md#across-seeds`).
 pub const LEARNT_GAIN_ERROR: [f64; 2] = [5e-4, 1e-3];
 
 /// The pose noise `[rotation, translation]` \[rad, m\] and the shared relative gain error of

@@ -591,7 +591,10 @@ pub fn run(
         pipeline: settings.pipeline,
         calibration,
         trials,
-        noise: summary::NoiseOut::new(&models.first().map(|(_, c)| c.clone()).unwrap_or_default()),
+        noise: models.first().map_or_else(
+            || summary::NoiseOut::new(&IdentifierParams::default()),
+            |(_, c)| summary::NoiseOut::new(c),
+        ),
         sample_counts: counts.clone(),
         wire: first.wire,
         by_samples: first.by_samples,
