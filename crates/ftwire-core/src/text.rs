@@ -8,6 +8,7 @@
 //! leading UTF-8 byte-order mark (which some Windows editors write) and report invalid UTF-8
 //! by its line and column.
 
+use std::io::Read;
 use std::path::Path;
 
 use crate::CoreError;
@@ -109,10 +110,72 @@ pub fn decode(bytes: &[u8]) -> Result<&str, CoreError> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_text(path: &Path) -> Result<String, CoreError> {
-    let bytes = std::fs::read(path).map_err(|e| CoreError::Unreadable {
+    let mut bytes = Vec::new();
+    open_regular(path)?
+        .take(MAX_TEXT_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| CoreError::Unreadable {
+            message: e.to_string(),
+        })?;
+    if bytes.len() as u64 > MAX_TEXT_BYTES {
+        return Err(CoreError::Unreadable {
+            message: format!(
+                "it is larger than {} MiB, too large for a settings file",
+                MAX_TEXT_BYTES >> 20
+            ),
+        });
+    }
+    decode(&bytes).map(str::to_owned)
+}
+
+/// `text` with its control characters (ESC, NUL, BEL, tabs, …; newlines kept) written as
+/// `\u{1b}` escapes: safe to print where a terminal would act on them.
+///
+/// # Example
+/// ```
+/// assert_eq!(ftwire_core::text::printable("a\u{1b}]0;x\u{7}b"), "a\\u{1b}]0;x\\u{7}b");
+/// assert_eq!(ftwire_core::text::printable("plain — text"), "plain — text");
+/// ```
+pub fn printable(text: &str) -> String {
+    if !text.chars().any(char::is_control) {
+        return text.to_owned();
+    }
+    text.chars()
+        .map(|c| {
+            if c.is_control() && c != '\n' {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// Largest text file [`read_text`] reads \[bytes\]: settings and calibration files are kB.
+pub const MAX_TEXT_BYTES: u64 = 256 << 20;
+
+/// Opens `path` for reading if it is a regular file (or a link to one). A FIFO, a device or a
+/// folder is refused before it is opened: reading one could block for ever or never end.
+///
+/// # Errors
+/// [`CoreError::Unreadable`] saying what the path is, or with the system's message.
+pub fn open_regular(path: &Path) -> Result<std::fs::File, CoreError> {
+    let meta = std::fs::metadata(path).map_err(|e| CoreError::Unreadable {
         message: e.to_string(),
     })?;
-    decode(&bytes).map(str::to_owned)
+    if !meta.is_file() {
+        let what = if meta.is_dir() {
+            "a folder"
+        } else {
+            "not a regular file (a FIFO, a socket or a device)"
+        };
+        return Err(CoreError::Unreadable {
+            message: format!("it is {what}; give a regular file"),
+        });
+    }
+    std::fs::File::open(path).map_err(|e| CoreError::Unreadable {
+        message: e.to_string(),
+    })
 }
 
 #[cfg(test)]
@@ -148,5 +211,23 @@ mod tests {
         assert_eq!(strip_bom(b"\xEF\xBB\xBF\xEF\xBB\xBFa"), b"\xEF\xBB\xBFa");
         assert_eq!(strip_bom(b"a\xEF\xBB\xBF"), b"a\xEF\xBB\xBF");
         assert_eq!(strip_bom(b"\xEF\xBB"), b"\xEF\xBB");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_a_device_and_a_folder_are_refused_without_blocking() {
+        let dir = std::env::temp_dir().join(format!("ftwire-core-fifo-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a folder");
+        let fifo = dir.join("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let error = read_text(&fifo).expect_err("a FIFO");
+            assert!(error.to_string().contains("not a regular file"), "{error}");
+        }
+        let error = read_text(Path::new("/dev/zero")).expect_err("a device");
+        assert!(error.to_string().contains("not a regular file"), "{error}");
+        let error = read_text(&dir).expect_err("a folder");
+        assert!(error.to_string().contains("a folder"), "{error}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
