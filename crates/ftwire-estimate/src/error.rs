@@ -239,6 +239,16 @@ pub enum EstimateError {
         /// Samples that split needs.
         needed: usize,
     },
+    /// A raw reading without gravity, under a mounting whose tool weighs on the sensor.
+    #[error(
+        "gravity is needed: the mounting's tool (tool_mass = {tool_mass} kg) weighs on the \
+         sensor, and its weight is taken out of each raw reading with gravity [m/s², sensor \
+         frame]"
+    )]
+    NoGravity {
+        /// The tool's mass \[kg\].
+        tool_mass: f64,
+    },
     /// A calibration training setting is out of its allowed range.
     #[error("calibration setting {field} = {value} is out of range; allowed: {allowed}")]
     InvalidSetting {

@@ -16,20 +16,46 @@
 //! | `markers` | motion-capture markers in the base clamp frame, m, in the order of the marker arc lengths; `null` for a missing marker | no |
 //! | `gravity` | the gravity vector in the sensor frame at this record, m/s² (it turns with the wrist); needed with `raw` when the mounting has a tool whose weight is taken out | no |
 //!
-//! Unknown keys are errors (a typo never passes silently). Blank lines and lines starting with
+//! Values must be plausible: `time` at most 1e10 s in size, forces at most 1e4 N, torques 1e3
+//! N·m, gravity 100 m/s², positions (of `b` and the markers) 1e3 m, and a line at most 16 MiB
+//! ([`MAX_FORCE`] and the constants beside it). Unknown keys are errors (a typo never passes
+//! silently). Blank lines and lines starting with
 //! `#` are skipped. A rotation vector's angle is at most `ftwire_core::MAX_ROTATION_ANGLE`. The
 //! log is UTF-8 text; a leading byte-order mark is dropped. Every error names the line and the
 //! offending value (or, for a byte that is not UTF-8, its column). [`read_log`] gives the
 //! records; [`read_log_lines`] gives each with its line number in the file ([`LogLine`]), for
 //! later messages about a record.
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 
 use ftwire_core::{CoreError, Pose, ensure_rotation_vector, text};
 use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
 use crate::EstimateError;
+
+/// Largest force a log may hold \[N\]: far above any wrist sensor's range (a small 6-axis
+/// sensor reads tens to hundreds of newtons).
+pub const MAX_FORCE: f64 = 1e4;
+
+/// Largest torque a log may hold \[N·m\].
+pub const MAX_TORQUE: f64 = 1e3;
+
+/// Largest gravity a log may hold \[m/s²\]: ten times the Earth's.
+pub const MAX_GRAVITY: f64 = 100.0;
+
+/// Largest position (a pose's, a marker's) a log may hold \[m\].
+pub const MAX_POSITION: f64 = 1e3;
+
+/// Largest time a log may hold \[s\]: Unix time is 1.7e9 s.
+pub const MAX_TIME: f64 = 1e10;
+
+/// Longest line a log may hold \[bytes\]: a record with a few hundred markers is tens of kB.
+pub const MAX_LINE_BYTES: usize = 16 << 20;
+
+/// The units of the plausible ranges, for messages.
+const PLAUSIBLE: &str = "forces in N up to 1e4, torques in N·m up to 1e3, gravity in m/s² up to \
+                         100, positions in m up to 1e3";
 
 /// The second gripper's pose as it is written in a log.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -110,8 +136,12 @@ impl LogRecord {
             line,
             message: format!("{key} = {value} is not allowed: {allowed}"),
         };
-        if !self.time.is_finite() {
-            return Err(bad("time".into(), self.time, "a finite number of seconds"));
+        if !(self.time.is_finite() && self.time.abs() <= MAX_TIME) {
+            return Err(bad(
+                "time".into(),
+                self.time,
+                "a finite number of seconds, at most 1e10 in size (Unix time is 1.7e9)",
+            ));
         }
         if let Some(previous) = previous_time
             && self.time < previous
@@ -149,6 +179,53 @@ impl LogRecord {
                 && let Some(i) = values.iter().position(|v| !v.is_finite())
             {
                 return Err(bad(format!("{key}[{i}]"), values[i], "a finite number"));
+            }
+        }
+        // Plausible sizes, so that one absurd value cannot stall or spoil the work after.
+        let force_first = [
+            MAX_FORCE, MAX_FORCE, MAX_FORCE, MAX_TORQUE, MAX_TORQUE, MAX_TORQUE,
+        ];
+        let torque_first = [
+            MAX_TORQUE, MAX_TORQUE, MAX_TORQUE, MAX_FORCE, MAX_FORCE, MAX_FORCE,
+        ];
+        let ranges: [(&str, Option<&[f64]>, &[f64]); 4] = [
+            ("raw", self.raw.as_ref().map(|v| v.as_slice()), &force_first),
+            ("a", self.a.as_ref().map(|v| v.as_slice()), &torque_first),
+            (
+                "gravity",
+                self.gravity.as_ref().map(|v| v.as_slice()),
+                &[MAX_GRAVITY; 3],
+            ),
+            (
+                "b.position",
+                self.b.as_ref().map(|b| b.position.as_slice()),
+                &[MAX_POSITION; 3],
+            ),
+        ];
+        for (key, values, limits) in ranges {
+            if let Some(values) = values
+                && let Some(i) = (0..values.len()).find(|&i| values[i].abs() > limits[i])
+            {
+                return Err(EstimateError::BadLogLine {
+                    line,
+                    message: format!(
+                        "{key}[{i}] = {} is not allowed: at most {} in size ({})",
+                        values[i], limits[i], PLAUSIBLE
+                    ),
+                });
+            }
+        }
+        for (k, marker) in self.markers.iter().flatten().enumerate() {
+            if let Some(p) = marker
+                && let Some(i) = p.iter().position(|v| v.abs() > MAX_POSITION)
+            {
+                return Err(EstimateError::BadLogLine {
+                    line,
+                    message: format!(
+                        "markers[{k}][{i}] = {} is not allowed: at most {MAX_POSITION} m in size",
+                        p[i]
+                    ),
+                });
             }
         }
         if let Some(b) = &self.b {
@@ -220,7 +297,8 @@ pub fn read_log_lines(mut reader: impl BufRead) -> Result<Vec<LogLine>, Estimate
     let mut bytes = Vec::new();
     for line_number in 1.. {
         bytes.clear();
-        let read = reader
+        let read = (&mut reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
             .read_until(b'\n', &mut bytes)
             .map_err(|e| EstimateError::Io {
                 what: format!("line {line_number} of the log"),
@@ -228,6 +306,15 @@ pub fn read_log_lines(mut reader: impl BufRead) -> Result<Vec<LogLine>, Estimate
             })?;
         if read == 0 {
             break;
+        }
+        if bytes.len() > MAX_LINE_BYTES {
+            return Err(EstimateError::BadLogLine {
+                line: line_number,
+                message: format!(
+                    "the line is longer than {} MiB: a log is text, one record per line",
+                    MAX_LINE_BYTES >> 20
+                ),
+            });
         }
         let line = if line_number == 1 {
             text::strip_bom(&bytes)
@@ -441,5 +528,42 @@ mod tests {
             read_log("# only a comment\n\n".as_bytes()),
             Err(EstimateError::EmptyLog)
         ));
+    }
+
+    /// Every value has a plausible size, checked per line before any work: a huge reading, a
+    /// time beyond 1e10 s or a line beyond 16 MiB is refused naming the line and the key;
+    /// Unix time is fine.
+    #[test]
+    fn implausible_values_and_endless_lines_are_refused_naming_the_line() {
+        let record = |raw: &str, time: &str| format!(r#"{{"time": {time}, "raw": [{raw}]}}"#);
+        let ok = record("1, 2, 3, 0.1, 0.2, 0.3", "1.7e9");
+        assert!(read_log(format!("{ok}\n").as_bytes()).is_ok());
+        for (text, key) in [
+            (record("1e308, 2, 3, 0.1, 0.2, 0.3", "0"), "raw[0]"),
+            (record("1, 2, 3, 0.1, 2e3, 0.3", "0"), "raw[4]"),
+            (record("1, 2, 3, 0.1, 0.2, 0.3", "1e11"), "time"),
+            (
+                r#"{"time": 0, "a": [0, 0, 0, 1e5, 0, 0]}"#.to_owned(),
+                "a[3]",
+            ),
+            (
+                r#"{"time": 0, "raw": [1, 2, 3, 0, 0, 0], "gravity": [0, 0, 1e200]}"#.to_owned(),
+                "gravity[2]",
+            ),
+            (
+                r#"{"time": 0, "a": [0, 0, 0.01, 0, 0, 0], "markers": [[0, 0, 1e9]]}"#.to_owned(),
+                "markers[0][2]",
+            ),
+        ] {
+            let error = read_log(format!("{ok}\n{text}\n").as_bytes()).expect_err(key);
+            let message = error.to_string();
+            assert!(
+                message.contains("line 2") && message.contains(key),
+                "{message}"
+            );
+        }
+        let endless = vec![b'x'; MAX_LINE_BYTES + 10];
+        let error = read_log(&endless[..]).expect_err("an endless line");
+        assert!(error.to_string().contains("16 MiB"), "{error}");
     }
 }

@@ -198,6 +198,7 @@ fn a_drift_term_round_trips_and_moves_the_map_with_time() {
     let drift = Drift {
         reference_time: 100.0,
         rate: Vector6::new(1e-4, 0.0, -2e-4, 0.0, 3e-3, 0.0),
+        span: Some([0.0, 120.0]),
     };
     let calibration = trained(true).with_drift(drift).expect("finite");
     let json = calibration.to_json().expect("serialises");
@@ -207,6 +208,26 @@ fn a_drift_term_round_trips_and_moves_the_map_with_time() {
     assert_eq!(loaded.apply_at(&raw, 100.0), loaded.apply(&raw));
     let later = loaded.apply_at(&raw, 110.0) - loaded.apply(&raw);
     assert!((later - drift.rate * 10.0).norm() < 1e-15);
+    // Never extrapolated beyond its session: held at the span's ends, so that a clock an hour
+    // or fifty years later (Unix time) gives the same `a`, near the session's.
+    let end = loaded.apply_at(&raw, 120.0);
+    for time in [120.0 + 3600.0, 1.7e9] {
+        assert_eq!(loaded.apply_at(&raw, time), end, "{time}");
+    }
+    assert_eq!(loaded.apply_at(&raw, -1e9), loaded.apply_at(&raw, 0.0));
+    // A file without the span (an older one) leaves the drift out.
+    let unspanned = trained(true)
+        .with_drift(Drift {
+            span: None,
+            ..drift
+        })
+        .expect("finite");
+    assert_eq!(unspanned.apply_at(&raw, 110.0), unspanned.apply(&raw));
+    let backwards = Drift {
+        span: Some([10.0, 0.0]),
+        ..drift
+    };
+    assert!(trained(true).with_drift(backwards).is_err());
     // A map without a drift term ignores the time, and its file has no `drift` key.
     let plain = trained(true);
     assert_eq!(plain.apply_at(&raw, 1e4), plain.apply(&raw));
@@ -223,4 +244,79 @@ fn a_drift_term_round_trips_and_moves_the_map_with_time() {
             })
             .is_err()
     );
+}
+
+/// `model` and `input` round-trip; a file without them (an older one) is weightless and raw;
+/// a loaded model without a gravity, or a weightless one with one, is refused naming the key.
+#[test]
+fn the_label_model_and_the_input_round_trip_and_default_to_weightless_raw() {
+    use ftwire_estimate::calibration::{CalibrationInput, LabelModel};
+    let plain = trained(true);
+    assert_eq!(*plain.model(), LabelModel::WEIGHTLESS);
+    assert_eq!(plain.input(), CalibrationInput::Raw);
+    let loaded_model = LabelModel::loaded([0.0, -9.81, 0.0]).expect("valid");
+    let calibration = trained(true)
+        .with_provenance(loaded_model, CalibrationInput::Tared)
+        .expect("valid");
+    let json = calibration.to_json().expect("serialises");
+    let value: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    assert_eq!(
+        value["model"],
+        serde_json::json!({"kind": "loaded", "gravity_in_clamp": [0.0, -9.81, 0.0]})
+    );
+    assert_eq!(value["input"], "tared");
+    let back = Calibration::from_json(&json).expect("loads");
+    assert_eq!(back, calibration);
+    let old = load_edited(|v| {
+        let o = v.as_object_mut().expect("an object");
+        o.remove("model");
+        o.remove("input");
+    })
+    .expect("an older file loads");
+    assert_eq!(*old.model(), LabelModel::WEIGHTLESS);
+    assert_eq!(old.input(), CalibrationInput::Raw);
+    for model in [
+        serde_json::json!({"kind": "loaded", "gravity_in_clamp": null}),
+        serde_json::json!({"kind": "weightless", "gravity_in_clamp": [0, 0, -9.81]}),
+        serde_json::json!({"kind": "loaded", "gravity_in_clamp": [0, 0, 1e300]}),
+    ] {
+        let error = load_edited(|v| v["model"] = model.clone()).expect_err("refused");
+        assert!(
+            error.to_string().contains("model.gravity_in_clamp"),
+            "{model}: {error}"
+        );
+    }
+    assert!(load_edited(|v| v["input"] = "cooked".into()).is_err());
+}
+
+/// A file whose numbers load but whose every answer would overflow (an affine weight, a
+/// layer weight or a drift rate of 1e308, a std of 1e-300) is refused at load naming the key.
+#[test]
+fn damaged_numbers_are_refused_at_load_naming_the_key() {
+    let cases: [(&str, Box<dyn Fn(&mut serde_json::Value)>); 4] = [
+        (
+            "affine.matrix[0]",
+            Box::new(|v| v["affine"]["matrix"][0][0] = 1e308.into()),
+        ),
+        (
+            "layers[0].weights[0]",
+            Box::new(|v| v["layers"][0]["weights"][0][0] = 1e300.into()),
+        ),
+        (
+            "input_normaliser.std",
+            Box::new(|v| v["input_normaliser"]["std"][2] = 1e-300.into()),
+        ),
+        (
+            "drift.rate",
+            Box::new(|v| {
+                v["drift"] = serde_json::json!({
+                    "reference_time": 0.0, "rate": [0, 0, 1e308, 0, 0, 0], "span": [0.0, 1.0]
+                })
+            }),
+        ),
+    ];
+    for (key, edit) in cases {
+        let error = load_edited(|v| edit(v)).expect_err(key);
+        assert!(error.to_string().contains(key), "{key}: {error}");
+    }
 }

@@ -69,14 +69,9 @@ fn bench(c: &mut Criterion) {
         return;
     };
     let params = ShapeLogParams {
-        log,
-        wire: WIRE.to_owned(),
-        calibration: None,
         mounting: Some(MountingSpec::default()),
-        a_std: None,
-        model_error: None,
-        sensor: None,
-        gain_error: None,
+        points: DEFAULT_POINTS,
+        ..ShapeLogParams::new(log, WIRE)
     };
     let out = dir.join("shapes.jsonl");
     let mut group = c.benchmark_group("shape --log --out");
@@ -87,7 +82,7 @@ fn bench(c: &mut Criterion) {
             let run = ShapeLog::load(&params).and_then(|shapes| {
                 let file = std::fs::File::create(&out)
                     .map_err(|e| ftwire_lab::LabError::io("shapes.jsonl", e))?;
-                shapes.write_shapes(DEFAULT_POINTS, &mut BufWriter::new(file), &mut |_| {})
+                shapes.write_shapes(&mut BufWriter::new(file), &mut |_| {})
             });
             black_box(run)
         });

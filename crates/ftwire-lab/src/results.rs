@@ -237,6 +237,9 @@ pub struct ResultsFolder {
     target: PathBuf,
     staging: PathBuf,
     finished: bool,
+    /// The rule `target` was checked by at the start, checked again at the rename: a folder
+    /// made there during the run is replaced only where the rule allows it.
+    guard: OutGuard,
 }
 
 /// `summary.json`: the run header, then the command's summary.
@@ -338,6 +341,7 @@ impl ResultsFolder {
             target: target.to_path_buf(),
             staging,
             finished: false,
+            guard: guard.clone(),
         };
         fs::write(
             folder.staging.join(MARK),
@@ -474,6 +478,26 @@ impl ResultsFolder {
             .map_err(|e| LabError::io(context(&format!("writing {MARK} of")), e))?;
         // An interrupt waits for the moves below: `--out` ends with the old results or the new.
         let mut live = live();
+        if let Err(refused) = self.recheck() {
+            // The new results are kept beside the folder, never over it.
+            let kept = self.staging.with_file_name(format!(
+                "{}.new-{}",
+                self.target
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                unique_suffix()
+            ));
+            if fs::rename(&self.staging, &kept).is_ok() {
+                self.finished = true;
+                live.retain(|dir| dir != &self.staging);
+                return Err(LabError::bad_input(format!(
+                    "{refused} (it appeared during the run); the new results are in {}",
+                    kept.display()
+                )));
+            }
+            return Err(refused);
+        }
         let old = if fs::symlink_metadata(&self.target).is_ok() {
             let name = self
                 .target
@@ -504,6 +528,23 @@ impl ResultsFolder {
                 .map_err(|e| LabError::io(format!("removing {}", aside.display()), e))?;
         }
         Ok(self.target.clone())
+    }
+}
+
+impl ResultsFolder {
+    /// The start's check of the target, again: a symbolic link, a file, or a folder the guard
+    /// refuses is left alone.
+    fn recheck(&self) -> Result<(), LabError> {
+        match fs::symlink_metadata(&self.target) {
+            Err(_) => Ok(()),
+            Ok(meta) if meta.file_type().is_symlink() || !meta.is_dir() => {
+                Err(LabError::bad_input(format!(
+                    "--out {} is now a file or a symbolic link",
+                    self.target.display()
+                )))
+            }
+            Ok(_) => self.guard.check(&self.target),
+        }
     }
 }
 
@@ -562,6 +603,37 @@ mod tests {
             .collect();
         names.sort();
         names
+    }
+
+    /// A folder a user makes at `--out` during the run is checked at the rename by the same
+    /// rule as at the start: never replaced, the new results kept beside it.
+    #[test]
+    fn a_folder_made_at_out_during_the_run_is_left_alone() {
+        let tmp = TempDir::new("late");
+        let target = tmp.0.join("late");
+        let header = RunHeader::new("test", Some(3), &serde_json::json!({"k": 1})).expect("header");
+        let folder = ResultsFolder::create(&target, &OutGuard::default()).expect("creates");
+        folder.write("samples.csv", "a,b\n1,2\n").expect("writes");
+        fs::create_dir(&target).expect("the user's folder");
+        fs::write(target.join("important.txt"), "mine\n").expect("the user's file");
+        let error = folder
+            .finish(&header, &serde_json::json!({"n": 1}))
+            .expect_err("refused");
+        assert_eq!(error.kind(), "bad_input");
+        assert!(
+            error.to_string().contains("appeared during the run"),
+            "{error}"
+        );
+        assert_eq!(
+            fs::read_to_string(target.join("important.txt")).expect("still there"),
+            "mine\n"
+        );
+        let kept: Vec<String> = entries(&tmp.0)
+            .into_iter()
+            .filter(|n| n.starts_with("late.new-"))
+            .collect();
+        assert_eq!(kept.len(), 1, "{:?}", entries(&tmp.0));
+        assert!(tmp.0.join(&kept[0]).join("samples.csv").is_file());
     }
 
     #[test]

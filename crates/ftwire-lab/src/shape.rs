@@ -10,7 +10,8 @@
 //! with the true wire's parameters (the wire is known, as in the paper's Table II) and the
 //! estimators' model: `kirchhoff`, the paper's, or `loaded` (default with gravity on: the
 //! wire's weight and rest curvature). Metrics: `mean_mm` (100 matched arc lengths),
-//! `marker_mean_mm` (each observed marker to the closest point of the estimate), the same
+//! `marker_mean_mm` (the paper's metric: each observed inner marker to the closest point of the
+//! estimate, [`ftwire_rig::shape::inner_marker_mean`]), the same
 //! mean for the tared mounting-only pipeline (`mounting_mean_mm`), both models' `mean_mm` from
 //! the same `ã` (`kirchhoff_mean_mm`, `loaded_mean_mm`), the relative error of `ã`'s torque
 //! and force against the true base wrench (`torque_rel`, `force_rel`: how well the
@@ -44,7 +45,7 @@ use ftwire_estimate::calibration::Calibration;
 use ftwire_estimate::identify::MeasurementNoise;
 use ftwire_estimate::log::{LogPose, LogRecord, to_line};
 use ftwire_estimate::shape::{
-    DEFAULT_METRIC_SAMPLES, ModelError, ShapeEstimator, centreline_distance, marker_distances,
+    DEFAULT_METRIC_SAMPLES, ModelError, ShapeEstimator, centreline_distance,
 };
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{Chart3d, LineChart, Series, SeriesKind};
@@ -168,7 +169,7 @@ pub struct WireResult {
     pub mean_mm: f64,
     /// Sample standard deviation of `mean_mm` over the configurations \[mm\].
     pub std_mm: f64,
-    /// Mean distance \[mm\] of each observed marker to the closest point of the estimate.
+    /// Mean distance \[mm\] of each observed inner marker to the closest point of the estimate.
     pub marker_mean_mm: f64,
     /// The tared mounting-only pipeline's `mean_mm` \[mm\], for comparison.
     pub mounting_mean_mm: f64,
@@ -353,9 +354,14 @@ fn run_config(
         &truth,
     )
     .map_err(|e| from_estimate(e, "the error bars"))?;
-    let seen: Vec<Point3<f64>> = frame.positions.iter().flatten().copied().collect();
-    let marker_mean =
-        mean(&marker_distances(&seen, &positions).map_err(|e| from_estimate(e, "marker errors"))?);
+    let markers: Vec<Option<[f64; 3]>> = frame
+        .positions
+        .iter()
+        .map(|p| p.map(|p| [p.x, p.y, p.z]))
+        .collect();
+    let marker_mean = ftwire_rig::shape::inner_marker_mean(estimator.model(), &a_tilde, &markers)
+        .map_err(|e| LabError::bad_input(format!("marker errors: {e}")))?
+        .unwrap_or(f64::NAN);
     let record = LogRecord {
         time: rig.time(),
         raw: Some(raw.into()),

@@ -5,7 +5,8 @@
 use ftwire_lab::experiment::{CommonParams, Gravity};
 use ftwire_lab::identify::ResidualParams;
 use ftwire_lab::log::identify::{self, IdentifyLogParams};
-use ftwire_lab::log::shape::{LogShapes, RecordShape, ShapeLogParams};
+use ftwire_lab::log::shape::{DEFAULT_POINTS, LogShapes, ShapeLogParams};
+use ftwire_rig::ShapeRecord;
 
 mod common;
 
@@ -97,41 +98,31 @@ fn a_saved_shape_log_gives_a_shape_for_every_record() {
     let log = folder.dir().join("logs").join("nitinol-2mm-630.jsonl");
 
     // The log holds raw readings: without the calibration they are refused.
-    let mut params = ShapeLogParams {
-        log,
-        wire: "nitinol-2mm-630".to_owned(),
-        calibration: None,
-        mounting: None,
-        a_std: None,
-        model_error: None,
-        sensor: None,
-        gain_error: None,
-    };
+    let mut params = ShapeLogParams::new(log, "nitinol-2mm-630");
     let error = LogShapes::new(&params)
         .err()
         .expect("raw needs a calibration");
     assert_eq!(error.kind(), "bad_input");
     params.calibration = Some(weights);
-    let shapes: Vec<RecordShape> = LogShapes::new(&params)
+    let shapes: Vec<ShapeRecord> = LogShapes::new(&params)
         .and_then(Iterator::collect)
         .expect("every record shaped");
     assert_eq!(shapes.len(), run.summary.wires[0].configs);
     for (i, shape) in shapes.iter().enumerate() {
-        assert_eq!(shape.record, i);
+        assert!(
+            i == 0 || shape.line > shapes[i - 1].line,
+            "in the log's order"
+        );
         assert!(shape.error.is_none(), "{:?}", shape.error);
-        assert_eq!(shape.points.as_ref().map(Vec::len), Some(64));
-        assert!(shape.confidence.is_some());
+        assert_eq!(shape.points.len(), DEFAULT_POINTS);
         // The markers see the true wire; the estimate is within centimetres of it.
         let mm = shape.marker_mean_mm.expect("the log has markers");
         assert!(mm.is_finite() && mm < 50.0, "{mm}");
         // The calibration's test error gives the raw records their error bars.
-        let sigma = shape
-            .sigma_mm
-            .as_ref()
-            .expect("the calibration's test error");
-        assert_eq!(sigma.len(), 64);
+        let sigma = shape.sigma.as_ref().expect("the calibration's test error");
+        assert_eq!(sigma.len(), DEFAULT_POINTS);
         assert!(sigma.iter().all(|s| s.is_finite() && *s >= 0.0));
-        assert!(sigma[63] > 0.0);
+        assert!(sigma[DEFAULT_POINTS - 1] > 0.0);
     }
 }
 

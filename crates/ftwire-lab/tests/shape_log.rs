@@ -54,16 +54,7 @@ fn line(record: &LogRecord) -> String {
 }
 
 fn params(log: PathBuf) -> ShapeLogParams {
-    ShapeLogParams {
-        log,
-        wire: WIRE.to_owned(),
-        calibration: None,
-        mounting: None,
-        a_std: None,
-        model_error: None,
-        sensor: None,
-        gain_error: None,
-    }
+    ShapeLogParams::new(log, WIRE)
 }
 
 /// Shapes the log of `params` into the folder `dir/name` with `points` points; returns the
@@ -74,9 +65,13 @@ fn write(
     params: &ShapeLogParams,
     points: usize,
 ) -> (ShapeLogRun, Vec<Value>, Value) {
-    let log = ShapeLog::load(params).expect("a good log");
+    let params = ShapeLogParams {
+        points,
+        ..params.clone()
+    };
+    let log = ShapeLog::load(&params).expect("a good log");
     let folder = dir.results(name);
-    let run = log.write(points, &folder, &mut |_| {}).expect("written");
+    let run = log.write(&folder, &mut |_| {}).expect("written");
     let header = RunHeader::new("shape", None, &serde_json::json!({"points": points})).expect("h");
     let target = folder
         .finish_run(&header, &run.summary, &run.timings)
@@ -128,7 +123,15 @@ fn each_record_is_a_line_with_its_file_line_and_shape() {
     let log = write_log(&dir.0, "rig.jsonl", &text);
     let (run, lines, summary) = write(&dir, "out", &params(log), DEFAULT_POINTS);
     assert_eq!(lines.len(), 3);
-    let shape_keys = BTreeSet::from(["line", "time", "a", "points", "stable", "confident"]);
+    let shape_keys = BTreeSet::from([
+        "line",
+        "time",
+        "a",
+        "points",
+        "stable",
+        "confident",
+        "confidence",
+    ]);
     for (row, (number, time)) in lines.iter().zip([(3, 0.0), (5, 0.1), (6, 0.2)]) {
         assert_eq!(row["line"], number, "{row}");
         assert_relative_eq!(row["time"].as_f64().unwrap_or(f64::NAN), time);
@@ -199,11 +202,12 @@ fn points_sets_the_nodes_and_is_bounded() {
             assert!((nalgebra::Vector3::new(p[0], p[1], p[2]) - q).norm() < 1e-15);
         }
     }
-    let shapes = ShapeLog::load(&params(log)).expect("a good log");
     for points in [0, 1, 10_001] {
-        let error = shapes
-            .write_shapes(points, &mut Vec::new(), &mut |_| {})
-            .expect_err("out of range");
+        let error = ShapeLog::load(&ShapeLogParams {
+            points,
+            ..params(log.clone())
+        })
+        .expect_err("out of range");
         assert_eq!(error.kind(), "bad_input");
         assert!(
             error
@@ -298,11 +302,14 @@ fn flags_match_the_estimator_across_blocks_and_threads() {
         })
         .collect();
     let log = write_log(&dir.0, "rig.jsonl", &text.join("\n"));
-    let params = params(log);
+    let params = ShapeLogParams {
+        points: 3,
+        ..params(log)
+    };
     let shapes = ShapeLog::load(&params).expect("a good log");
     let mut bytes = Vec::new();
     shapes
-        .write_shapes(3, &mut bytes, &mut |_| {})
+        .write_shapes(&mut bytes, &mut |_| {})
         .expect("written");
     let one_thread = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -310,7 +317,7 @@ fn flags_match_the_estimator_across_blocks_and_threads() {
         .expect("a pool");
     let mut alone = Vec::new();
     one_thread
-        .install(|| shapes.write_shapes(3, &mut alone, &mut |_| {}))
+        .install(|| shapes.write_shapes(&mut alone, &mut |_| {}))
         .expect("written");
     assert!(bytes == alone, "the threads change nothing");
     let written: Vec<bool> = String::from_utf8(bytes)
@@ -320,7 +327,7 @@ fn flags_match_the_estimator_across_blocks_and_threads() {
         .collect();
     let estimated: Vec<bool> = LogShapes::new(&params)
         .expect("a good log")
-        .map(|s| s.expect("a record").confidence == Some("confident"))
+        .map(|s| s.expect("a record").confident)
         .collect();
     assert_eq!(written.len(), records);
     assert_eq!(written, estimated);
@@ -429,8 +436,8 @@ fn raw_goes_through_the_mounting_after_the_tools_weight() {
     );
 }
 
-/// With `a_std`, each shaped line has `sigma_mm` as long as `points` (zero at the clamp, the
-/// estimator's σ in mm), the summary `sigma_mean_mm`, and a printed record its `sigma_mm`;
+/// With `a_std`, each shaped line has `sigma` as long as `points` (zero at the clamp, the
+/// estimator's σ in m), the summary `sigma_mean_mm`, and a printed record its `sigma`;
 /// without, none of them; a negative standard deviation is bad input naming `--a-std`.
 #[test]
 fn error_bars_only_with_standard_deviations() {
@@ -460,14 +467,14 @@ fn error_bars_only_with_standard_deviations() {
     )
     .expect("sigma");
     for row in [&lines[0], &lines[2]] {
-        let sigma = numbers(&row["sigma_mm"]);
+        let sigma = numbers(&row["sigma"]);
         assert_eq!(sigma.len(), 30, "{row}");
-        assert!(sigma[0].abs() < 1e-9);
+        assert!(sigma[0].abs() < 1e-12);
         for (got, want) in sigma.iter().zip(&expected.sigma) {
-            assert_relative_eq!(*got, 1e3 * want, max_relative = 1e-12);
+            assert_relative_eq!(*got, *want, max_relative = 1e-12);
         }
     }
-    assert!(lines[1].get("sigma_mm").is_none(), "{}", lines[1]);
+    assert!(lines[1].get("sigma").is_none(), "{}", lines[1]);
     let mean: f64 = expected.sigma.iter().sum::<f64>() * 1e3 / 30.0;
     let got = summary["summary"]["sigma_mean_mm"]
         .as_f64()
@@ -483,10 +490,10 @@ fn error_bars_only_with_standard_deviations() {
     };
     let (_, lines, _) = write(&dir, "model", &modelled, 30);
     let length = ftwire_estimate::WireModel::wire(&model()).length();
-    let sigma = numbers(&lines[0]["sigma_mm"]);
+    let sigma = numbers(&lines[0]["sigma"]);
     for (k, (got, want)) in sigma.iter().zip(&expected.sigma).enumerate() {
         let s = length * k as f64 / 29.0;
-        assert_relative_eq!(*got, 1e3 * want.hypot(e * s), max_relative = 1e-9);
+        assert_relative_eq!(*got, want.hypot(e * s), max_relative = 1e-9);
     }
     let bad = ShapeLogParams {
         model_error: Some(-1.0),
@@ -498,25 +505,25 @@ fn error_bars_only_with_standard_deviations() {
     assert!(error.to_string().contains("--model-error"), "{error}");
 
     let (_, lines, summary) = write(&dir, "without", &params(log.clone()), 30);
-    assert!(lines.iter().all(|row| row.get("sigma_mm").is_none()));
+    assert!(lines.iter().all(|row| row.get("sigma").is_none()));
     assert!(
         summary["summary"].get("sigma_mean_mm").is_none(),
         "{summary}"
     );
 
-    let printed: Vec<_> = LogShapes::new(&with)
+    let printed: Vec<_> = LogShapes::new(&ShapeLogParams { points: 30, ..with })
         .expect("a good log")
         .map(|r| r.expect("a record"))
         .collect();
-    let sigma = printed[0].sigma_mm.as_ref().expect("sigma_mm");
-    assert_eq!(sigma.len(), printed[0].points.as_ref().map_or(0, Vec::len));
+    let sigma = printed[0].sigma.as_ref().expect("sigma");
+    assert_eq!(sigma.len(), printed[0].points.len());
     assert!(printed[0].to_string().contains(" ± "), "{}", printed[0]);
-    assert!(printed[1].sigma_mm.is_none());
+    assert!(printed[1].sigma.is_none());
     let plain: Vec<_> = LogShapes::new(&params(log.clone()))
         .expect("a good log")
         .map(|r| r.expect("a record"))
         .collect();
-    assert!(plain[0].sigma_mm.is_none());
+    assert!(plain[0].sigma.is_none());
 
     let bad = ShapeLogParams {
         a_std: Some([0.0, 0.0, 0.0, -1.0, 0.0, 0.0]),
@@ -553,7 +560,7 @@ fn error_bars_from_the_sensor_grow_with_the_drift() {
     let shaped = |params: &ShapeLogParams| -> Vec<f64> {
         LogShapes::new(params)
             .expect("a good log")
-            .map(|r| mean(r.expect("a record").sigma_mm.as_deref().expect("sigma_mm")))
+            .map(|r| mean(r.expect("a record").sigma.as_deref().expect("sigma")))
             .collect()
     };
     let with = ShapeLogParams {

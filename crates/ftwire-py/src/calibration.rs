@@ -29,7 +29,7 @@ pub fn rows_out(py: Python<'_>, rows: Vec<Vector6<f64>>, batched: bool) -> PyRes
 }
 
 /// The times of `rows`: one per row, finite.
-fn times(time: Option<&Bound<'_, PyAny>>, rows: &Rows) -> PyResult<Option<Vec<f64>>> {
+pub(crate) fn times(time: Option<&Bound<'_, PyAny>>, rows: &Rows) -> PyResult<Option<Vec<f64>>> {
     let Some(time) = time.filter(|t| !t.is_none()) else {
         return Ok(None);
     };

@@ -25,9 +25,11 @@ pub fn finite_array(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<usize
         ))
     })?;
     let shape = array.shape().to_vec();
+    // Row-major order whatever the layout: `as_slice` would also take a Fortran-ordered
+    // array's memory as it lies, so it is used only for a C-ordered one.
     let values: Vec<f64> = match array.as_slice() {
-        Ok(slice) => slice.to_vec(),
-        Err(_) => array.as_array().iter().copied().collect(),
+        Ok(slice) if array.is_c_contiguous() => slice.to_vec(),
+        _ => array.as_array().iter().copied().collect(),
     };
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
         return Err(value_error(format!(

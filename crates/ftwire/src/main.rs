@@ -71,7 +71,12 @@ fn main() -> ExitCode {
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error}");
+            // Errors may quote the user's input (a log's line, a key): its control
+            // characters are escaped, so that no input can drive the terminal.
+            eprintln!(
+                "error: {}",
+                ftwire_core::text::printable(&error.to_string())
+            );
             ExitCode::from(error.exit_code())
         }
     }

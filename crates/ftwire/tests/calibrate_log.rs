@@ -141,3 +141,147 @@ fn bad_input_is_exit_2() {
         assert!(!out.exists(), "no folder on bad input");
     }
 }
+
+/// `n` records of the 2 mm / 630 mm nitinol wire from `seed`, its weight under
+/// `gravity_in_clamp` (the loaded model is the truth: its shapes are the markers), read
+/// through a mounting 0.11 m out plus an offset.
+fn loaded_log(
+    path: &Path,
+    n: usize,
+    seed: u64,
+    gravity_in_clamp: [f64; 3],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let wire = ftwire_lab::wire::WireSpec::preset("nitinol-2mm-630").ok_or("preset")?;
+    let params = wire.wire_params()?;
+    let load = ftwire_rod::Load::from_gravity(
+        wire.density,
+        wire.radius,
+        nalgebra::Vector3::from(gravity_in_clamp),
+    )?;
+    let model = KirchhoffModel::new(params).with_load(load);
+    let rod = ftwire_rod::Rod::new(params);
+    let mounting = MountingSpec {
+        clamp_position_in_sensor: [0.0, 0.0, 0.11],
+        ..MountingSpec::default()
+    }
+    .mounting()?;
+    let offset = Vector6::new(-1.8, 1.3, 1.8, -0.25, 0.12, 0.35);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut log = String::new();
+    let mut written = 0;
+    while written < n {
+        let a = Sampler::default().sample_free(&rod, &mut rng)?;
+        let Ok(shape) = model.shape(&a, 11) else {
+            continue;
+        };
+        let raw = mounting.to_sensor(&a) + offset;
+        let markers: Vec<[f64; 3]> = shape.positions.iter().map(|p| [p.x, p.y, p.z]).collect();
+        writeln!(
+            log,
+            r#"{{"time": {}, "raw": {:?}, "markers": {:?}}}"#,
+            3 * written,
+            raw.as_slice(),
+            markers
+        )?;
+        written += 1;
+    }
+    std::fs::write(path, log)?;
+    Ok(())
+}
+
+/// The wire's weight through the real-rig commands: `calibrate --log --gravity-in-clamp`
+/// records the loaded model in `calibration.json`, `shape --log` then solves with it unasked
+/// and reaches the markers of a held-out recording, the weight-free path on the same
+/// recordings is measurably worse, and a `--gravity-in-clamp` that differs from the
+/// calibration's model is refused naming both.
+#[test]
+fn the_loaded_model_goes_from_the_calibration_to_the_shapes()
+-> Result<(), Box<dyn std::error::Error>> {
+    let tmp = TempDir::new("calibrate-log-loaded");
+    let g = [0.0, -9.81, 0.0];
+    let train = tmp.0.join("train.jsonl");
+    let held_out = tmp.0.join("held-out.jsonl");
+    loaded_log(&train, 40, 5, g)?;
+    loaded_log(&held_out, 20, 6, g)?;
+    let mounting = tmp.0.join("mounting.toml");
+    std::fs::write(&mounting, "clamp_position_in_sensor = [0.0, 0.0, 0.11]\n")?;
+    let calibrate = |out: &Path, gravity: Option<&str>| {
+        let mut args = vec![
+            "calibrate",
+            "--log",
+            text(&train),
+            "--wire",
+            "nitinol-2mm-630",
+            "--mounting",
+            text(&mounting),
+            "--hidden",
+            "0",
+            "--out",
+            text(out),
+        ];
+        if let Some(g) = gravity {
+            args.extend(["--gravity-in-clamp", g]);
+        }
+        assert_success(&ftwire(&args), "calibrate --log");
+    };
+    let loaded = tmp.0.join("loaded");
+    let weightless = tmp.0.join("weightless");
+    calibrate(&loaded, Some("0,-9.81,0"));
+    calibrate(&weightless, None);
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(loaded.join("calibration.json"))?)?;
+    assert_eq!(
+        file["model"],
+        serde_json::json!({"kind": "loaded", "gravity_in_clamp": [0.0, -9.81, 0.0]})
+    );
+    assert_eq!(file["input"], "raw");
+    let shapes = |calibration: &Path, out: &Path| -> Result<f64, Box<dyn std::error::Error>> {
+        let output = ftwire(&[
+            "shape",
+            "--log",
+            text(&held_out),
+            "--wire",
+            "nitinol-2mm-630",
+            "--calibration",
+            text(&calibration.join("calibration.json")),
+            "--out",
+            text(out),
+        ]);
+        assert_success(&output, "shape --log");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json"))?)?;
+        summary["summary"]["marker_mean_mm"]
+            .as_f64()
+            .ok_or_else(|| "marker_mean_mm".into())
+    };
+    let with_weight = shapes(&loaded, &tmp.0.join("shapes-loaded"))?;
+    let without = shapes(&weightless, &tmp.0.join("shapes-weightless"))?;
+    assert!(with_weight < 1.0, "the loaded path: {with_weight} mm");
+    assert!(
+        without > 3.0 * with_weight,
+        "the weight-free path is worse: {without} mm against {with_weight} mm"
+    );
+    let conflict = ftwire(&[
+        "shape",
+        "--log",
+        text(&held_out),
+        "--wire",
+        "nitinol-2mm-630",
+        "--calibration",
+        text(&loaded.join("calibration.json")),
+        "--gravity-in-clamp",
+        "0,0,-9.81",
+    ]);
+    assert_exit(
+        &conflict,
+        2,
+        "--gravity-in-clamp and --calibration",
+        "a conflicting gravity",
+    );
+    let message = String::from_utf8_lossy(&conflict.stderr);
+    assert!(
+        message.contains("0,0,-9.81") && message.contains("0,-9.81,0"),
+        "{message}"
+    );
+    Ok(())
+}

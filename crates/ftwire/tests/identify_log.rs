@@ -540,3 +540,27 @@ fn the_loaded_model_identifies_the_weight_and_its_log_replays() {
     let zero = ftwire(&["identify", "--log", text(&log), "--gravity", "0,0,0"]);
     assert_exit(&zero, 2, "--gravity", "a zero gravity");
 }
+
+/// `ftwire identify --help`'s example runs as printed, in a fresh folder, and identifies.
+#[test]
+fn the_help_example_runs_as_printed() {
+    let help = ftwire(&["identify", "--help"]);
+    assert_success(&help, "identify --help");
+    let text = String::from_utf8(help.stdout).expect("UTF-8");
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| l.starts_with("ftwire "))
+        .collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    let tmp = cli_support::TempDir::new("identify-help-example");
+    for line in lines {
+        let args: Vec<&str> = line.split_whitespace().skip(1).collect();
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_ftwire"))
+            .args(&args)
+            .current_dir(&tmp.0)
+            .output()
+            .expect("the binary runs");
+        assert_success(&output, line);
+    }
+}

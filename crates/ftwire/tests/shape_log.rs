@@ -73,7 +73,7 @@ fn a_saved_log_gives_the_live_runs_answer() -> Result<(), Box<dyn std::error::Er
         .collect::<Result<_, _>>()?;
     assert_eq!(answers.len(), rows.len());
     for (answer, row) in answers.iter().zip(&rows) {
-        let a = cli_support::numbers(&answer["a_tilde"]);
+        let a = cli_support::numbers(&answer["a"]);
         for (i, value) in a.iter().enumerate() {
             let live: f64 = row[7 + i].parse()?;
             assert!(
@@ -87,7 +87,7 @@ fn a_saved_log_gives_the_live_runs_answer() -> Result<(), Box<dyn std::error::Er
             (marker - live_marker).abs() < 1e-9,
             "{marker} vs {live_marker}"
         );
-        assert_eq!(answer["points"].as_array().map(Vec::len), Some(64));
+        assert_eq!(answer["points"].as_array().map(Vec::len), Some(100));
     }
 
     // Raw readings need the calibration.
@@ -116,7 +116,7 @@ fn bad_and_empty_logs_are_bad_input() -> Result<(), Box<dyn std::error::Error>> 
     std::fs::write(&path, format!("{good}\n"))?;
     let output = ftwire(&["shape", "--log", text(&path), "--wire", "nitinol-2mm-630"]);
     assert_success(&output, "a good log with a");
-    assert!(String::from_utf8(output.stdout)?.contains("record 0"));
+    assert!(String::from_utf8(output.stdout)?.starts_with("line 1 t = 0.000 s: "));
     Ok(())
 }
 
@@ -206,9 +206,17 @@ fn out_writes_the_shapes_and_a_summary_of_exactly_its_keys()
         .map(serde_json::from_str)
         .collect::<Result<_, _>>()?;
     assert_eq!(lines.len(), 2);
-    let line_keys: BTreeSet<String> = ["line", "time", "a", "points", "stable", "confident"]
-        .map(String::from)
-        .into();
+    let line_keys: BTreeSet<String> = [
+        "line",
+        "time",
+        "a",
+        "points",
+        "stable",
+        "confident",
+        "confidence",
+    ]
+    .map(String::from)
+    .into();
     for (line, number) in lines.iter().zip([2, 4]) {
         assert_eq!(keys(line), line_keys);
         assert_eq!(line["line"], number);
@@ -253,7 +261,7 @@ fn bad_input_with_out_is_exit_2_and_writes_nothing() {
     )
     .expect("w");
     let base = ["shape", "--wire", "nitinol-2mm-630"];
-    let cases: [(&[&str], &str); 8] = [
+    let cases: [(&[&str], &str); 7] = [
         (&["--log", text(&raw), "--out", text(&out)], "--mounting"),
         (
             &["--log", text(&log), "--sensor", "nope", "--out", text(&out)],
@@ -294,7 +302,6 @@ fn bad_input_with_out_is_exit_2_and_writes_nothing() {
             ],
             "line 2 (time 0.5) has a raw F/T reading but no `gravity`",
         ),
-        (&["--log", text(&log), "--points", "5"], "--out"),
         (
             &["--log", text(&log), "--out", text(&out), "--points", "1"],
             "--points",
@@ -335,4 +342,51 @@ fn a_record_without_a_shape_is_exit_1_with_the_folder_written() {
     assert!(last["error"].is_string());
     assert_eq!(last["points"].as_array().map(Vec::len), Some(0));
     assert!(out.join("summary.json").is_file());
+}
+
+/// A run never deletes its own input: a `--wire` file inside `--out` is refused (exit 2) and
+/// stays, for `shape --log` and `calibrate --log` alike.
+#[test]
+fn inputs_inside_out_are_refused_and_kept() {
+    let tmp = TempDir::new("shape-log-inputs-in-out");
+    let log = small_log(&tmp.0, false);
+    let out = tmp.0.join("outA");
+    let first = ftwire(&[
+        "shape",
+        "--log",
+        text(&log),
+        "--wire",
+        "nitinol-2mm-630",
+        "--out",
+        text(&out),
+    ]);
+    assert_success(&first, "a first run");
+    let wire = out.join("wire.toml");
+    std::fs::write(
+        &wire,
+        "name = \"w\"\nc = [0.042, 0.055, 0.055]\nlength = 0.63\nradius = 0.001\ndensity = 6450.0\n",
+    )
+    .expect("a wire file");
+    let output = ftwire(&[
+        "shape",
+        "--log",
+        text(&log),
+        "--wire",
+        text(&wire),
+        "--out",
+        text(&out),
+    ]);
+    assert_exit(&output, 2, "holds the run's input", "shape --wire");
+    assert!(wire.is_file(), "shape: the input is kept");
+    let calibrate = ftwire(&[
+        "calibrate",
+        "--log",
+        text(&log),
+        "--wire",
+        text(&wire),
+        "--out",
+        text(&out),
+    ]);
+    assert_exit(&calibrate, 2, "holds the run's input", "calibrate --wire");
+    assert!(wire.is_file(), "calibrate: the input is kept");
 }

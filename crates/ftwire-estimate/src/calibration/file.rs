@@ -20,8 +20,16 @@
 //!   ],
 //!   "training": { ... },                     // TrainingRecord: seed, config, split sizes,
 //!                                            // epochs, losses, test RMSE, history
-//!   "drift": { "reference_time": s, "rate": [6] }   // optional: the offset's drift in a's
-//! }                                                 // units per second (`Drift`)
+//!   "drift": {                               // optional: the offset's drift (`Drift`)
+//!     "reference_time": s, "rate": [6],      // in a's units per second
+//!     "span": [first s, last s]              // the session's times: never extrapolated
+//!   },                                       // beyond them (absent: the drift left out)
+//!   "model": {                               // the wire model of the labels (`LabelModel`;
+//!     "kind": "weightless" | "loaded",       // absent: weightless)
+//!     "gravity_in_clamp": [x, y, z] | null   // m/s², base clamp frame, with "loaded"
+//!   },
+//!   "input": "raw" | "tared"                 // the map's input (absent: raw)
+//! }
 //! ```
 //!
 //! The map is `a = F(raw) − F(0)` when `training.config.anchored` (absent: `false`), else
@@ -37,7 +45,9 @@ use std::path::Path;
 use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
 
-use super::{Activation, Affine, Calibration, Mlp, Normaliser, TrainingRecord};
+use super::{
+    Activation, Affine, Calibration, CalibrationInput, LabelModel, Mlp, Normaliser, TrainingRecord,
+};
 use crate::EstimateError;
 
 /// The `format` string of a calibration file.
@@ -66,6 +76,12 @@ struct CalibrationFile {
     training: TrainingRecord,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     drift: Option<DriftFile>,
+    /// The label model (absent in older files: weight-free).
+    #[serde(default)]
+    model: LabelModel,
+    /// The map's input (absent in older files: raw).
+    #[serde(default)]
+    input: CalibrationInput,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -73,6 +89,9 @@ struct CalibrationFile {
 struct DriftFile {
     reference_time: f64,
     rate: [f64; 6],
+    /// The session's first and last time (absent in older files: the drift is left out).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    span: Option<[f64; 2]>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -157,7 +176,18 @@ impl Calibration {
     /// [`EstimateError::CalibrationSyntax`] with the line and column when it is not UTF-8 (a
     /// leading byte-order mark is allowed); otherwise as [`Calibration::from_json`].
     pub fn load(path: &Path) -> Result<Self, EstimateError> {
-        let bytes = std::fs::read(path).map_err(|e| io_error(path, &e))?;
+        let mut bytes = Vec::new();
+        let file =
+            ftwire_core::text::open_regular(path).map_err(|e| EstimateError::CalibrationIo {
+                path: path.to_path_buf(),
+                kind: std::io::ErrorKind::InvalidInput,
+                message: e.to_string(),
+            })?;
+        std::io::Read::read_to_end(
+            &mut std::io::Read::take(file, ftwire_core::text::MAX_TEXT_BYTES),
+            &mut bytes,
+        )
+        .map_err(|e| io_error(path, &e))?;
         let json = ftwire_core::text::decode(&bytes).map_err(|e| match e {
             ftwire_core::CoreError::NotUtf8 {
                 line, column, byte, ..
@@ -208,7 +238,10 @@ impl Calibration {
             drift: self.drift().map(|d| DriftFile {
                 reference_time: d.reference_time,
                 rate: d.rate.into(),
+                span: d.span,
             }),
+            model: *self.model(),
+            input: self.input(),
         }
     }
 
@@ -273,15 +306,21 @@ impl Calibration {
                 })
             }
         };
-        let calibration = Self::from_parts(input, output, affine, mlp, file.training);
+        let calibration = Self::from_parts(input, output, affine, mlp, file.training)
+            .with_provenance(file.model, file.input)?;
         match &file.drift {
             None => Ok(calibration),
             Some(d) => {
                 check_finite("drift.rate", &d.rate)?;
-                check_finite("drift.reference_time", &[d.reference_time])?;
+                let time = "finite times [s], at most 1e10 in size";
+                check_within("drift.reference_time", &[d.reference_time], MAX_TIME, time)?;
+                if let Some(span) = &d.span {
+                    check_within("drift.span", span, MAX_TIME, time)?;
+                }
                 calibration.with_drift(super::Drift {
                     reference_time: d.reference_time,
                     rate: Vector6::from(d.rate),
+                    span: d.span,
                 })
             }
         }
@@ -295,13 +334,13 @@ fn normaliser(what: &str, file: &NormaliserFile) -> Result<Normaliser, EstimateE
         .std
         .iter()
         .enumerate()
-        .find(|(_, s)| !(s.is_finite() && **s > 0.0))
+        .find(|(_, s)| !(s.is_finite() && **s >= 1e-12 && **s <= MAX_VALUE))
     {
         return Err(EstimateError::CalibrationValue {
             what: format!("{what}.std"),
             index,
             value,
-            allowed: "finite numbers > 0",
+            allowed: "numbers from 1e-12 to 1e6",
         });
     }
     Normaliser::from_parts(Vector6::from(file.mean), Vector6::from(file.std)).ok_or_else(|| {
@@ -326,14 +365,40 @@ fn check_len(what: &str, expected: usize, found: usize) -> Result<(), EstimateEr
     }
 }
 
+/// Largest size of a number of a calibration file (weights, biases, normalisers, the affine
+/// part, the drift rate): a trained map's are of order 1 (normalised units) or of the
+/// readings' (N, N·m); one above this is a damaged file whose every answer would overflow.
+pub const MAX_VALUE: f64 = 1e6;
+
+/// Largest time of a calibration file \[s\] (`drift.reference_time`, `drift.span`).
+pub const MAX_TIME: f64 = 1e10;
+
 fn check_finite(what: &str, values: &[f64]) -> Result<(), EstimateError> {
-    match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+    check_within(
+        what,
+        values,
+        MAX_VALUE,
+        "finite numbers, at most 1e6 in size",
+    )
+}
+
+fn check_within(
+    what: &str,
+    values: &[f64],
+    max: f64,
+    allowed: &'static str,
+) -> Result<(), EstimateError> {
+    match values
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !(v.is_finite() && v.abs() <= max))
+    {
         None => Ok(()),
         Some((index, &value)) => Err(EstimateError::CalibrationValue {
             what: what.into(),
             index,
             value,
-            allowed: "finite numbers",
+            allowed,
         }),
     }
 }

@@ -1,6 +1,7 @@
 //! The learnt calibration map from a raw F/T reading to the configuration `a`.
 
 use nalgebra::Vector6;
+use serde::{Deserialize, Serialize};
 
 use super::{Affine, Mlp, Normaliser, TrainingRecord};
 
@@ -28,7 +29,124 @@ pub struct Calibration {
     anchor: Vector6<f64>,
     /// The sensor's offset drift, learnt from a recording (`None`: no drift term).
     drift: Option<Drift>,
+    /// The wire model the labels were made with.
+    model: LabelModel,
+    /// Whether the map's input is the raw reading or the tared one.
+    input_kind: CalibrationInput,
     pub(crate) record: TrainingRecord,
+}
+
+/// The wire model a calibration's labels were made with (`calibration.json`'s `model`):
+/// weight-free, or loaded under gravity in the base clamp frame. A shape solved from the map's
+/// `a` should use the same model.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LabelModel {
+    /// `weightless` or `loaded`.
+    pub kind: LabelModelKind,
+    /// Gravity in the base clamp frame \[m/s²\] of the loaded model; `None` for the
+    /// weight-free one.
+    pub gravity_in_clamp: Option<[f64; 3]>,
+}
+
+/// The kind of a [`LabelModel`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LabelModelKind {
+    /// The paper's model: no weight.
+    #[default]
+    Weightless,
+    /// The loaded rod: the wire's weight under gravity.
+    Loaded,
+}
+
+impl LabelModel {
+    /// Largest gravity a loaded label model may name \[m/s²\].
+    pub const MAX_GRAVITY: f64 = 100.0;
+
+    /// The weight-free model.
+    pub const WEIGHTLESS: Self = Self {
+        kind: LabelModelKind::Weightless,
+        gravity_in_clamp: None,
+    };
+
+    /// The loaded model under `gravity_in_clamp` \[m/s²\], base clamp frame.
+    ///
+    /// # Errors
+    /// [`crate::EstimateError::CalibrationValue`] for a gravity not finite, zero, or above
+    /// [`Self::MAX_GRAVITY`].
+    pub fn loaded(gravity_in_clamp: [f64; 3]) -> Result<Self, crate::EstimateError> {
+        let model = Self {
+            kind: LabelModelKind::Loaded,
+            gravity_in_clamp: Some(gravity_in_clamp),
+        };
+        model.check()?;
+        Ok(model)
+    }
+
+    /// Checks the model: a loaded one names a finite gravity of norm in `(0, MAX_GRAVITY]`,
+    /// a weight-free one none.
+    ///
+    /// # Errors
+    /// [`crate::EstimateError::CalibrationValue`] naming `model.gravity_in_clamp`.
+    pub fn check(&self) -> Result<(), crate::EstimateError> {
+        let bad = |value: f64, allowed: &'static str| crate::EstimateError::CalibrationValue {
+            what: "model.gravity_in_clamp".into(),
+            index: 0,
+            value,
+            allowed,
+        };
+        match (self.kind, self.gravity_in_clamp) {
+            (LabelModelKind::Weightless, None) => Ok(()),
+            (LabelModelKind::Weightless, Some(g)) => Err(bad(
+                g[0],
+                "null for a weightless model (kind \"loaded\" names a gravity)",
+            )),
+            (LabelModelKind::Loaded, None) => {
+                Err(bad(f64::NAN, "three numbers [m/s²] for a loaded model"))
+            }
+            (LabelModelKind::Loaded, Some(g)) => {
+                let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if norm.is_finite() && norm > 0.0 && norm <= Self::MAX_GRAVITY {
+                    Ok(())
+                } else {
+                    Err(bad(
+                        norm,
+                        "a finite gravity of norm above 0 and at most 100 m/s²",
+                    ))
+                }
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for LabelModel {
+    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.gravity_in_clamp {
+            None => write!(out, "weightless"),
+            Some([x, y, z]) => write!(out, "loaded, gravity in the clamp frame {x},{y},{z} m/s²"),
+        }
+    }
+}
+
+/// What a calibration's input is (`calibration.json`'s `input`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CalibrationInput {
+    /// The sensor's reading as it comes, offset and all (trained on readings never tared).
+    #[default]
+    Raw,
+    /// The reading less a tare taken with nothing in the gripper.
+    Tared,
+}
+
+impl std::fmt::Display for CalibrationInput {
+    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        out.write_str(match self {
+            Self::Raw => "raw",
+            Self::Tared => "tared",
+        })
+    }
 }
 
 /// A drift of the map's offset over time, learnt from a recording: a real sensor's offsets
@@ -42,6 +160,23 @@ pub struct Drift {
     pub reference_time: f64,
     /// The drift of `a` per second, torque first \[N·m/s, N/s\].
     pub rate: Vector6<f64>,
+    /// The first and last time of the session the drift was learnt on \[s\]: the drift
+    /// describes that session only, and is never extrapolated beyond it (it is held at the
+    /// span's ends). `None` (a file written without it): the drift is held at
+    /// `reference_time`, that is, left out.
+    pub span: Option<[f64; 2]>,
+}
+
+impl Drift {
+    /// The drift term at `time` \[s\]: `rate · (t − reference_time)` with `t` the time held
+    /// inside the session's span.
+    pub fn at(&self, time: f64) -> Vector6<f64> {
+        let t = match self.span {
+            Some([first, last]) => time.clamp(first.min(last), last.max(first)),
+            None => self.reference_time,
+        };
+        self.rate * (t - self.reference_time)
+    }
 }
 
 impl Calibration {
@@ -60,6 +195,8 @@ impl Calibration {
             mlp,
             anchor: Vector6::zeros(),
             drift: None,
+            model: LabelModel::WEIGHTLESS,
+            input_kind: CalibrationInput::Raw,
             record,
         };
         if calibration.record.config.anchored {
@@ -102,7 +239,7 @@ impl Calibration {
     pub fn apply_at(&self, raw: &Vector6<f64>, time: f64) -> Vector6<f64> {
         let a = self.apply(raw);
         match &self.drift {
-            Some(d) => a + d.rate * (time - d.reference_time),
+            Some(d) => a + d.at(time),
             None => a,
         }
     }
@@ -134,7 +271,42 @@ impl Calibration {
                 });
             }
         }
+        if let Some([first, last]) = drift.span
+            && !(first.is_finite() && last.is_finite() && first <= last)
+        {
+            return Err(crate::EstimateError::CalibrationValue {
+                what: "drift.span".into(),
+                index: 0,
+                value: first,
+                allowed: "two finite times [s], the first not after the last",
+            });
+        }
         self.drift = Some(drift);
+        Ok(self)
+    }
+
+    /// The wire model the labels were made with.
+    pub fn model(&self) -> &LabelModel {
+        &self.model
+    }
+
+    /// What the map's input is: the raw reading or the tared one.
+    pub fn input(&self) -> CalibrationInput {
+        self.input_kind
+    }
+
+    /// The calibration with the label model and the input it was trained with.
+    ///
+    /// # Errors
+    /// As [`LabelModel::check`].
+    pub fn with_provenance(
+        mut self,
+        model: LabelModel,
+        input: CalibrationInput,
+    ) -> Result<Self, crate::EstimateError> {
+        model.check()?;
+        self.model = model;
+        self.input_kind = input;
         Ok(self)
     }
 

@@ -52,7 +52,7 @@ mod train;
 
 pub use affine::Affine;
 pub use dataset::{Dataset, MIN_TRAINING_SAMPLES, Split, SplitFractions, SplitOrder};
-pub use map::{Calibration, Drift};
+pub use map::{Calibration, CalibrationInput, Drift, LabelModel, LabelModelKind};
 pub use mlp::{Activation, MAX_HIDDEN_LAYERS, MAX_WIDTH, Mlp, parameter_count};
 pub use normalise::Normaliser;
 pub use train::{EpochLosses, EpochProgress, SplitSizes, StopReason, TrainParams, TrainingRecord};

@@ -124,11 +124,8 @@ impl MountingSpec {
         if !self.has_tool() {
             return Ok(*raw);
         }
-        let gravity = gravity.ok_or(EstimateError::InvalidSetting {
-            field: "gravity",
-            value: self.tool_mass,
-            allowed: "a gravity vector on every record with `raw` when the mounting has a tool \
-                      (tool_mass > 0)",
+        let gravity = gravity.ok_or(EstimateError::NoGravity {
+            tool_mass: self.tool_mass,
         })?;
         Ok(raw - self.tool_reading(gravity))
     }

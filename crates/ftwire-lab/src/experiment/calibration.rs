@@ -37,7 +37,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use ftwire_estimate::calibration::{Calibration, Dataset, Split, TrainParams};
+use ftwire_estimate::EstimateError;
+use ftwire_estimate::calibration::{
+    Calibration, CalibrationInput, Dataset, LabelModel, Split, TrainParams,
+};
 use ftwire_estimate::shape::{DEFAULT_METRIC_SAMPLES, Markers, ShapeFitter, centreline_distance};
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::Rod;
@@ -348,6 +351,20 @@ pub fn map_errors(
     })
 }
 
+/// The model the experiments' labels are made with, as `calibration.json` records it: the
+/// loaded model under `gravity` (base clamp frame), or the weight-free one (also for the
+/// loaded model with gravity off, which has no weight).
+///
+/// # Errors
+/// As [`LabelModel::loaded`].
+pub fn label_model(gravity: Gravity, kind: ModelKind) -> Result<LabelModel, EstimateError> {
+    let g = gravity.vector();
+    match kind {
+        ModelKind::Loaded if g.norm() > 0.0 => LabelModel::loaded(g.into()),
+        _ => Ok(LabelModel::WEIGHTLESS),
+    }
+}
+
 /// How the experiments train a calibration: the default [`TrainParams`] with
 /// [`TrainParams::through_zero`], since their readings are tared with the gripper empty. The
 /// sensor's map then carries over to wires of any wrench scale: it has no intercept and its
@@ -386,12 +403,14 @@ pub fn run(
     .map_err(|e| from_estimate(e, "the calibration data"))?;
     let config = train_params();
     let start = Instant::now();
-    let calibration = Calibration::train(&data, &config, seed).map_err(|e| {
-        from_estimate(
-            e,
-            &format!("training the calibration on {count} configurations"),
-        )
-    })?;
+    let calibration = Calibration::train(&data, &config, seed)
+        .and_then(|c| c.with_provenance(label_model(gravity, kind)?, CalibrationInput::Tared))
+        .map_err(|e| {
+            from_estimate(
+                e,
+                &format!("training the calibration on {count} configurations"),
+            )
+        })?;
     let train_s = start.elapsed().as_secs_f64();
     // `Calibration::train` draws its split first from ChaCha8(seed): the same draw here gives
     // the same indices.

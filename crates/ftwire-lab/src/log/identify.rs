@@ -96,10 +96,12 @@ impl LogDrift {
 
 impl IdentifyLogParams {
     /// The library's settings: [`ResidualParams::config`] with the loaded model's weight when
-    /// [`Self::gravity`] is given.
+    /// [`Self::gravity`] is given or the calibration's labels were made with the loaded model
+    /// ([`super::model_gravity`]).
     ///
     /// # Errors
-    /// Bad input for a torsion ratio that is not positive, or a gravity the library refuses.
+    /// Bad input for a torsion ratio that is not positive, a gravity the library refuses, a
+    /// calibration that cannot be read, or a gravity that conflicts with the calibration's.
     pub fn config(&self) -> Result<IdentifierParams, LabError> {
         let mut config = self.residual.config()?;
         if let Some(drift) = &self.drift {
@@ -120,11 +122,17 @@ impl IdentifyLogParams {
                 .map_err(|e| e.context("--sensor"))?,
             )?;
         }
-        if let Some(g) = self.gravity {
+        // The calibration's own label model unless the flag names the same one.
+        let given = self.gravity.map(Into::into);
+        let gravity = match &self.calibration {
+            Some(path) => super::model_gravity(&super::raw_map(Some(path), None)?, given)?,
+            None => given,
+        };
+        if let Some(g) = gravity.map(Vector3::from) {
             config.constraints.weight = Some(g);
             config
                 .validate()
-                .map_err(|e| LabError::bad_input(format!("--gravity: {e}")))?;
+                .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?;
         }
         Ok(config)
     }
@@ -142,10 +150,10 @@ impl IdentifyLogParams {
 /// [`IdentifyLogParams::samples`] of them.
 ///
 /// # Errors
-/// Bad input for a log [`read_log`] refuses, a calibration or mounting [`RawMap::load`]
+/// Bad input for a log [`read_log`] refuses, a calibration or mounting [`super::raw_map`]
 /// refuses, a record [`samples_of`] refuses, or more samples asked for than the log holds.
 pub fn samples(params: &IdentifyLogParams) -> Result<Vec<Sample>, LabError> {
-    let map = RawMap::load(params.calibration.as_deref(), params.mounting.clone())?;
+    let map = super::raw_map(params.calibration.as_deref(), params.mounting.clone())?;
     let lines = read_log(&params.log)?;
     let pairs = samples_of(&lines, &map, &params.log)?;
     let mut samples: Vec<Sample> = pairs

@@ -1,8 +1,8 @@
 //! A real rig's JSON Lines log (format and checks: [`ftwire_estimate::log`]), as `ftwire
 //! identify --log` and `ftwire shape --log` read it: [`read_log`] reads a file and names the
 //! file and the line of any bad record, [`load_calibration`] the learnt weights, and
-//! [`a_tilde`] gives a record's `ã` (torque first, base clamp frame) by the [`RawMap`] of
-//! `--calibration` and `--mounting`:
+//! [`a_tilde`] gives a record's `ã` (torque first, base clamp frame) by the rig layer's
+//! [`RawMap`] of `--calibration` and `--mounting` ([`raw_map`]):
 //!
 //! - a record's `a` is used as it is;
 //! - a record's `raw` reading (force first, sensor frame, not tared) first loses the weight
@@ -22,14 +22,15 @@ pub mod calibrate;
 pub mod identify;
 pub mod shape;
 
-use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
 use ftwire_estimate::calibration::Calibration;
-use ftwire_estimate::ft::{Mounting, MountingSpec};
+use ftwire_estimate::ft::MountingSpec;
 pub use ftwire_estimate::log::{LogLine, LogPose, LogRecord};
-use nalgebra::{Vector3, Vector6};
+pub use ftwire_rig::RawMap;
+use ftwire_rig::{Reading, RigError};
+use nalgebra::Vector6;
 
 use crate::error::LabError;
 
@@ -57,7 +58,7 @@ use crate::error::LabError;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_log(path: &Path) -> Result<Vec<LogLine>, LabError> {
-    let file = File::open(path)
+    let file = ftwire_core::text::open_regular(path)
         .map_err(|e| LabError::bad_input(format!("cannot open log {}: {e}", path.display())))?;
     ftwire_estimate::log::read_log_lines(BufReader::new(file))
         .map_err(|e| LabError::bad_input(format!("log {}: {e}", path.display())))
@@ -74,74 +75,49 @@ pub fn load_calibration(path: &Path) -> Result<Calibration, LabError> {
         .map_err(|e| LabError::bad_input(format!("--calibration {}: {e}", path.display())))
 }
 
-/// How a record's `raw` reading becomes `ã` ([`a_tilde`]): the learnt calibration
-/// (`--calibration`) and the sensor's mounting (`--mounting`), each if given.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct RawMap {
-    calibration: Option<Calibration>,
-    mounting: Option<(MountingSpec, Mounting)>,
-}
-
-impl RawMap {
-    /// The map of `calibration` and `mounting` (`None`: not given).
-    ///
-    /// # Errors
-    /// Bad input (`--mounting: ...`) for a mounting [`MountingSpec::mounting`] refuses.
-    pub fn new(
-        calibration: Option<Calibration>,
-        mounting: Option<MountingSpec>,
-    ) -> Result<Self, LabError> {
-        let mounting = mounting
-            .map(|spec| {
-                let transform = spec
-                    .mounting()
-                    .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
-                Ok::<_, LabError>((spec, transform))
-            })
-            .transpose()?;
-        Ok(Self {
-            calibration,
-            mounting,
-        })
-    }
-
-    /// [`RawMap::new`] with the calibration read from its file ([`load_calibration`]).
-    ///
-    /// # Errors
-    /// As [`load_calibration`] and [`RawMap::new`].
-    pub fn load(
-        calibration: Option<&Path>,
-        mounting: Option<MountingSpec>,
-    ) -> Result<Self, LabError> {
-        Self::new(calibration.map(load_calibration).transpose()?, mounting)
-    }
-
-    /// The learnt calibration, if given.
-    pub fn calibration(&self) -> Option<&Calibration> {
-        self.calibration.as_ref()
-    }
-
-    /// The mounting, if given.
-    pub fn mounting(&self) -> Option<&MountingSpec> {
-        self.mounting.as_ref().map(|(spec, _)| spec)
-    }
-}
-
-/// The record's `ã` (torque first, base clamp frame), by the rules of the module docs: its
-/// `a` as it is; its `raw` reading with the tool's weight taken out, then through the
-/// calibration at the record's time, or else through the mounting alone.
-///
-/// A calibration may map an extreme reading to a value that is not finite; a caller that
-/// needs finite values checks them.
+/// The rig layer's [`RawMap`] of the calibration file `calibration` ([`load_calibration`])
+/// and `mounting`, each if given.
 ///
 /// # Errors
-/// Bad input naming the record's line and time: a `raw` record without `gravity` when the
-/// mounting has a tool, or a `raw` record with neither a calibration nor a mounting given.
+/// As [`load_calibration`]; bad input (`--mounting: ...`) for a mounting the map refuses.
+pub fn raw_map(
+    calibration: Option<&Path>,
+    mounting: Option<MountingSpec>,
+) -> Result<RawMap, LabError> {
+    let calibration = calibration.map(load_calibration).transpose()?;
+    RawMap::new(calibration, mounting).map_err(|e| LabError::bad_input(format!("--mounting: {e}")))
+}
+
+/// Gravity in the base clamp frame for the wire's model of `map`: the calibration's own label
+/// model (`calibration.json`'s `model`) unless `--gravity-in-clamp` gives one, and the flag
+/// only when it is the same model ([`ftwire_rig::WireModelChoice::of_calibration`]); without a
+/// calibration, the flag.
+///
+/// # Errors
+/// Bad input naming `--gravity-in-clamp` and `--calibration` when the two differ.
+pub fn model_gravity(map: &RawMap, given: Option<[f64; 3]>) -> Result<Option<[f64; 3]>, LabError> {
+    let Some(calibration) = map.calibration() else {
+        return Ok(given);
+    };
+    ftwire_rig::WireModelChoice::of_calibration(calibration.model(), given)
+        .map(|choice| choice.gravity_in_clamp())
+        .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp and --calibration: {e}")))
+}
+
+/// The record's `ã` (torque first, base clamp frame) by the rig layer's one map
+/// ([`RawMap::a_tilde`]): its `a` as it is; its `raw` reading with the tool's weight taken
+/// out, then through the calibration at the record's time, or else through the mounting alone.
+///
+/// # Errors
+/// Bad input naming the record's line and time: a record with neither `raw` nor `a`, a `raw`
+/// record without `gravity` when the mounting has a tool, a `raw` record with neither a
+/// calibration nor a mounting given, or a calibration output that is not finite.
 ///
 /// # Example
 /// ```
 /// use ftwire_estimate::ft::MountingSpec;
-/// use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
+/// use ftwire_lab::log::{LogLine, LogRecord, a_tilde};
+/// use ftwire_rig::RawMap;
 /// let record = LogRecord { time: 0.5, raw: Some([0.1, 0.0, -0.2, 0.0, 0.01, 0.0]), a: None, b: None, markers: None, gravity: None };
 /// let line = LogLine { line: 7, record };
 /// let error = a_tilde(&line, &RawMap::default()).err().ok_or("raw needs a map")?;
@@ -154,41 +130,30 @@ impl RawMap {
 /// ```
 pub fn a_tilde(line: &LogLine, map: &RawMap) -> Result<Vector6<f64>, LabError> {
     let record = &line.record;
-    let Some(raw) = record.raw() else {
-        return record.a().ok_or_else(|| {
-            LabError::bad_input(format!(
-                "line {} (time {}) has neither `raw` nor `a`",
-                line.line, record.time
-            ))
-        });
-    };
-    let default = MountingSpec::default();
-    let spec = map.mounting().unwrap_or(&default);
-    let gravity = record.gravity.map(Vector3::from);
-    let raw = spec.compensate(&raw, gravity.as_ref()).map_err(|_| {
-        LabError::bad_input(format!(
-            "line {} (time {}) has a raw F/T reading but no `gravity`: the mounting's tool \
-             (tool_mass = {} kg) weighs on the sensor, and its weight is taken out with the \
-             gravity vector in the sensor frame at each record; give every raw record its \
-             `gravity`",
-            line.line, record.time, spec.tool_mass
-        ))
-    })?;
-    match (&map.calibration, &map.mounting) {
-        (Some(calibration), _) => Ok(calibration.apply_at(&raw, record.time)),
-        (None, Some((_, mounting))) => Ok(mounting.to_configuration(&raw)),
-        (None, None) => Err(LabError::bad_input(format!(
-            "line {} (time {}) has a raw F/T reading: give --calibration FILE (the weights from \
-             `ftwire calibrate --log` or `ftwire experiment calibrate`) to turn it into ã, or \
-             --mounting FILE.toml to take it through the mounting alone, uncalibrated",
-            line.line, record.time
-        ))),
-    }
+    map.a_tilde(&Reading::from(record)).map_err(|e| {
+        let at = format!("line {} (time {})", line.line, record.time);
+        LabError::bad_input(match e {
+            RigError::Empty => format!("{at} has neither `raw` nor `a`"),
+            RigError::NoGravity { tool_mass } => format!(
+                "{at} has a raw F/T reading but no `gravity`: the mounting's tool (tool_mass = \
+                 {tool_mass} kg) weighs on the sensor, and its weight is taken out with the \
+                 gravity vector in the sensor frame at each record; give every raw record its \
+                 `gravity`"
+            ),
+            RigError::NoMap => format!(
+                "{at} has a raw F/T reading: give --calibration FILE (the weights from \
+                 `ftwire calibrate --log` or `ftwire experiment calibrate`) to turn it into ã, \
+                 or --mounting FILE.toml to take it through the mounting alone, uncalibrated"
+            ),
+            other => format!("{at}: {other}"),
+        })
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Vector3;
 
     /// A unique file path under the system's temporary folder (the caller removes it).
     fn temp_file(tag: &str) -> std::path::PathBuf {
@@ -273,7 +238,7 @@ mod tests {
             tool_centre_of_mass: [0.0, 0.01, 0.05],
             ..MountingSpec::default()
         };
-        let map = RawMap::new(None, Some(spec.clone())).expect("a valid mounting");
+        let map = raw_map(None, Some(spec.clone())).expect("a valid mounting");
         let gravity = Vector3::new(0.0, -9.81, 0.0);
         let wire = Vector6::new(0.3, -0.1, 0.2, 0.01, 0.0, -0.02);
         let line = LogLine {
@@ -308,7 +273,7 @@ mod tests {
             tool_mass: -1.0,
             ..MountingSpec::default()
         };
-        let error = RawMap::new(None, Some(bad)).expect_err("a negative mass");
+        let error = raw_map(None, Some(bad)).expect_err("a negative mass");
         assert!(error.to_string().starts_with("--mounting: "), "{error}");
     }
 

@@ -105,10 +105,11 @@ class Mounting:
 class ShapeEstimator:
     """Shapes from F/T with flags "confident", "not_stable", "jump", "no_shape"."""
     def __init__(self, wire: Wire, calibration: Optional[Calibration] = None,
-                 mounting: Optional[Mounting] = None, points: int = 64,
-                 jump_threshold: float = 2.0) -> None: ...
+                 mounting: Optional[Mounting] = None, points: int = 100,
+                 jump_threshold: float = 2.0, gravity: Optional[ArrayLike] = None) -> None: ...
     def reset(self) -> None: ...
-    def estimate(self, samples: ArrayLike, time: Optional[ArrayLike] = None) -> Dict[str, Any]:
+    def estimate(self, samples: ArrayLike, time: Optional[ArrayLike] = None,
+                 tool_gravity: Optional[ArrayLike] = None) -> Dict[str, Any]:
         """{"a": (N, 6), "shape": (N, points, 3) [m], "flag": [str], "error": [str | None]}."""
 
 class Identification:

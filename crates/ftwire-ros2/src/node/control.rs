@@ -49,6 +49,9 @@ pub struct ControlNodeParams {
     pub robot: RobotParams,
     /// The wire the controller's model is of.
     pub wire: WireSpec,
+    /// Gravity in the base clamp frame \[m/s²\]: the controller's model is the loaded rod,
+    /// with the wire's weight; `None`: the weight-free model.
+    pub gravity_in_clamp: Option<[f64; 3]>,
     /// The goals in order, the last the goal (the ones before it waypoints of a path); each
     /// `a` \[N·m, N\], torque first, base clamp frame.
     pub goals: Vec<Vector6<f64>>,
@@ -130,18 +133,20 @@ impl ControlNodeParams {
     /// The controller, with every goal checked.
     fn controller(&self) -> Result<Controller<KirchhoffModel>, NodeError> {
         self.validate()?;
-        let wire = self.wire.wire_params().map_err(|e| NodeError::BadSetting {
-            setting: "--wire",
-            value: format!("{} ({e})", self.wire.name),
-            allowed: "a wire with valid parameters",
-        })?;
-        let controller = Controller::new(KirchhoffModel::new(wire), self.control).map_err(|e| {
+        let gravity = ftwire_lab::log::model_gravity(&self.robot.map, self.gravity_in_clamp)?;
+        let model = ftwire_lab::log::shape::wire_model(&self.wire, gravity).map_err(|e| {
             NodeError::BadSetting {
+                setting: "--wire or --gravity-in-clamp",
+                value: format!("{} ({e})", self.wire.name),
+                allowed: "a wire with valid parameters, gravity of norm in (0, 100] m/s²",
+            }
+        })?;
+        let controller =
+            Controller::new(model, self.control).map_err(|e| NodeError::BadSetting {
                 setting: "--gain, --epsilon, --max-step-mm or --max-step-deg",
                 value: e.to_string(),
                 allowed: "a gain in (0, 1], positive ε and step limits",
-            }
-        })?;
+            })?;
         for goal in &self.goals {
             controller
                 .check_goal(goal)

@@ -5,14 +5,15 @@
 //!
 //! 1. **tare**: the first `tare` samples are the sensor's reading with nothing in the gripper
 //!    (the sim streams them first), averaged into the tare (`ftwire_estimate::ft::Tare`);
-//! 2. **window**: the mean of the last `window` tared samples (a running sum: white noise falls
-//!    as `1/√window`, at a delay of half the window);
+//! 2. **window**: the mean of the last `window` tared samples (white noise falls as
+//!    `1/√window`, at a delay of half the window); steps 1–2 are [`ftwire_rig::Stream`]'s;
 //! 3. **ã**: the mean through the learnt calibration or the mounting
-//!    ([`ftwire_lab::log::a_tilde`], exactly as `ftwire shape --log` maps a record's `raw`);
-//! 4. **shape**: [`ftwire_lab::log::shape::shape_record`], the same call `ftwire shape --log`
-//!    makes, of `ã − β̂` (the bias observer's estimate taken out, step 6): the centreline at 64
-//!    nodes, `stable` (`ã ∈ A_stable`) and `confident` (stable and no jump from the previous
-//!    estimate);
+//!    ([`ftwire_rig::RawMap::a_tilde`], the map `ftwire shape --log` gives a record's `raw`);
+//! 4. **shape**: [`ftwire_rig::Measurement::solve`] and [`ftwire_rig::Stream::flag`], the
+//!    calls `ftwire shape --log` makes, of `ã − β̂` (the bias observer's estimate taken out,
+//!    step 6): the centreline at `points` nodes (the weight-free model, or the loaded one with
+//!    `gravity_in_clamp`), `stable` (`ã ∈ A_stable`) and `confident` (stable and no jump
+//!    from the previous estimate);
 //! 5. **contact miss** (with `contact_miss`): the reported tip pose (the latest on the tip pose
 //!    topic, or with `tf` the pose of the tip frame in the base frame at the batch's newest
 //!    wrench stamp, [`super::tf`]) against the estimated shape's tip. A free wire's shape ends
@@ -54,10 +55,10 @@
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
-use ftwire_core::FtSample;
 use ftwire_estimate::ft::Tare;
 use ftwire_lab::log::RawMap;
 use ftwire_lab::wire::WireSpec;
+use ftwire_rig::{Measurement, Reading, Stream, StreamParams};
 use nalgebra::Vector6;
 use ros2_client::MessageInfo;
 use serde::Serialize;
@@ -66,7 +67,7 @@ use super::observe::{DetectorSummary, ObserveParams, ObserverSummary};
 use super::sigma::{ErrorBars, SigmaSummary};
 use super::stats::Spread;
 use super::tf::{TfFrames, TfSummary};
-use super::{Counts, NodeError, a_of_raw, check_contact_miss, tare_of};
+use super::{Counts, NodeError, check_contact_miss};
 use crate::msg::{self, ColorRGBA, Marker, MarkerArray};
 
 /// The line width of the drawn wire \[m\].
@@ -84,6 +85,14 @@ pub struct EstimateNodeParams {
     pub wire: WireSpec,
     /// The calibration and mounting: raw readings to `ã`.
     pub map: RawMap,
+    /// Gravity in the base clamp frame \[m/s²\]: the loaded model, with the wire's weight;
+    /// `None`: the weight-free model.
+    pub gravity_in_clamp: Option<[f64; 3]>,
+    /// Points of each shape (default [`ftwire_rig::shape::DEFAULT_POINTS`]).
+    pub points: usize,
+    /// The wrench subscription's QoS (default sensor data: best effort, which matches a
+    /// best-effort publisher and a reliable one).
+    pub qos: super::SensorQos,
     /// Samples of the tare, with nothing in the gripper (0: no tare) (default 500).
     pub tare: usize,
     /// Samples averaged, 1 to 100 000 (default 100).
@@ -194,84 +203,74 @@ pub struct Recorded {
     pub failed: u64,
 }
 
-/// The running state of steps 1–3.
+/// The running state of steps 1–4: the rig layer's measurement and stream
+/// ([`ftwire_rig`], the path `ftwire shape --log` and Python take too).
 pub(super) struct Pipeline {
-    tare_samples: Vec<FtSample>,
-    tare_target: usize,
-    pub(super) tare: Option<Tare>,
-    /// The tare's time: the mean stamp of its samples (the first sample's without a tare).
-    pub(super) tare_time: Option<f64>,
-    window: Vec<Vector6<f64>>,
-    next: usize,
-    filled: usize,
-    sum: Vector6<f64>,
-    map: RawMap,
+    pub(super) measurement: Measurement,
+    pub(super) stream: Stream,
+    /// The first sample's time, the tare's time without a tare.
+    first_time: Option<f64>,
 }
 
 impl Pipeline {
-    pub(super) fn new(params: &EstimateNodeParams) -> Self {
-        Self {
-            tare_samples: Vec::with_capacity(params.tare),
-            tare_target: params.tare,
-            tare: (params.tare == 0).then(Tare::none),
-            tare_time: None,
-            window: vec![Vector6::zeros(); params.window],
-            next: 0,
-            filled: 0,
-            sum: Vector6::zeros(),
-            map: params.map.clone(),
+    /// The measurement of `params` (its map, its wire's model: loaded with
+    /// `gravity_in_clamp`, weight-free without) and a stream with its tare and window.
+    pub(super) fn new(params: &EstimateNodeParams) -> Result<Self, NodeError> {
+        let gravity = ftwire_lab::log::model_gravity(&params.map, params.gravity_in_clamp)?;
+        let measurement = ftwire_lab::log::shape::measurement(
+            &params.wire,
+            params.map.clone(),
+            gravity,
+            params.points,
+            params
+                .error_bars
+                .as_ref()
+                .and_then(|b| b.model_error)
+                .map(|e| e.per_length()),
+        )?;
+        let stream = Stream::new(
+            &measurement,
+            StreamParams {
+                tare: params.tare,
+                window: params.window,
+            },
+        )
+        .map_err(|e| NodeError::BadSetting {
+            setting: "--tare",
+            value: format!("{} ({e})", params.tare),
+            allowed: "0, or at least 2 samples, with a mounting without a tool",
+        })?;
+        Ok(Self {
+            measurement,
+            stream,
+            first_time: None,
+        })
+    }
+
+    /// The tare, once taken (no offset without a tare).
+    pub(super) fn tare(&self) -> Option<Tare> {
+        match self.stream.tare() {
+            Some((tare, _)) => Some(*tare),
+            None => self.stream.is_tared().then(Tare::none),
         }
     }
 
-    /// Takes a raw sample (force first); returns `ã` once the tare is done.
+    /// The tare's time: the mean stamp of its samples (the first sample's without a tare).
+    pub(super) fn tare_time(&self) -> Option<f64> {
+        self.stream.tare().map(|(_, t)| t).or(self.first_time)
+    }
+
+    /// Takes a raw sample (force first); returns `ã` once the tare is done and the window
+    /// full.
     pub(super) fn add(
         &mut self,
         raw: Vector6<f64>,
         time: f64,
     ) -> Option<Result<Vector6<f64>, String>> {
-        if self.tare_time.is_none() && self.tare.is_some() {
-            self.tare_time = Some(time);
-        }
-        let Some(tare) = &self.tare else {
-            self.tare_samples.push(FtSample {
-                time,
-                raw,
-                saturated: [false; 6],
-            });
-            if self.tare_samples.len() >= self.tare_target {
-                return match tare_of(&self.tare_samples) {
-                    Ok(tare) => {
-                        self.tare = Some(tare);
-                        #[allow(clippy::cast_precision_loss)] // a tare far below 2⁵² samples
-                        let n = self.tare_samples.len() as f64;
-                        self.tare_time =
-                            Some(self.tare_samples.iter().map(|s| s.time).sum::<f64>() / n);
-                        None
-                    }
-                    Err(e) => {
-                        self.tare_samples.clear();
-                        Some(Err(format!("the tare failed ({e}); taring again")))
-                    }
-                };
-            }
-            return None;
-        };
-        let tared = tare.apply(&raw);
-        let len = self.window.len();
-        self.sum += tared - self.window[self.next];
-        self.window[self.next] = tared;
-        self.next = (self.next + 1) % len;
-        self.filled = (self.filled + 1).min(len);
-        if self.next == 0 {
-            // Once per window, the sum afresh: no rounding drift over a long run.
-            self.sum = self.window.iter().sum();
-        }
-        if self.filled < len {
-            return None;
-        }
-        #[allow(clippy::cast_precision_loss)] // a window far below 2⁵²
-        let mean = self.sum / len as f64;
-        Some(a_of_raw(&mean, time, &self.map))
+        self.first_time.get_or_insert(time);
+        self.stream
+            .push(&self.measurement, &Reading::raw(time, raw))
+            .map(|r| r.map(|(_, a)| a).map_err(|e| e.to_string()))
     }
 }
 
@@ -486,6 +485,9 @@ mod tests {
         EstimateNodeParams {
             wire: WireSpec::load("nitinol-3mm-820").expect("a preset"),
             map: RawMap::new(None, Some(MountingSpec::default())).expect("a mounting"),
+            gravity_in_clamp: None,
+            points: ftwire_rig::shape::DEFAULT_POINTS,
+            qos: crate::node::SensorQos::default(),
             tare,
             window,
             rate: 1000.0,
@@ -503,7 +505,7 @@ mod tests {
     #[test]
     fn the_pipeline_tares_then_averages_a_window_then_maps() {
         let p = params(4, 3);
-        let mut pipeline = Pipeline::new(&p);
+        let mut pipeline = Pipeline::new(&p).expect("valid settings");
         let offset = Vector6::new(0.3, -0.2, 0.6, 0.01, -0.008, 0.005);
         for i in 0..4 {
             assert!(pipeline.add(offset, f64::from(i) * 1e-3).is_none());
@@ -523,6 +525,89 @@ mod tests {
         // The last three jitters average to −0.01/3.
         let expected = mounting.to_configuration(&(load + Vector6::repeat(-0.01 / 3.0)));
         assert!((last - expected).norm() < 1e-12, "{last} vs {expected}");
+    }
+
+    /// The node and `ftwire shape --log` (the lab's `LogShapes`) are one path: the same raw
+    /// readings give the same `ã`, the same points and the same flags, to the bit, for the
+    /// weight-free and the loaded model.
+    #[test]
+    fn the_node_and_shape_log_give_the_same_shapes_to_the_bit() {
+        let dir = std::env::temp_dir().join(format!("ftwire-ros2-one-path-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a temporary folder");
+        let mounting = MountingSpec::default().mounting().expect("valid");
+        let wire = WireSpec::load("nitinol-3mm-820").expect("a preset");
+        let params_of = wire.wire_params().expect("valid");
+        let raws: Vec<Vector6<f64>> = (0..12)
+            .map(|k| {
+                let z = f64::from(k);
+                let a = ftwire_rod::from_normalised(
+                    &params_of,
+                    &Vector6::new(0.5, 2.0 + 0.1 * z, -1.0, -3.0, 1.5, 0.5 + 0.02 * z),
+                );
+                // A jump at the eighth reading.
+                let a = if k == 8 { a * 3.0 } else { a };
+                mounting.to_sensor(&a)
+            })
+            .collect();
+        let log = dir.join("rig.jsonl");
+        let text: String = raws
+            .iter()
+            .enumerate()
+            .map(|(k, raw)| {
+                #[allow(clippy::cast_precision_loss)]
+                let time = 0.25 * k as f64;
+                let record = ftwire_estimate::log::LogRecord {
+                    time,
+                    raw: Some((*raw).into()),
+                    a: None,
+                    b: None,
+                    markers: None,
+                    gravity: None,
+                };
+                ftwire_estimate::log::to_line(&record).expect("a line") + "\n"
+            })
+            .collect();
+        std::fs::write(&log, text).expect("writes the log");
+        for gravity in [None, Some([0.0, 0.0, -9.81])] {
+            let cli =
+                ftwire_lab::log::shape::LogShapes::new(&ftwire_lab::log::shape::ShapeLogParams {
+                    mounting: Some(MountingSpec::default()),
+                    gravity_in_clamp: gravity,
+                    ..ftwire_lab::log::shape::ShapeLogParams::new(log.clone(), "nitinol-3mm-820")
+                })
+                .expect("a good log")
+                .collect::<Result<Vec<_>, _>>()
+                .expect("every record");
+            let mut p = params(0, 1);
+            p.gravity_in_clamp = gravity;
+            let mut pipeline = Pipeline::new(&p).expect("valid settings");
+            for (k, (raw, record)) in raws.iter().zip(&cli).enumerate() {
+                #[allow(clippy::cast_precision_loss)]
+                let time = 0.25 * k as f64;
+                let a = pipeline
+                    .add(*raw, time)
+                    .expect("no tare, a window of 1")
+                    .expect("ã");
+                assert_eq!(a.as_slice(), record.a.as_slice(), "ã of reading {k}");
+                let solved = pipeline.measurement.solve(&a, None);
+                let flag = pipeline.stream.flag(&a, &solved);
+                assert_eq!(flag, record.confidence, "the flag of reading {k}");
+                let points: Vec<[f64; 3]> = solved
+                    .expect("a shape")
+                    .shape
+                    .positions
+                    .iter()
+                    .map(|p| [p.x, p.y, p.z])
+                    .collect();
+                assert_eq!(points, record.points, "the points of reading {k}");
+            }
+            assert!(
+                cli.iter().any(|r| !r.confident),
+                "the jump is flagged: {:?}",
+                cli.iter().map(|r| r.confidence).collect::<Vec<_>>()
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -6,10 +6,7 @@
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
-use ftwire_estimate::KirchhoffModel;
-use ftwire_estimate::shape::{ShapeEstimator, marker_distances};
-use ftwire_lab::log::LogRecord;
-use ftwire_lab::log::shape::shape_record_with_std;
+use ftwire_estimate::shape::marker_distances;
 use nalgebra::{Vector3, Vector6};
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::{MessageInfo, Publisher, QosProfile, Subscription};
@@ -61,7 +58,10 @@ fn ros_error(what: &str, e: &std::io::Error) -> NodeError {
 /// the topic's `offered_qos_profiles`).
 fn topic_qos(params: &EstimateNodeParams) -> Vec<(String, QosProfile)> {
     let small = reliable(10);
-    let mut topics = vec![(params.wrench_topic.clone(), reliable(WRENCH_QUEUE))];
+    let mut topics = vec![(
+        params.wrench_topic.clone(),
+        params.qos.profile(WRENCH_QUEUE),
+    )];
     if params.tf.is_some() {
         topics.push((TF_TOPIC.to_owned(), tf_qos()));
         topics.push((TF_STATIC_TOPIC.to_owned(), tf_static_qos(false)));
@@ -80,8 +80,10 @@ fn topic_qos(params: &EstimateNodeParams) -> Vec<(String, QosProfile)> {
 impl Io {
     fn open(node: &mut RosNode, params: &EstimateNodeParams) -> Result<Self, NodeError> {
         let small = reliable(10);
-        let mut wrench =
-            node.subscription::<WrenchStamped>(&params.wrench_topic, &reliable(WRENCH_QUEUE))?;
+        let mut wrench = node.subscription::<WrenchStamped>(
+            &params.wrench_topic,
+            &params.qos.profile(WRENCH_QUEUE),
+        )?;
         let (mut tip, mut tf) = match &params.tf {
             Some(frames) => (None, Some(TfListener::open(node, frames)?)),
             None => (
@@ -169,7 +171,6 @@ fn record<M: RosMessage>(recorder: &mut Option<Recorder>, topic: &str, time_ns: 
 /// The running state of the loop.
 struct State<'p> {
     params: &'p EstimateNodeParams,
-    estimator: ShapeEstimator<KirchhoffModel>,
     recorder: Option<Recorder>,
     summary: EstimateSummary,
     pipeline: Pipeline,
@@ -198,7 +199,7 @@ struct State<'p> {
 impl<'p> State<'p> {
     fn new(
         params: &'p EstimateNodeParams,
-        estimator: ShapeEstimator<KirchhoffModel>,
+        pipeline: Pipeline,
         recorder: Option<Recorder>,
         observe: Observer,
     ) -> Self {
@@ -206,7 +207,6 @@ impl<'p> State<'p> {
         let stale_ns = (1e9 / params.rate) as i64;
         Self {
             params,
-            estimator,
             recorder,
             summary: EstimateSummary {
                 node: "estimate",
@@ -232,7 +232,7 @@ impl<'p> State<'p> {
                 recorded: None,
                 tf: None,
             },
-            pipeline: Pipeline::new(params),
+            pipeline,
             loss: LossCounter::new(params.rate),
             tip: None,
             shape: Vec::new(),
@@ -279,7 +279,7 @@ impl<'p> State<'p> {
                             Ok(p) => {
                                 self.tip = Some(p.translation.vector);
                                 let t = seconds(&pose.header.stamp);
-                                let tare = self.pipeline.tare;
+                                let tare = self.pipeline.tare();
                                 let events = self.observe.pose(t, &p, tare, &self.params.map);
                                 log_rests(&events, log);
                             }
@@ -314,7 +314,7 @@ impl<'p> State<'p> {
         let pose = now.and_then(|now| listener.tip(now, log).map(|pose| (now, pose)));
         self.tip = pose.map(|(_, pose)| pose.translation.vector);
         if let Some((t, p)) = pose {
-            let tare = self.pipeline.tare;
+            let tare = self.pipeline.tare();
             let events = self.observe.pose(t, &p, tare, &self.params.map);
             log_rests(&events, log);
         }
@@ -336,7 +336,7 @@ impl<'p> State<'p> {
                 Err(_) => count(&mut self.summary.refused, "malformed"),
             }
         }
-        if !self.tared_logged && self.pipeline.tare.is_some() {
+        if !self.tared_logged && self.pipeline.tare().is_some() {
             self.tared_logged = true;
             log(&format!(
                 "estimate: tared on {} samples from k = {}",
@@ -357,8 +357,9 @@ impl<'p> State<'p> {
         };
         let t = seconds(&wrench.header.stamp);
         self.loss.add(t);
-        if self.pipeline.tare.is_some() {
-            self.observe.sample(t, raw);
+        if let Some(tare) = self.pipeline.tare() {
+            let events = self.observe.sample(t, raw, Some(tare), &self.params.map);
+            log_rests(&events, log);
         }
         match self.pipeline.add(raw, t) {
             None => {}
@@ -393,48 +394,28 @@ impl<'p> State<'p> {
         let solve_start = Instant::now();
         // The bias estimate taken out, as the experiments' controller steers by it.
         let a = self.observe.correct(&sample.a);
-        let record = LogRecord {
-            time: seconds(&sample.stamp),
-            raw: None,
-            a: Some(a.into()),
-            b: None,
-            markers: None,
-            gravity: None,
-        };
+        let time = seconds(&sample.stamp);
         let covariance = self.params.error_bars.as_ref().map(|bars| {
-            let since_tare = self.pipeline.tare_time.map_or(0.0, |t| record.time - t);
-            bars.covariance(&a, since_tare, self.observe.bias_covariance(record.time))
+            let since_tare = self.pipeline.tare_time().map_or(0.0, |t| time - t);
+            bars.covariance(&a, since_tare, self.observe.bias_covariance(time))
         });
-        let solved = shape_record_with_std(
-            &mut self.estimator,
-            self.index,
-            &record,
-            &a,
-            covariance.as_ref(),
-        );
+        let solved = self.pipeline.measurement.solve(&a, covariance.as_ref());
+        let confidence = self.pipeline.stream.flag(&a, &solved);
         self.index += 1;
         self.solves.push(1e3 * solve_start.elapsed().as_secs_f64());
         match solved {
-            Ok(result) if result.points.is_some() => {
-                let points = result.points.unwrap_or_default();
+            Ok(solved) => {
                 self.shape.clear();
-                self.shape.extend(points.iter().map(|p| Vector3::from(*p)));
-                self.sigma = result
-                    .sigma_mm
-                    .map(|s| s.into_iter().map(|v| 1e-3 * v).collect());
-                let stable = result.confidence != Some("not_stable");
-                let confident = result.confidence == Some("confident");
-                self.publish(sample, &a, io, (stable, confident));
-            }
-            Ok(result) => {
-                self.summary.no_shape += 1;
-                self.note(log, result.error.unwrap_or_default(), |e| {
-                    format!("estimate: no shape for ã = {:?}: {e}", a.as_slice())
-                });
+                self.shape.extend(solved.shape.positions.iter().copied());
+                self.sigma = solved.sigma;
+                let flags = (confidence.is_stable(), confidence.is_confident());
+                self.publish(sample, &a, io, flags);
             }
             Err(e) => {
                 self.summary.no_shape += 1;
-                log(&format!("estimate: {e}"));
+                self.note(log, e, |e| {
+                    format!("estimate: no shape for ã = {:?}: {e}", a.as_slice())
+                });
             }
         }
     }
@@ -633,7 +614,8 @@ pub fn run(
     settings.validate()?;
     params.validate()?;
     let started = Instant::now();
-    let wire = params
+    // The wire is checked before anything is opened.
+    params
         .wire
         .wire_params()
         .map_err(|e| NodeError::BadSetting {
@@ -686,11 +668,9 @@ pub fn run(
             r.path.display()
         ))
     ));
-    let model = KirchhoffModel::new(wire);
-    let observe = Observer::new(model, &params.observe)?;
-    let estimator = ShapeEstimator::new(model)
-        .with_model_error(params.error_bars.as_ref().and_then(|b| b.model_error));
-    let mut state = State::new(params, estimator, recorder, observe);
+    let pipeline = Pipeline::new(params)?;
+    let observe = Observer::new(*pipeline.measurement.model(), &params.observe)?;
+    let mut state = State::new(params, pipeline, recorder, observe);
     while !should_stop(stop, started, settings.duration) {
         io.wait()?;
         if let Some(sub) = io.tip.as_ref() {

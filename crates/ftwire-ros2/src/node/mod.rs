@@ -58,8 +58,8 @@ use ros2_client::{Publisher, Subscription};
 pub use error::NodeError;
 
 use ftwire_core::FtSample;
-use ftwire_estimate::ft::{RestAverage, Tare};
-use ftwire_lab::log::{LogLine, LogRecord, RawMap, a_tilde};
+use ftwire_estimate::ft::Tare;
+use ftwire_lab::log::RawMap;
 use nalgebra::{Point3, Vector6};
 
 use crate::msg::{self, Header, Path, PoseStamped, RosMessage, Time};
@@ -190,6 +190,29 @@ pub fn reliable(depth: usize) -> QosProfile {
         .history(History::KeepLast { depth })
 }
 
+/// The QoS a node subscribes to a sensor topic (the wrench) with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SensorQos {
+    /// Best effort, volatile, the last messages kept (ROS 2's `sensor_data` profile, as many
+    /// F/T drivers publish): it matches a best-effort publisher and a reliable one.
+    #[default]
+    SensorData,
+    /// Reliable, volatile: matches only a reliable publisher (a best-effort one is never
+    /// connected).
+    Reliable,
+}
+
+impl SensorQos {
+    /// The profile, the last `depth` messages kept.
+    pub fn profile(self, depth: usize) -> QosProfile {
+        match self {
+            Self::SensorData => reliable(depth).reliability_best_effort(),
+            Self::Reliable => reliable(depth),
+        }
+    }
+}
+
 /// A ROS 2 node on its own DDS participant.
 pub(crate) struct RosNode {
     node: Node,
@@ -298,40 +321,21 @@ pub(crate) fn sleep_until(deadline: Instant, cap: Duration) {
     }
 }
 
-/// The tare of `samples`, read with nothing in the gripper: their mean over the good ones (at
-/// least half must be), subtracted from every later reading.
+/// The tare of `samples`, read with nothing in the gripper ([`ftwire_rig::stream::tare_of`]).
 pub(crate) fn tare_of(samples: &[FtSample]) -> Result<Tare, String> {
-    RestAverage::new(samples.len().div_ceil(2))
-        .and_then(|average| average.average(samples.iter().map(Some)))
-        .map(|rest| Tare::from_rest(&rest, &Vector6::zeros()))
-        .map_err(|e| e.to_string())
+    ftwire_rig::stream::tare_of(samples).map_err(|e| e.to_string())
 }
 
 /// `ã` of a tared mean reading (force first, sensor frame) at `time` \[s\]: through the
-/// calibration or the mounting exactly as `ftwire shape --log` maps a record's `raw`
-/// ([`a_tilde`]); an answer that is not finite is an error.
+/// calibration or the mounting by the rig layer's one map ([`ftwire_rig::RawMap::a_tilde`],
+/// as `ftwire shape --log` maps a record's `raw`); an answer that is not finite is an error.
 pub(crate) fn a_of_raw(
     mean: &Vector6<f64>,
     time: f64,
     map: &RawMap,
 ) -> Result<Vector6<f64>, String> {
-    let line = LogLine {
-        line: 0,
-        record: LogRecord {
-            time,
-            raw: Some((*mean).into()),
-            a: None,
-            b: None,
-            markers: None,
-            gravity: None,
-        },
-    };
-    let a = a_tilde(&line, map).map_err(|e| e.to_string())?;
-    if a.iter().all(|v| v.is_finite()) {
-        Ok(a)
-    } else {
-        Err("the calibration gave a value that is not finite".to_owned())
-    }
+    map.a_tilde(&ftwire_rig::Reading::raw(time, *mean))
+        .map_err(|e| e.to_string())
 }
 
 /// A `nav_msgs/Path` through `points` (orientations left at the identity), every pose with

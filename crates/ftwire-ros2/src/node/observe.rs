@@ -14,7 +14,11 @@
 //!    with each component's standard error propagated to first order
 //!    (`ftwire_estimate::ft::FtPipeline::measure`); the tip poses of the period are averaged
 //!    (positions, and rotation vectors about the first). One still period gives one rest, at
-//!    the end of its dwell; the tip must move beyond the tolerances before the next.
+//!    the end of its dwell; the tip must move beyond the tolerances before the next. A rest
+//!    is defined by the stamps alone: poses and samples are taken in stamp order whatever
+//!    order they arrive in (each stream in its own order; a pose waits for the first sample
+//!    stamped after it, a sample for the first pose), so the same stamped streams give the
+//!    same rests and the same `ã` in any interleaving.
 //! 2. **bias**: `ftwire_control::BiasObserver::update` with the rest (`ã`, its standard
 //!    errors, the mean tip pose, the rest's last stamp), built with
 //!    [`ftwire_lab::experiment::rig::bias_observer`]'s settings for the node's sensor; every
@@ -31,6 +35,8 @@
 //!    residual falls back below it. The detector watches the raw `ã`, never the corrected
 //!    one, so that a contact is not explained away as drift. It gives no location: the node
 //!    draws the contact at the estimated shape's tip.
+
+use std::collections::VecDeque;
 
 use ftwire_control::{
     BiasObserver, BiasObserverParams, CollisionDetector, MoveCheck, predicted_delta_a,
@@ -52,6 +58,10 @@ pub const MIN_REST_SAMPLES: usize = 10;
 /// Most samples a still period keeps while it waits for its dwell (a tip pose topic that
 /// stops would otherwise let them grow without end): 10 minutes at 1 kHz.
 const MAX_KEPT: usize = 600_000;
+
+/// Most samples that wait for a pose (and poses for a sample) before they are taken anyway:
+/// a stream that stops does not hold the other back for more than about 4 s at 1 kHz.
+const MAX_WAITING: usize = 4096;
 
 /// How a rest is found in the streams.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -147,6 +157,9 @@ pub struct RestDetector {
     samples: Vec<FtSample>,
     /// The period has given its rest.
     done: bool,
+    /// Samples and poses received and not yet taken: they are taken in stamp order.
+    waiting_samples: VecDeque<FtSample>,
+    waiting_poses: VecDeque<(f64, Pose)>,
 }
 
 impl RestDetector {
@@ -160,11 +173,48 @@ impl RestDetector {
             poses: 0,
             samples: Vec::new(),
             done: false,
+            waiting_samples: VecDeque::new(),
+            waiting_poses: VecDeque::new(),
         }
     }
 
-    /// Takes a tared-stream sample (its `time` the stamp).
-    pub fn sample(&mut self, sample: FtSample) {
+    /// Receives a tared-stream sample (its `time` the stamp); returns the rests it lets the
+    /// detector complete (the module docs: stamp order).
+    pub fn sample(&mut self, sample: FtSample) -> Vec<RestWindow> {
+        self.waiting_samples.push_back(sample);
+        self.take_in_order()
+    }
+
+    /// Receives a tip pose stamped `time` \[s\]; returns the rests it lets the detector
+    /// complete.
+    pub fn pose(&mut self, time: f64, pose: &Pose) -> Vec<RestWindow> {
+        self.waiting_poses.push_back((time, *pose));
+        self.take_in_order()
+    }
+
+    /// Takes the waiting samples and poses in stamp order, a sample before a pose of the same
+    /// stamp, as far as both streams have come (or one has waited too long).
+    fn take_in_order(&mut self) -> Vec<RestWindow> {
+        let mut rests = Vec::new();
+        loop {
+            let sample_first = match (self.waiting_samples.front(), self.waiting_poses.front()) {
+                (Some(s), Some((t, _))) => s.time <= *t,
+                (Some(_), None) if self.waiting_samples.len() > MAX_WAITING => true,
+                (None, Some(_)) if self.waiting_poses.len() > MAX_WAITING => false,
+                _ => return rests,
+            };
+            if sample_first {
+                if let Some(sample) = self.waiting_samples.pop_front() {
+                    self.take_sample(sample);
+                }
+            } else if let Some((time, pose)) = self.waiting_poses.pop_front() {
+                rests.extend(self.take_pose(time, &pose));
+            }
+        }
+    }
+
+    /// Takes a tared-stream sample, in stamp order.
+    fn take_sample(&mut self, sample: FtSample) {
         let Some((start, _)) = self.anchor else {
             return;
         };
@@ -177,8 +227,9 @@ impl RestDetector {
         self.samples.push(sample);
     }
 
-    /// Takes a tip pose stamped `time` \[s\]; returns the rest it completes, if any.
-    pub fn pose(&mut self, time: f64, pose: &Pose) -> Option<RestWindow> {
+    /// Takes a tip pose stamped `time` \[s\], in stamp order; returns the rest it completes,
+    /// if any.
+    fn take_pose(&mut self, time: f64, pose: &Pose) -> Option<RestWindow> {
         let Some((start, anchor)) = self.anchor else {
             self.begin(time, pose);
             return None;
@@ -453,13 +504,22 @@ impl Observer {
         })
     }
 
-    /// Takes a raw sample stamped `time` once the tare is known.
-    pub fn sample(&mut self, time: f64, raw: Vector6<f64>) {
-        self.rests.sample(FtSample {
+    /// Takes a raw sample stamped `time` once the tare is known; at the end of a rest it lets
+    /// the detector complete (the module docs: stamp order), measures it (with `tare` and
+    /// `map`) and runs the observer and the detector on it.
+    pub fn sample(
+        &mut self,
+        time: f64,
+        raw: Vector6<f64>,
+        tare: Option<Tare>,
+        map: &RawMap,
+    ) -> Vec<RestEvent> {
+        let windows = self.rests.sample(FtSample {
             time,
             raw,
             saturated: [false; 6],
         });
+        self.measure(windows, tare, map)
     }
 
     /// Takes a tip pose stamped `time`; at the end of a rest, measures it (with `tare` and
@@ -471,13 +531,28 @@ impl Observer {
         tare: Option<Tare>,
         map: &RawMap,
     ) -> Vec<RestEvent> {
-        let (Some(window), Some(tare)) = (self.rests.pose(time, pose), tare) else {
+        let windows = self.rests.pose(time, pose);
+        self.measure(windows, tare, map)
+    }
+
+    /// Measures the rests found and runs the observer and the detector on each.
+    fn measure(
+        &mut self,
+        windows: Vec<RestWindow>,
+        tare: Option<Tare>,
+        map: &RawMap,
+    ) -> Vec<RestEvent> {
+        let Some(tare) = tare else {
             return Vec::new();
         };
-        match measure_rest(&window, tare, map) {
-            Ok(rest) => self.rest(rest),
-            Err(e) => vec![RestEvent::Failed(e)],
+        let mut events = Vec::new();
+        for window in windows {
+            match measure_rest(&window, tare, map) {
+                Ok(rest) => events.extend(self.rest(rest)),
+                Err(e) => events.push(RestEvent::Failed(e)),
+            }
         }
+        events
     }
 
     /// Runs the bias observer and the collision detector on a measured rest.

@@ -50,6 +50,8 @@ const MAX_BUFFER: usize = 60_000;
 pub struct RobotParams {
     /// The calibration and mounting: raw readings to `ã`.
     pub map: RawMap,
+    /// The wrench subscription's QoS (default sensor data, [`super::SensorQos`]).
+    pub qos: super::SensorQos,
     /// Samples of the tare, with nothing in the gripper (0: no tare) (default 500).
     pub tare: usize,
     /// The sensor's rate \[Hz\], to count lost samples from the stamps (default 1000).
@@ -230,8 +232,10 @@ impl Robot {
         params.validate()?;
         let mut node = RosNode::new(name, domain_id)?;
         let small = reliable(10);
-        let mut wrench_sub =
-            node.subscription::<WrenchStamped>(&params.wrench_topic, &reliable(WRENCH_QUEUE))?;
+        let mut wrench_sub = node.subscription::<WrenchStamped>(
+            &params.wrench_topic,
+            &params.qos.profile(WRENCH_QUEUE),
+        )?;
         let mut tip_sub = node.subscription::<PoseStamped>(&params.tip_pose_topic, &small)?;
         let mut truth_sub = params
             .truth_topic

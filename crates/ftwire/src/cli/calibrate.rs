@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::{CountRange, Numbers, ResultsArgs, SeedArgs, parse_finite, parse_numbers};
+use ftwire::args::{CountRange, ResultsArgs, SeedArgs, parse_finite};
 use serde::Serialize;
 
 use crate::cli::groups::MountingArgs;
@@ -34,11 +34,10 @@ pub struct CalibrateArgs {
     #[arg(long, value_name = "F,F,...", value_delimiter = ',', value_parser = parse_finite)]
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub marker_fractions: Vec<f64>,
-    /// Gravity in the base clamp frame [m/s²] for the loaded model (the wire's weight; e.g.
-    /// `0,0,-9.81` with the clamp level) [default: the weight-free model of the paper].
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers::<3>, allow_hyphen_values = true)]
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub gravity_in_clamp: Option<Numbers<3>>,
+    /// The loaded model of the labels (`--gravity-in-clamp`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub gravity: crate::cli::groups::GravityInClampArgs,
     /// Largest RMS marker residual of a label's fit [mm]; a record fitted worse is rejected
     /// and counted.
     #[arg(long, value_name = "MM", default_value_t = 3.0, value_parser = parse_finite)]

@@ -27,6 +27,24 @@ impl CalibrationArgs {
     }
 }
 
+/// `--gravity-in-clamp X,Y,Z`: the loaded model of the wire, with its weight.
+#[derive(Debug, Clone, Default, Args, Serialize)]
+pub struct GravityInClampArgs {
+    /// Gravity in the base clamp frame [m/s²] for the loaded model (the wire's weight; e.g.
+    /// `0,0,-9.81` with the clamp level), norm above 0 and at most 100 [default: the
+    /// weight-free model of the paper].
+    #[arg(long = "gravity-in-clamp", id = "gravity_in_clamp", value_name = "X,Y,Z", value_parser = ftwire::args::parse_numbers::<3>, allow_hyphen_values = true)]
+    #[serde(rename = "gravity_in_clamp", skip_serializing_if = "Option::is_none")]
+    pub vector: Option<ftwire::args::Numbers<3>>,
+}
+
+impl GravityInClampArgs {
+    /// The vector, if given.
+    pub fn given(&self) -> Option<[f64; 3]> {
+        self.vector.as_ref().map(|g| g.0)
+    }
+}
+
 /// `--mounting FILE.toml`: a real sensor's mounting (and tool weight).
 #[derive(Debug, Clone, Default, Args, Serialize)]
 pub struct MountingArgs {

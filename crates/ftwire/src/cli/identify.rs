@@ -109,8 +109,9 @@ pub const LOG_SAMPLES: CountRange = CountRange::new(1, 1_000_000);
 /// `ftwire identify --log FILE.jsonl`: identify `η = (c1, c2, c3, L)` from a recorded log.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:\n  \
-    ftwire experiment identify --wire nitinol-2mm-630 --trials 1 --save-log --out run\n  \
+    ftwire experiment identify --wire nitinol-2mm-630 --gravity off --trials 1 --save-log --out run\n  \
     ftwire identify --log run/logs/nitinol-2mm-630-trial0.jsonl --samples 3 --json\n\n\
+    (With gravity on, give identify --log the gravity in the clamp frame: --gravity-in-clamp.)\n\n\
     Exit codes: 0 identified, 1 the data do not identify the wire (the estimate is printed \
     with the reason), 2 bad input (a bad log line, an empty log, too few samples or too \
     little motion).")]
@@ -136,7 +137,8 @@ pub struct IdentifyArgs {
     /// linear density (its weight) as well as `c` and `L` (default: the paper's weightless
     /// model).
     #[arg(
-        long,
+        long = "gravity-in-clamp",
+        visible_alias = "gravity",
         value_name = "GX,GY,GZ",
         allow_hyphen_values = true,
         value_parser = ftwire::args::parse_numbers::<3>

@@ -4,8 +4,27 @@ use clap::{Args, Subcommand};
 use ftwire::args::{SeedArgs, SimSetupArgs, Vec6, parse_finite, parse_numbers};
 use ftwire_lab::experiment::Gravity;
 
-use crate::cli::groups::{CalibrationArgs, MountingArgs, NoiseModelArg, OnOff};
+use crate::cli::groups::{CalibrationArgs, GravityInClampArgs, MountingArgs, NoiseModelArg, OnOff};
 use crate::cli::identify::IdentifySettingsArgs;
+
+/// `--qos`: the QoS of the wrench subscription.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SensorQosArg {
+    /// Best effort (ROS 2's sensor_data profile).
+    SensorData,
+    /// Reliable.
+    Reliable,
+}
+
+impl SensorQosArg {
+    /// The node's setting.
+    pub fn qos(self) -> ftwire_ros2::node::SensorQos {
+        match self {
+            Self::SensorData => ftwire_ros2::node::SensorQos::SensorData,
+            Self::Reliable => ftwire_ros2::node::SensorQos::Reliable,
+        }
+    }
+}
 
 /// `ftwire ros2 <node>`.
 #[derive(Debug, Clone, Args)]
@@ -135,6 +154,17 @@ pub struct EstimateNodeArgs {
     /// the mounting alone. A tool's weight cannot be taken out (a wrench carries no gravity).
     #[command(flatten)]
     pub mounting: MountingArgs,
+    /// Gravity in the base clamp frame (`--gravity-in-clamp`): the shapes are the loaded
+    /// model's, with the wire's weight.
+    #[command(flatten)]
+    pub gravity: GravityInClampArgs,
+    /// Points of each published shape, 2 to 10000.
+    #[arg(long, value_name = "N", default_value_t = ftwire_rig::shape::DEFAULT_POINTS)]
+    pub points: usize,
+    /// The wrench subscription's QoS: sensor-data (best effort: matches a best-effort driver
+    /// and a reliable one) or reliable (matches only a reliable publisher).
+    #[arg(long, value_enum, default_value_t = SensorQosArg::SensorData)]
+    pub qos: SensorQosArg,
     /// Samples of the tare: the first N received are the sensor's reading with nothing in the
     /// gripper (0: no tare).
     #[arg(long, value_name = "N", default_value_t = 500)]
@@ -278,6 +308,13 @@ pub struct RobotArgs {
     /// the mounting alone.
     #[command(flatten)]
     pub mounting: MountingArgs,
+    /// Gravity in the base clamp frame (`--gravity-in-clamp`): the loaded model.
+    #[command(flatten)]
+    pub gravity: GravityInClampArgs,
+    /// The wrench subscription's QoS: sensor-data (best effort: matches a best-effort driver
+    /// and a reliable one) or reliable (matches only a reliable publisher).
+    #[arg(long, value_enum, default_value_t = SensorQosArg::SensorData)]
+    pub qos: SensorQosArg,
     /// Samples of the tare: the first N received, with nothing in the gripper (0: no tare).
     #[arg(long, value_name = "N", default_value_t = 500)]
     pub tare: usize,

@@ -4,25 +4,26 @@ use std::path::PathBuf;
 
 use clap::Args;
 use ftwire::args::{CountRange, JsonArgs, ResultsArgs, Vec6, parse_numbers};
-use ftwire_lab::log::shape::{MAX_POINTS, MIN_POINTS};
+use ftwire_lab::log::shape::{DEFAULT_POINTS, MAX_POINTS, MIN_POINTS};
 use serde::Serialize;
 
-use crate::cli::groups::{CalibrationArgs, MountingArgs};
+use crate::cli::groups::{CalibrationArgs, GravityInClampArgs, MountingArgs};
 
 /// `ftwire shape --log FILE.jsonl --wire W [--calibration FILE] [--mounting FILE.toml]
-/// [--a-std T1,T2,T3,F1,F2,F3] [--out DIR [--points N]] [--json]`.
+/// [--gravity-in-clamp X,Y,Z] [--a-std T1,T2,T3,F1,F2,F3] [--points N] [--out DIR] [--json]`.
 #[derive(Debug, Clone, Args, Serialize)]
 #[command(after_help = "Examples:\n  \
     ftwire shape --log results/shape/logs/nitinol-2mm-630.jsonl --wire nitinol-2mm-630 \\\n    \
     --calibration results/shape/calibration.json --json\n  \
     ftwire shape --log rig.jsonl --wire nitinol-3mm-820 --calibration cal/calibration.json \\\n    \
     --out shapes --points 50\n\n\
-    Without --out each record's answer is printed (text, or JSON Lines with --json). With \
-    --out DIR the shapes go to DIR/shapes.jsonl (one line per record: line, time, a, points, \
-    stable, confident) with summary.json and the report.\n\n\
-    Error bars: with --a-std, or a --calibration whose file has its test error (for the raw \
-    records read through it), each shape also gets sigma_mm, the RMS radius of each point's \
-    first-order error [mm], and summary.json sigma_mean_mm.\n\n\
+    Each record is one shape record: line, time, a, points [m], stable, confident, \
+    confidence, with error bars sigma [m], with inner markers marker_mean_mm. Without --out \
+    each is printed (text, or JSON Lines with --json); with --out DIR they go to \
+    DIR/shapes.jsonl with summary.json and the report.\n\n\
+    Error bars: with --a-std, --sensor, or a --calibration whose file has its test error (for \
+    the raw records read through it), each shape also gets sigma, the RMS radius of each \
+    point's first-order error [m], and summary.json sigma_mean_mm.\n\n\
     Exit codes: 0 every record shaped, 1 the model has no shape for some record (its `error` \
     says why; the others are written), 2 bad input (a bad log line, a raw record with neither \
     --calibration nor --mounting, a tool without the record's gravity).")]
@@ -44,6 +45,10 @@ pub struct ShapeArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub mounting: MountingArgs,
+    /// The loaded model (`--gravity-in-clamp`).
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub gravity: GravityInClampArgs,
     /// Standard deviations of every record's ã, torque first [N·m ×3, N ×3], each >= 0: the
     /// whole error of ã (sensor noise and calibration error). Each shape then carries σ(s) at
     /// each point, sqrt(trace D Σ D^T) with D = ∂p(s)/∂a and Σ = diag(std²): the RMS radius of
@@ -85,11 +90,10 @@ pub struct ShapeArgs {
     #[arg(long, value_name = "PCT", value_parser = ftwire::args::parse_finite, allow_hyphen_values = true, requires = "sensor")]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gain_error: Option<f64>,
-    /// Points of each shape in shapes.jsonl, evenly spaced in arc length from the base clamp
-    /// to the tip, 2 to 10000 [default: 100]. Only with --out.
-    #[arg(long, value_name = "N", requires = "out", value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub points: Option<usize>,
+    /// Points of each shape, evenly spaced in arc length from the base clamp to the tip, 2 to
+    /// 10000, printed or written alike.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_POINTS, value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]
+    pub points: usize,
     /// Results folder (`--out`, `--force`): write shapes.jsonl, summary.json and the report
     /// there instead of printing each record [no default: without --out nothing is written].
     #[command(flatten)]

@@ -31,7 +31,7 @@ fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
         wire: WireSpec::load(&args.wire)
             .map_err(|e| LabError::bad_input(format!("--wire: {e}")))?,
         mounting: args.mounting.load()?,
-        gravity: args.gravity_in_clamp.map(|g| g.0),
+        gravity: args.gravity.given(),
         marker_fractions: (!args.marker_fractions.is_empty())
             .then(|| args.marker_fractions.clone()),
         max_label_rms,
@@ -47,6 +47,7 @@ pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
     params.check()?;
     let guard = OutGuard::default()
         .input("--log", &args.log)
+        .input("--wire", &args.wire)
         .input_opt("--mounting", args.mounting.file.as_ref());
     let folder = args.results.open("calibrate-log", guard)?;
     let header = RunHeader::new("calibrate", Some(args.seed.seed), &args)?;

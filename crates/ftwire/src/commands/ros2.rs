@@ -8,7 +8,6 @@ use std::sync::atomic::AtomicBool;
 use ftwire_control::ControlParams;
 use ftwire_lab::error::LabError;
 use ftwire_lab::experiment::rig::bias_observer;
-use ftwire_lab::log::RawMap;
 use ftwire_lab::plan::{PlanParams, PlanWireParams};
 use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
@@ -166,10 +165,13 @@ fn estimate_params(
     args: &EstimateNodeArgs,
 ) -> Result<(EstimateNodeParams, NodeSettings), LabError> {
     let settings = settings(&args.node)?;
-    let map = RawMap::load(args.calibration.path(), Some(args.mounting.load()?))?;
+    let map = ftwire_lab::log::raw_map(args.calibration.path(), Some(args.mounting.load()?))?;
     let params = EstimateNodeParams {
         wire: wire(&args.wire)?,
         map,
+        gravity_in_clamp: args.gravity.given(),
+        points: args.points,
+        qos: args.qos.qos(),
         tare: args.tare,
         window: args.window,
         rate: args.rate,
@@ -249,7 +251,8 @@ fn observe_params(args: &ObserveArgs) -> Result<ObserveParams, LabError> {
 
 fn robot_params(args: &RobotArgs, truth_topic: Option<String>) -> Result<RobotParams, LabError> {
     Ok(RobotParams {
-        map: RawMap::load(args.calibration.path(), Some(args.mounting.load()?))?,
+        map: ftwire_lab::log::raw_map(args.calibration.path(), Some(args.mounting.load()?))?,
+        qos: args.qos.qos(),
         tare: args.tare,
         rate: args.rate,
         rest_samples: args.rest_samples,
@@ -288,8 +291,19 @@ fn identify_params(
             .map_err(|e| e.context("--sensor"))?,
         )?;
     }
+    let robot = robot_params(&args.robot, None)?;
+    // The loaded model (the calibration's, or --gravity-in-clamp): the wire's weight
+    // identified with c and L.
+    if let Some(g) = ftwire_lab::log::model_gravity(&robot.map, args.robot.gravity.given())? {
+        ftwire_rig::WireModelChoice::loaded(g)
+            .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?;
+        config.constraints.weight = Some(nalgebra::Vector3::from(g));
+        config
+            .validate()
+            .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?;
+    }
     let params = IdentifyNodeParams {
-        robot: robot_params(&args.robot, None)?,
+        robot,
         samples: args.samples,
         twist: args.twist.to_radians(),
         seed: args.seed.seed,
@@ -340,6 +354,7 @@ fn control_params(
     let params = ControlNodeParams {
         robot: robot_params(&args.robot, args.truth_topic.clone())?,
         wire: wire(&args.wire)?,
+        gravity_in_clamp: args.robot.gravity.given(),
         goals: goals(args, log)?,
         control: ControlParams {
             gain: args.gain,

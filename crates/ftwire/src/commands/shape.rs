@@ -3,11 +3,9 @@
 //! command prints each record's answer as soon as it has it, or with `--out DIR` writes the
 //! results folder.
 //!
-//! Output per record without `--out`: with `--json`, one JSON object per line: `record` (from
-//! 0), `time`, `a_tilde`, `confidence`, `points` (\[m\]), `sigma_mm` (\[mm\], with error
-//! bars: `--a-std`, `--sensor` or the calibration's test error) and `marker_mean_mm` when the
-//! record has markers; without, one line of text. With `--out DIR`: `DIR/shapes.jsonl` (one line per
-//! record, [`ftwire_lab::log::shape::folder`]), `summary.json` (`records`, `not_stable`,
+//! Every record is the rig layer's one shape record ([`ftwire_rig::record`]). Without `--out`:
+//! with `--json`, one such JSON object per line; without, one line of text. With `--out DIR`:
+//! `DIR/shapes.jsonl` (the same records, [`ftwire_lab::log::shape::folder`]), `summary.json` (`records`, `not_stable`,
 //! `not_confident`, `marker_mean_mm`, and `sigma_mean_mm` with error bars), `timings.json`
 //! and the report; the summary is printed
 //! (as JSON with `--json`). A record the model cannot solve gets an `error` instead, and the
@@ -21,9 +19,7 @@ use std::io::{self, Write};
 use ftwire::output::{self, JsonLines};
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
-use ftwire_lab::log::shape::{
-    DEFAULT_POINTS, LogShapes, ShapeLog, ShapeLogParams, ShapeLogSummary,
-};
+use ftwire_lab::log::shape::{LogShapes, ShapeLog, ShapeLogParams, ShapeLogSummary};
 use ftwire_lab::results::OutGuard;
 use serde::Serialize;
 
@@ -36,6 +32,8 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
         wire: args.wire.clone(),
         calibration: args.calibration.file.clone(),
         mounting: args.mounting.given()?,
+        gravity_in_clamp: args.gravity.given(),
+        points: args.points,
         a_std: args.a_std.map(|s| s.0),
         model_error: args.model_error,
         sensor: args
@@ -92,12 +90,13 @@ fn write_folder(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabErro
     let log = ShapeLog::load(params)?;
     let guard = OutGuard::default()
         .input("--log", &args.log)
+        .input("--wire", &args.wire)
         .input_opt("--calibration", args.calibration.file.as_ref())
-        .input_opt("--mounting", args.mounting.file.as_ref());
+        .input_opt("--mounting", args.mounting.file.as_ref())
+        .input_opt("--sensor", args.sensor.as_ref());
     let folder = args.results.open("shape-log", guard)?;
     let header = RunHeader::new("shape", None, args)?;
-    let points = args.points.unwrap_or(DEFAULT_POINTS);
-    let run = log.write(points, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = log.write(&folder, &mut |line| eprintln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
     output::print_display(&Printed(run.summary), args.output.json)?;
     if !args.output.json {

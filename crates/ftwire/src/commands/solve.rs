@@ -7,7 +7,6 @@
 //! the input the exit code sums the batch up: 0 if every line was answered, 2 if any line was
 //! bad input, else 1 if any line had no answer (an integration that diverged).
 
-use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::Path;
 
@@ -53,7 +52,7 @@ fn run_batch(path: &Path) -> Result<(), LabError> {
                 path.display()
             )));
         }
-        let file = File::open(path).map_err(|e| {
+        let file = ftwire_core::text::open_regular(path).map_err(|e| {
             LabError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
         })?;
         Box::new(BufReader::new(file))

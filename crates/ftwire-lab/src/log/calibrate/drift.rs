@@ -52,9 +52,11 @@ pub(super) fn choose_drift(labelled: &[Labelled], train: &TrainParams) -> Option
         return None;
     }
     let rate = Vector6::from_fn(|k, _| w[(7, k)] / span);
+    let last = labelled.last()?.time;
     Some(Drift {
         reference_time,
         rate,
+        span: Some([fit.first()?.time.min(last), last.max(fit.first()?.time)]),
     })
 }
 

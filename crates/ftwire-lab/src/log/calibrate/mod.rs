@@ -29,7 +29,9 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use ftwire_estimate::calibration::{Calibration, Dataset, SplitOrder, TrainParams};
+use ftwire_estimate::calibration::{
+    Calibration, CalibrationInput, Dataset, LabelModel, SplitOrder, TrainParams,
+};
 use ftwire_estimate::ft::{Mounting, MountingSpec};
 use ftwire_estimate::log::LogRecord;
 use ftwire_estimate::shape::{
@@ -306,6 +308,14 @@ pub fn run(
             .with_drift(d)
             .map_err(|e| from_estimate(e, "the drift term"))?;
     }
+    // The labels' model, and the input: the log's readings as they were, never tared.
+    let label_model = params
+        .gravity
+        .map_or(Ok(LabelModel::WEIGHTLESS), LabelModel::loaded)
+        .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?;
+    calibration = calibration
+        .with_provenance(label_model, CalibrationInput::Raw)
+        .map_err(|e| from_estimate(e, "the calibration's model"))?;
     let train_s = start.elapsed().as_secs_f64();
     let split = data
         .split(

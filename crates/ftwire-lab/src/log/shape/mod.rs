@@ -1,17 +1,21 @@
 //! The wire's shape for every record of a rig log (paper §IV-C), as a real rig would run the
 //! estimator offline.
 //!
-//! For each record, `ã` is the record's `a`, or its `raw` reading through the learnt
-//! calibration or the mounting ([`super::a_tilde`]); then the model gives the centreline (base
-//! clamp frame) and a confidence flag (`confident`, `not_stable`, or `jump`: a possible
-//! contact). [`ShapeLog::load`] reads and checks the log (every record's `ã` before any
-//! shape), then:
+//! Every record takes the rig layer's one path ([`ftwire_rig`]): `ã` is the record's `a`, or
+//! its `raw` reading through the learnt calibration or the mounting ([`super::a_tilde`]);
+//! then the measurement's model (weight-free, or loaded with `--gravity-in-clamp`) gives the
+//! centreline (base clamp frame) and the stream flags it (`confident`, `not_stable`, `jump`:
+//! a possible contact, or `no_shape`). [`ShapeLog::load`] reads and checks the log (every
+//! record's `ã` before any shape), then:
 //!
-//! - [`LogShapes`] gives the records' shapes one by one, in order, as `ftwire shape --log`
-//!   prints them ([`shape_record`] is one record's: 64 nodes, and with markers the mean
-//!   distance of the seen markers to the estimate);
-//! - [`ShapeLog::write`] writes `shapes.jsonl` into a results folder, as `ftwire shape --log
-//!   --out DIR` does ([`folder`]: the records solved in parallel, flagged in order).
+//! - [`LogShapes`] gives the records' [`ShapeRecord`]s one by one, in order, as `ftwire shape
+//!   --log` prints them;
+//! - [`ShapeLog::write`] writes the same records as `shapes.jsonl` into a results folder, as
+//!   `ftwire shape --log --out DIR` does ([`folder`]: the records solved in parallel, flagged
+//!   in order).
+//!
+//! Both have the same points ([`ShapeLogParams::points`]) and the same marker metric (the
+//! inner markers' mean distance, [`Measurement::inner_marker_mean`]).
 //!
 //! **Error bars.** When the standard deviations of a record's `ã` are known, its shape
 //! carries `σ(s)` at each point ([`ftwire_estimate::shape::shape_sigma`]: the RMS radius of
@@ -28,29 +32,27 @@
 
 pub mod folder;
 
-use std::fmt;
 use std::path::PathBuf;
 
 use ftwire_estimate::KirchhoffModel;
 use ftwire_estimate::ft::MountingSpec;
 use ftwire_estimate::identify::MeasurementNoise;
-use ftwire_estimate::shape::{
-    Confidence, ConfigurationStd, ModelError, ShapeEstimator, marker_distances, shape_sigma,
-    with_model_error,
+use ftwire_estimate::shape::{ConfigurationStd, ModelError};
+use ftwire_rig::{
+    Measurement, MeasurementParams, RawMap, ShapeRecord, Stream, StreamParams, WireBody,
+    WireModelChoice,
 };
-use nalgebra::{Matrix6, Point3, Vector6};
+use nalgebra::{Matrix6, Vector3, Vector6};
 use serde::Serialize;
 
-pub use folder::{
-    BLOCK, DEFAULT_POINTS, MARKER_NODES, MAX_POINTS, MIN_POINTS, ShapeLogRun, ShapeLogSummary,
-    ShapeLogTimings,
-};
+pub use folder::{BLOCK, ShapeLogRun, ShapeLogSummary, ShapeLogTimings};
+pub use ftwire_rig::shape::{DEFAULT_POINTS, MARKER_NODES, MAX_POINTS, MIN_POINTS};
 
-use super::{LogLine, LogRecord, RawMap, a_tilde, read_log};
-use crate::error::{LabError, from_estimate};
+use super::{LogLine, a_tilde, raw_map, read_log};
+use crate::error::LabError;
 use crate::wire::WireSpec;
 
-/// What to shape: the log, the wire, and how its `raw` records become `ã`.
+/// What to shape: the log, the wire, the model, and how its `raw` records become `ã`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ShapeLogParams {
     /// The JSON Lines log ([`ftwire_estimate::log`]).
@@ -63,6 +65,12 @@ pub struct ShapeLogParams {
     /// without a calibration the mounting alone maps it; `None`: not given (records with
     /// `raw` then need the calibration).
     pub mounting: Option<MountingSpec>,
+    /// Gravity in the base clamp frame \[m/s²\] (`--gravity-in-clamp`): the shapes are the
+    /// loaded model's, with the wire's weight; `None`: the weight-free model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gravity_in_clamp: Option<[f64; 3]>,
+    /// Points of each shape (`--points`, [`MIN_POINTS`] to [`MAX_POINTS`]).
+    pub points: usize,
     /// The standard deviations of every record's `ã` (`--a-std`), torque first \[N·m ×3,
     /// N ×3\], for the error bars (the module docs); `None`: the calibration's test error for
     /// the records read through it, no error bars for the others.
@@ -85,20 +93,89 @@ pub struct ShapeLogParams {
     pub gain_error: Option<f64>,
 }
 
+impl ShapeLogParams {
+    /// The shapes of `log` for `wire`: `ã` as recorded, the weight-free model,
+    /// [`DEFAULT_POINTS`] points, no error bars.
+    pub fn new(log: PathBuf, wire: impl Into<String>) -> Self {
+        Self {
+            log,
+            wire: wire.into(),
+            calibration: None,
+            mounting: None,
+            gravity_in_clamp: None,
+            points: DEFAULT_POINTS,
+            a_std: None,
+            model_error: None,
+            sensor: None,
+            gain_error: None,
+        }
+    }
+}
+
+/// `wire`'s model: the loaded rod under `gravity_in_clamp` (base clamp frame, m/s²: the
+/// wire's weight and rest curvature), or the paper's weight-free one without.
+///
+/// # Errors
+/// Bad input for an invalid wire, or a gravity naming `--gravity-in-clamp`.
+pub fn wire_model(
+    wire: &WireSpec,
+    gravity_in_clamp: Option<[f64; 3]>,
+) -> Result<KirchhoffModel, LabError> {
+    let body = WireBody {
+        params: wire
+            .wire_params()
+            .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?,
+        density: wire.density,
+        natural_curvature: Vector3::from(wire.natural_curvature),
+    };
+    let choice = gravity_in_clamp
+        .map(WireModelChoice::loaded)
+        .transpose()
+        .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?
+        .unwrap_or_default();
+    choice
+        .model(&body)
+        .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))
+}
+
+/// The rig layer's measurement of `wire` with `map`: [`wire_model`] under
+/// `gravity_in_clamp`, `points` per shape.
+///
+/// # Errors
+/// Bad input naming `--gravity-in-clamp`, `--points` or `--model-error`.
+pub fn measurement(
+    wire: &WireSpec,
+    map: RawMap,
+    gravity_in_clamp: Option<[f64; 3]>,
+    points: usize,
+    model_error: Option<f64>,
+) -> Result<Measurement, LabError> {
+    let model = wire_model(wire, gravity_in_clamp)?;
+    let model_error = model_error
+        .map(ModelError::new)
+        .transpose()
+        .map_err(|e| LabError::bad_input(format!("--model-error: {e}")))?;
+    let params = MeasurementParams {
+        points,
+        model_error,
+        ..MeasurementParams::default()
+    };
+    Measurement::new(map, model, params)
+        .map_err(|e| LabError::bad_input(format!("--points {points}: {e}")))
+}
+
 /// A log read and checked for shaping: every record with its line in the file and its `ã`,
-/// and the wire's model (the paper's weightless Kirchhoff rod).
+/// and the measurement that shapes them.
 #[derive(Debug, Clone)]
 pub struct ShapeLog {
     log: PathBuf,
     lines: Vec<LogLine>,
     a_tilde: Vec<Vector6<f64>>,
-    model: KirchhoffModel,
+    measurement: Measurement,
     /// `--a-std`.
     given_std: Option<ConfigurationStd>,
     /// The calibration's test error, if a calibration with one was given.
     calibration_std: Option<ConfigurationStd>,
-    /// `--model-error`.
-    model_error: Option<ModelError>,
     /// `--sensor`: the noise of `ã` from the data sheet, and the tare's time.
     sensor: Option<(MeasurementNoise, f64)>,
 }
@@ -108,70 +185,51 @@ impl ShapeLog {
     /// record's `ã` ([`a_tilde`]), before any shape is solved.
     ///
     /// # Errors
-    /// Bad input for an unknown or invalid wire, standard deviations that are not finite and
-    /// `>= 0`, a calibration or mounting [`RawMap::load`] refuses, a calibration whose test
-    /// error is not finite and `>= 0`, a log [`read_log`] refuses, or a record [`a_tilde`] refuses (named by its line
-    /// and time: a `raw` reading with neither a calibration nor a mounting, or without
-    /// `gravity` when the mounting has a tool).
+    /// Bad input for an unknown or invalid wire, a gravity, point count or model error
+    /// [`measurement`] refuses, standard deviations that are not finite and `>= 0`, a
+    /// calibration or mounting [`raw_map`] refuses, a calibration whose test error is not
+    /// finite and `>= 0`, a log [`read_log`] refuses, or a record [`a_tilde`] refuses (named by
+    /// its line and time).
     pub fn load(params: &ShapeLogParams) -> Result<Self, LabError> {
         let wire = WireSpec::load(&params.wire).map_err(|e| LabError::bad_input(e.to_string()))?;
-        let wire_params = wire
-            .wire_params()
-            .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
         let given_std = params
             .a_std
             .map(ConfigurationStd::new)
             .transpose()
             .map_err(|e| LabError::bad_input(format!("--a-std: {e}")))?;
-        let map = RawMap::load(params.calibration.as_deref(), params.mounting.clone())?;
+        let map = raw_map(params.calibration.as_deref(), params.mounting.clone())?;
         let calibration_std = map
             .calibration()
             .and_then(|c| c.record().test_rmse)
             .map(ConfigurationStd::new)
             .transpose()
             .map_err(|e| LabError::bad_input(format!("the calibration's test_rmse: {e}")))?;
-        let model_error = params
-            .model_error
-            .map(ModelError::new)
-            .transpose()
-            .map_err(|e| LabError::bad_input(format!("--model-error: {e}")))?;
+        let gravity = super::model_gravity(&map, params.gravity_in_clamp)?;
+        let measurement = measurement(&wire, map, gravity, params.points, params.model_error)?;
         let lines = read_log(&params.log)?;
         let a_tilde = lines
             .iter()
-            .map(|line| a_tilde(line, &map))
+            .map(|line| a_tilde(line, measurement.map()))
             .collect::<Result<_, _>>()
             .map_err(|e| e.context(format!("log {}", params.log.display())))?;
         let first_time = lines.first().map_or(0.0, |line| line.record.time);
         let sensor = params
             .sensor
             .as_ref()
-            .map(|drift| sensor_noise(drift, params.mounting.as_ref(), params.gain_error))
-            .transpose()?
-            .map(|noise| {
-                (
-                    noise,
-                    params
-                        .sensor
-                        .as_ref()
-                        .and_then(|d| d.tare_time)
-                        .unwrap_or(first_time),
-                )
-            });
+            .map(|drift| {
+                let noise = sensor_noise(drift, params.mounting.as_ref(), params.gain_error)?;
+                Ok::<_, LabError>((noise, drift.tare_time.unwrap_or(first_time)))
+            })
+            .transpose()?;
         Ok(Self {
             log: params.log.clone(),
             lines,
             a_tilde,
-            model: KirchhoffModel::new(wire_params),
+            measurement,
             given_std,
             calibration_std,
-            model_error,
             sensor,
         })
-    }
-
-    /// The model's own error (`--model-error`), if given.
-    pub fn model_error(&self) -> Option<ModelError> {
-        self.model_error
     }
 
     /// The covariance of the `ã` of record `index` (the module docs), if known: from
@@ -202,130 +260,64 @@ impl ShapeLog {
         &self.a_tilde
     }
 
-    /// The wire's model the shapes are solved with.
-    pub fn model(&self) -> &KirchhoffModel {
-        &self.model
+    /// The measurement the shapes are solved with (its map, model and points).
+    pub fn measurement(&self) -> &Measurement {
+        &self.measurement
     }
 
     /// The log's file.
     pub fn path(&self) -> &std::path::Path {
         &self.log
     }
-}
 
-/// One record's shape, as `ftwire shape --log` prints it: with `--json` one JSON line of
-/// these fields (those that are `None` left out); the text is its [`fmt::Display`].
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RecordShape {
-    /// The record's index in the log, from 0.
-    pub record: usize,
-    /// The record's time \[s\].
-    pub time: f64,
-    /// `ã` (torque first, base clamp frame).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub a_tilde: Option<[f64; 6]>,
-    /// `confident`, `not_stable` or `jump` ([`confidence_name`]); `None` without a shape.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub confidence: Option<&'static str>,
-    /// The centreline's nodes \[m\], base clamp frame; `None` without a shape.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub points: Option<Vec<[f64; 3]>>,
-    /// `σ(s)` at each of `points` \[mm\] (the module docs); `None` without a shape, without
-    /// the standard deviations of `ã`, or when a shifted `ã` of the differences has no shape.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub sigma_mm: Option<Vec<f64>>,
-    /// The mean distance of the record's seen markers to the centreline \[mm\]; `None`
-    /// without markers.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub marker_mean_mm: Option<f64>,
-    /// Why the model has no shape for this `ã`; `None` with a shape.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub error: Option<String>,
-}
-
-/// The name of a confidence flag in [`RecordShape::confidence`].
-pub fn confidence_name(confidence: &Confidence) -> &'static str {
-    match confidence {
-        Confidence::Confident => "confident",
-        Confidence::NotStable => "not_stable",
-        Confidence::Jump { .. } => "jump",
+    /// A new stream of the log's measurement: no tare, each record alone (a record is one
+    /// reading or a rest averaged by the rig), the jump flag from the first record.
+    ///
+    /// # Errors
+    /// None for these settings; typed for the rig layer's.
+    pub fn stream(&self) -> Result<Stream, LabError> {
+        Stream::new(&self.measurement, StreamParams::default())
+            .map_err(|e| LabError::bad_input(e.to_string()))
     }
 }
 
-/// The shape of `record` (index `index` in its log, from 0) at its `ã` `a` from `estimator`,
-/// which keeps the previous estimate to flag jumps: give it the records in order. A model
-/// that cannot solve `ã` is an answer too, with [`RecordShape::error`]. Without error bars:
-/// [`shape_record_with_std`] with `None`.
+/// The record of `line` with its `ã` `a` through `measurement`, flagged by `stream` (give it
+/// the records in order), with the covariance `a_covariance` of `ã` its error bars, and with
+/// inner markers their mean distance. A model that cannot solve `ã` is an answer too, with
+/// [`ShapeRecord::error`].
 ///
 /// # Errors
-/// Bad input for markers the distance refuses.
+/// Bad input for markers the distance refuses (named by the record's line).
 pub fn shape_record(
-    estimator: &mut ShapeEstimator<KirchhoffModel>,
-    index: usize,
-    record: &LogRecord,
-    a: &Vector6<f64>,
-) -> Result<RecordShape, LabError> {
-    shape_record_with_std(estimator, index, record, a, None)
-}
-
-/// [`shape_record`], and with the covariance `a_covariance` of `ã` also `σ(s)` at each
-/// point ([`RecordShape::sigma_mm`]).
-///
-/// # Errors
-/// As [`shape_record`].
-pub fn shape_record_with_std(
-    estimator: &mut ShapeEstimator<KirchhoffModel>,
-    index: usize,
-    record: &LogRecord,
+    measurement: &Measurement,
+    stream: &mut Stream,
+    line: &LogLine,
     a: &Vector6<f64>,
     a_covariance: Option<&Matrix6<f64>>,
-) -> Result<RecordShape, LabError> {
-    let mut shape = RecordShape {
-        record: index,
-        time: record.time,
-        a_tilde: Some((*a).into()),
-        confidence: None,
-        points: None,
-        sigma_mm: None,
-        marker_mean_mm: None,
-        error: None,
+) -> Result<ShapeRecord, LabError> {
+    let solved = measurement.solve(a, a_covariance);
+    let confidence = stream.flag(a, &solved);
+    let markers = match (&solved, line.record.markers.as_deref()) {
+        (Ok(s), Some(markers)) => measurement
+            .inner_marker_mean(a, markers, s)
+            .map_err(|e| LabError::bad_input(format!("the markers of line {}: {e}", line.line)))?,
+        _ => None,
     };
-    match estimator.estimate(a) {
-        Ok(estimate) => {
-            let positions = &estimate.shape.positions;
-            if let Some(markers) = record.markers() {
-                let seen: Vec<Point3<f64>> = markers.into_iter().flatten().collect();
-                let d = marker_distances(&seen, positions)
-                    .map_err(|e| from_estimate(e, &format!("markers of record {index}")))?;
-                if !d.is_empty() {
-                    shape.marker_mean_mm = Some(1e3 * d.iter().sum::<f64>() / d.len() as f64);
-                }
-            }
-            shape.confidence = Some(confidence_name(&estimate.confidence));
-            shape.points = Some(positions.iter().map(|p| [p.x, p.y, p.z]).collect());
-            if let Some(covariance) = a_covariance {
-                let nodes = positions.len();
-                let length = ftwire_estimate::WireModel::wire(estimator.model()).length();
-                shape.sigma_mm = shape_sigma(estimator.model(), a, nodes, covariance)
-                    .ok()
-                    .map(|sigma| match estimator.model_error() {
-                        Some(model) => with_model_error(&sigma.sigma, model, length),
-                        None => sigma.sigma,
-                    })
-                    .map(|sigma| sigma.iter().map(|s| 1e3 * s).collect());
-            }
-        }
-        Err(e) => shape.error = Some(e.to_string()),
-    }
-    Ok(shape)
+    Ok(ShapeRecord::new(
+        (line.line, line.record.time),
+        a,
+        &solved,
+        confidence,
+        markers,
+    ))
 }
 
 /// The shapes of a log's records, in order ([`shape_record`] of each): an iterator over
-/// [`RecordShape`]s, made by [`LogShapes::new`] once the log, the wire and the calibration
+/// [`ShapeRecord`]s, made by [`LogShapes::new`] once the log, the wire and the calibration
 /// have been read and checked.
 pub struct LogShapes {
     log: ShapeLog,
-    estimator: ShapeEstimator<KirchhoffModel>,
+    stream: Stream,
     next: usize,
 }
 
@@ -336,10 +328,10 @@ impl LogShapes {
     /// As [`ShapeLog::load`].
     pub fn new(params: &ShapeLogParams) -> Result<Self, LabError> {
         let log = ShapeLog::load(params)?;
-        let estimator = ShapeEstimator::new(*log.model()).with_model_error(log.model_error);
+        let stream = log.stream()?;
         Ok(Self {
             log,
-            estimator,
+            stream,
             next: 0,
         })
     }
@@ -351,7 +343,7 @@ impl LogShapes {
 }
 
 impl Iterator for LogShapes {
-    type Item = Result<RecordShape, LabError>;
+    type Item = Result<ShapeRecord, LabError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         let index = self.next;
@@ -359,10 +351,10 @@ impl Iterator for LogShapes {
         let a = self.log.a_tilde.get(index)?;
         self.next += 1;
         let covariance = self.log.a_covariance(index);
-        Some(shape_record_with_std(
-            &mut self.estimator,
-            index,
-            &line.record,
+        Some(shape_record(
+            &self.log.measurement,
+            &mut self.stream,
+            line,
             a,
             covariance.as_ref(),
         ))
@@ -394,42 +386,6 @@ fn sensor_noise(
     )
 }
 
-/// One line of text: the confidence and the tip, or why there is no shape.
-impl fmt::Display for RecordShape {
-    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match (&self.points, &self.error) {
-            (Some(points), _) => {
-                let tip = points.last().copied().unwrap_or_default();
-                let markers = self
-                    .marker_mean_mm
-                    .map_or_else(String::new, |m| format!(", markers {m:.2} mm"));
-                let sigma = self
-                    .sigma_mm
-                    .as_ref()
-                    .and_then(|s| s.last())
-                    .map_or_else(String::new, |s| format!(" ± {s:.2} mm"));
-                writeln!(
-                    out,
-                    "record {} t = {:.3} s: {}, tip at ({:.4}, {:.4}, {:.4}) m{sigma}{markers}",
-                    self.record,
-                    self.time,
-                    self.confidence.unwrap_or("-"),
-                    tip[0],
-                    tip[1],
-                    tip[2]
-                )
-            }
-            (None, error) => writeln!(
-                out,
-                "record {} t = {:.3} s: no shape: {}",
-                self.record,
-                self.time,
-                error.as_deref().unwrap_or("unknown")
-            ),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -443,7 +399,7 @@ mod tests {
         path
     }
 
-    const GOOD: &str = r#"{"time": 0.25, "a": [0, 0.01, 0.01, -0.05, 0.03, 0], "b": {"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}, "markers": [[0.1, 0.0, 0.0], null]}"#;
+    const GOOD: &str = r#"{"time": 0.25, "a": [0, 0.01, 0.01, -0.05, 0.03, 0], "b": {"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}, "markers": [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], null]}"#;
 
     #[test]
     fn every_record_gets_a_shape_in_order() {
@@ -451,31 +407,26 @@ mod tests {
             "good",
             &format!("{GOOD}\n{}\n", GOOD.replace("0.25", "0.5")),
         );
-        let params = ShapeLogParams {
-            log: path.clone(),
-            wire: "nitinol-2mm-630".into(),
-            calibration: None,
-            mounting: None,
-            a_std: None,
-            model_error: None,
-            sensor: None,
-            gain_error: None,
-        };
-        let shapes: Result<Vec<RecordShape>, LabError> =
+        let params = ShapeLogParams::new(path.clone(), "nitinol-2mm-630");
+        let shapes: Result<Vec<ShapeRecord>, LabError> =
             LogShapes::new(&params).and_then(Iterator::collect);
         let _ = std::fs::remove_file(&path);
         let shapes = shapes.expect("a good log");
         assert_eq!(shapes.len(), 2);
-        for (i, shape) in shapes.iter().enumerate() {
-            assert_eq!(shape.record, i);
+        for (shape, line) in shapes.iter().zip([1, 2]) {
+            assert_eq!(shape.line, line);
             assert!(shape.error.is_none(), "{:?}", shape.error);
-            let points = shape.points.as_ref().expect("a shape");
+            let points = &shape.points;
+            assert_eq!(points.len(), DEFAULT_POINTS);
             // The centreline starts at the base clamp point.
             assert!(points[0].iter().all(|v| v.abs() < 1e-12));
             assert!(shape.marker_mean_mm.is_some_and(f64::is_finite));
         }
         let text = shapes[0].to_string();
-        assert!(text.starts_with("record 0 t = 0.250 s: "), "{text}");
+        assert!(
+            text.starts_with("line 1 t = 0.250 s: confident, "),
+            "{text}"
+        );
         assert!(text.ends_with(" mm\n"), "{text}");
     }
 
@@ -483,16 +434,7 @@ mod tests {
     fn a_raw_record_without_a_calibration_is_bad_input() {
         let raw = GOOD.replace("\"a\"", "\"raw\"");
         let path = log_file("raw", &format!("{GOOD}\n{raw}\n"));
-        let params = ShapeLogParams {
-            log: path.clone(),
-            wire: "nitinol-2mm-630".into(),
-            calibration: None,
-            mounting: None,
-            a_std: None,
-            model_error: None,
-            sensor: None,
-            gain_error: None,
-        };
+        let params = ShapeLogParams::new(path.clone(), "nitinol-2mm-630");
         let error = LogShapes::new(&params).err();
         let _ = std::fs::remove_file(&path);
         let error = error.expect("raw needs a calibration");

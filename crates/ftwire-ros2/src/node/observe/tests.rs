@@ -24,7 +24,7 @@ fn feed(rests: &mut RestDetector, t0: f64, seconds: f64, at: &Pose, value: f64) 
     let mut found = Vec::new();
     for k in 0..(seconds * 1000.0).round() as usize {
         let t = t0 + k as f64 * 1e-3;
-        rests.sample(sample(t, value));
+        found.extend(rests.sample(sample(t, value)));
         if k % 10 == 0 {
             found.extend(rests.pose(t, at));
         }
@@ -58,7 +58,7 @@ fn a_move_starts_a_new_rest_and_jitter_within_the_tolerance_does_not() {
         let t = k as f64 * 1e-3;
         let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
         for j in 0..10 {
-            rests.sample(sample(t + j as f64 * 1e-3, 1.0));
+            found.extend(rests.sample(sample(t + j as f64 * 1e-3, 1.0)));
         }
         found.extend(rests.pose(t, &pose(0.5 + sign * 5e-4, sign * 0.5f64.to_radians())));
     }
@@ -86,7 +86,7 @@ fn a_still_period_from_before_the_tare_rests_once_its_samples_span_the_dwell() {
     for k in 0..2000 {
         let t = k as f64 * 1e-3;
         if t >= 0.5 {
-            rests.sample(sample(t, 1.0));
+            found.extend(rests.sample(sample(t, 1.0)));
         }
         if k % 10 == 0 {
             found.extend(rests.pose(t, &pose(0.5, 0.0)));
@@ -115,9 +115,67 @@ fn a_still_period_shorter_than_the_dwell_or_without_samples_is_no_rest() {
     // Poses alone, no F/T samples.
     let mut quiet = RestDetector::new(RestParams::default());
     let none: Vec<RestWindow> = (0..200)
-        .filter_map(|k| quiet.pose(k as f64 * 0.01, &pose(0.5, 0.0)))
+        .flat_map(|k| quiet.pose(k as f64 * 0.01, &pose(0.5, 0.0)))
         .collect();
     assert!(none.is_empty());
+}
+
+/// A rest is defined by the stamps: the same stamped poses and samples give the same rests,
+/// with the same samples, whether the samples arrive before their poses, after them, or
+/// interleaved (each stream in its own order).
+#[test]
+fn rests_do_not_depend_on_the_order_the_streams_arrive_in() {
+    // Two still periods, 1.2 s each, samples at 1 kHz worth their time, poses at 100 Hz.
+    let samples: Vec<FtSample> = (0..2400)
+        .map(|k| sample(k as f64 * 1e-3, k as f64))
+        .collect();
+    let poses: Vec<(f64, Pose)> = (0..240)
+        .map(|k| {
+            let t = k as f64 * 1e-2;
+            (t, pose(if t < 1.2 { 0.5 } else { 0.51 }, 0.0))
+        })
+        .collect();
+    enum Event<'a> {
+        Sample(&'a FtSample),
+        Pose(&'a (f64, Pose)),
+    }
+    let run = |events: Vec<Event<'_>>| -> Vec<(f64, f64, usize, f64)> {
+        let mut rests = RestDetector::new(RestParams::default());
+        let mut found = Vec::new();
+        for event in events {
+            found.extend(match event {
+                Event::Sample(s) => rests.sample(*s),
+                Event::Pose((t, p)) => rests.pose(*t, p),
+            });
+        }
+        found
+            .iter()
+            .map(|w| {
+                let sum: f64 = w.samples.iter().map(|s| s.raw[0]).sum();
+                (w.start, w.end, w.samples.len(), sum)
+            })
+            .collect()
+    };
+    // Interleaved by stamp; poses late by 40 ms (samples first); samples late by 40 ms.
+    let by_stamp = |pose_lag: f64, sample_lag: f64| {
+        let mut events: Vec<(f64, Event<'_>)> = samples
+            .iter()
+            .map(|s| (s.time + sample_lag, Event::Sample(s)))
+            .chain(poses.iter().map(|p| (p.0 + pose_lag, Event::Pose(p))))
+            .collect();
+        events.sort_by(|a, b| a.0.total_cmp(&b.0));
+        events.into_iter().map(|(_, e)| e).collect::<Vec<_>>()
+    };
+    let reference = run(by_stamp(0.0, 0.0));
+    assert_eq!(reference.len(), 2, "{reference:?}");
+    assert_eq!(reference[0].2, 401, "{reference:?}");
+    for (pose_lag, sample_lag) in [(0.04, 0.0), (0.0, 0.04), (0.0005, 0.0)] {
+        assert_eq!(
+            run(by_stamp(pose_lag, sample_lag)),
+            reference,
+            "poses late by {pose_lag} s, samples by {sample_lag} s"
+        );
+    }
 }
 
 #[test]
