@@ -21,7 +21,7 @@ pub(super) struct SharedBias {
     /// In the polish, each rest's own noise `Σ_a` ([`MeasurementNoise::wrench_covariance`]),
     /// estimated per sample with the shared path so that each outer iteration linearises `Γ`
     /// at the estimated true `a_i`, not at the noisy `ã_i` (module docs); `None` where the own
-    /// noise stays in each sample's own covariance (the whitening of [`Residuals`]).
+    /// noise stays in each sample's own covariance (the whitening of [`super::Residuals`]).
     pub(super) own: Option<Matrix6<f64>>,
 }
 
