@@ -76,6 +76,10 @@ impl Method {
     }
 }
 
+/// The first integration step is taken as this many equal substeps (cheap insurance for the
+/// sign of `det J` at the first grid point; see [`crate::stability`]).
+pub const FIRST_STEP_SUBSTEPS: usize = 2;
+
 /// Integration settings: method and number of uniform steps over `[0, L]`.
 ///
 /// Stability is tested at every grid point after `t = 0` and between them
@@ -104,7 +108,7 @@ impl Default for Integrator {
             per_radian: Some(PerRadian {
                 millis: Self::DEFAULT_STEPS_PER_RADIAN_MILLIS,
             }),
-            first_substeps: crate::stability::FIRST_STEP_SUBSTEPS,
+            first_substeps: FIRST_STEP_SUBSTEPS,
         }
     }
 }
@@ -144,7 +148,7 @@ impl Integrator {
             method,
             steps,
             per_radian: None,
-            first_substeps: crate::stability::FIRST_STEP_SUBSTEPS,
+            first_substeps: FIRST_STEP_SUBSTEPS,
         })
     }
 
@@ -193,8 +197,7 @@ impl Integrator {
     }
 
     /// The same settings with the first step split into `substeps` equal substeps (default
-    /// [`FIRST_STEP_SUBSTEPS`](crate::stability::FIRST_STEP_SUBSTEPS); see
-    /// [`crate::stability`] for why).
+    /// [`FIRST_STEP_SUBSTEPS`]; see [`crate::stability`] for why).
     ///
     /// # Errors
     /// [`RodError::BadSteps`] unless `1 ≤ substeps ≤ 64`.

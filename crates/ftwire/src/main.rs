@@ -12,10 +12,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-/// The environment variable through which `ftwire reproduce` tells the experiments it starts
-/// its process id: each one ends (removing its temporary results folder) once that process is
-/// gone, so that killing `reproduce` leaves none of them running.
-pub const PARENT_PID_VAR: &str = "FTWIRE_PARENT_PID";
+use commands::reproduce::PARENT_PID_VAR;
 
 /// Ends the process cleanly on SIGINT, SIGTERM or SIGHUP (exit 128 + the signal's number):
 /// the temporary results folders it is writing are removed, and a folder moving into place

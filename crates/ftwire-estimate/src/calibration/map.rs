@@ -3,7 +3,8 @@
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
-use super::{Affine, Mlp, Normaliser, TrainingRecord};
+use super::record::TrainingRecord;
+use super::{Affine, Mlp, Normaliser};
 
 /// A trained F/T calibration (paper §IV-A): raw reading (force first, sensor frame, tared) in,
 /// configuration `a` (torque first, base clamp frame) out.
@@ -210,7 +211,7 @@ impl Calibration {
         let z = self.input.normalise(raw);
         let mut y = self.mlp.forward(&z);
         if self.record.config.through_zero {
-            y *= super::train::remainder_gate(&self.input, raw);
+            y *= remainder_gate(&self.input, raw);
         }
         if let Some(affine) = &self.affine {
             y += affine.apply(&z);
@@ -359,4 +360,12 @@ impl crate::ft::FtCalibration for Calibration {
     fn configuration(&self, tared: &Vector6<f64>) -> Vector6<f64> {
         self.apply(tared)
     }
+}
+
+/// The gate `ρ = q / (1 + q)`, `q = |raw ⊘ σ_raw|²`, on the network's remainder of a map
+/// trained [`through_zero`](super::TrainParams::through_zero): zero at a zero reading,
+/// quadratic below the training spread `σ_raw`, near one at the training readings.
+pub(crate) fn remainder_gate(input: &Normaliser, raw: &Vector6<f64>) -> f64 {
+    let q = raw.component_div(input.std()).norm_squared();
+    q / (1.0 + q)
 }

@@ -48,6 +48,7 @@ pub mod file;
 mod map;
 mod mlp;
 mod normalise;
+mod record;
 mod train;
 
 pub use affine::Affine;
@@ -55,4 +56,5 @@ pub use dataset::{Dataset, MIN_TRAINING_SAMPLES, Split, SplitFractions, SplitOrd
 pub use map::{Calibration, CalibrationInput, Drift, LabelModel, LabelModelKind};
 pub use mlp::{Activation, MAX_HIDDEN_LAYERS, MAX_WIDTH, Mlp, parameter_count};
 pub use normalise::Normaliser;
-pub use train::{EpochLosses, EpochProgress, SplitSizes, StopReason, TrainParams, TrainingRecord};
+pub use record::{EpochLosses, SplitSizes, StopReason, TrainParams, TrainingRecord};
+pub use train::EpochProgress;

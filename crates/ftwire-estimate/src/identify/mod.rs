@@ -39,6 +39,7 @@ pub mod pso;
 pub mod refine;
 pub mod residual;
 pub mod sample;
+mod shared;
 pub mod unidentified;
 
 pub use drift::BiasDrift;

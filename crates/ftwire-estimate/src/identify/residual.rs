@@ -51,6 +51,7 @@ use ftwire_core::Pose;
 use ftwire_rod::{perturbation::delta_b, se3, to_normalised};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
+use super::shared::{SharedBias, shared_bias};
 use super::{MeasurementNoise, ParameterConstraints, Sample};
 use crate::{EstimateError, WireModel};
 
@@ -178,6 +179,14 @@ impl<M: WireModel> Residuals<'_, M> {
         self.len() == 0
     }
 
+    /// What the samples share under `noise` ([`shared_bias`]), for the absolute form only.
+    pub(super) fn shared(&self, noise: &MeasurementNoise) -> Option<SharedBias> {
+        if self.form != ResidualForm::Absolute {
+            return None;
+        }
+        shared_bias(self.samples.get(..self.len() / 6)?, noise)
+    }
+
     /// The model at `θ`, or `None` if `θ` maps to an invalid `η`.
     pub fn model_at(&self, theta: &[f64]) -> Option<M> {
         self.try_model_at(theta).ok()
@@ -282,7 +291,7 @@ impl<M: WireModel> Residuals<'_, M> {
     ) -> Result<Whitening, EstimateError> {
         let (wj, own) = self.block_covariances(theta, noise)?;
         let n = own.len();
-        if let Some(joint) = super::joint::shared_bias(self, noise) {
+        if let Some(joint) = self.shared(noise) {
             let cov = joint.covariance(&wj, &own);
             let smallest = cov.diagonal().min();
             let factor = cov.cholesky().ok_or_else(|| not_positive(smallest))?.l();

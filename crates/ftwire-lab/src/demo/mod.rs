@@ -37,7 +37,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use ftwire_control::NoiseModel;
-use ftwire_plan::Scene;
 use serde::Serialize;
 
 use crate::error::{LabError, from_plan};
@@ -48,11 +47,16 @@ use crate::results::ResultsFolder;
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
+mod inputs;
 mod page;
+mod phase;
 mod sense;
 mod steer;
 mod summary;
 
+use inputs::Inputs;
+pub use phase::DemoProgress;
+pub use sense::IDENTIFY_SAMPLES;
 pub use summary::{
     CalibrationOut, DemoSummary, DemoTimings, IdentificationOut, PlanOut, ShapeOut, TrackingOut,
     WireTruth,
@@ -66,9 +70,6 @@ pub const DEFAULT_WIRE: &str = "nitinol-3mm-910";
 /// that the demo's calibrated map is as good as the experiment's (the summary reports its
 /// test error).
 pub const CALIBRATION_CONFIGS: usize = 600;
-
-/// Samples the identification phase identifies from (the paper's smallest useful count).
-pub const IDENTIFY_SAMPLES: usize = 3;
 
 /// Configurations of the shape phase by default.
 pub const SHAPE_CONFIGS: usize = 5;
@@ -159,71 +160,6 @@ impl DemoParams {
             calibration_configs: self.calibration_configs,
             shape_configs: self.shape_configs,
         })
-    }
-}
-
-/// The demo's inputs, read and checked before any work.
-struct Inputs {
-    wire: WireSpec,
-    setup: SimSetup,
-    scene: Scene,
-    scene_name: String,
-    known: WireSpec,
-    seed: u64,
-    noise: NoiseModel,
-    calibration_configs: usize,
-    shape_configs: usize,
-}
-
-/// Where the demo reports its progress: each phase's start, its steps and its one-line
-/// result. The `ftwire` binary draws a bar per phase on a terminal and prints the results on
-/// stderr.
-pub trait DemoProgress {
-    /// Phase `number` (1 to [`PHASES`]), `name`, started; it has `steps` steps.
-    fn phase_started(&mut self, number: usize, name: &str, steps: usize);
-
-    /// `done` steps of the phase under way are done.
-    fn step(&mut self, done: usize);
-
-    /// Phase `number`, `name`, ended after `seconds` of wall time with `result`, one line of
-    /// text.
-    fn phase_finished(&mut self, number: usize, name: &str, result: &str, seconds: f64);
-}
-
-/// A centreline as plotted points (world frame) \[m\].
-type Points = Vec<[f64; 3]>;
-
-/// The first configuration of the shape phase: the estimate from F/T and the truth.
-type FirstShape = (Points, Points);
-
-/// A phase under way: reported to the progress and timed.
-struct Phase {
-    number: usize,
-    name: &'static str,
-    start: Instant,
-}
-
-impl Phase {
-    /// Reports the start of phase `number` with `steps` steps.
-    fn start(
-        progress: &mut dyn DemoProgress,
-        number: usize,
-        name: &'static str,
-        steps: usize,
-    ) -> Self {
-        progress.phase_started(number, name, steps);
-        Self {
-            number,
-            name,
-            start: Instant::now(),
-        }
-    }
-
-    /// Reports the end of the phase with a one-line result; returns its wall time \[s\].
-    fn finish(self, progress: &mut dyn DemoProgress, result: &str) -> f64 {
-        let seconds = self.start.elapsed().as_secs_f64();
-        progress.phase_finished(self.number, self.name, result, seconds);
-        seconds
     }
 }
 

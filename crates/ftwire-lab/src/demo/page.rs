@@ -12,10 +12,16 @@ use ftwire_report::html::{code_span, escape_markdown};
 use ftwire_report::{HtmlReport, Rotation, Scene3d, Step3};
 use nalgebra::Point3;
 
-use super::{DemoSummary, FirstShape, Points};
+use super::summary::DemoSummary;
 use crate::error::LabError;
 use crate::results::ResultsFolder;
 use crate::tracking::Attempt;
+
+/// A centreline as plotted points (world frame) \[m\].
+pub(super) type Points = Vec<[f64; 3]>;
+
+/// The first configuration of the shape phase: the estimate from F/T and the truth.
+pub(super) type FirstShape = (Points, Points);
 
 /// What the page draws besides the summary.
 pub(super) struct Drawn<'a> {

@@ -13,10 +13,10 @@ use nalgebra::Vector3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::{
-    CalibrationOut, DemoProgress, FirstShape, IDENTIFY_SAMPLES, IdentificationOut, Inputs, Phase,
-    ShapeOut,
-};
+use super::inputs::Inputs;
+use super::page::FirstShape;
+use super::phase::{DemoProgress, Phase};
+use super::summary::{CalibrationOut, IdentificationOut, ShapeOut};
 use crate::error::{LabError, from_estimate, from_rod};
 use crate::experiment::calibration::{self, rig_seed};
 use crate::experiment::rig::{measure, pipeline, place_wire, tare, true_centreline};
@@ -28,6 +28,9 @@ use crate::identify::{
 use crate::results::ResultsFolder;
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
+
+/// Samples the identification phase identifies from (the paper's smallest useful count).
+pub const IDENTIFY_SAMPLES: usize = 3;
 
 /// Phase 1: the calibration on the known wire; its summary, the weights (also written to the
 /// folder as `calibration.json`) and the phase's seconds.

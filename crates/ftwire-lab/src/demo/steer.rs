@@ -7,7 +7,9 @@ use ftwire_plan::{Chosen, Scene, Waypoint};
 use ftwire_report::{Chart3d, SeriesKind};
 use ftwire_rod::Rod;
 
-use super::{DemoProgress, IdentificationOut, Inputs, Phase, PlanOut, TrackingOut};
+use super::inputs::Inputs;
+use super::phase::{DemoProgress, Phase};
+use super::summary::{IdentificationOut, PlanOut, TrackingOut};
 use crate::error::{LabError, from_estimate};
 use crate::experiment::Gravity;
 use crate::results::ResultsFolder;

@@ -56,6 +56,9 @@ use crate::error::{LabError, from_estimate, from_rod};
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 
+/// The session clock's step, with the sensor setup whose drift it paces.
+pub use crate::setup::sensor::REST_INTERVAL;
+
 /// The known wire the calibration is collected on by default: the 3 mm nitinol wire of 820 mm,
 /// the stiffest of the presets relative to its weight, so that gravity bends it least.
 pub const KNOWN_WIRE: &str = "nitinol-3mm-820";
@@ -189,10 +192,6 @@ pub struct CalibrationRun {
     /// Timings.
     pub timings: CalibrationTimings,
 }
-
-/// Seconds between two rests of a recorded session (placing the wire, settling, averaging):
-/// the session clock of [`RecordedRest::time`] and of the sensor's deterministic drift.
-pub const REST_INTERVAL: f64 = 3.0;
 
 /// One rest as a rig records it: the time on the session clock, the raw reading averaged at
 /// rest (not tared: a real log carries the sensor's offsets), and the marker frame; with the

@@ -7,7 +7,7 @@ use ftwire_estimate::KirchhoffModel;
 use ftwire_sim::BoxObstacle;
 
 use super::trial::{Context, Pair, TrialRig, Truth};
-use super::{GAIN, SETTLE_SAMPLES};
+use super::tuning::{GAIN, SETTLE_SAMPLES};
 use crate::error::LabError;
 
 /// How a closed-loop trial runs.

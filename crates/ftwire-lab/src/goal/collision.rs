@@ -6,11 +6,11 @@ use ftwire_control::{CollisionDetector, MoveCheck, NoiseModel, Outcome, Run, ret
 use ftwire_rod::to_normalised;
 use serde::Serialize;
 
-use super::MAX_ITERATIONS_NO_NOISE;
 use super::closed::{ClosedSetup, ClosedTrial};
 use super::pairs::obstacle_for;
 use super::trial::Context;
 use super::trial::Pair;
+use super::tuning::MAX_ITERATIONS_NO_NOISE;
 use crate::error::LabError;
 use crate::experiment::Progress;
 use crate::experiment::stats::median;

@@ -10,7 +10,7 @@ use ftwire_rod::to_normalised;
 use nalgebra::Vector6;
 
 use super::trial::{Context, Pair, Truth};
-use super::{Variant, VariantTrials};
+use super::variant::{Variant, VariantTrials};
 use crate::error::{LabError, from_estimate};
 use crate::results::ResultsFolder;
 

@@ -72,6 +72,8 @@ mod figures;
 mod pairs;
 mod summary;
 mod trial;
+mod tuning;
+mod variant;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -85,7 +87,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use self::closed::{ClosedSetup, ClosedTrial};
+use self::closed::ClosedTrial;
 pub use self::collision::{Collision, DETECTOR_QUANTILE, FLOOR_SIGMAS, detector_from_free_moves};
 use self::collision::{DetectorSetup, calibrate_detector, contact_runs, count_false_alarm};
 pub use self::pairs::PairDraws;
@@ -95,8 +97,13 @@ pub use self::summary::{
     Variants,
 };
 use self::summary::{Outcomes, failure_cell, summarise};
+use self::trial::Context;
 use self::trial::Pair;
-use self::trial::{Context, OpenTrial};
+pub use self::tuning::{
+    EPSILON_NO_NOISE, EPSILON_NOISE, EPSILONS_NO_NOISE, EPSILONS_NOISE, GAIN,
+    MAX_ITERATIONS_NO_NOISE, MAX_ITERATIONS_NOISE, SETTLE_RADIUS, SETTLE_SAMPLES,
+};
+use self::variant::{Variant, VariantTrials};
 use crate::csv_table::{Cell, CsvTable, text, value};
 use crate::error::LabError;
 use crate::experiment::calibration::load_or_run_reporting;
@@ -109,29 +116,6 @@ use crate::wire::WireSpec;
 pub const DEFAULT_WIRE: &str = "nitinol-3mm-820";
 /// Start–goal pairs by default (the paper's 30).
 pub const DEFAULT_PAIRS: usize = 30;
-/// The gain K (the paper's).
-pub const GAIN: f64 = 0.2;
-/// ε values of the no-noise (and `offset`) trade-off table, largest first \[normalised\].
-pub const EPSILONS_NO_NOISE: [f64; 3] = [0.1, 0.05, 0.02];
-/// The headline ε without noise and with `offset`: the smallest of the table, which the
-/// settled rests ([`SETTLE_RADIUS`]) let every run reach; the sensor's bias drift over the
-/// run, not ε, is then most of what is left (see the module docs).
-pub const EPSILON_NO_NOISE: f64 = 0.02;
-/// The controller's settling radius \[normalised\] without noise and with `offset`: within it
-/// each rest averages [`SETTLE_SAMPLES`] samples (`ControlParams::settle_radius`). It is
-/// larger than every ε of [`EPSILONS_NO_NOISE`], so each of their stops reads a settled `ã`.
-pub const SETTLE_RADIUS: f64 = 0.25;
-/// F/T samples per rest within [`SETTLE_RADIUS`] (0.4 s at 1 kHz, as tracking's last leg).
-pub const SETTLE_SAMPLES: usize = 400;
-/// ε values of the `increment` / `absolute` trade-off table, largest first \[normalised\].
-pub const EPSILONS_NOISE: [f64; 3] = [1.0, 0.5, 0.25];
-/// The headline ε with `increment` / `absolute` noise.
-pub const EPSILON_NOISE: f64 = 0.5;
-/// Iteration limit without noise (and with `offset`).
-pub const MAX_ITERATIONS_NO_NOISE: usize = 150;
-/// Iteration limit with `increment` / `absolute` noise: the stop rule waits for a step that
-/// lands within ε.
-pub const MAX_ITERATIONS_NOISE: usize = 400;
 /// The most start–goal pairs a run takes.
 pub const MAX_PAIRS: usize = 1000;
 
@@ -236,97 +220,6 @@ pub struct GoalRun {
     pub summary: GoalSummary,
     /// `timings.json`.
     pub timings: GoalTimings,
-}
-
-/// One of a run's two variants, `no_noise` and `noise`: its noise model, its ε table, the
-/// stop its headline is read at, and how its closed loop runs.
-struct Variant {
-    /// `no_noise` or `noise`.
-    name: &'static str,
-    noise: NoiseModel,
-    /// The ε of its trade-off table, largest first.
-    epsilons: [f64; 3],
-    /// The headline ε.
-    headline_epsilon: f64,
-    /// The stop of each closed-loop trial its headline is read at (an index of
-    /// `ClosedTrial::stops`: one of the table's, or the run's own end).
-    headline: usize,
-    max_iterations: usize,
-    /// The shape stop \[m\] (0: off).
-    shape_stop: f64,
-}
-
-impl Variant {
-    /// The two variants of a run with `noise` in its `noise` runs and their shape stop
-    /// `shape_stop` \[m\].
-    fn both(noise: NoiseModel, shape_stop: f64) -> [Self; 2] {
-        let position = |table: &[f64], eps: f64| table.iter().position(|&e| e == eps).unwrap_or(0);
-        let (epsilons, headline_epsilon, max_iterations) = match noise {
-            NoiseModel::Increment | NoiseModel::Absolute => {
-                (EPSILONS_NOISE, EPSILON_NOISE, MAX_ITERATIONS_NOISE)
-            }
-            NoiseModel::Offset | NoiseModel::None => {
-                (EPSILONS_NO_NOISE, EPSILON_NO_NOISE, MAX_ITERATIONS_NO_NOISE)
-            }
-        };
-        // With the shape stop the noise runs' headline is where each run stopped (the stop
-        // after the ε table's, see `Context::closed`); the ε table is read off the same runs.
-        let headline = if shape_stop > 0.0 {
-            epsilons.len()
-        } else {
-            position(&epsilons, headline_epsilon)
-        };
-        [
-            Self {
-                name: "no_noise",
-                noise: NoiseModel::None,
-                epsilons: EPSILONS_NO_NOISE,
-                headline_epsilon: EPSILON_NO_NOISE,
-                headline: position(&EPSILONS_NO_NOISE, EPSILON_NO_NOISE),
-                max_iterations: MAX_ITERATIONS_NO_NOISE,
-                shape_stop,
-            },
-            Self {
-                name: "noise",
-                noise,
-                epsilons,
-                headline_epsilon,
-                headline,
-                max_iterations,
-                shape_stop,
-            },
-        ]
-    }
-
-    /// How its closed loop runs on the pairs (no detector).
-    fn setup(&self) -> ClosedSetup<'_> {
-        ClosedSetup {
-            noise: self.noise,
-            epsilons: &self.epsilons,
-            max_iterations: self.max_iterations,
-            detector: None,
-            // Where the sensor's noise limits the stop (no noise, `offset`), the last rests
-            // average longer; under `increment` / `absolute` the gripper's noise does.
-            settle_radius: match self.noise {
-                NoiseModel::None | NoiseModel::Offset => SETTLE_RADIUS,
-                NoiseModel::Increment | NoiseModel::Absolute => 0.0,
-            },
-            shape_stop: if self.noise == NoiseModel::None {
-                0.0
-            } else {
-                self.shape_stop
-            },
-        }
-    }
-}
-
-/// One variant's trials on one pair, kept for the figures of the first pair.
-struct VariantTrials {
-    variant: &'static str,
-    closed: ClosedTrial,
-    open: OpenTrial,
-    /// The open loop's steps (the closed loop's at the headline stop, at least 1).
-    steps: usize,
 }
 
 /// What the pairs' trials add up to: the rows of `trials.csv`, the outcomes the summary is

@@ -44,6 +44,7 @@
 //! `crates/ftwire/tests/names_and_timings_cli.rs`.
 
 mod estimate;
+mod method;
 mod summary;
 mod trial;
 pub mod until;
@@ -53,14 +54,13 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use ftwire_estimate::calibration::Calibration;
-use ftwire_estimate::identify::{
-    IdentifierParams, MeasurementNoise, ParameterConstraints, ResidualForm, Sample,
-};
+use ftwire_estimate::identify::{IdentifierParams, MeasurementNoise, ParameterConstraints, Sample};
 use serde::Serialize;
 
 pub use self::estimate::{
     flag_name, identifier, loaded_config, run_identification, template_model,
 };
+pub use self::method::{Form, Pipeline};
 use self::summary::Row;
 pub use self::summary::{
     BySamples, DensityStats, IdentifySummary, IdentifyTimings, MedianTiming, ModelResults,
@@ -98,34 +98,6 @@ pub const DEFAULT_TWIST: f64 = 40.0;
 /// 400 and 1000 the unseen-wire survey (`crates/ftwire/tests/identify_unseen.rs`) measured
 /// 400 best.
 pub const REST_SAMPLES: usize = 400;
-
-/// The residual identification minimises (`ftwire_estimate::identify::ResidualForm`), by the
-/// names the summaries use.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Form {
-    /// The exact absolute form `log(Γ_η(ã_i)⁻¹ b̃_i)`: reaches the noise floor.
-    #[default]
-    Absolute,
-    /// The paper's eq. 12, `J_η(ã_i) δã_i − δb̃_i`: limited to 2–3 % by its linearisation.
-    Eq12,
-    /// Eq. 12 with `J` at the midpoint of each step.
-    Midpoint,
-    /// Exact relative poses of consecutive samples.
-    Relative,
-}
-
-impl Form {
-    /// The library's residual form.
-    pub fn residual(self) -> ResidualForm {
-        match self {
-            Self::Absolute => ResidualForm::Absolute,
-            Self::Eq12 => ResidualForm::Eq12,
-            Self::Midpoint => ResidualForm::Midpoint,
-            Self::Relative => ResidualForm::Relative,
-        }
-    }
-}
 
 /// How to identify: the residual form and the known relations between the parameters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
@@ -256,19 +228,6 @@ pub fn data_sheet_noise(
         ..ResidualParams::default()
     }
     .with_noise_settings(noise)
-}
-
-/// How `ã` is computed from the tared reading.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Pipeline {
-    /// The learnt calibration network (a calibration file, or one run and cached first):
-    /// corrects the sensor's gain, cross-talk and nonlinearity.
-    #[default]
-    Calibrated,
-    /// The sensor's mounting transform only (no learnt correction): the sensor's gain error
-    /// and cross-talk of about 1 % stay in `ã`. For comparison.
-    Mounting,
 }
 
 /// The settings of the identification experiment.

@@ -4,7 +4,7 @@
 use ftwire_report::{LineChart, Series};
 use serde::Serialize;
 
-use super::{Form, Pipeline};
+use super::method::{Form, Pipeline};
 use crate::csv_table::{Cell, CsvTable, text, value};
 use crate::error::LabError;
 use crate::experiment::stats::median;

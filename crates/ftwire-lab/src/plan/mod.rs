@@ -8,9 +8,9 @@
 //! `tests/plan.rs` of this crate.
 
 mod check;
+mod planner;
 mod report;
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -23,6 +23,7 @@ use ftwire_rod::Rod;
 use serde::Serialize;
 
 pub use check::{ConfigurationCheck, SceneCheckParams, SceneReport, check_scene};
+pub use planner::Planner;
 pub use report::{JointsJson, PlanReport, PoseJson, WaypointJson};
 
 use crate::error::{LabError, from_plan};
@@ -32,26 +33,6 @@ use crate::wire::WireSpec;
 /// among it (a few kilobytes), and grows by a few hundred nodes a second at most, so ten
 /// minutes keep it under a gigabyte.
 pub const MAX_TIME_BUDGET: f64 = 600.0;
-
-/// Which planning space.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Planner {
-    /// RRT* in `A_free`, the base gripper held at the scene's pose (the paper).
-    #[default]
-    Fixed,
-    /// RRT* in `Z = A × Q`, the base gripper moving too (within 0.15 m and 0.5 rad).
-    Moving,
-}
-
-impl fmt::Display for Planner {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Self::Fixed => "fixed",
-            Self::Moving => "moving",
-        })
-    }
-}
 
 /// The wire a scene is planned or checked for, and how far from the obstacles it must stay.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -8,7 +8,7 @@ use ftwire_plan::Sample;
 use ftwire_rod::{Rod, to_normalised};
 use serde::Serialize;
 
-use super::Planner;
+use super::planner::Planner;
 
 /// A pose as JSON: position \[m\] and rotation vector \[rad\], world frame.
 #[derive(Debug, Clone, PartialEq, Serialize)]

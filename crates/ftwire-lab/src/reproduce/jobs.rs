@@ -4,7 +4,7 @@
 use std::ffi::OsString;
 use std::path::Path;
 
-use super::ReproduceParams;
+use super::params::ReproduceParams;
 
 /// One experiment of a reproduction, run as an `ftwire` command of its own.
 #[derive(Debug, Clone, PartialEq)]

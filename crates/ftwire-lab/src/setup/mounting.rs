@@ -15,7 +15,7 @@ use std::path::Path;
 
 use ftwire_estimate::ft::MountingSpec;
 
-use super::{SetupError, read_toml, value_error};
+use super::file::{SetupError, read_toml, value_error};
 
 /// Reads and checks a mounting file; `None` gives the default mounting (the simulated
 /// sensor's).

@@ -15,17 +15,20 @@ use std::path::Path;
 
 use ftwire_sim::{FtSensor, FtSensorParams};
 
-use super::{SetupError, parse_toml, read_toml, value_error};
+use super::file::{SetupError, parse_toml, read_toml, value_error};
 
 /// The names of the preset sensors, as `--sensor` takes them.
 pub const PRESETS: [&str; 3] = ["distorted", "undistorted", "real-like"];
 
+/// Seconds between two rests of a recorded session (placing the wire, settling, averaging):
+/// the session clock of [`RecordedRest::time`](crate::experiment::calibration::RecordedRest::time)
+/// and of the sensor's deterministic drift.
+pub const REST_INTERVAL: f64 = 3.0;
+
 /// The deterministic torque drift of the `real-like` preset \[N·m/s\] on the sensor's τx:
-/// 0.14 N·m over a session of 600 rests of
-/// [`crate::experiment::calibration::REST_INTERVAL`] (the size of the drift `shared/DESIGN.md`
-/// records on a real recording).
-pub const REAL_LIKE_TORQUE_DRIFT: f64 =
-    -0.14 / (600.0 * crate::experiment::calibration::REST_INTERVAL);
+/// 0.14 N·m over a session of 600 rests of [`REST_INTERVAL`] (the size of the drift
+/// `shared/DESIGN.md` records on a real recording).
+pub const REAL_LIKE_TORQUE_DRIFT: f64 = -0.14 / (600.0 * REST_INTERVAL);
 
 /// A simulated F/T sensor: its name (a preset's, or the file as given) and its settings.
 #[derive(Debug, Clone, PartialEq)]

@@ -8,7 +8,7 @@ use ftwire_plan::Waypoint;
 use ftwire_sim::SimRig;
 use nalgebra::{Point3, Vector3, Vector6};
 
-use super::{Attempt, Leg};
+use super::attempt::{Attempt, Leg};
 use crate::error::LabError;
 
 /// The one definition of a touch, the lab's (every experiment that scores one shares it).

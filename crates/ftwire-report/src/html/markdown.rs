@@ -8,7 +8,7 @@
 
 use std::fmt::Write as _;
 
-use super::escape;
+use super::text::escape;
 
 /// The characters [`escape_markdown`] puts a backslash before: those that open markup inline in
 /// CommonMark and GitHub Markdown (escapes, code, emphasis, strikethrough, links and images,

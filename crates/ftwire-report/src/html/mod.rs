@@ -30,12 +30,14 @@
 mod base64;
 mod markdown;
 mod scene;
+mod text;
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 pub use markdown::{code_span, escape_markdown};
 pub use scene::{Box3, Gripper3, IDENTITY, Polyline3, RESOLUTION, Rotation, Scene3d, Step3};
+use text::escape;
 
 use crate::ReportError;
 
@@ -56,22 +58,6 @@ pub struct HtmlReport {
     /// The body's HTML so far (views as placeholders `data-view="k"`).
     body: String,
     scenes: Vec<Scene3d>,
-}
-
-/// `text` with `&`, `<`, `>`, `"` and `'` as HTML character references.
-pub(crate) fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            _ => out.push(c),
-        }
-    }
-    out
 }
 
 /// JSON made safe inside a `<script>` element: `<`, `>` and `&` as `\u` escapes (still the same

@@ -582,7 +582,7 @@ impl Rod {
             self_contact(&dense.positions, dense.spacing(), radius).is_some()
         };
         // μ at the nodes by the loaded closed form, with P = ∫p interpolated in the same knot
-        // intervals as the frames (the walk of `Rod::shape_from_knots_with`).
+        // intervals as the frames (the walk of `rod::shape::from_knots_with`).
         let last = nodes.saturating_sub(1).max(1) as f64;
         let mut k = 0;
         let costate = (0..nodes)

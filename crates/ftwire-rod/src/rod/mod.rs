@@ -444,6 +444,12 @@ impl Rod {
         Ok(self.shape_from_knots(&knots, nodes))
     }
 
+    /// The shape at `nodes` nodes from the frame jets at the grid points
+    /// ([`shape::from_knots`]: septic Hermite dense output).
+    pub(crate) fn shape_from_knots(&self, knots: &[FrameJet], nodes: usize) -> Shape {
+        shape::from_knots(self.wire().length(), knots, nodes)
+    }
+
     /// `Γ(a) = q(L)`: the second gripper's pose for configuration `a` (frames only).
     ///
     /// # Errors
@@ -529,7 +535,7 @@ fn pose_of(q: &FrameState) -> Pose {
 
 #[cfg(test)]
 mod tests {
-    use super::shape::interpolate_rows;
+    use super::shape::{from_knots_with, interpolate_rows};
     use super::*;
     use crate::arith::Fused;
     use crate::sampling::Sampler;
@@ -593,7 +599,8 @@ mod tests {
             assert_eq!(s_fast.stable, s_plain.stable, "a = {a}");
             assert_eq!(s_fast.det_j.len(), s_plain.det_j.len());
             let shape_fast = rod.shape_from_knots(&k_fast, 64);
-            let shape_plain = rod.shape_from_knots_with(&k_plain, 64, interpolate_rows::<Separate>);
+            let shape_plain =
+                from_knots_with(wire.length(), &k_plain, 64, interpolate_rows::<Separate>);
             for (f, p) in shape_fast.positions.iter().zip(&shape_plain.positions) {
                 assert!((f - p).norm() <= tol * wire.length(), "a = {a}");
             }

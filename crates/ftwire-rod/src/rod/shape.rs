@@ -1,12 +1,11 @@
 //! The wire's shape at nodes ([`Shape`], re-exported as `ftwire_rod::rod::Shape`) and how it is
-//! made from the integrator's knots (`Rod::shape_from_knots`): septic Hermite interpolation of
+//! made from the integrator's knots ([`from_knots`]): septic Hermite interpolation of
 //! the frame state between grid points, then Gram–Schmidt re-orthonormalisation of every frame
 //! ([`rotation_from_columns`]).
 
 use ftwire_core::Pose;
 use nalgebra::{Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-use super::Rod;
 use crate::arith::{MulAdd, Separate};
 use crate::hermite::septic_hermite;
 use crate::kirchhoff::FrameJet;
@@ -53,85 +52,82 @@ impl Shape {
     }
 }
 
-impl Rod {
-    /// The shape at `nodes` nodes from the frame jets at the grid points (septic Hermite
-    /// dense output). AVX2+FMA when the CPU has it.
-    pub(crate) fn shape_from_knots(&self, knots: &[FrameJet], nodes: usize) -> Shape {
-        #[cfg(target_arch = "x86_64")]
-        if crate::arith::fast_path() {
-            // SAFETY: `fast_path` checked that the CPU has AVX2 and FMA (as in
-            // `Rod::integrate_full`).
-            #[allow(unsafe_code)]
-            return unsafe { self.shape_from_knots_fma(knots, nodes) };
-        }
-        self.shape_from_knots_with(knots, nodes, interpolate_rows::<Separate>)
-    }
-
-    /// [`Rod::shape_from_knots`] compiled for AVX2 and FMA.
+/// The shape at `nodes` nodes of a wire of `length` \[m\] from the frame jets at the grid
+/// points (septic Hermite dense output). AVX2+FMA when the CPU has it.
+pub(crate) fn from_knots(length: f64, knots: &[FrameJet], nodes: usize) -> Shape {
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn shape_from_knots_fma(&self, knots: &[FrameJet], nodes: usize) -> Shape {
-        self.shape_from_knots_with(knots, nodes, |k0, k1, h, theta| {
-            crate::simd::interpolate_frame(k0, k1, h, theta)
-        })
+    if crate::arith::fast_path() {
+        // SAFETY: `fast_path` checked that the CPU has AVX2 and FMA (as in
+        // `Rod::integrate_full`).
+        #[allow(unsafe_code)]
+        return unsafe { from_knots_fma(length, knots, nodes) };
     }
+    from_knots_with(length, knots, nodes, interpolate_rows::<Separate>)
+}
 
-    /// The shape from the knots: `between(k0, k1, h, θ)` interpolates the flat frame state
-    /// (rows `(R_i0, R_i1, R_i2, p_i)`) at `θ ∈ (0, 1)` of the step `h` from knot `k0` to
-    /// knot `k1`; `p` and the first two columns of `R` are kept.
-    ///
-    /// Two passes: the interpolation of every node, then the re-orthonormalisation of every
-    /// rotation. Each pass is a loop of independent short computations that the CPU overlaps
-    /// (one pass doing both is a long chain of dependent operations per node).
-    #[inline(always)]
-    pub(crate) fn shape_from_knots_with(
-        &self,
-        knots: &[FrameJet],
-        nodes: usize,
-        between: impl Fn(&FrameJet, &FrameJet, f64, f64) -> [[f64; 4]; 3],
-    ) -> Shape {
-        let length = self.wire().length();
-        let steps = knots.len().saturating_sub(1).max(1);
-        let h = length / steps as f64;
-        let last = nodes.saturating_sub(1).max(1) as f64;
-        let mut positions = vec![Vector3::zeros(); nodes];
-        let mut rotations = vec![Rotation3::identity(); nodes];
-        // The knot interval of the current node, moved forward as the nodes advance (no
-        // float-to-integer conversion per node).
-        let mut k = 0;
-        for (i, (p, r)) in positions.iter_mut().zip(&mut rotations).enumerate() {
-            let x = i as f64 * steps as f64 / last;
-            while k + 1 < steps && x >= (k + 1) as f64 {
-                k += 1;
-            }
-            let theta = (x - k as f64).clamp(0.0, 1.0);
-            let (Some(k0), Some(k1)) = (knots.get(k), knots.get(k + 1)) else {
-                continue;
-            };
-            let r = r.matrix_mut_unchecked();
-            if theta == 0.0 || theta == 1.0 {
-                let f = if theta == 0.0 { k0 } else { k1 }.frame();
-                (*p, *r) = (f.p, f.r);
-            } else {
-                let [r0, r1, r2] = between(k0, k1, h, theta);
-                *p = Vector3::new(r0[3], r1[3], r2[3]);
-                *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
-            }
+/// [`from_knots`] compiled for AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn from_knots_fma(length: f64, knots: &[FrameJet], nodes: usize) -> Shape {
+    from_knots_with(length, knots, nodes, |k0, k1, h, theta| {
+        crate::simd::interpolate_frame(k0, k1, h, theta)
+    })
+}
+
+/// The shape of a wire of `length` \[m\] from the knots: `between(k0, k1, h, θ)` interpolates
+/// the flat frame state (rows `(R_i0, R_i1, R_i2, p_i)`) at `θ ∈ (0, 1)` of the step `h` from
+/// knot `k0` to knot `k1`; `p` and the first two columns of `R` are kept.
+///
+/// Two passes: the interpolation of every node, then the re-orthonormalisation of every
+/// rotation. Each pass is a loop of independent short computations that the CPU overlaps
+/// (one pass doing both is a long chain of dependent operations per node).
+#[inline(always)]
+pub(crate) fn from_knots_with(
+    length: f64,
+    knots: &[FrameJet],
+    nodes: usize,
+    between: impl Fn(&FrameJet, &FrameJet, f64, f64) -> [[f64; 4]; 3],
+) -> Shape {
+    let steps = knots.len().saturating_sub(1).max(1);
+    let h = length / steps as f64;
+    let last = nodes.saturating_sub(1).max(1) as f64;
+    let mut positions = vec![Vector3::zeros(); nodes];
+    let mut rotations = vec![Rotation3::identity(); nodes];
+    // The knot interval of the current node, moved forward as the nodes advance (no
+    // float-to-integer conversion per node).
+    let mut k = 0;
+    for (i, (p, r)) in positions.iter_mut().zip(&mut rotations).enumerate() {
+        let x = i as f64 * steps as f64 / last;
+        while k + 1 < steps && x >= (k + 1) as f64 {
+            k += 1;
         }
-        for r in &mut rotations {
-            *r = rotation_from_columns(r.matrix());
+        let theta = (x - k as f64).clamp(0.0, 1.0);
+        let (Some(k0), Some(k1)) = (knots.get(k), knots.get(k + 1)) else {
+            continue;
+        };
+        let r = r.matrix_mut_unchecked();
+        if theta == 0.0 || theta == 1.0 {
+            let f = if theta == 0.0 { k0 } else { k1 }.frame();
+            (*p, *r) = (f.p, f.r);
+        } else {
+            let [r0, r1, r2] = between(k0, k1, h, theta);
+            *p = Vector3::new(r0[3], r1[3], r2[3]);
+            *r = Matrix3::new(r0[0], r0[1], 0.0, r1[0], r1[1], 0.0, r2[0], r2[1], 0.0);
         }
-        Shape {
-            arc_length: (0..nodes).map(|i| length * i as f64 / last).collect(),
-            positions,
-            rotations,
-        }
+    }
+    for r in &mut rotations {
+        *r = rotation_from_columns(r.matrix());
+    }
+    Shape {
+        arc_length: (0..nodes).map(|i| length * i as f64 / last).collect(),
+        positions,
+        rotations,
     }
 }
 
 /// Septic Hermite interpolation of the flat frame state (rows `(R_i0, R_i1, R_i2, p_i)`)
 /// between two knots: one pass over its 12 numbers per term (the portable interpolation of
-/// [`Rod::shape_from_knots_with`]).
+/// [`from_knots_with`]).
 #[inline(always)]
 pub(crate) fn interpolate_rows<A: MulAdd>(
     k0: &FrameJet,

@@ -25,7 +25,6 @@
 //! derivative of `det J` needs (see the parent module). Guarded by
 //! `series_matches_the_rate_and_finite_differences` below.
 
-use super::JacobianState;
 use crate::kirchhoff::{FrameState, FullArray, Kirchhoff, jacobian_row};
 
 /// A matrix of six columns given by its rows.
@@ -34,6 +33,15 @@ pub(crate) type Rows<const R: usize> = [[f64; 6]; R];
 /// The first terms of a matrix's Taylor series in `θ = (t − t_k)/h` at a grid point `t_k`:
 /// `X, h X′, h² X″/2, h³ X‴/6`, each by rows.
 pub(crate) type MatrixSeries = [Rows<6>; 4];
+
+/// What the test between grid points needs from a solver's state of `D` numbers.
+pub(crate) trait JacobianState<const D: usize> {
+    /// `J` and a matrix `X` with `tr(adj J · X) = tr(adj J · J′)`, so that
+    /// `(det J)′ = tr(adj J · X)` (Jacobi's formula), both by rows, at the state `y`.
+    fn first_order(&self, y: &[f64; D]) -> (Rows<6>, Rows<6>);
+    /// The Taylor series of `J` at the state `y` in `θ = (t − t_k)/h`.
+    fn series(&self, y: &[f64; D], h: f64) -> MatrixSeries;
+}
 
 /// `out += s · (P X + e · E X)` over the rows of `X = (top, bottom)` (three rows each), for
 /// `P = [[C⁻¹ m̂ − û, C⁻¹ n̂], [0, −û]]` with `ic = C⁻¹`: zero diagonals, so four terms in a

@@ -66,12 +66,11 @@
 pub(crate) mod between;
 mod jacobian_series;
 
+pub use crate::integrator::FIRST_STEP_SUBSTEPS;
 use between::Taylor;
-pub(crate) use jacobian_series::{MatrixSeries, Rows, axpy, combine, cross, times_e1};
-
-/// The first integration step is taken as this many equal substeps (cheap insurance for the
-/// sign of `det J` at the first grid point; see the module docs).
-pub const FIRST_STEP_SUBSTEPS: usize = 2;
+pub(crate) use jacobian_series::{
+    JacobianState, MatrixSeries, Rows, axpy, combine, cross, times_e1,
+};
 
 /// The outcome of the stability test along the wire.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,15 +90,6 @@ pub struct Stability {
     pub det_j: Vec<f64>,
     /// Grid spacing `L / steps` \[m\].
     pub spacing: f64,
-}
-
-/// What the test between grid points needs from a solver's state of `D` numbers.
-pub(crate) trait JacobianState<const D: usize> {
-    /// `J` and a matrix `X` with `tr(adj J · X) = tr(adj J · J′)`, so that
-    /// `(det J)′ = tr(adj J · X)` (Jacobi's formula), both by rows, at the state `y`.
-    fn first_order(&self, y: &[f64; D]) -> (Rows<6>, Rows<6>);
-    /// The Taylor series of `J` at the state `y` in `θ = (t − t_k)/h`.
-    fn series(&self, y: &[f64; D], h: f64) -> MatrixSeries;
 }
 
 /// The last grid point, for the test of the step that ends at the next one.

@@ -18,6 +18,11 @@ use ftwire_lab::results::OutGuard;
 
 use crate::cli::reproduce::ReproduceArgs;
 
+/// The environment variable through which `ftwire reproduce` tells the experiments it starts
+/// its process id: each one ends (removing its temporary results folder) once that process is
+/// gone, so that killing `reproduce` leaves none of them running.
+pub const PARENT_PID_VAR: &str = "FTWIRE_PARENT_PID";
+
 /// The lab's settings of `args`.
 fn params(args: &ReproduceArgs) -> ReproduceParams {
     ReproduceParams {
@@ -43,7 +48,7 @@ fn run_job(job: &Job) -> Result<(), String> {
     let exit = ftwire_lab::results::run_child(
         Command::new(exe)
             .args(&job.args)
-            .env(crate::PARENT_PID_VAR, std::process::id().to_string())
+            .env(PARENT_PID_VAR, std::process::id().to_string())
             .stdin(Stdio::null())
             .stdout(file)
             .stderr(err),

@@ -4,13 +4,13 @@ pub mod calibrate;
 pub mod goal;
 pub mod identify;
 pub mod passage;
+mod rollout;
 pub mod shape;
 pub mod track;
 
 use ftwire_lab::error::LabError;
-use ftwire_lab::tracking::RolloutParams;
 
-use crate::cli::experiment::{ExperimentArgs, ExperimentId, RolloutArgs};
+use crate::cli::experiment::{ExperimentArgs, ExperimentId};
 
 /// Runs the chosen experiment.
 pub fn run(args: ExperimentArgs) -> Result<(), LabError> {
@@ -22,18 +22,4 @@ pub fn run(args: ExperimentArgs) -> Result<(), LabError> {
         ExperimentId::Track(args) => track::run(args),
         ExperimentId::Passage(args) => passage::run(args),
     }
-}
-
-/// The lab's roll-out settings of `track` and `passage` (the tracking policy of
-/// `--noise-model` with `--gain`, `--shape-stop`, `--waypoint-moves` and `--near-shape-stop`).
-///
-/// # Errors
-/// Bad input for a bad gain or a negative distance, naming the option.
-fn rollout_params(args: &RolloutArgs) -> Result<RolloutParams, LabError> {
-    Ok(RolloutParams {
-        noise: args.closed_loop.noise_model().model(),
-        calibration: args.closed_loop.calibration.file.clone(),
-        policy: args.policy()?,
-        bias_observer: args.closed_loop.bias_observer.on(),
-    })
 }

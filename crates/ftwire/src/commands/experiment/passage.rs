@@ -12,7 +12,7 @@ use ftwire_lab::header::RunHeader;
 use ftwire_lab::passage::{self, PassageParams};
 use ftwire_lab::results::OutGuard;
 
-use super::rollout_params;
+use super::rollout::rollout_params;
 use crate::cli::experiment::PassageExperimentArgs;
 
 /// The lab's settings of `args`.

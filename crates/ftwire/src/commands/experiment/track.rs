@@ -12,7 +12,7 @@ use ftwire_lab::header::RunHeader;
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::track::{self, ArmReach, TrackParams};
 
-use super::rollout_params;
+use super::rollout::rollout_params;
 use crate::cli::experiment::{ReachArg, TrackExperimentArgs};
 
 /// The lab's settings of `args`.
