@@ -4,7 +4,7 @@
 use ftwire_estimate::calibration::{Drift, TrainParams};
 use nalgebra::{DMatrix, DVector, Vector6};
 
-use super::Labelled;
+use super::labelled::Labelled;
 
 /// The smallest t statistic of a kept drift term ([`choose_drift`]): without a drift, each
 /// channel's statistic is about standard normal, so the largest of six exceeds 5 with a

@@ -51,9 +51,11 @@ use crate::results::ResultsFolder;
 use crate::wire::WireSpec;
 
 mod drift;
+mod labelled;
 
 pub use drift::DRIFT_T_STATISTIC;
 use drift::choose_drift;
+use labelled::Labelled;
 
 /// Fewest markers a record needs for a label: the fit has six unknowns and three numbers per
 /// marker, and the clamp's marker says nothing.
@@ -240,17 +242,6 @@ pub struct LogCalibrateRun {
     pub timings: LogCalibrateTimings,
 }
 
-/// One labelled record.
-struct Labelled {
-    line: usize,
-    time: f64,
-    raw: Vector6<f64>,
-    label: Vector6<f64>,
-    rms: f64,
-    /// The observed inner markers (neither the first nor the last of the list), base clamp
-    /// frame.
-    inner: Vec<Point3<f64>>,
-}
 
 /// Learns the calibration from the recording into `folder`: `calibration.json`, `labels.csv`
 /// (every record: line, time, status, fit RMS, label), `test.csv` (each test record's errors),
