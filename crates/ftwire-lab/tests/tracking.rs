@@ -17,6 +17,8 @@ use ftwire_lab::tracking::RolloutParams;
 use serde::Serialize;
 
 mod common;
+#[path = "../../ftwire/tests/golden/compare.rs"]
+mod compare;
 
 use common::TempDir;
 
@@ -29,7 +31,8 @@ fn offset(calibration: PathBuf) -> RolloutParams {
 }
 
 /// Asserts that `summary` is the one the binary recorded as `name` (compared as the JSON
-/// text it writes, read back). `FTWIRE_RECORD_GOLDEN=1` records it anew, as the binary's
+/// text it writes, read back; numbers within the tolerances of
+/// `crates/ftwire/tests/golden/compare.rs`). `FTWIRE_RECORD_GOLDEN=1` records it anew, as the binary's
 /// `ftwire COMMAND --seed SEED` would (docs/development.md: for a change meant to change the
 /// results).
 fn assert_recorded(name: &str, (command, seed): (&str, u64), summary: &impl Serialize) {
@@ -48,7 +51,14 @@ fn assert_recorded(name: &str, (command, seed): (&str, u64), summary: &impl Seri
     }
     let text = std::fs::read_to_string(&path).expect("the recorded summary");
     let recorded: serde_json::Value = serde_json::from_str(&text).expect("JSON");
-    assert_eq!(json(summary), recorded["summary"], "{name}");
+    if let Some(difference) =
+        compare::first_difference(&json(summary), &recorded["summary"], name, "")
+    {
+        panic!(
+            "the summary of {name} differs from {} (now against recorded): {difference}",
+            path.display()
+        );
+    }
 }
 
 fn exists(folder: &ResultsFolder, file: &str) -> bool {

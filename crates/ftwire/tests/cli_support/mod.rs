@@ -4,6 +4,9 @@
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
+#[path = "../golden/compare.rs"]
+mod compare;
+
 /// Runs `ftwire args` with no input.
 pub fn ftwire(args: &[&str]) -> Output {
     ftwire_with_input(args, None)
@@ -123,33 +126,13 @@ fn golden_path(name: &str) -> std::path::PathBuf {
         .join(format!("{name}.json"))
 }
 
-/// The first place where `a` and `b` differ, as a JSON path, or `None` where they are equal.
-fn first_difference(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Option<String> {
-    use serde_json::Value;
-    match (a, b) {
-        (Value::Object(x), Value::Object(y)) => {
-            let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
-            keys.into_iter().find_map(|k| match (x.get(k), y.get(k)) {
-                (Some(p), Some(q)) => first_difference(p, q, &format!("{at}.{k}")),
-                (p, q) => Some(format!("{at}.{k}: {p:?} against {q:?}")),
-            })
-        }
-        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
-            .iter()
-            .zip(y)
-            .enumerate()
-            .find_map(|(i, (p, q))| first_difference(p, q, &format!("{at}[{i}]"))),
-        _ if a == b => None,
-        _ => Some(format!("{at}: {a} against {b}")),
-    }
-}
-
 /// Asserts that the results folder `out` holds the summary recorded as `name`: the run
 /// header's command and seed and the whole `summary` of `summary.json` (the configuration
-/// names temporary paths, and the version and revision change), compared value for value.
-/// The recording guards the move of the experiments between crates: the same seed must give
-/// the same results. `FTWIRE_RECORD_GOLDEN=1` records it anew, for a change that is meant to
-/// change the results (say why in the commit).
+/// names temporary paths, and the version and revision change), compared value for value,
+/// numbers within the tolerances of `tests/golden/compare.rs` (the CPU's arithmetic may differ
+/// in the last bits). The recording guards the move of the experiments between crates: the
+/// same seed must give the same results. `FTWIRE_RECORD_GOLDEN=1` records it anew, for a
+/// change that is meant to change the results (say why in the commit).
 pub fn assert_golden_summary(name: &str, out: &std::path::Path) {
     let text = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
     let run: serde_json::Value = serde_json::from_str(&text).expect("summary.json is JSON");
@@ -172,7 +155,7 @@ pub fn assert_golden_summary(name: &str, out: &std::path::Path) {
         )
     });
     let recorded: serde_json::Value = serde_json::from_str(&recorded).expect("golden is JSON");
-    if let Some(difference) = first_difference(&kept, &recorded, name) {
+    if let Some(difference) = compare::first_difference(&kept, &recorded, name, "") {
         panic!(
             "the summary of {name} differs from {} (now against recorded): {difference}",
             path.display()
