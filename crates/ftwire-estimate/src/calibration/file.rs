@@ -177,6 +177,7 @@ impl Calibration {
     /// leading byte-order mark is allowed); otherwise as [`Calibration::from_json`].
     pub fn load(path: &Path) -> Result<Self, EstimateError> {
         let mut bytes = Vec::new();
+        std::fs::metadata(path).map_err(|e| io_error(path, &e))?;
         let file =
             ftwire_core::text::open_regular(path).map_err(|e| EstimateError::CalibrationIo {
                 path: path.to_path_buf(),

@@ -242,7 +242,6 @@ pub struct LogCalibrateRun {
     pub timings: LogCalibrateTimings,
 }
 
-
 /// Learns the calibration from the recording into `folder`: `calibration.json`, `labels.csv`
 /// (every record: line, time, status, fit RMS, label), `test.csv` (each test record's errors),
 /// and the figures `label_fit` and `test_errors`. Returns the summary and timings for the
