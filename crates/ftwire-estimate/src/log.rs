@@ -188,7 +188,9 @@ impl LogRecord {
         let torque_first = [
             MAX_TORQUE, MAX_TORQUE, MAX_TORQUE, MAX_FORCE, MAX_FORCE, MAX_FORCE,
         ];
-        let ranges: [(&str, Option<&[f64]>, &[f64]); 4] = [
+        // (key, its values if present, each value's largest size)
+        type Range<'a> = (&'a str, Option<&'a [f64]>, &'a [f64]);
+        let ranges: [Range<'_>; 4] = [
             ("raw", self.raw.as_ref().map(|v| v.as_slice()), &force_first),
             ("a", self.a.as_ref().map(|v| v.as_slice()), &torque_first),
             (

@@ -293,7 +293,8 @@ fn the_label_model_and_the_input_round_trip_and_default_to_weightless_raw() {
 /// layer weight or a drift rate of 1e308, a std of 1e-300) is refused at load naming the key.
 #[test]
 fn damaged_numbers_are_refused_at_load_naming_the_key() {
-    let cases: [(&str, Box<dyn Fn(&mut serde_json::Value)>); 4] = [
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: [(&str, Edit); 4] = [
         (
             "affine.matrix[0]",
             Box::new(|v| v["affine"]["matrix"][0][0] = 1e308.into()),
