@@ -137,3 +137,22 @@ pub fn positive(value: f64, name: &str, unit: &str) -> PyResult<f64> {
         )))
     }
 }
+
+/// Largest output one call allocates \[bytes\]: 4 GiB. A bigger answer is refused before any
+/// work, so that a too-large request is a `ValueError`, never an aborted interpreter.
+pub const MAX_OUTPUT_BYTES: u128 = 4 << 30;
+
+/// Checks that an output of `values` float64 numbers fits in [`MAX_OUTPUT_BYTES`].
+///
+/// # Errors
+/// `ValueError` naming `what` (the arguments that set the size) and the bytes asked for.
+pub fn check_output(what: &str, values: u128) -> PyResult<()> {
+    let bytes = values.saturating_mul(8);
+    if bytes > MAX_OUTPUT_BYTES {
+        return Err(value_error(format!(
+            "{what} ask for {bytes} bytes of output, more than the {MAX_OUTPUT_BYTES} allowed: \
+             split the batch or take fewer points"
+        )));
+    }
+    Ok(())
+}

@@ -131,6 +131,14 @@ impl ShapeEstimator {
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let rows = input::rows(samples, "samples", 6, "raw readings or configurations ã")?;
         let batched = rows.batched;
+        let points = self.measurement.params().points;
+        input::check_output(
+            &format!(
+                "samples ({} rows) and points = {points}",
+                rows.values.len() / 6
+            ),
+            (rows.values.len() as u128 / 6) * (3 * points as u128 + 6),
+        )?;
         let values = input::vectors6(&rows);
         let n = values.len();
         let times = crate::calibration::times(time, &rows)?;
@@ -159,7 +167,6 @@ impl ShapeEstimator {
         let measurement = &self.measurement;
         let solved: Vec<Result<Solved, String>> =
             py.detach(|| a.par_iter().map(|a| measurement.solve(a, None)).collect());
-        let points = measurement.params().points;
         let mut shape = vec![f64::NAN; n * points * 3];
         let mut flags = Vec::with_capacity(n);
         let mut errors = Vec::with_capacity(n);

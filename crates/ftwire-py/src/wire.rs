@@ -241,6 +241,11 @@ impl Wire {
             6,
             "configurations (τ1, τ2, τ3, f1, f2, f3) [N·m, N]",
         )?;
+        // Per row: the points, Γ (16), J (36) and three scalars.
+        input::check_output(
+            &format!("a ({} rows) and points = {points}", rows.values.len() / 6),
+            (rows.values.len() as u128 / 6) * (3 * points as u128 + 55),
+        )?;
         let configurations = input::vectors6(&rows);
         if !rows.batched {
             let solution = rod

@@ -152,3 +152,11 @@ def test_fortran_ordered_and_strided_arrays_are_read_by_their_strides(recording)
     bad[3, 1] = np.nan
     with pytest.raises(ValueError, match=r"\[3, 1\]"):
         calibration.apply(bad)
+
+
+def test_an_output_too_large_is_a_value_error_before_any_work():
+    wire = ftwire.Wire.preset(WIRE)
+    with pytest.raises(ValueError, match="bytes"):
+        wire.solve(np.zeros((1000, 6)), points=10**6)
+    with pytest.raises(ValueError, match="bytes"):
+        ftwire.ShapeEstimator(wire, points=10_000).estimate(np.zeros((20_000, 6)))
