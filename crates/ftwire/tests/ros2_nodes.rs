@@ -188,13 +188,21 @@ fn the_estimate_with_the_tip_from_tf_frames_matches_the_truth() {
     );
     check_stream(&sim, &estimate, 2000);
     // Each recorded topic carries the QoS the node used (rosbag2's names with Jazzy, rmw's
-    // numbers with Humble): /tf_static transient local, the rest volatile, all reliable.
+    // numbers with Humble): /tf_static transient local, the rest volatile; the wrench best
+    // effort (the sensor-data default of --qos, which matches the sim's reliable publisher),
+    // the rest reliable.
     let reader = ftwire_ros2::bag::BagReader::open(&bag).expect("the recorded bag opens");
-    for (topic, durability, depth) in [
-        ("/tf_static", ["transient_local", "1"], "0"),
-        ("/tf", ["volatile", "2"], "100"),
-        ("/ft_sensor/wrench", ["volatile", "2"], "1000"),
-        ("/wire/shape", ["volatile", "2"], "10"),
+    let reliable = ["reliable", "1"];
+    for (topic, durability, depth, reliability) in [
+        ("/tf_static", ["transient_local", "1"], "0", reliable),
+        ("/tf", ["volatile", "2"], "100", reliable),
+        (
+            "/ft_sensor/wrench",
+            ["volatile", "2"],
+            "1000",
+            ["best_effort", "2"],
+        ),
+        ("/wire/shape", ["volatile", "2"], "10", reliable),
     ] {
         let qos = &reader.topic(topic).expect("recorded").offered_qos_profiles;
         let has = |key: &str, values: &[&str]| {
@@ -204,7 +212,7 @@ fn the_estimate_with_the_tip_from_tf_frames_matches_the_truth() {
             })
         };
         assert!(has("durability", &durability), "{topic}: {qos}");
-        assert!(has("reliability", &["reliable", "1"]), "{topic}: {qos}");
+        assert!(has("reliability", &reliability), "{topic}: {qos}");
         assert!(has("depth", &[depth]), "{topic}: {qos}");
     }
     let _ = std::fs::remove_dir_all(&dir);
