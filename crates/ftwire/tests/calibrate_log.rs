@@ -22,9 +22,27 @@ fn text(path: &Path) -> &str {
 /// 40 rests of the 3 mm / 820 mm nitinol wire: markers from the model's shape (11, evenly
 /// spaced), the reading through a mounting 0.11 m out plus an offset.
 fn synthetic_log(path: &Path) -> Result<(), Box<dyn std::error::Error>> {
-    let wire = ftwire_lab::wire::WireSpec::preset("nitinol-3mm-820").ok_or("preset")?;
+    recording(path, "nitinol-3mm-820", None, 40, 5)
+}
+
+/// `n` records of the preset `wire` from `seed`: markers from the model's shape (11, evenly
+/// spaced; with `gravity_in_clamp` the loaded model's, the wire's weight under it), the
+/// reading through a mounting 0.11 m out plus an offset.
+fn recording(
+    path: &Path,
+    wire: &str,
+    gravity_in_clamp: Option<[f64; 3]>,
+    n: usize,
+    seed: u64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let wire = ftwire_lab::wire::WireSpec::preset(wire).ok_or("preset")?;
     let params = wire.wire_params()?;
-    let model = KirchhoffModel::new(params);
+    let mut model = KirchhoffModel::new(params);
+    if let Some(g) = gravity_in_clamp {
+        let load =
+            ftwire_rod::Load::from_gravity(wire.density, wire.radius, nalgebra::Vector3::from(g))?;
+        model = model.with_load(load);
+    }
     let rod = ftwire_rod::Rod::new(params);
     let mounting = MountingSpec {
         clamp_position_in_sensor: [0.0, 0.0, 0.11],
@@ -32,20 +50,25 @@ fn synthetic_log(path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     }
     .mounting()?;
     let offset = Vector6::new(-1.8, 1.3, 1.8, -0.25, 0.12, 0.35);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let mut log = String::new();
-    for k in 0..40 {
+    let mut written = 0;
+    while written < n {
         let a = Sampler::default().sample_free(&rod, &mut rng)?;
-        let shape = model.shape(&a, 11)?;
+        // The loaded model may have no shape where the weight-free one samples.
+        let Ok(shape) = model.shape(&a, 11) else {
+            continue;
+        };
         let raw = mounting.to_sensor(&a) + offset;
         let markers: Vec<[f64; 3]> = shape.positions.iter().map(|p| [p.x, p.y, p.z]).collect();
         writeln!(
             log,
             r#"{{"time": {}, "raw": {:?}, "markers": {:?}}}"#,
-            3 * k,
+            3 * written,
             raw.as_slice(),
             markers
         )?;
+        written += 1;
     }
     std::fs::write(path, log)?;
     Ok(())
@@ -142,53 +165,6 @@ fn bad_input_is_exit_2() {
     }
 }
 
-/// `n` records of the 2 mm / 630 mm nitinol wire from `seed`, its weight under
-/// `gravity_in_clamp` (the loaded model is the truth: its shapes are the markers), read
-/// through a mounting 0.11 m out plus an offset.
-fn loaded_log(
-    path: &Path,
-    n: usize,
-    seed: u64,
-    gravity_in_clamp: [f64; 3],
-) -> Result<(), Box<dyn std::error::Error>> {
-    let wire = ftwire_lab::wire::WireSpec::preset("nitinol-2mm-630").ok_or("preset")?;
-    let params = wire.wire_params()?;
-    let load = ftwire_rod::Load::from_gravity(
-        wire.density,
-        wire.radius,
-        nalgebra::Vector3::from(gravity_in_clamp),
-    )?;
-    let model = KirchhoffModel::new(params).with_load(load);
-    let rod = ftwire_rod::Rod::new(params);
-    let mounting = MountingSpec {
-        clamp_position_in_sensor: [0.0, 0.0, 0.11],
-        ..MountingSpec::default()
-    }
-    .mounting()?;
-    let offset = Vector6::new(-1.8, 1.3, 1.8, -0.25, 0.12, 0.35);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let mut log = String::new();
-    let mut written = 0;
-    while written < n {
-        let a = Sampler::default().sample_free(&rod, &mut rng)?;
-        let Ok(shape) = model.shape(&a, 11) else {
-            continue;
-        };
-        let raw = mounting.to_sensor(&a) + offset;
-        let markers: Vec<[f64; 3]> = shape.positions.iter().map(|p| [p.x, p.y, p.z]).collect();
-        writeln!(
-            log,
-            r#"{{"time": {}, "raw": {:?}, "markers": {:?}}}"#,
-            3 * written,
-            raw.as_slice(),
-            markers
-        )?;
-        written += 1;
-    }
-    std::fs::write(path, log)?;
-    Ok(())
-}
-
 /// The wire's weight through the real-rig commands: `calibrate --log --gravity-in-clamp`
 /// records the loaded model in `calibration.json`, `shape --log` then solves with it unasked
 /// and reaches the markers of a held-out recording, the weight-free path on the same
@@ -201,8 +177,8 @@ fn the_loaded_model_goes_from_the_calibration_to_the_shapes()
     let g = [0.0, -9.81, 0.0];
     let train = tmp.0.join("train.jsonl");
     let held_out = tmp.0.join("held-out.jsonl");
-    loaded_log(&train, 40, 5, g)?;
-    loaded_log(&held_out, 20, 6, g)?;
+    recording(&train, "nitinol-2mm-630", Some(g), 40, 5)?;
+    recording(&held_out, "nitinol-2mm-630", Some(g), 20, 6)?;
     let mounting = tmp.0.join("mounting.toml");
     std::fs::write(&mounting, "clamp_position_in_sensor = [0.0, 0.0, 0.11]\n")?;
     let calibrate = |out: &Path, gravity: Option<&str>| {
