@@ -182,7 +182,7 @@ impl ShapeEstimator {
                 }
                 Err(e) => errors.push(Some(e.clone())),
             }
-            flags.push(flag_name(flag));
+            flags.push(flag.name());
         }
         let dict = pyo3::types::PyDict::new(py);
         let shape = Array3::from_shape_vec((n, points, 3), shape)
@@ -201,17 +201,6 @@ impl ShapeEstimator {
             dict.set_item("error", errors[0].clone())?;
         }
         Ok(dict)
-    }
-}
-
-/// The flag's name, as `shapes.jsonl` writes it.
-fn flag_name(flag: ftwire_rig::ShapeConfidence) -> &'static str {
-    use ftwire_rig::ShapeConfidence as C;
-    match flag {
-        C::Confident => "confident",
-        C::NotStable => "not_stable",
-        C::Jump => "jump",
-        C::NoShape => "no_shape",
     }
 }
 

@@ -102,10 +102,7 @@ impl std::fmt::Display for ShapeRecord {
         let markers = self
             .marker_mean_mm
             .map_or_else(String::new, |m| format!(", markers {m:.2} mm"));
-        let flag = serde_json::to_value(self.confidence)
-            .ok()
-            .and_then(|v| v.as_str().map(str::to_owned))
-            .unwrap_or_default();
+        let flag = self.confidence.name();
         writeln!(
             out,
             "{head}: {flag}, tip at ({:.4}, {:.4}, {:.4}) m{sigma}{markers}",

@@ -93,6 +93,16 @@ pub enum ShapeConfidence {
 }
 
 impl ShapeConfidence {
+    /// The flag's name, as serialised: `confident`, `not_stable`, `jump` or `no_shape`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Confident => "confident",
+            Self::NotStable => "not_stable",
+            Self::Jump => "jump",
+            Self::NoShape => "no_shape",
+        }
+    }
+
     /// Whether the shape is confident.
     pub fn is_confident(self) -> bool {
         self == Self::Confident
@@ -259,4 +269,18 @@ fn inner_markers_to(
     let d = marker_distances(&inner, &curve.positions).map_err(|e| e.to_string())?;
     #[allow(clippy::cast_precision_loss)] // a handful of markers
     Ok(Some(d.iter().sum::<f64>() / d.len() as f64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_flags_name_is_its_serialised_form() {
+        use ShapeConfidence as C;
+        for flag in [C::Confident, C::NotStable, C::Jump, C::NoShape] {
+            let json = serde_json::to_value(flag).expect("serialises");
+            assert_eq!(json.as_str(), Some(flag.name()), "{flag:?}");
+        }
+    }
 }
