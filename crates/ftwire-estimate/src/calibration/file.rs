@@ -15,6 +15,8 @@
 //!   "input_normaliser":  { "mean": [6 numbers], "std": [6 numbers > 0] },   // raw units
 //!   "output_normaliser": { "mean": [6 numbers], "std": [6 numbers > 0] },   // a's units
 //!   "affine": { "matrix": [6 rows of 6], "offset": [6] } | null,            // normalised units
+//!   "polynomial": { "degree": 2 | 3,         // optional: W φ(z), the monomials of degree 2
+//!     "weights": [6 rows of 21 | 77] },      // to d of z (`Polynomial`), normalised units
 //!   "layers": [                              // first hidden layer to output layer
 //!     { "weights": [outputs rows of inputs numbers], "bias": [outputs numbers] }, ...
 //!   ],
@@ -33,7 +35,7 @@
 //! ```
 //!
 //! The map is `a = F(raw) − F(0)` when `training.config.anchored` (absent: `false`), else
-//! `a = F(raw)`, with `F(raw) = μ_out + σ_out ⊙ (A z + c + f(z))`, `z = (raw − μ_in) ⊘ σ_in` (see
+//! `a = F(raw)`, with `F(raw) = μ_out + σ_out ⊙ (A z + c + W φ(z) + f(z))`, `z = (raw − μ_in) ⊘ σ_in` (see
 //! [`Calibration`]); when `training.config.through_zero` (absent: `false`, so older files keep
 //! their meaning) the network's term is `ρ f(z)`, `ρ = q / (1 + q)`, `q = |raw ⊘ σ_in|²`. Numbers are written shortest-round-trip and read back exactly, so a saved
 //! calibration loads bit-identical (guarded by `tests/calibration_file.rs`). Loading checks the
@@ -46,7 +48,8 @@ use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    Activation, Affine, Calibration, CalibrationInput, LabelModel, Mlp, Normaliser, TrainingRecord,
+    Activation, Affine, Calibration, CalibrationInput, LabelModel, Mlp, Normaliser, Polynomial,
+    TrainingRecord,
 };
 use crate::EstimateError;
 
@@ -72,6 +75,9 @@ struct CalibrationFile {
     input_normaliser: NormaliserFile,
     output_normaliser: NormaliserFile,
     affine: Option<AffineFile>,
+    /// The polynomial part (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    polynomial: Option<PolynomialFile>,
     layers: Vec<LayerFile>,
     training: TrainingRecord,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -115,6 +121,13 @@ struct NormaliserFile {
 struct AffineFile {
     matrix: [[f64; 6]; 6],
     offset: [f64; 6],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PolynomialFile {
+    degree: usize,
+    weights: Vec<Vec<f64>>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -234,6 +247,10 @@ impl Calibration {
                 matrix: std::array::from_fn(|i| std::array::from_fn(|j| a.matrix[(i, j)])),
                 offset: a.offset.into(),
             }),
+            polynomial: self.polynomial().map(|p| PolynomialFile {
+                degree: p.degree(),
+                weights: p.weights().to_vec(),
+            }),
             layers,
             training: self.record().clone(),
             drift: self.drift().map(|d| DriftFile {
@@ -307,7 +324,17 @@ impl Calibration {
                 })
             }
         };
+        let polynomial = match file.polynomial {
+            None => None,
+            Some(p) => {
+                for (i, row) in p.weights.iter().enumerate() {
+                    check_finite(&format!("polynomial.weights[{i}]"), row)?;
+                }
+                Some(Polynomial::new(p.degree, p.weights)?)
+            }
+        };
         let calibration = Self::from_parts(input, output, affine, mlp, file.training)
+            .with_polynomial(polynomial)
             .with_provenance(file.model, file.input)?;
         match &file.drift {
             None => Ok(calibration),

@@ -4,7 +4,7 @@ use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
 use super::record::TrainingRecord;
-use super::{Affine, Mlp, Normaliser};
+use super::{Affine, Mlp, Normaliser, Polynomial};
 
 /// A trained F/T calibration (paper §IV-A): raw reading (force first, sensor frame, tared) in,
 /// configuration `a` (torque first, base clamp frame) out.
@@ -25,6 +25,8 @@ pub struct Calibration {
     input: Normaliser,
     output: Normaliser,
     affine: Option<Affine>,
+    /// The polynomial part `W φ(z)` (`None`: none).
+    polynomial: Option<Polynomial>,
     mlp: Mlp,
     /// `F(0)` when anchored (zero otherwise): subtracted from every output.
     anchor: Vector6<f64>,
@@ -193,6 +195,7 @@ impl Calibration {
             input,
             output,
             affine,
+            polynomial: None,
             mlp,
             anchor: Vector6::zeros(),
             drift: None,
@@ -215,6 +218,9 @@ impl Calibration {
         }
         if let Some(affine) = &self.affine {
             y += affine.apply(&z);
+        }
+        if let Some(polynomial) = &self.polynomial {
+            y += polynomial.apply(&z);
         }
         self.output.denormalise(&y)
     }
@@ -341,6 +347,22 @@ impl Calibration {
     /// The affine part in normalised units (`None` when the network maps alone).
     pub fn affine(&self) -> Option<&Affine> {
         self.affine.as_ref()
+    }
+
+    /// The polynomial part in normalised units (`None` without one).
+    pub fn polynomial(&self) -> Option<&Polynomial> {
+        self.polynomial.as_ref()
+    }
+
+    /// The calibration with a polynomial part `W φ(z)` added to its map (the anchor is
+    /// recomputed when the map is anchored).
+    pub fn with_polynomial(mut self, polynomial: Option<Polynomial>) -> Self {
+        self.polynomial = polynomial;
+        if self.record.config.anchored {
+            self.anchor = Vector6::zeros();
+            self.anchor = self.unanchored(&Vector6::zeros());
+        }
+        self
     }
 
     /// The network (normalised units; with an affine part, it gives the residual).

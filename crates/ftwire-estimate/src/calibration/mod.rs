@@ -48,7 +48,9 @@ pub mod file;
 mod map;
 mod mlp;
 mod normalise;
+mod polynomial;
 mod record;
+pub mod shape_loss;
 mod train;
 
 pub use affine::Affine;
@@ -56,5 +58,6 @@ pub use dataset::{Dataset, MIN_TRAINING_SAMPLES, Split, SplitFractions, SplitOrd
 pub use map::{Calibration, CalibrationInput, Drift, LabelModel, LabelModelKind};
 pub use mlp::{Activation, MAX_HIDDEN_LAYERS, MAX_WIDTH, Mlp, parameter_count};
 pub use normalise::Normaliser;
+pub use polynomial::{MAX_FEATURES, MAX_POLYNOMIAL_DEGREE, Polynomial, feature_count, features};
 pub use record::{EpochLosses, SplitSizes, StopReason, TrainParams, TrainingRecord};
 pub use train::EpochProgress;
