@@ -243,6 +243,12 @@ impl SimRig {
         &self.sensor
     }
 
+    /// The F/T sensor model, to carry its state ([`FtSensor::set_hysteresis_state`]) from
+    /// the rig of one rest of a session to the next.
+    pub fn sensor_mut(&mut self) -> &mut FtSensor {
+        &mut self.sensor
+    }
+
     /// Reads one F/T sample with **nothing in the base gripper**, at the sensor's next clock
     /// tick: the reading a robot takes to tare its sensor before it picks the wire up
     /// (`ftwire_estimate::ft::Tare`). Only the sensor's own offset, drift and noise are in it.

@@ -567,3 +567,39 @@ fn a_deterministic_drift_adds_its_rate_times_time() {
     };
     assert!(FtSensor::new(bad, 0).is_err());
 }
+
+/// Hysteresis is a play operator on each channel: a load reached from below reads up to `h`
+/// low, from above up to `h` high, the same load in between reads where it was left, and
+/// the state carries over to another sensor.
+#[test]
+fn hysteresis_reads_by_the_load_history_and_carries_over() -> Result<(), SensingError> {
+    let mut config = FtSensorParams::ideal();
+    config.hysteresis = [0.1, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut sensor = FtSensor::new(config.clone(), 1)?;
+    let force = |f: f64| Wrench::new(Vector3::zeros(), Vector3::new(f, 0.0, 0.0));
+    // The ideal sensor maps the clamp's x force to raw channel 0.
+    let reading = |s: &mut FtSensor, f: f64, t: f64| s.read(&force(f), t).map(|r| r.raw[0]);
+    assert_eq!(reading(&mut sensor, 0.0, 0.0)?, 0.0);
+    let up = reading(&mut sensor, 1.0, 0.01)?;
+    assert!((up - 0.9).abs() < 1e-12, "{up}");
+    let held = reading(&mut sensor, 0.95, 0.02)?;
+    assert!((held - 0.9).abs() < 1e-12, "{held}");
+    let down = reading(&mut sensor, 0.0, 0.03)?;
+    assert!((down - 0.1).abs() < 1e-12, "{down}");
+    let state = sensor.hysteresis_state();
+    let mut next = FtSensor::new(config.clone(), 2)?;
+    next.set_hysteresis_state(state)?;
+    assert!((reading(&mut next, 0.0, 0.0)? - 0.1).abs() < 1e-12);
+    assert!(
+        next.set_hysteresis_state(Some(Vector6::repeat(f64::NAN)))
+            .is_err()
+    );
+    // Beyond 1 % of full scale is refused, naming the key.
+    config.hysteresis[0] = 0.02 * config.full_scale[0];
+    let e = FtSensor::new(config, 1)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert!(e.contains("hysteresis"), "{e}");
+    Ok(())
+}

@@ -7,7 +7,7 @@ mod wrench;
 pub use error::SensingError;
 pub use wrench::{
     CLOCK_OFFSET_RANGE, FtSensor, FtSensorParams, MAX_BIAS_TIME_CONSTANT, MAX_CUBIC_NONLINEARITY,
-    RATE_RANGE,
+    MAX_HYSTERESIS, RATE_RANGE,
 };
 
 pub(crate) use error::{all_in_range, in_range};

@@ -37,6 +37,9 @@ use super::error::{all_in_range, in_range};
 /// nonlinearity: at most 10 % of full scale at full scale).
 pub const MAX_CUBIC_NONLINEARITY: f64 = 0.1;
 
+/// Largest hysteresis as a fraction of full scale ([`FtSensorParams::hysteresis`]).
+pub const MAX_HYSTERESIS: f64 = 0.01;
+
 /// The allowed range of [`FtSensorParams::rate`] \[Hz\]: a reading a second to 1 MHz (real F/T
 /// sensors run at 100 Hz–10 kHz). Bounded so that a run's clock counts its ticks exactly: see
 /// `ftwire_sim::rig::SPEED_RANGE` for the run length the rig's bounds allow.
@@ -94,6 +97,15 @@ pub struct FtSensorParams {
     /// scale, at full scale; `|k_i| ≤ 0.1` (default `[0.004, −0.003, 0.005, −0.004, 0.003,
     /// 0.002]`, i.e. at most 0.5 % FS).
     pub cubic_nonlinearity: [f64; 6],
+    /// Hysteresis per channel \[N, N, N, N·m, N·m, N·m\]: the half-width `h_i` of a play
+    /// (backlash) operator on the channel's deterministic response `r_i`. The reading's
+    /// hysteretic part `y_i` stays where it was while `|r_i − y_i| ≤ h_i` and is dragged along
+    /// at `r_i ∓ h_i` beyond, so a channel reads up to `h_i` high after unloading and low after
+    /// loading, by the load's history, not its value. At most [`MAX_HYSTERESIS`] of full scale
+    /// (a small six-axis sensor's data sheet gives a hysteresis of 0.1–1 % FS); default `0`.
+    /// [`FtSensor::hysteresis_state`] carries it over from one sensor to the next of a
+    /// session.
+    pub hysteresis: [f64; 6],
     /// Full scale `FS_i` per channel \[N, N, N, N·m, N·m, N·m\]: the rated range `±FS_i`, where
     /// saturation clips and the nonlinearity is scaled (default `[500, 500, 900, 20, 20, 20]`).
     pub full_scale: [f64; 6],
@@ -144,6 +156,7 @@ impl Default for FtSensorParams {
                 [0.0, 0.0, 0.0, 0.006, -0.004, 1.015],
             ],
             cubic_nonlinearity: [0.004, -0.003, 0.005, -0.004, 0.003, 0.002],
+            hysteresis: [0.0; 6],
             full_scale: [500.0, 500.0, 900.0, 20.0, 20.0, 20.0],
             saturation: true,
             initial_bias: [0.35, -0.22, 0.61, 0.012, -0.008, 0.005],
@@ -229,6 +242,9 @@ impl FtSensorParams {
             MAX_CUBIC_NONLINEARITY,
         )?;
         all_in_range("full_scale", &self.full_scale, f64::MIN_POSITIVE, f64::MAX)?;
+        for (i, (&h, &fs)) in self.hysteresis.iter().zip(&self.full_scale).enumerate() {
+            in_range("hysteresis", i, h, 0.0, MAX_HYSTERESIS * fs)?;
+        }
         ensure_finite("initial_bias", &self.initial_bias)?;
         all_in_range("bias_random_walk", &self.bias_random_walk, 0.0, f64::MAX)?;
         ensure_finite("bias_drift_rate", &self.bias_drift_rate)?;
@@ -273,6 +289,8 @@ pub struct FtSensor {
     bias: Vector6<f64>,
     bias_time: f64,
     last_tick: Option<i64>,
+    /// The hysteretic part of the response (`None` before the first reading).
+    play: Option<Vector6<f64>>,
     rng: ChaCha8Rng,
 }
 
@@ -314,6 +332,7 @@ impl FtSensor {
             bias: Vector6::from(config.initial_bias),
             bias_time: 0.0,
             last_tick: None,
+            play: None,
             rng: ChaCha8Rng::seed_from_u64(seed),
             config,
         })
@@ -409,8 +428,8 @@ impl FtSensor {
             return Err(SensingError::Dropout { time: tick_time });
         }
 
-        let mut raw =
-            self.deterministic_response(wrench) + self.bias + self.drift(tick_time) + noise;
+        let response = self.hysteretic(self.deterministic_response(wrench));
+        let mut raw = response + self.bias + self.drift(tick_time) + noise;
         let mut saturated = [false; 6];
         if self.config.saturation {
             for ((value, flag), &full_scale) in raw
@@ -432,6 +451,41 @@ impl FtSensor {
             raw,
             saturated,
         })
+    }
+
+    /// The response through the play operator of [`FtSensorParams::hysteresis`], which
+    /// updates its state; the response unchanged without hysteresis.
+    fn hysteretic(&mut self, response: Vector6<f64>) -> Vector6<f64> {
+        let h = &self.config.hysteresis;
+        if h.iter().all(|&h| h == 0.0) {
+            return response;
+        }
+        let last = self.play.unwrap_or(response);
+        let out = Vector6::from_fn(|i, _| last[i].clamp(response[i] - h[i], response[i] + h[i]));
+        self.play = Some(out);
+        out
+    }
+
+    /// The state of the play operator of [`FtSensorParams::hysteresis`]: the hysteretic part
+    /// of the last reading's response (`None` before the first reading).
+    pub fn hysteresis_state(&self) -> Option<Vector6<f64>> {
+        self.play
+    }
+
+    /// Sets the state of the play operator: a session whose rests are simulated one rig at a
+    /// time carries the sensor's load history from one to the next with it.
+    ///
+    /// # Errors
+    /// [`SensingError::Core`] for a state not finite.
+    pub fn set_hysteresis_state(
+        &mut self,
+        state: Option<Vector6<f64>>,
+    ) -> Result<(), SensingError> {
+        if let Some(s) = &state {
+            ensure_finite("hysteresis_state", s.as_slice())?;
+        }
+        self.play = state;
+        Ok(())
     }
 
     /// The deterministic part of the response (mounting, gain, nonlinearity), without bias,
