@@ -46,15 +46,16 @@ use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_rod::Rod;
 use ftwire_rod::sampling::Sampler;
 use nalgebra::{Vector3, Vector6};
-use rand::SeedableRng;
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use super::rig::{measure, mounting, pipeline, place_wire, tare, true_centreline};
 use super::{Gravity, ModelKind, known_model};
 use crate::error::{LabError, from_estimate, from_rod};
-use crate::setup::SimSetup;
+use crate::setup::{Protocol, SimSetup};
 use crate::wire::WireSpec;
+use ftwire_core::Rig;
 
 /// The session clock's step, with the sensor setup whose drift it paces.
 pub use crate::setup::sensor::REST_INTERVAL;
@@ -248,53 +249,83 @@ pub fn collect(
     let fitter = ShapeFitter::new(model);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let sampler = Sampler::default();
+    let single = setup.protocol == Protocol::SingleReadings;
+    let mut walk = Walk::default();
+    let mut session_tare = None;
     let mut samples = Vec::with_capacity(count);
     let mut skipped = Skipped::default();
     let mut recording = Vec::with_capacity(count);
     for k in 0..count {
-        let placed = sampler
-            .sample_free(&rod, &mut rng)
-            .map_err(|e| from_rod(e, "sampling A_free of the known wire"))?;
+        let placed = if single {
+            walk.next(&rod, &sampler, &mut rng)?
+        } else {
+            sampler
+                .sample_free(&rod, &mut rng)
+                .map_err(|e| from_rod(e, "sampling A_free of the known wire"))?
+        };
         progress(k);
         let config = session_config(setup.rig_config(rig_seed(seed, k)), k);
         let Ok(mut rig) = place_wire(wire, gravity, &placed, config.clone()) else {
+            walk.lost();
             skipped.placement += 1;
             continue;
         };
-        let tared = pipeline(tare(&mut rig)?, mounting(&config)?)?;
-        let Ok(measured) = measure(&mut rig, &tared) else {
-            skipped.measurement += 1;
-            continue;
+        let tare = match (single, session_tare) {
+            (true, Some(t)) => t,
+            _ => tare(&mut rig)?,
         };
-        let frame = rig
-            .observe_markers()
-            .map_err(|e| crate::error::from_sim(e, "observing the markers"))?;
-        #[allow(clippy::cast_precision_loss)] // k far below 2⁵²
-        recording.push(RecordedRest {
-            time: k as f64 * REST_INTERVAL + measured.raw.time,
-            raw: measured.raw.mean,
-            markers: frame
-                .positions
-                .iter()
-                .map(|p| p.map(|p| p.coords))
-                .collect(),
-            truth: true_centreline(&rig),
-        });
-        let fit = Markers::new(&config.markers.fractions, &frame.positions)
+        if single {
+            session_tare = Some(tare);
+            rig.sensor_mut()
+                .set_hysteresis_state(walk.hysteresis)
+                .map_err(|e| LabError::no_answer(format!("the sensor's load history: {e}")))?;
+        }
+        let tared = pipeline(tare, mounting(&config)?)?;
+        let (raw, a, first_frame) = if single {
+            let records = walk.records_at_rest(&mut rng);
+            let mut first = None;
+            for j in 0..records {
+                let Some(sample) = single_reading(&mut rig) else {
+                    continue;
+                };
+                #[allow(clippy::cast_precision_loss)] // small counts
+                let time = k as f64 * REST_INTERVAL + j as f64 / SINGLE_READING_RATE;
+                let (rest, frame) = observe(&mut rig, time, sample)?;
+                recording.push(rest);
+                first.get_or_insert((sample, frame));
+            }
+            walk.hysteresis = rig.sensor().hysteresis_state();
+            let Some((sample, frame)) = first else {
+                skipped.measurement += 1;
+                continue;
+            };
+            (sample, tared.configuration(&sample), frame)
+        } else {
+            let Ok(measured) = measure(&mut rig, &tared) else {
+                skipped.measurement += 1;
+                continue;
+            };
+            #[allow(clippy::cast_precision_loss)] // k far below 2⁵²
+            let time = k as f64 * REST_INTERVAL + measured.raw.time;
+            let (rest, frame) = observe(&mut rig, time, measured.raw.mean)?;
+            recording.push(rest);
+            (measured.raw.mean, measured.a, frame)
+        };
+        let fit = Markers::new(&config.markers.fractions, &first_frame.positions)
             .and_then(|markers| fitter.fit(&markers, &mut rng));
         let Ok(fit) = fit else {
             skipped.label += 1;
             continue;
         };
-        if label_disagrees(&fit.a, &measured.a) {
+        if label_disagrees(&fit.a, &a) {
             skipped.label_outlier += 1;
             continue;
         }
         let equilibrium = rig.equilibrium();
         samples.push(CalibrationSample {
             placed,
-            raw: tared.tare().apply(&measured.raw.mean),
-            mounting: measured.a,
+            raw: tared.tare().apply(&raw),
+            mounting: a,
             true_wrench: equilibrium.base_wrench.to_vector(),
             truth: true_centreline(&rig),
             label: fit.a,
@@ -302,6 +333,134 @@ pub fn collect(
         });
     }
     Ok((samples, skipped, recording))
+}
+
+/// One frame of the markers now, and the record a rig logs of it with the reading `raw` at
+/// `time` on the session clock (the simulator's centreline beside it).
+fn observe(
+    rig: &mut ftwire_sim::SimRig,
+    time: f64,
+    raw: Vector6<f64>,
+) -> Result<(RecordedRest, ftwire_sim::MarkerFrame), LabError> {
+    let frame = rig
+        .observe_markers()
+        .map_err(|e| crate::error::from_sim(e, "observing the markers"))?;
+    let rest = RecordedRest {
+        time,
+        raw,
+        markers: frame
+            .positions
+            .iter()
+            .map(|p| p.map(|p| p.coords))
+            .collect(),
+        truth: true_centreline(rig),
+    };
+    Ok((rest, frame))
+}
+
+/// Records per second of [`Protocol::SingleReadings`] \[Hz\]: a real rig's log rate.
+pub const SINGLE_READING_RATE: f64 = 4.0;
+
+/// The second gripper's step between two rests of [`Protocol::SingleReadings`] \[m\].
+pub const SINGLE_READING_STEP: f64 = 0.017;
+
+/// Directions tried for one step of the walk before it starts anew at a sample of `A_free`.
+const WALK_ATTEMPTS: usize = 40;
+
+/// One reading of the sensor, the next that does not drop out (`None` after ten dropouts).
+fn single_reading(rig: &mut ftwire_sim::SimRig) -> Option<Vector6<f64>> {
+    (0..10).find_map(|_| rig.read_ft().ok()).map(|s| s.raw)
+}
+
+/// The walk of [`Protocol::SingleReadings`] through `A_free`: each rest a step of the second
+/// gripper of [`SINGLE_READING_STEP`] (twice that one time in five) from the last, and the
+/// sensor's load history carried along.
+#[derive(Debug, Default)]
+struct Walk {
+    last: Option<Vector6<f64>>,
+    hysteresis: Option<Vector6<f64>>,
+}
+
+impl Walk {
+    /// The next configuration: a step in a random direction of normalised `a`, scaled so that
+    /// the gripper moves by the step; a fresh sample of `A_free` at the start, or when no
+    /// direction stays in `A_free`.
+    fn next(
+        &mut self,
+        rod: &Rod,
+        sampler: &Sampler,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Vector6<f64>, LabError> {
+        let fresh = |rng: &mut ChaCha8Rng| {
+            sampler
+                .sample_free(rod, rng)
+                .map_err(|e| from_rod(e, "sampling A_free of the known wire"))
+        };
+        let Some(a) = self.last else {
+            let a = fresh(rng)?;
+            self.last = Some(a);
+            return Ok(a);
+        };
+        let wire = rod.wire();
+        let z = ftwire_rod::to_normalised(wire, &a);
+        let tip = |z: &Vector6<f64>| {
+            rod.tip(&ftwire_rod::from_normalised(wire, z))
+                .ok()
+                .map(|p| p.translation.vector)
+        };
+        let target = if rng.random::<f64>() < 0.2 {
+            2.0 * SINGLE_READING_STEP
+        } else {
+            SINGLE_READING_STEP
+        };
+        let here = tip(&z);
+        for _ in 0..WALK_ATTEMPTS {
+            let Some(here) = here else { break };
+            let d: Vector6<f64> = Vector6::from_fn(|_, _| rng.random_range(-1.0..=1.0)).normalize();
+            let probe = 0.2;
+            let Some(moved) = tip(&(z + probe * d)) else {
+                continue;
+            };
+            let per_unit = (moved - here).norm() / probe;
+            if per_unit <= 0.0 {
+                continue;
+            }
+            let next = z + (target / per_unit) * d;
+            if next.amax() > sampler.half_width {
+                continue;
+            }
+            let b = ftwire_rod::from_normalised(wire, &next);
+            let free = rod.is_stable(&b).unwrap_or(false)
+                && rod
+                    .solve(&b, ftwire_rod::DEFAULT_NODES)
+                    .is_ok_and(|s| s.is_free());
+            let step = tip(&next).map(|t| (t - here).norm());
+            if free && step.is_some_and(|s| (0.5 * target..=2.0 * target).contains(&s)) {
+                self.last = Some(b);
+                return Ok(b);
+            }
+        }
+        let a = fresh(rng)?;
+        self.last = Some(a);
+        Ok(a)
+    }
+
+    /// A placement failed: the next rest starts anew.
+    fn lost(&mut self) {
+        self.last = None;
+    }
+
+    /// Records at this rest: one, two (one rest in five) or three (one in ten).
+    fn records_at_rest(&self, rng: &mut ChaCha8Rng) -> usize {
+        let u: f64 = rng.random();
+        if u < 0.1 {
+            3
+        } else if u < 0.3 {
+            2
+        } else {
+            1
+        }
+    }
 }
 
 /// The mean distance \[m\] between `Φ(a)` of `model` and a true centreline (100 matched arc

@@ -194,6 +194,8 @@ pub struct CommonParams {
     pub sensor: Option<String>,
     /// The simulated rig file; `None`: the library's rig.
     pub rig: Option<std::path::PathBuf>,
+    /// How a calibration session is recorded (the calibration an experiment collects).
+    pub protocol: crate::setup::Protocol,
 }
 
 impl Default for CommonParams {
@@ -206,6 +208,7 @@ impl Default for CommonParams {
             model: None,
             sensor: None,
             rig: None,
+            protocol: crate::setup::Protocol::default(),
         }
     }
 }
@@ -231,6 +234,7 @@ impl CommonParams {
     /// Bad input naming the file, the line and the key.
     pub fn setup(&self) -> Result<crate::setup::SimSetup, LabError> {
         crate::setup::SimSetup::load(self.sensor.as_deref(), self.rig.as_deref())
+            .map(|s| s.with_protocol(self.protocol))
             .map_err(|e| LabError::bad_input(e.to_string()))
     }
 }

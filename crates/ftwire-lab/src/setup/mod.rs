@@ -31,6 +31,39 @@ pub struct SimSetup {
     pub sensor: SensorSpec,
     /// Motion capture, execution error and motion timing.
     pub rig: RigSpec,
+    /// How a calibration session is recorded.
+    pub protocol: Protocol,
+}
+
+/// How a calibration session is recorded (`--protocol`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Protocol {
+    /// Each configuration an independent sample of `A_free`, placed anew, the sensor tared
+    /// on the empty gripper before it, the reading averaged over a rest (the paper's
+    /// collection).
+    #[default]
+    Rests,
+    /// As a real rig logs a session (`shared/DESIGN.md`, "Real recordings"): the second
+    /// gripper steps about 17 mm (sometimes twice that) from one rest to the next, the
+    /// sensor is tared once, each record holds one reading of the sensor at 4 Hz, and some
+    /// rests have 2 or 3 records. The sensor's load history (its hysteresis) carries over
+    /// from rest to rest.
+    SingleReadings,
+}
+
+impl Protocol {
+    /// The names `--protocol` takes.
+    pub const NAMES: [&'static str; 2] = ["rests", "single-readings"];
+
+    /// The protocol of a name of [`Self::NAMES`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "rests" => Some(Self::Rests),
+            "single-readings" => Some(Self::SingleReadings),
+            _ => None,
+        }
+    }
 }
 
 impl SimSetup {
@@ -42,7 +75,14 @@ impl SimSetup {
         Ok(Self {
             sensor: sensor.map_or_else(|| Ok(SensorSpec::default()), SensorSpec::load)?,
             rig: rig.map_or_else(|| Ok(RigSpec::default()), RigSpec::load)?,
+            protocol: Protocol::default(),
         })
+    }
+
+    /// The setup with a calibration session recorded by `protocol`.
+    #[must_use]
+    pub fn with_protocol(self, protocol: Protocol) -> Self {
+        Self { protocol, ..self }
     }
 
     /// The simulator's rig settings with the rig's `seed`.

@@ -30,6 +30,17 @@ pub const REST_INTERVAL: f64 = 3.0;
 /// `shared/DESIGN.md` records on a real recording).
 pub const REAL_LIKE_TORQUE_DRIFT: f64 = -0.14 / (600.0 * REST_INTERVAL);
 
+/// The white noise of one reading of the `real-like` preset \[N, N·m\], force first: the
+/// scatter of a real rig's readings at one rest (`shared/DESIGN.md`, "Real recordings"),
+/// 0.025 / 0.05 / 0.065 N and 0.007 N·m on the bending torques (sensor τx, τy).
+pub const REAL_LIKE_NOISE: [f64; 6] = [0.025, 0.05, 0.065, 0.007, 0.007, 0.002];
+
+/// The hysteresis of the `real-like` preset \[N, N·m\], force first
+/// (`ftwire_sim::FtSensorParams::hysteresis`): what makes a static map underfit a real
+/// recording. About 0.03 % of the default full scale (500 N, 20 N·m), far inside the
+/// 0.1–1 % FS a small six-axis sensor's data sheet allows.
+pub const REAL_LIKE_HYSTERESIS: [f64; 6] = [0.12, 0.12, 0.15, 0.012, 0.012, 0.004];
+
 /// A simulated F/T sensor: its name (a preset's, or the file as given) and its settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SensorSpec {
@@ -56,8 +67,9 @@ impl SensorSpec {
     /// `real-like`, a sensor as a real recording shows it (`shared/DESIGN.md`, "Real
     /// recordings"): the clamp 0.11 m along the sensor's z, offsets of 1–2 N and 0.1–0.4 N·m
     /// that no tare removes (a rig's log carries them), a torque offset creeping by
-    /// [`REAL_LIKE_TORQUE_DRIFT`], and a torsion channel (sensor τz, the wire's axis) that
-    /// reads a fifth of the torque about it.
+    /// [`REAL_LIKE_TORQUE_DRIFT`], a torsion channel (sensor τz, the wire's axis) that
+    /// reads a fifth of the torque about it, one reading's scatter as a real rig's
+    /// ([`REAL_LIKE_NOISE`]) and a hysteresis ([`REAL_LIKE_HYSTERESIS`]).
     ///
     /// # Example
     /// ```
@@ -147,8 +159,10 @@ fn real_like(default: FtSensorParams) -> FtSensorParams {
     FtSensorParams {
         clamp_position_in_sensor: [0.0, 0.0, 0.11],
         gain,
+        hysteresis: REAL_LIKE_HYSTERESIS,
         initial_bias: [-1.8, 1.3, 1.8, -0.25, 0.12, 0.35],
         bias_drift_rate: drift,
+        noise_std: REAL_LIKE_NOISE,
         ..default
     }
 }

@@ -8,6 +8,11 @@ use serde::Serialize;
 
 use crate::cli::groups::MountingArgs;
 
+/// The names `--loss` takes.
+fn calibrate_loss_names() -> [&'static str; 2] {
+    ftwire_lab::log::calibrate::MapLoss::NAMES
+}
+
 /// `ftwire calibrate --log FILE.jsonl --wire W [--mounting FILE.toml] [--out DIR]`.
 #[derive(Debug, Clone, Args, Serialize)]
 #[command(
@@ -58,6 +63,33 @@ pub struct CalibrateArgs {
     /// better than none; the log commands then apply it at each record's time.
     #[arg(long)]
     pub no_drift: bool,
+    /// What the map is fitted on: `shape`, the markers' distance to the model's shape of the
+    /// map's `a` (Huber's loss, Gauss–Newton through the model's Jacobian; the labels only
+    /// start it; the affine map and polynomial parts of degree 2 and 3 are the candidates,
+    /// the one closest on the validation block kept), or `labels`, least squares in `a` (the
+    /// affine map and the network, the paper's §IV-A).
+    #[arg(long, value_name = "LOSS", default_value = "shape",
+          value_parser = clap::builder::PossibleValuesParser::new(calibrate_loss_names()))]
+    pub loss: String,
+    /// With `--loss shape`, the labels' weight beside the shape, relative to the shape's
+    /// curvature in the affine weights (0: the shape alone). It keeps the wrench directions
+    /// a wire's shape barely shows (a taut wire's tension) near the labels.
+    #[arg(long, value_name = "W", default_value_t = 1.0, value_parser = parse_finite)]
+    pub label_weight: f64,
+    /// Fit gravity's direction in the clamp frame with the map (the loaded model, |g| from
+    /// `--gravity-norm`); `--gravity-in-clamp`, when given, is where it starts. The fitted
+    /// gravity is written into calibration.json's model, which `shape --log`, `identify
+    /// --log` and ROS 2 then use.
+    #[arg(long)]
+    pub fit_gravity: bool,
+    /// |g| of `--fit-gravity` [m/s²].
+    #[arg(long, value_name = "M/S2", default_value_t = 9.81, value_parser = parse_finite,
+          requires = "fit_gravity")]
+    pub gravity_norm: f64,
+    /// Consecutive records whose markers moved less than this on average [mm] are one rest:
+    /// their labels are fitted to the rest's mean markers (0: every record alone).
+    #[arg(long, value_name = "MM", default_value_t = 2.0, value_parser = parse_finite)]
+    pub rest_tolerance_mm: f64,
     /// Seed of the fits and of the network's initial weights.
     #[command(flatten)]
     pub seed: SeedArgs,

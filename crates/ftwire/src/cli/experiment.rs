@@ -87,6 +87,7 @@ impl CommonExperimentArgs {
             model: self.model,
             sensor: self.setup.sensor.clone(),
             rig: self.setup.rig.clone(),
+            protocol: self.setup.protocol(),
         }
     }
 }

@@ -5,7 +5,7 @@
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
-use ftwire_lab::log::calibrate::{self, DEFAULT_MAX_LABEL_RMS, LogCalibrateParams};
+use ftwire_lab::log::calibrate::{self, DEFAULT_MAX_LABEL_RMS, LogCalibrateParams, MapLoss};
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::wire::WireSpec;
 
@@ -38,7 +38,28 @@ fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
         train,
         drift: !args.no_drift,
         seed: args.seed.seed,
+        loss: MapLoss::from_name(&args.loss).ok_or_else(|| {
+            LabError::bad_input(format!(
+                "--loss {}: one of {}",
+                args.loss,
+                MapLoss::NAMES.join(", ")
+            ))
+        })?,
+        fit_gravity: args.fit_gravity.then_some(args.gravity_norm),
+        rest_tolerance: 1e-3 * args.rest_tolerance_mm,
+        shape: ftwire_estimate::calibration::shape_loss::ShapeLossParams {
+            label_weight: args.label_weight,
+            ..Default::default()
+        },
     })
+}
+
+/// `shape` or `labels`.
+fn loss_name(loss: MapLoss) -> &'static str {
+    match loss {
+        MapLoss::Shape => "shape",
+        MapLoss::Labels => "labels",
+    }
 }
 
 /// Runs `calibrate --log`.
@@ -63,14 +84,39 @@ pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
         s.split.train, s.split.validation, s.split.test
     );
     println!(
-        "test block, mean inner-marker distance: {:.2} mm uncalibrated, {:.2} mm calibrated \
-         (labels {:.2} mm)",
-        s.test.raw_marker_mean_mm, s.test.calibrated_marker_mean_mm, s.test.label_marker_mean_mm
+        "map: {} fitted on the {} ({})",
+        s.fit.map,
+        loss_name(s.fit.loss),
+        s.fit.chosen_by
+    );
+    if let Some(g) = s.fit.gravity_in_clamp {
+        println!(
+            "gravity in the clamp frame: {:.3}, {:.3}, {:.3} m/s²",
+            g[0], g[1], g[2]
+        );
+    }
+    let t = &s.test;
+    println!(
+        "test block, mean inner-marker distance: {:.2} mm uncalibrated, {:.2} mm calibrated{} \
+         (map fitted on the labels {:.2} mm; labels {:.2} mm)",
+        t.raw_marker_mean_mm,
+        t.calibrated_marker_mean_mm,
+        t.affine_marker_mean_mm
+            .map_or_else(String::new, |a| format!(
+                ", {a:.2} mm its affine part alone"
+            )),
+        t.label_map_marker_mean_mm,
+        t.label_marker_mean_mm
     );
     println!(
-        "labels {:.1} s, training {:.1} s; results in {}",
+        "test block, mean distance along the wire to the labels' shapes: {:.2} mm calibrated",
+        t.calibrated_wire_mean_mm
+    );
+    println!(
+        "labels {:.1} s, training {:.1} s, shape fit {:.1} s; results in {}",
         run.timings.label_s,
         run.timings.train_s,
+        run.timings.fit_s,
         target.display()
     );
     Ok(())

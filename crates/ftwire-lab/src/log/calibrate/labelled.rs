@@ -12,4 +12,9 @@ pub(super) struct Labelled {
     /// The observed inner markers (neither the first nor the last of the list), base clamp
     /// frame.
     pub(super) inner: Vec<Point3<f64>>,
+    /// The observed markers the map's shape loss measures: every one but the first (at the
+    /// clamp, where every shape is), base clamp frame.
+    pub(super) loss_markers: Vec<Point3<f64>>,
+    /// Their arc-length fractions, when the log's markers have known ones.
+    pub(super) loss_fractions: Option<Vec<f64>>,
 }

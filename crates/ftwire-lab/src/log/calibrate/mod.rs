@@ -29,13 +29,17 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use ftwire_estimate::calibration::shape_loss::{
+    Candidate, GravityFit, GravityStart, ShapeLossParams, ShapeSample, fit_on_shape,
+};
 use ftwire_estimate::calibration::{
-    Calibration, CalibrationInput, Dataset, LabelModel, SplitOrder, TrainParams,
+    Calibration, CalibrationInput, Dataset, Drift, LabelModel, SplitOrder, TrainParams,
 };
 use ftwire_estimate::ft::{Mounting, MountingSpec};
 use ftwire_estimate::log::LogRecord;
 use ftwire_estimate::shape::{
-    Correspondence, FitParams, Markers, ShapeFitter, evenly_spaced_fractions, marker_distances,
+    Correspondence, FitParams, Markers, ShapeFitter, centreline_distance, evenly_spaced_fractions,
+    marker_distances,
 };
 use ftwire_estimate::{KirchhoffModel, WireModel};
 use ftwire_report::{LineChart, Series};
@@ -52,10 +56,12 @@ use crate::wire::WireSpec;
 
 mod drift;
 mod labelled;
+mod rests;
 
 pub use drift::DRIFT_T_STATISTIC;
 use drift::choose_drift;
 use labelled::Labelled;
+pub use rests::Pooling;
 
 /// Fewest markers a record needs for a label: the fit has six unknowns and three numbers per
 /// marker, and the clamp's marker says nothing.
@@ -107,7 +113,52 @@ pub struct LogCalibrateParams {
     pub drift: bool,
     /// Seed of the fits' global search and of the network's initial weights.
     pub seed: u64,
+    /// What the map is fitted on.
+    pub loss: MapLoss,
+    /// Fit gravity's direction in the clamp frame with the map, of this norm \[m/s²\]
+    /// (`--fit-gravity`, `--gravity-norm`); `gravity`, when given, is where it starts. Only
+    /// with [`MapLoss::Shape`].
+    pub fit_gravity: Option<f64>,
+    /// Consecutive records whose markers moved less than this \[m\] are one rest, and their
+    /// labels are fitted to the rest's mean markers; zero: every record alone.
+    pub rest_tolerance: f64,
+    /// The shape fit's candidate maps and iterations (with [`MapLoss::Shape`]).
+    pub shape: ShapeLossParams,
 }
+
+/// What `calibrate --log` fits the map on (`--loss`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MapLoss {
+    /// The markers' distance to the model's shape of the map's `a` (Huber's loss), through
+    /// the model's Jacobian; the labels only start it
+    /// (`ftwire_estimate::calibration::shape_loss`).
+    #[default]
+    Shape,
+    /// The labels in `a` (least squares, the affine map and the network): the paper's §IV-A.
+    Labels,
+}
+
+impl MapLoss {
+    /// The names `--loss` takes.
+    pub const NAMES: [&'static str; 2] = ["shape", "labels"];
+
+    /// The loss of a name of [`Self::NAMES`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "shape" => Some(Self::Shape),
+            "labels" => Some(Self::Labels),
+            _ => None,
+        }
+    }
+}
+
+/// Default rest tolerance \[m\]: a few times a motion-capture system's jitter, well below
+/// a rig's steps between rests (about 17 mm).
+pub const DEFAULT_REST_TOLERANCE: f64 = 2e-3;
+
+/// Default `|g|` of `--fit-gravity` \[m/s²\].
+pub const STANDARD_GRAVITY: f64 = 9.81;
 
 impl LogCalibrateParams {
     /// Checks the settings before any work.
@@ -134,6 +185,25 @@ impl LogCalibrateParams {
                 "gravity {g:?}: every component must be finite"
             )));
         }
+        if let Some(norm) = self.fit_gravity
+            && !(norm.is_finite() && norm > 0.0 && norm <= LabelModel::MAX_GRAVITY)
+        {
+            return Err(LabError::bad_input(format!(
+                "--gravity-norm {norm}: must be a finite acceleration in (0, 100] m/s²"
+            )));
+        }
+        if self.fit_gravity.is_some() && self.loss == MapLoss::Labels {
+            return Err(LabError::bad_input(
+                "--fit-gravity fits gravity with the map on the shape: it needs --loss shape"
+                    .to_owned(),
+            ));
+        }
+        if !(self.rest_tolerance.is_finite() && self.rest_tolerance >= 0.0) {
+            return Err(LabError::bad_input(format!(
+                "--rest-tolerance-mm {}: must be a finite distance ≥ 0 (0: no pooling)",
+                1e3 * self.rest_tolerance
+            )));
+        }
         if let Some(fractions) = &self.marker_fractions
             && let Some(bad) = fractions
                 .iter()
@@ -146,9 +216,14 @@ impl LogCalibrateParams {
         Ok(())
     }
 
-    /// The model the labels and the test shapes are solved with.
+    /// The model the labels are solved with.
     fn model(&self) -> Result<KirchhoffModel, LabError> {
-        match self.gravity {
+        self.model_under(self.gravity)
+    }
+
+    /// The model under `gravity` in the clamp frame (`None`: weight-free).
+    fn model_under(&self, gravity: Option<[f64; 3]>) -> Result<KirchhoffModel, LabError> {
+        match gravity {
             None => known_model_under(&self.wire, Vector3::zeros(), ModelKind::Weightless),
             Some(g) => known_model_under(&self.wire, Vector3::from(g), ModelKind::Loaded),
         }
@@ -174,6 +249,10 @@ pub struct Labels {
     pub fit_failed: usize,
     /// Rejected: the fit's RMS marker residual was above the limit.
     pub off_markers: usize,
+    /// Rests found (consecutive records whose markers moved less than the rest tolerance).
+    pub rests: usize,
+    /// Records that shared their rest with another and were labelled on its mean markers.
+    pub pooled_records: usize,
 }
 
 /// The split sizes (blocks of time).
@@ -187,7 +266,9 @@ pub struct SplitSizes {
     pub test: usize,
 }
 
-/// The test block's errors \[mm\]: each inner marker's distance to the shape, averaged.
+/// The test block's errors \[mm\]: each inner marker's distance to the shape, averaged
+/// (`*_marker_mean_mm`, the paper's metric), and the mean distance along the wire to the
+/// label's shape at equal arc lengths (`*_wire_mean_mm`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TestErrors {
     /// The reading through the mounting alone, as the model would take it uncalibrated.
@@ -196,6 +277,118 @@ pub struct TestErrors {
     pub calibrated_marker_mean_mm: f64,
     /// The labels' own shapes: the floor any calibration can reach against these markers.
     pub label_marker_mean_mm: f64,
+    /// The affine part alone, fitted on the shape (with `--loss shape`).
+    pub affine_marker_mean_mm: Option<f64>,
+    /// The map fitted to the labels in `a` (the affine map and the network, §IV-A).
+    pub label_map_marker_mean_mm: f64,
+    /// Along the wire, the reading through the mounting alone.
+    pub raw_wire_mean_mm: f64,
+    /// Along the wire, the learnt calibration.
+    pub calibrated_wire_mean_mm: f64,
+    /// Along the wire, the affine part alone (with `--loss shape`).
+    pub affine_wire_mean_mm: Option<f64>,
+    /// Along the wire, the map fitted to the labels.
+    pub label_map_wire_mean_mm: f64,
+    /// The calibration is worse on the test block than the reading through the mounting
+    /// alone: something is wrong with the recording or the settings (also said on stderr).
+    pub worse_than_raw: bool,
+}
+
+/// How the map was fitted and chosen (`summary.json`'s `fit`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitOut {
+    /// `shape` (the markers' distance to the shape, Huber's loss) or `labels`.
+    pub loss: MapLoss,
+    /// The chosen map: `affine`, `affine+quadratic`, `affine+cubic` or `affine+network`.
+    pub map: String,
+    /// What chose it: `validation_marker_mean` (the candidate whose validation records'
+    /// markers lie closest to their shapes) or `validation_loss` (early stopping in `a`).
+    pub chosen_by: String,
+    /// Gravity in the clamp frame of the model the map was fitted with \[m/s²\] (fitted with
+    /// `--fit-gravity`); `None`: weight-free.
+    pub gravity_in_clamp: Option<[f64; 3]>,
+    /// The chosen polynomial degree (1: affine) and ridge (with `--loss shape`).
+    pub degree: Option<usize>,
+    /// The chosen ridge weight, relative (with `--loss shape`).
+    pub ridge: Option<f64>,
+    /// The chosen map's validation mean marker distance \[mm\] (with `--loss shape`).
+    pub validation_marker_mean_mm: Option<f64>,
+    /// Huber's threshold \[mm\] (with `--loss shape`).
+    pub huber_mm: Option<f64>,
+    /// Every candidate fitted on the shape, the affine map first (with `--loss shape`).
+    pub candidates: Vec<CandidateOut>,
+    /// The validation mean marker distance \[mm\] of the map fitted on the labels, the
+    /// last candidate (with `--loss shape`): kept when it is the closest.
+    pub label_map_validation_marker_mean_mm: Option<f64>,
+    /// Gravity's starts and where the affine fit took each (with `--fit-gravity` and no
+    /// `--gravity-in-clamp`): a well-determined direction ends the same from each.
+    pub gravity_starts: Vec<GravityStart>,
+    /// Training records left out because their start shape could not be solved.
+    pub train_failures: usize,
+}
+
+/// One candidate map of the shape fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CandidateOut {
+    /// Polynomial degree (1: affine).
+    pub degree: usize,
+    /// Relative ridge weight of the polynomial part.
+    pub ridge: f64,
+    /// Gauss–Newton iterations.
+    pub iterations: usize,
+    /// Training records' mean marker distance \[mm\].
+    pub train_marker_mean_mm: f64,
+    /// Validation records' mean marker distance \[mm\].
+    pub validation_marker_mean_mm: f64,
+    /// Validation records whose shape could not be solved.
+    pub validation_failures: usize,
+    /// Gravity in the clamp frame it ended with \[m/s²\].
+    pub gravity_in_clamp: Option<[f64; 3]>,
+}
+
+impl From<&Candidate> for CandidateOut {
+    fn from(c: &Candidate) -> Self {
+        Self {
+            degree: c.degree,
+            ridge: c.ridge,
+            iterations: c.iterations,
+            train_marker_mean_mm: 1e3 * c.train_marker_mean,
+            validation_marker_mean_mm: 1e3 * c.validation_marker_mean,
+            validation_failures: c.validation_failures,
+            gravity_in_clamp: c.gravity_in_clamp,
+        }
+    }
+}
+
+/// The mean over `records` of each one's mean distance of its loss markers to `Φ(ã)` \[m\]:
+/// how the shape fit's candidates are judged.
+fn validation_marker_mean(
+    model: &KirchhoffModel,
+    calibration: &Calibration,
+    records: &[usize],
+    labelled: &[Labelled],
+) -> Result<f64, LabError> {
+    let mut means = Vec::new();
+    for l in records.iter().filter_map(|&i| labelled.get(i)) {
+        let Ok(shape) = model.shape(&calibration.apply_at(&l.raw, l.time), SHAPE_NODES) else {
+            return Ok(f64::INFINITY);
+        };
+        let d = marker_distances(&l.loss_markers, &shape.positions)
+            .map_err(|e| from_estimate(e, "the marker distances"))?;
+        #[allow(clippy::cast_precision_loss)] // a handful of markers
+        means.push(d.iter().sum::<f64>() / d.len().max(1) as f64);
+    }
+    #[allow(clippy::cast_precision_loss)] // counts
+    Ok(means.iter().sum::<f64>() / means.len().max(1) as f64)
+}
+
+/// A polynomial degree's name in `fit.map`.
+fn map_name(degree: usize) -> &'static str {
+    match degree {
+        1 => "affine",
+        2 => "affine+quadratic",
+        _ => "affine+cubic",
+    }
 }
 
 /// `summary.json` of `calibrate --log`.
@@ -211,6 +404,8 @@ pub struct LogCalibrateSummary {
     pub test: TestErrors,
     /// The drift term, when the validation block chose one.
     pub drift: Option<DriftOut>,
+    /// How the map was fitted and chosen.
+    pub fit: FitOut,
 }
 
 /// The drift term of the map.
@@ -227,8 +422,10 @@ pub struct DriftOut {
 pub struct LogCalibrateTimings {
     /// Fitting the labels.
     pub label_s: f64,
-    /// Training the network.
+    /// Training the network on the labels.
     pub train_s: f64,
+    /// Fitting the map on the shape (zero with `--loss labels`).
+    pub fit_s: f64,
 }
 
 /// A finished `calibrate --log`.
@@ -257,18 +454,23 @@ pub fn run(
 ) -> Result<LogCalibrateRun, LabError> {
     params.check()?;
     let (records, lines) = read(&params.log)?;
-    let model = params.model()?;
+    let (records, pooling) = rests::pool(&records, params.rest_tolerance);
+    let label_model = params.model()?;
     let mounting = params
         .mounting
         .mounting()
         .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
     progress(&format!(
-        "labelling {} records by shape fitting on {}",
+        "labelling {} records ({} rests) by shape fitting on {}",
         records.len(),
+        pooling.rests,
         params.wire.name
     ));
     let start = Instant::now();
-    let (labelled, labels, csv) = label_all(params, &model, (&records, &lines), progress)?;
+    let (labelled, mut labels, csv) =
+        label_all(params, &label_model, (&records, &lines), progress)?;
+    labels.rests = pooling.rests;
+    labels.pooled_records = pooling.pooled_records;
     let label_s = start.elapsed().as_secs_f64();
     folder.write("labels.csv", csv)?;
     let start = Instant::now();
@@ -277,51 +479,175 @@ pub fn run(
     } else {
         None
     };
-    let at_reference = |l: &Labelled| match &drift {
-        Some(d) => l.label - d.rate * (l.time - d.reference_time),
-        None => l.label,
-    };
+    let offset = |l: &Labelled| drift.as_ref().map_or(Vector6::zeros(), |d| d.at(l.time));
     let data = Dataset::new(
         labelled.iter().map(|l| l.raw).collect(),
-        labelled.iter().map(at_reference).collect(),
+        labelled.iter().map(|l| l.label - offset(l)).collect(),
     )
     .map_err(|e| from_estimate(e, "the labelled records"))?;
-    let mut calibration = Calibration::train(&data, &params.train, params.seed).map_err(|e| {
+    let split = data
+        .split(
+            &params.train.split,
+            &mut ChaCha8Rng::seed_from_u64(params.seed),
+        )
+        .map_err(|e| {
+            LabError::bad_input(format!(
+                "training on {} labelled records of {}: {e}",
+                labelled.len(),
+                params.log.display()
+            ))
+        })?;
+    // The labels' model, and the input: the log's readings as they were, never tared.
+    let given_model = params
+        .gravity
+        .map_or(Ok(LabelModel::WEIGHTLESS), LabelModel::loaded)
+        .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?;
+    let finish = |c: Calibration, model: LabelModel| {
+        let c = match drift {
+            Some(d) => c
+                .with_drift(d)
+                .map_err(|e| from_estimate(e, "the drift term"))?,
+            None => c,
+        };
+        c.with_provenance(model, CalibrationInput::Raw)
+            .map_err(|e| from_estimate(e, "the calibration's model"))
+    };
+    let label_map = Calibration::train(&data, &params.train, params.seed).map_err(|e| {
         LabError::bad_input(format!(
             "training on {} labelled records of {}: {e}",
             labelled.len(),
             params.log.display()
         ))
     })?;
-    if let Some(d) = drift {
-        calibration = calibration
-            .with_drift(d)
-            .map_err(|e| from_estimate(e, "the drift term"))?;
-    }
-    // The labels' model, and the input: the log's readings as they were, never tared.
-    let label_model = params
-        .gravity
-        .map_or(Ok(LabelModel::WEIGHTLESS), LabelModel::loaded)
-        .map_err(|e| LabError::bad_input(format!("--gravity-in-clamp: {e}")))?;
-    calibration = calibration
-        .with_provenance(label_model, CalibrationInput::Raw)
-        .map_err(|e| from_estimate(e, "the calibration's model"))?;
+    let label_map = finish(label_map, given_model)?;
     let train_s = start.elapsed().as_secs_f64();
-    let split = data
-        .split(
-            &params.train.split,
-            &mut ChaCha8Rng::seed_from_u64(params.seed),
-        )
-        .map_err(|e| from_estimate(e, "the split"))?;
-    let test_rows = test_errors(&model, &mounting, &calibration, &labelled, &split.test)?;
+    let start = Instant::now();
+    let (calibration, affine, fit) = match params.loss {
+        MapLoss::Labels => {
+            let fit = FitOut {
+                loss: MapLoss::Labels,
+                map: if params.train.hidden.is_empty() {
+                    "affine".to_owned()
+                } else {
+                    "affine+network".to_owned()
+                },
+                chosen_by: "validation_loss".to_owned(),
+                gravity_in_clamp: params.gravity,
+                degree: None,
+                ridge: None,
+                validation_marker_mean_mm: None,
+                huber_mm: None,
+                candidates: Vec::new(),
+                label_map_validation_marker_mean_mm: None,
+                gravity_starts: Vec::new(),
+                train_failures: 0,
+            };
+            (label_map.clone(), None, fit)
+        }
+        MapLoss::Shape => {
+            progress(&format!(
+                "fitting the map on the shape: {} training and {} validation records",
+                split.train.len(),
+                split.validation.len()
+            ));
+            let samples = |indices: &[usize]| -> Vec<ShapeSample> {
+                indices
+                    .iter()
+                    .filter_map(|&i| labelled.get(i))
+                    .map(|l| ShapeSample {
+                        raw: l.raw,
+                        offset: offset(l),
+                        markers: l.loss_markers.clone(),
+                        fractions: l.loss_fractions.clone(),
+                    })
+                    .collect()
+            };
+            let train_labels: Vec<Vector6<f64>> = split
+                .train
+                .iter()
+                .filter_map(|&i| data.labels().get(i).copied())
+                .collect();
+            let mut shape = params.shape.clone();
+            shape.gravity = params.fit_gravity.map(|norm| GravityFit {
+                mass_per_length: params.wire.density
+                    * std::f64::consts::PI
+                    * params.wire.radius.powi(2),
+                norm,
+                start: params.gravity,
+            });
+            let fitted = fit_on_shape(
+                &label_model,
+                &samples(&split.train),
+                &train_labels,
+                &samples(&split.validation),
+                &shape,
+            )
+            .map_err(|e| from_estimate(e, "fitting the map on the shape"))?;
+            let gravity = fitted.gravity_in_clamp.or(params.gravity);
+            let model = gravity
+                .map_or(Ok(LabelModel::WEIGHTLESS), LabelModel::loaded)
+                .map_err(|e| from_estimate(e, "the fitted gravity"))?;
+            let chosen = &fitted.candidates[fitted.chosen];
+            // The map fitted on the labels is one more candidate, judged the same way.
+            let label_map_validation =
+                validation_marker_mean(&label_model, &label_map, &split.validation, &labelled)?;
+            let shape_wins = chosen.validation_marker_mean <= label_map_validation;
+            let fit = FitOut {
+                loss: MapLoss::Shape,
+                map: if shape_wins {
+                    map_name(chosen.degree).to_owned()
+                } else {
+                    "affine+network (fitted on the labels)".to_owned()
+                },
+                chosen_by: "validation_marker_mean".to_owned(),
+                gravity_in_clamp: if shape_wins { gravity } else { params.gravity },
+                degree: shape_wins.then_some(chosen.degree),
+                ridge: shape_wins.then_some(chosen.ridge),
+                validation_marker_mean_mm: Some(
+                    1e3 * chosen.validation_marker_mean.min(label_map_validation),
+                ),
+                huber_mm: Some(1e3 * fitted.huber),
+                candidates: fitted.candidates.iter().map(CandidateOut::from).collect(),
+                label_map_validation_marker_mean_mm: Some(1e3 * label_map_validation),
+                gravity_starts: fitted.gravity_starts.clone(),
+                train_failures: fitted.train_failures,
+            };
+            let calibration = if shape_wins {
+                finish(fitted.calibration, model)?
+            } else {
+                label_map.clone()
+            };
+            (calibration, Some(finish(fitted.affine, model)?), fit)
+        }
+    };
+    let fit_s = start.elapsed().as_secs_f64();
+    let models = TestModels {
+        labels: &label_model,
+        fitted: &params.model_under(fit.gravity_in_clamp)?,
+    };
+    let maps = TestMaps {
+        mounting: &mounting,
+        calibration: &calibration,
+        affine: affine.as_ref(),
+        label_map: &label_map,
+    };
+    let test_rows = test_errors(&models, &maps, &labelled, &split.test)?;
     let test = mean_errors(&test_rows);
+    if test.worse_than_raw {
+        progress(&format!(
+            "warning: the calibration is worse on the test block ({:.2} mm at the inner \
+             markers) than the reading through the mounting alone ({:.2} mm): check the \
+             recording (time order, units, markers' order) and the settings",
+            test.calibrated_marker_mean_mm, test.raw_marker_mean_mm
+        ));
+    }
     folder.write("test.csv", test_csv(&test_rows)?)?;
     let json = calibration
         .to_json()
         .map_err(|e| from_estimate(e, "writing the calibration weights"))?;
     folder.write("calibration.json", json)?;
     write_figures(folder, &labelled, &test_rows)?;
-    let drift = calibration.drift().map(|d| DriftOut {
+    let drift = calibration.drift().map(|d: &Drift| DriftOut {
         reference_time: d.reference_time,
         rate: d.rate.into(),
     });
@@ -337,8 +663,13 @@ pub fn run(
             },
             test,
             drift,
+            fit,
         },
-        timings: LogCalibrateTimings { label_s, train_s },
+        timings: LogCalibrateTimings {
+            label_s,
+            train_s,
+            fit_s,
+        },
     })
 }
 
@@ -565,6 +896,12 @@ fn label_one(
     if fit.rms.is_nan() || fit.rms > params.max_label_rms {
         return Ok(Err(Rejection::OffMarkers(fit.rms)));
     }
+    let (loss_markers, loss_fractions): (Vec<Point3<f64>>, Vec<f64>) = seen
+        .iter()
+        .zip(&fractions)
+        .skip(1)
+        .filter_map(|(p, f)| p.map(|p| (p, *f)))
+        .unzip();
     Ok(Ok(Labelled {
         line: 0,
         time: record.time,
@@ -572,57 +909,90 @@ fn label_one(
         label: fit.a,
         rms: fit.rms,
         inner,
+        loss_markers,
+        loss_fractions: params.marker_fractions.is_some().then_some(loss_fractions),
     }))
 }
 
-/// One test record's errors \[m\].
+/// One test record's errors \[m\]: at the inner markers, and along the wire against the
+/// label's shape.
 struct TestRow {
     line: usize,
     time: f64,
-    raw: f64,
-    calibrated: f64,
+    raw: [f64; 2],
+    calibrated: [f64; 2],
+    affine: Option<[f64; 2]>,
+    label_map: [f64; 2],
     label: f64,
 }
 
-/// The mean distance of the inner markers to `Φ(a)` \[m\].
-fn inner_marker_mean(
+/// The models of the test: the labels' and the one the map was fitted with (the loaded
+/// model under a fitted gravity).
+struct TestModels<'a> {
+    labels: &'a KirchhoffModel,
+    fitted: &'a KirchhoffModel,
+}
+
+/// The maps compared on the test block.
+struct TestMaps<'a> {
+    mounting: &'a Mounting,
+    calibration: &'a Calibration,
+    affine: Option<&'a Calibration>,
+    label_map: &'a Calibration,
+}
+
+/// The mean distance of the inner markers to `Φ(a)`, and the mean distance along the wire
+/// from `Φ(a)` to the label's shape \[m\].
+fn distances(
     model: &KirchhoffModel,
     a: &Vector6<f64>,
-    markers: &[Point3<f64>],
-) -> Result<f64, LabError> {
+    l: &Labelled,
+    label_shape: &[Vector3<f64>],
+) -> Result<[f64; 2], LabError> {
     let shape = model
         .shape(a, SHAPE_NODES)
         .map_err(|e| from_estimate(e, "the shape of a test record"))?;
-    let inner = markers
-        .get(1..markers.len().saturating_sub(1))
-        .unwrap_or(&[]);
-    let d = marker_distances(inner, &shape.positions)
+    let d = marker_distances(&l.inner, &shape.positions)
         .map_err(|e| from_estimate(e, "the marker distances"))?;
     #[allow(clippy::cast_precision_loss)] // a handful of markers
-    Ok(d.iter().sum::<f64>() / d.len().max(1) as f64)
+    let markers = d.iter().sum::<f64>() / d.len().max(1) as f64;
+    let wire = centreline_distance(&shape.positions, label_shape, SHAPE_NODES)
+        .map_err(|e| from_estimate(e, "the distance along the wire"))?;
+    Ok([markers, wire])
 }
 
 /// The test block's errors, record by record.
 fn test_errors(
-    model: &KirchhoffModel,
-    mounting: &Mounting,
-    calibration: &Calibration,
+    models: &TestModels<'_>,
+    maps: &TestMaps<'_>,
     labelled: &[Labelled],
     test: &[usize],
 ) -> Result<Vec<TestRow>, LabError> {
     test.iter()
         .filter_map(|&i| labelled.get(i))
         .map(|l| {
+            let label_shape = models
+                .labels
+                .shape(&l.label, SHAPE_NODES)
+                .map_err(|e| from_estimate(e, "the shape of a label"))?
+                .positions;
+            let fitted = |a: &Vector6<f64>| distances(models.fitted, a, l, &label_shape);
             Ok(TestRow {
                 line: l.line,
                 time: l.time,
-                raw: inner_marker_mean(model, &mounting.to_configuration(&l.raw), &l.inner)?,
-                calibrated: inner_marker_mean(
-                    model,
-                    &calibration.apply_at(&l.raw, l.time),
-                    &l.inner,
+                raw: fitted(&maps.mounting.to_configuration(&l.raw))?,
+                calibrated: fitted(&maps.calibration.apply_at(&l.raw, l.time))?,
+                affine: maps
+                    .affine
+                    .map(|c| fitted(&c.apply_at(&l.raw, l.time)))
+                    .transpose()?,
+                label_map: distances(
+                    models.labels,
+                    &maps.label_map.apply_at(&l.raw, l.time),
+                    l,
+                    &label_shape,
                 )?,
-                label: inner_marker_mean(model, &l.label, &l.inner)?,
+                label: distances(models.labels, &l.label, l, &label_shape)?[0],
             })
         })
         .collect()
@@ -632,11 +1002,26 @@ fn test_errors(
 fn mean_errors(rows: &[TestRow]) -> TestErrors {
     #[allow(clippy::cast_precision_loss)] // counts far below 2⁵²
     let n = rows.len().max(1) as f64;
-    let mean = |f: fn(&TestRow) -> f64| 1e3 * rows.iter().map(f).sum::<f64>() / n;
+    let mean = |f: &dyn Fn(&TestRow) -> f64| 1e3 * rows.iter().map(f).sum::<f64>() / n;
+    let affine = |k: usize| {
+        rows.iter()
+            .all(|r| r.affine.is_some())
+            .then(|| mean(&|r| r.affine.map_or(0.0, |a| a[k])))
+            .filter(|_| !rows.is_empty())
+    };
+    let raw = mean(&|r| r.raw[0]);
+    let calibrated = mean(&|r| r.calibrated[0]);
     TestErrors {
-        raw_marker_mean_mm: mean(|r| r.raw),
-        calibrated_marker_mean_mm: mean(|r| r.calibrated),
-        label_marker_mean_mm: mean(|r| r.label),
+        raw_marker_mean_mm: raw,
+        calibrated_marker_mean_mm: calibrated,
+        label_marker_mean_mm: mean(&|r| r.label),
+        affine_marker_mean_mm: affine(0),
+        label_map_marker_mean_mm: mean(&|r| r.label_map[0]),
+        raw_wire_mean_mm: mean(&|r| r.raw[1]),
+        calibrated_wire_mean_mm: mean(&|r| r.calibrated[1]),
+        affine_wire_mean_mm: affine(1),
+        label_map_wire_mean_mm: mean(&|r| r.label_map[1]),
+        worse_than_raw: calibrated > raw,
     }
 }
 
@@ -644,15 +1029,35 @@ fn mean_errors(rows: &[TestRow]) -> TestErrors {
 fn test_csv(rows: &[TestRow]) -> Result<Vec<u8>, LabError> {
     let mut csv = CsvTable::new(
         "test.csv",
-        &["line", "time", "raw_mm", "calibrated_mm", "label_mm"],
+        &[
+            "line",
+            "time",
+            "raw_mm",
+            "calibrated_mm",
+            "label_mm",
+            "affine_mm",
+            "label_map_mm",
+            "raw_wire_mm",
+            "calibrated_wire_mm",
+            "affine_wire_mm",
+            "label_map_wire_mm",
+        ],
     )?;
+    let mm = |v: f64| value(1e3 * v);
+    let opt = |v: Option<f64>| v.map_or_else(|| text(""), mm);
     for r in rows {
         csv.row(vec![
             value(r.line),
             value(r.time),
-            value(1e3 * r.raw),
-            value(1e3 * r.calibrated),
-            value(1e3 * r.label),
+            mm(r.raw[0]),
+            mm(r.calibrated[0]),
+            mm(r.label),
+            opt(r.affine.map(|a| a[0])),
+            mm(r.label_map[0]),
+            mm(r.raw[1]),
+            mm(r.calibrated[1]),
+            opt(r.affine.map(|a| a[1])),
+            mm(r.label_map[1]),
         ])?;
     }
     csv.into_bytes()
@@ -683,11 +1088,13 @@ fn write_figures(
     .with_log_y()
     .with_series(Series::points(
         "mounting only",
-        rows.iter().map(|r| (r.time, 1e3 * r.raw)).collect(),
+        rows.iter().map(|r| (r.time, 1e3 * r.raw[0])).collect(),
     ))
     .with_series(Series::points(
         "calibrated",
-        rows.iter().map(|r| (r.time, 1e3 * r.calibrated)).collect(),
+        rows.iter()
+            .map(|r| (r.time, 1e3 * r.calibrated[0]))
+            .collect(),
     ))
     .with_series(Series::points(
         "label (floor)",
