@@ -106,9 +106,34 @@ fn a_recording_gives_a_calibration_and_the_summary_keys() -> Result<(), Box<dyn 
     for key in ["train", "validation", "test"] {
         assert!(s["split"][key].is_u64(), "split.{key}");
     }
-    for key in ["raw_marker_mean_mm", "calibrated_marker_mean_mm"] {
+    for key in [
+        "raw_marker_mean_mm",
+        "calibrated_marker_mean_mm",
+        "affine_marker_mean_mm",
+        "label_map_marker_mean_mm",
+        "calibrated_wire_mean_mm",
+    ] {
         assert!(s["test"][key].is_number(), "test.{key}");
     }
+    assert_eq!(s["test"]["worse_than_raw"], false);
+    for key in ["rests", "pooled_records"] {
+        assert!(s["labels"][key].is_u64(), "labels.{key}");
+    }
+    // The map fitted on the shape, chosen on the validation block among its candidates and
+    // the map fitted on the labels.
+    let fit = &s["fit"];
+    assert_eq!(fit["loss"], "shape");
+    assert_eq!(fit["chosen_by"], "validation_marker_mean");
+    assert!(
+        fit["map"].as_str().is_some_and(|m| m.starts_with("affine")),
+        "{fit}"
+    );
+    assert!(fit.get("gravity_in_clamp").is_some(), "{fit}");
+    assert_eq!(fit["candidates"].as_array().map(Vec::len), Some(7), "{fit}");
+    assert!(
+        fit["label_map_validation_marker_mean_mm"].is_number(),
+        "{fit}"
+    );
     assert_eq!(s["labels"]["records"], 40);
     // The offsets put the raw shapes far off; the affine map takes them out.
     let raw = s["test"]["raw_marker_mean_mm"].as_f64().ok_or("raw")?;

@@ -20,6 +20,12 @@
 //! the calibrated map was worse than the raw reading (0.7–0.8 % torque, 1.3–1.9 % force
 //! against 0.08–0.09 % and 0.13–0.18 % with them rejected).
 //!
+//! With [`Protocol::SingleReadings`] the session is recorded as a real rig logs it instead:
+//! a walk through `A_free` in steps of the second gripper of about 17 mm, tared once, one
+//! reading per record at 4 Hz, two or three records at some rests, the sensor's hysteresis
+//! carried from rest to rest. The label check above needs a reading tared just before it, so
+//! it is left out there.
+//!
 //! **Labels.** `ShapeFitter` with the known wire's model fits the markers (eq. 15). With the
 //! paper's weight-free model (`--model kirchhoff`) and gravity on, the model cannot follow the
 //! sag exactly: the label is the weight-free configuration closest to the markers, so the
@@ -317,7 +323,9 @@ pub fn collect(
             skipped.label += 1;
             continue;
         };
-        if label_disagrees(&fit.a, &a) {
+        // The check needs a reading tared just before it; a single-readings session is
+        // tared once, so its drift and hysteresis are what the check would catch.
+        if !single && label_disagrees(&fit.a, &a) {
             skipped.label_outlier += 1;
             continue;
         }
