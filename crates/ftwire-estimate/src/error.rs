@@ -166,6 +166,20 @@ pub enum EstimateError {
         /// The residual form's name.
         form: &'static str,
     },
+    /// More samples than a fit whose samples share the sensor's bias or gain can take
+    /// ([`crate::identify::identifier::MAX_SHARED_SAMPLES`]).
+    #[error(
+        "{samples} samples share the sensor's bias or gain: every pair is correlated, so the fit \
+         needs a dense {n}×{n} covariance and time growing as N³; at most {max} samples are \
+         allowed (identify --log: --samples {max}, or the sensor's error left out)",
+        n = 6 * samples
+    )]
+    TooManySharedSamples {
+        /// Samples given.
+        samples: usize,
+        /// The most allowed.
+        max: usize,
+    },
     /// The second gripper did not move enough for the data to tell wires apart.
     #[error(
         "degenerate motion: the second gripper's poses span {spread} noise standard deviations, \

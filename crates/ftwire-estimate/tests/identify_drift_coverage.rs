@@ -357,3 +357,31 @@ fn the_softest_wire_improves_with_more_samples_under_white_noise() -> Result<(),
     }
     Ok(())
 }
+
+/// Samples that share the sensor's bias couple every pair: beyond `MAX_SHARED_SAMPLES` the
+/// fit is refused at once, naming the bound, rather than asking for a covariance of
+/// `(6N)²` numbers (7.2 GB at 5000 samples) and hours of factorisation.
+#[test]
+fn too_many_samples_that_share_the_bias_are_refused_before_any_work() -> Result<(), EstimateError> {
+    use ftwire_estimate::identify::identifier::MAX_SHARED_SAMPLES;
+    let model = KirchhoffModel::new(WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001)?);
+    let a = Vector6::new(0.0, 0.02, 0.01, -0.05, 0.03, 0.0);
+    let b = model.tip(&a)?;
+    let n = MAX_SHARED_SAMPLES + 1;
+    let data: Vec<Sample> = (0..n)
+        .map(|k| Sample::new(k, a, b).and_then(|s| s.at(k, k as f64)))
+        .collect::<Result<_, _>>()?;
+    let config = IdentifierParams {
+        noise: noise(0.0)?,
+        ..IdentifierParams::default()
+    };
+    let error = identify_samples(&model, &data, &config, &mut ChaCha8Rng::seed_from_u64(0))
+        .map(|_| ())
+        .expect_err("refused");
+    assert!(
+        matches!(error, EstimateError::TooManySharedSamples { samples, max } if samples == n && max == MAX_SHARED_SAMPLES),
+        "{error}"
+    );
+    assert!(error.to_string().contains("--samples 500"), "{error}");
+    Ok(())
+}

@@ -63,6 +63,13 @@ use super::{
 };
 use crate::{EstimateError, WireModel};
 
+/// Most samples of a fit whose samples share the sensor's bias or gain
+/// ([`MeasurementNoise`] with a bias drift or a gain error, the absolute residual): their
+/// errors are correlated between every pair, so the fit whitens with the Cholesky factor of
+/// a dense `6N × 6N` covariance, `3 · 288 N²` bytes (about 216 MB at this bound) and time
+/// growing as `N³` (about 20 s at this bound on two cores). More is refused before any work.
+pub const MAX_SHARED_SAMPLES: usize = 500;
+
 mod batch;
 mod params;
 pub use batch::{identify, identify_samples};
@@ -232,6 +239,15 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
                 required,
                 unknowns,
                 form: form.name(),
+            });
+        }
+        if form == ResidualForm::Absolute
+            && self.samples.len() > MAX_SHARED_SAMPLES
+            && super::shared::shared_bias(&self.samples, &self.config.noise).is_some()
+        {
+            return Err(EstimateError::TooManySharedSamples {
+                samples: self.samples.len(),
+                max: MAX_SHARED_SAMPLES,
             });
         }
         let spread = self

@@ -128,9 +128,12 @@ pub struct IdentifyArgs {
     /// The sensor's mounting (`--mounting`).
     #[command(flatten)]
     pub mounting: crate::cli::groups::MountingArgs,
-    /// Use only the first N records, 1 to 1000000 (default: all). The identification's time
-    /// grows in proportion to the records it uses: a window of the first few hundred of a long
-    /// log gives an estimate in seconds (on a terminal, progress is shown on stderr).
+    /// Use only the first N records, 1 to 1000000 (default: all). With independent record
+    /// errors the identification's time grows in proportion to the records it uses; with
+    /// `--sensor` (a bias or gain every record shares) every pair of records is correlated,
+    /// memory grows as N² and time as N³, and more than 500 records are refused before any
+    /// work; a window of the first few hundred of a long log gives an estimate in seconds (on
+    /// a terminal, progress is shown on stderr).
     #[arg(long, value_name = "N", value_parser = LOG_SAMPLES)]
     pub samples: Option<usize>,
     /// Gravity in the base clamp frame [m/s²]: identify with the loaded model, the wire's
