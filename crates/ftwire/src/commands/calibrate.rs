@@ -1,6 +1,7 @@
 //! `ftwire calibrate --log`: the F/T calibration learnt from a rig's recording
 //! ([`ftwire_lab::log::calibrate`]: labels by shape fitting the markers, a split by blocks of
-//! time, the affine map and a small network, the test block's marker errors). Writes
+//! time, the map fitted on the shape or on the labels and chosen on the validation block, the
+//! test block's marker errors). Writes
 //! `calibration.json`, `summary.json`, `labels.csv`, `test.csv`, the figures and the report.
 
 use ftwire_lab::error::LabError;

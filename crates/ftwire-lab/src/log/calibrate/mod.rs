@@ -1,4 +1,5 @@
-//! `ftwire calibrate --log`: the paper's §IV-A calibration learnt from a rig's own recording.
+//! `ftwire calibrate --log`: the F/T calibration learnt from a rig's own recording (the
+//! paper's §IV-A, and the map fitted on the shape).
 //!
 //! The recording is a JSON Lines log (`ftwire_estimate::log`) whose records carry `raw` (the
 //! reading averaged at rest, force first, sensor frame, not tared) and `markers` (base clamp
@@ -9,19 +10,31 @@
 //! 2. **Labels** by shape fitting (eq. 15): `ShapeFitter` fits the model's centreline to the
 //!    record's markers, a global search then Levenberg–Marquardt, at the markers' arc lengths
 //!    when they are given (`marker_fractions`) or at their closest points (the paper's form)
-//!    when not. A record without `raw`, with fewer than [`MIN_MARKERS`] markers, whose fit
-//!    fails, or whose fit leaves the markers more than `max_label_rms` off (RMS) is rejected
-//!    and counted by reason: a marker swap or a dropout burst must not teach the network.
+//!    when not. Consecutive records at one rest (markers moved less than `rest_tolerance`)
+//!    are fitted on the rest's mean markers ([`Pooling`]). A record without `raw`, with fewer
+//!    than [`MIN_MARKERS`] markers, whose fit fails, or whose fit leaves the markers more than
+//!    `max_label_rms` off (RMS) is rejected and counted by reason: a marker swap or a dropout
+//!    burst must not teach the map.
 //! 3. **Split by blocks of time** (`SplitOrder::Time`): the first 70 % of the labelled
-//!    records train, the next 15 % validate (early stopping), the last 15 % test. A real
-//!    sensor drifts, and a random split would put neighbours in time on both sides and hide it.
-//! 4. **The map**: `Calibration::train` (a least-squares affine map from the reading to the
-//!    label, which holds the mounting's lever arm and rotation, the gain, cross-talk and the
-//!    offsets, plus a small network on what it leaves, starting at zero and stopped early on
-//!    the validation block), in the format every `--calibration` loads.
-//! 5. **Test**: on the test block, each inner marker's distance to `Φ(ã)` (the paper's
+//!    records train, the next 15 % validate, the last 15 % test. A real sensor drifts, and a
+//!    random split would put neighbours in time on both sides and hide it.
+//! 4. **The map fitted on the labels**: `Calibration::train` (a least-squares affine map from
+//!    the reading to the label, which holds the mounting's lever arm and rotation, the gain,
+//!    cross-talk and the offsets, plus a small network on what it leaves, starting at zero and
+//!    stopped early on the validation block): the paper's map, and with [`MapLoss::Labels`]
+//!    the one kept.
+//! 5. **The map fitted on the shape** ([`MapLoss::Shape`]):
+//!    `ftwire_estimate::calibration::shape_loss::fit_on_shape` fits the affine map and affine
+//!    maps with a polynomial part on Huber's loss of the markers' distance to `Φ(map(raw))`,
+//!    through the model's Jacobian, the labels starting it and keeping a weak pull
+//!    (`label_weight`), gravity's direction with it when asked (`fit_gravity`). The candidate
+//!    whose validation records' markers lie closest to their shapes is kept, the map of 4
+//!    among the candidates.
+//! 6. **Test**: on the test block, each inner marker's distance to `Φ(ã)` (the paper's
 //!    metric, Fig. 5; the first marker is at the clamp and the last at the gripper, so they
-//!    say nothing), for the reading through the mounting alone and through the calibration.
+//!    say nothing) and the mean distance along the wire to the label's shape, for the reading
+//!    through the mounting alone, the kept map, its affine part and the map of 4; a
+//!    calibration worse than the mounting alone is said (`worse_than_raw`, and on stderr).
 //!
 //! Guarded by `tests/log_calibrate.rs` (a simulated recording of the `distorted` and
 //! `real-like` sensors, bad logs).
@@ -131,8 +144,9 @@ pub struct LogCalibrateParams {
 #[serde(rename_all = "lowercase")]
 pub enum MapLoss {
     /// The markers' distance to the model's shape of the map's `a` (Huber's loss), through
-    /// the model's Jacobian; the labels only start it
-    /// (`ftwire_estimate::calibration::shape_loss`).
+    /// the model's Jacobian; the labels start it and keep a weak pull
+    /// (`ftwire_estimate::calibration::shape_loss`); the map fitted on the labels is one more
+    /// candidate.
     #[default]
     Shape,
     /// The labels in `a` (least squares, the affine map and the network): the paper's §IV-A.
