@@ -175,3 +175,51 @@ fn bad_settings_are_refused_by_name() {
     .to_string();
     assert!(e.contains("labels"), "{e}");
 }
+
+/// With the markers' arc lengths known, the fit takes each marker at its own arc length and
+/// meets held-out markers as well.
+#[test]
+fn the_shape_fit_at_known_arc_lengths_meets_the_markers() -> Result<(), Box<dyn std::error::Error>>
+{
+    let model = model();
+    let with_fractions = |records: Vec<(ShapeSample, Vector6<f64>)>| {
+        records
+            .into_iter()
+            .map(|(mut s, a)| {
+                s.fractions = Some((1..=s.markers.len()).map(|k| k as f64 / 10.0).collect());
+                (s, a)
+            })
+            .collect::<Vec<_>>()
+    };
+    let train = with_fractions(records(30, 6));
+    let validation: Vec<ShapeSample> = with_fractions(records(10, 7))
+        .into_iter()
+        .map(|(s, _)| s)
+        .collect();
+    let labels: Vec<Vector6<f64>> = train
+        .iter()
+        .map(|(_, a)| a + Vector6::new(0.0, 0.004, -0.003, 0.05, 0.0, 0.0))
+        .collect();
+    let samples: Vec<ShapeSample> = train.iter().map(|(s, _)| s.clone()).collect();
+    let params = ShapeLossParams {
+        degrees: Vec::new(),
+        label_weight: 0.0,
+        ..ShapeLossParams::default()
+    };
+    let fitted = fit_on_shape(&model, &samples, &labels, &validation, &params)?;
+    let c = &fitted.candidates[0];
+    assert!(c.validation_marker_mean < 2e-4, "{c:?}");
+    // The shared metric judges the chosen map as the fit judged it.
+    let (mean, failures) = ftwire_estimate::calibration::shape_loss::marker_mean(
+        &model,
+        &fitted.calibration,
+        &validation,
+        params.nodes,
+    )?;
+    assert_eq!(failures, 0);
+    assert!(
+        (mean - c.validation_marker_mean).abs() < 1e-9,
+        "{mean} {c:?}"
+    );
+    Ok(())
+}

@@ -52,6 +52,9 @@ const MIN_HUBER: f64 = 2e-4;
 /// Forward-difference step of gravity's direction \[rad\].
 const GRAVITY_STEP: f64 = 1e-4;
 
+/// The default [`ShapeLossParams::label_weight`].
+pub const DEFAULT_LABEL_WEIGHT: f64 = 1.0;
+
 /// One training or validation record: the map's input, a fixed offset, and the markers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShapeSample {
@@ -111,7 +114,7 @@ impl Default for ShapeLossParams {
             max_iterations: 25,
             huber: None,
             nodes: 101,
-            label_weight: 1.0,
+            label_weight: DEFAULT_LABEL_WEIGHT,
             gravity: None,
         }
     }
@@ -680,15 +683,17 @@ impl<'a, M: WireModel> Problem<'a, M> {
         };
         for (j, marker) in sample.markers.iter().enumerate() {
             let fraction = sample.fractions.as_ref().and_then(|f| f.get(j).copied());
-            let (s, distance) = match fraction {
+            // At a known arc length the point is solved once, with its Jacobian when asked;
+            // at the closest point the distance comes from the shape's polyline.
+            let (s, distance, known) = match fraction {
                 Some(f) => {
                     let s = f * length;
-                    let p = centreline_point(model, a, s, false).ok()?.position;
-                    (s, (p - marker.coords).norm())
+                    let p = centreline_point(model, a, s, linearise).ok()?;
+                    (s, (p.position - marker.coords).norm(), Some(p))
                 }
                 None => {
                     let c = closest_point(&shape.positions, &marker.coords)?;
-                    (c.arc_length, c.distance)
+                    (c.arc_length, c.distance, None)
                 }
             };
             t.loss += huber_loss(distance, self.huber);
@@ -696,7 +701,10 @@ impl<'a, M: WireModel> Problem<'a, M> {
             if !linearise {
                 continue;
             }
-            let point = centreline_point(model, a, s, true).ok()?;
+            let point = match known {
+                Some(p) => p,
+                None => centreline_point(model, a, s, true).ok()?,
+            };
             let across = if fraction.is_some() {
                 Matrix3::identity()
             } else {
@@ -929,6 +937,50 @@ impl<'a, M: WireModel> Problem<'a, M> {
             gravity_in_clamp: gravity.map(|g| self.gravity_vector(&g).into()),
         })
     }
+}
+
+/// How a calibration's shapes meet `samples`' markers, as the candidates are judged: the mean
+/// over records of each one's mean marker distance to `Φ(apply(raw) + offset)` \[m\], and the
+/// records whose shape could not be solved. `nodes` as [`ShapeLossParams::nodes`].
+///
+/// # Errors
+/// [`EstimateError::InvalidSetting`] for fewer than 2 nodes.
+pub fn marker_mean<M: WireModel>(
+    model: &M,
+    calibration: &Calibration,
+    samples: &[ShapeSample],
+    nodes: usize,
+) -> Result<(f64, usize), EstimateError> {
+    if nodes < 2 {
+        #[allow(clippy::cast_precision_loss)] // a small number
+        return Err(EstimateError::InvalidSetting {
+            field: "nodes",
+            value: nodes as f64,
+            allowed: "at least 2 nodes",
+        });
+    }
+    let frame = Frame {
+        input: *calibration.input_normaliser(),
+        output: *calibration.output_normaliser(),
+        nodes,
+    };
+    let problem = Problem::new(model, &frame, samples, None);
+    let terms: Vec<Option<Terms>> = samples
+        .iter()
+        .map(|s| {
+            problem.terms(
+                model,
+                None,
+                &(calibration.apply(&s.raw) + s.offset),
+                s,
+                false,
+            )
+        })
+        .collect();
+    Ok((
+        mean_distance(&terms),
+        terms.iter().filter(|t| t.is_none()).count(),
+    ))
 }
 
 /// The mean over records of each record's mean marker distance \[m\].

@@ -66,8 +66,8 @@ use crate::{EstimateError, WireModel};
 /// Most samples of a fit whose samples share the sensor's bias or gain
 /// ([`MeasurementNoise`] with a bias drift or a gain error, the absolute residual): their
 /// errors are correlated between every pair, so the fit whitens with the Cholesky factor of
-/// a dense `6N × 6N` covariance, `3 · 288 N²` bytes (about 216 MB at this bound) and time
-/// growing as `N³` (about 20 s at this bound on two cores). More is refused before any work.
+/// a dense `6N × 6N` covariance, `3 · 288 N²` bytes (216 MB at this bound), and its time
+/// grows as `N³`. More is refused before any work.
 pub const MAX_SHARED_SAMPLES: usize = 500;
 
 mod batch;

@@ -74,7 +74,8 @@ pub struct CalibrateArgs {
     /// With `--loss shape`, the labels' weight beside the shape, relative to the shape's
     /// curvature in the affine weights (0: the shape alone). It keeps the wrench directions
     /// a wire's shape barely shows (a taut wire's tension) near the labels.
-    #[arg(long, value_name = "W", default_value_t = 1.0, value_parser = parse_finite)]
+    #[arg(long, value_name = "W", value_parser = parse_finite,
+          default_value_t = ftwire_estimate::calibration::shape_loss::DEFAULT_LABEL_WEIGHT)]
     pub label_weight: f64,
     /// Fit gravity's direction in the clamp frame with the map (the loaded model, |g| from
     /// `--gravity-norm`); `--gravity-in-clamp`, when given, is where it starts. The fitted
@@ -83,12 +84,14 @@ pub struct CalibrateArgs {
     #[arg(long)]
     pub fit_gravity: bool,
     /// |g| of `--fit-gravity` [m/s²].
-    #[arg(long, value_name = "M/S2", default_value_t = 9.81, value_parser = parse_finite,
+    #[arg(long, value_name = "M/S2", value_parser = parse_finite,
+          default_value_t = ftwire_lab::log::calibrate::STANDARD_GRAVITY,
           requires = "fit_gravity")]
     pub gravity_norm: f64,
     /// Consecutive records whose markers moved less than this on average [mm] are one rest:
     /// their labels are fitted to the rest's mean markers (0: every record alone).
-    #[arg(long, value_name = "MM", default_value_t = 2.0, value_parser = parse_finite)]
+    #[arg(long, value_name = "MM", value_parser = parse_finite,
+          default_value_t = 1e3 * ftwire_lab::log::calibrate::DEFAULT_REST_TOLERANCE)]
     pub rest_tolerance_mm: f64,
     /// Seed of the fits and of the network's initial weights.
     #[command(flatten)]

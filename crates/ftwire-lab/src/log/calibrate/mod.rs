@@ -43,7 +43,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use ftwire_estimate::calibration::shape_loss::{
-    Candidate, GravityFit, GravityStart, ShapeLossParams, ShapeSample, fit_on_shape,
+    Candidate, GravityFit, GravityStart, ShapeLossParams, ShapeSample, fit_on_shape, marker_mean,
 };
 use ftwire_estimate::calibration::{
     Calibration, CalibrationInput, Dataset, Drift, LabelModel, SplitOrder, TrainParams,
@@ -374,28 +374,6 @@ impl From<&Candidate> for CandidateOut {
     }
 }
 
-/// The mean over `records` of each one's mean distance of its loss markers to `Φ(ã)` \[m\]:
-/// how the shape fit's candidates are judged.
-fn validation_marker_mean(
-    model: &KirchhoffModel,
-    calibration: &Calibration,
-    records: &[usize],
-    labelled: &[Labelled],
-) -> Result<f64, LabError> {
-    let mut means = Vec::new();
-    for l in records.iter().filter_map(|&i| labelled.get(i)) {
-        let Ok(shape) = model.shape(&calibration.apply_at(&l.raw, l.time), SHAPE_NODES) else {
-            return Ok(f64::INFINITY);
-        };
-        let d = marker_distances(&l.loss_markers, &shape.positions)
-            .map_err(|e| from_estimate(e, "the marker distances"))?;
-        #[allow(clippy::cast_precision_loss)] // a handful of markers
-        means.push(d.iter().sum::<f64>() / d.len().max(1) as f64);
-    }
-    #[allow(clippy::cast_precision_loss)] // counts
-    Ok(means.iter().sum::<f64>() / means.len().max(1) as f64)
-}
-
 /// A polynomial degree's name in `fit.map`.
 fn map_name(degree: usize) -> &'static str {
     match degree {
@@ -603,9 +581,15 @@ pub fn run(
                 .map_err(|e| from_estimate(e, "the fitted gravity"))?;
             let chosen = &fitted.candidates[fitted.chosen];
             // The map fitted on the labels is one more candidate, judged the same way.
-            let label_map_validation =
-                validation_marker_mean(&label_model, &label_map, &split.validation, &labelled)?;
-            let shape_wins = chosen.validation_marker_mean <= label_map_validation;
+            let (label_map_validation, label_map_failures) = marker_mean(
+                &label_model,
+                &label_map,
+                &samples(&split.validation),
+                shape.nodes,
+            )
+            .map_err(|e| from_estimate(e, "judging the map fitted on the labels"))?;
+            let shape_wins = (chosen.validation_failures, chosen.validation_marker_mean)
+                <= (label_map_failures, label_map_validation);
             let fit = FitOut {
                 loss: MapLoss::Shape,
                 map: if shape_wins {
