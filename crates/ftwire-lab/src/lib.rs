@@ -2,23 +2,18 @@
 
 pub mod beside;
 pub mod calibrate;
-pub mod csv_table;
 pub mod demo;
 pub mod equilibrium;
 pub mod error;
 pub mod experiment;
 pub mod goal;
-pub mod header;
 pub mod identify;
 pub mod initial_guess;
 pub mod log;
 pub mod paper;
 pub mod passage;
 pub mod plan;
-pub mod provenance;
-pub mod report;
 pub mod reproduce;
-pub mod results;
 pub mod robot;
 pub mod scene;
 pub mod setup;
@@ -28,4 +23,4 @@ pub mod track;
 pub mod tracking;
 pub mod wire;
 
-pub use error::LabError;
+pub use ftwire_app::{LabError, csv_table, header, provenance, report, results};

@@ -239,7 +239,4 @@ impl CommonParams {
     }
 }
 
-/// Where an experiment reports its progress (one line of text per call: a phase started, a
-/// count reached). The `ftwire` binary prints it on stderr; a library user may log it or drop
-/// it (`&mut |_| {}`).
-pub type Progress<'a> = &'a mut dyn FnMut(&str);
+pub use ftwire_app::Progress;

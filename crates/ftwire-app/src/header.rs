@@ -38,11 +38,11 @@ impl RunHeader {
     ///
     /// # Example
     /// ```
-    /// let h = ftwire_lab::header::RunHeader::new("demo", Some(7), &[1.0, 2.0])?;
+    /// let h = ftwire_app::header::RunHeader::new("demo", Some(7), &[1.0, 2.0])?;
     /// assert_eq!(h.seed, Some(7));
     /// assert_eq!(h.configuration, serde_json::json!([1.0, 2.0]));
     /// assert_eq!(h.ftwire_version, env!("CARGO_PKG_VERSION"));
-    /// # Ok::<(), ftwire_lab::error::LabError>(())
+    /// # Ok::<(), ftwire_app::error::LabError>(())
     /// ```
     pub fn new(
         command: &str,

@@ -41,7 +41,7 @@ const FORMULA_STARTS: [char; 6] = ['=', '+', '-', '@', '\t', '\r'];
 ///
 /// # Example
 /// ```
-/// use ftwire_lab::csv_table::text;
+/// use ftwire_app::csv_table::text;
 /// assert_eq!(text("nitinol-2mm-630").as_str(), "nitinol-2mm-630");
 /// assert_eq!(text("=HYPERLINK(\"x\")").as_str(), "'=HYPERLINK(\"x\")");
 /// assert_eq!(text("-0.5").as_str(), "'-0.5", "text that looks like a number is still text");
@@ -69,7 +69,7 @@ impl Plain for bool {}
 ///
 /// # Example
 /// ```
-/// use ftwire_lab::csv_table::value;
+/// use ftwire_app::csv_table::value;
 /// assert_eq!(value(-0.5).as_str(), "-0.5");
 /// assert_eq!(value(3_usize).as_str(), "3");
 /// assert_eq!(value(true).as_str(), "true");
@@ -106,12 +106,12 @@ impl CsvTable {
     ///
     /// # Example
     /// ```
-    /// use ftwire_lab::csv_table::{CsvTable, text, value};
+    /// use ftwire_app::csv_table::{CsvTable, text, value};
     /// let mut table = CsvTable::new("wires.csv", &["wire", "error"])?;
     /// table.row([text("a,b"), value(-0.5)])?;
     /// table.row([text("=1+2"), value(f64::NAN)])?;
     /// assert_eq!(table.into_bytes()?, b"wire,error\n\"a,b\",-0.5\n'=1+2,NaN\n");
-    /// # Ok::<(), ftwire_lab::error::LabError>(())
+    /// # Ok::<(), ftwire_app::error::LabError>(())
     /// ```
     pub fn new(name: &str, columns: &[&str]) -> Result<Self, LabError> {
         let mut writer = csv::Writer::from_writer(Vec::new());

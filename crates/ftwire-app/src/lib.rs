@@ -1,0 +1,15 @@
+#![doc = include_str!("../README.md")]
+
+pub mod csv_table;
+pub mod error;
+pub mod header;
+pub mod provenance;
+pub mod report;
+pub mod results;
+
+pub use error::LabError;
+
+/// Where a run reports its progress (one line of text per call: a phase started, a count
+/// reached). The `ftwire` binary prints it on stderr; a library user may log it or drop it
+/// (`&mut |_| {}`).
+pub type Progress<'a> = &'a mut dyn FnMut(&str);
