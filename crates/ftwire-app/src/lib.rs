@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod config;
 pub mod csv_table;
 pub mod error;
 pub mod header;

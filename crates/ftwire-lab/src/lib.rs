@@ -9,7 +9,6 @@ pub mod experiment;
 pub mod goal;
 pub mod identify;
 pub mod initial_guess;
-pub mod log;
 pub mod paper;
 pub mod passage;
 pub mod plan;
@@ -23,4 +22,8 @@ pub mod track;
 pub mod tracking;
 pub mod wire;
 
+/// The settings files a user gives (wires, mountings, sensor data sheets): `ftwire-app`'s.
+pub use ftwire_app::config;
 pub use ftwire_app::{LabError, csv_table, header, provenance, report, results};
+/// A real rig's recording: `ftwire-logs`, which never sees the simulator.
+pub use ftwire_logs as log;

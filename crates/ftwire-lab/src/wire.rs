@@ -1,310 +1,38 @@
-//! Wires as users name them: a preset, or a TOML file.
-//!
-//! A wire file holds exactly these keys (unknown keys are errors):
-//!
-//! ```toml
-//! name = "nitinol-3mm-820"
-//! c = [0.214, 0.278, 0.278]    # stiffnesses c1 (torsion), c2, c3 (bending) [N·m²]
-//! length = 0.82                # between the clamp points [m]
-//! radius = 0.0015              # [m]
-//! density = 6450.0             # [kg/m³]
-//! natural_curvature = [0.0, 0.0, 0.0]   # optional: rest twist and curvatures κ1, κ2, κ3 [1/m]
-//! ```
-//!
-//! The presets are the simulator's wires of the paper (`ftwire_sim::RodParams`), so there is one
-//! source for their numbers.
+//! Wires as users name them ([`ftwire_app::config::wire`], re-exported here whole), and the
+//! simulator's rod of a wire.
 
-use std::path::Path;
-
-use ftwire_core::WireParams;
-use ftwire_sim::RodParams;
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
-/// The names of the preset wires, as `--wire` takes them.
-pub const PRESETS: [&str; 4] = [
-    "nitinol-2mm-630",
-    "nitinol-3mm-910",
-    "nitinol-3mm-820",
-    "cable-3mm-920",
-];
+pub use ftwire_app::config::wire::*;
+use ftwire_sim::RodParams;
 
-/// A wire's name as a file name's stem (figures, logs): characters other than ASCII letters,
-/// digits, `-`, `_` and `.` replaced by `_`, so that any name (a wire file's may hold anything)
-/// gives one file inside the results folder.
-///
-/// # Example
-/// ```
-/// use ftwire_lab::wire::file_stem;
-/// assert_eq!(file_stem("nitinol-2mm-630"), "nitinol-2mm-630");
-/// assert_eq!(file_stem("../a b/c"), ".._a_b_c");
-/// ```
-pub fn file_stem(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
-}
-
-/// A wire: its name and physical properties.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WireSpec {
-    /// Name, for reports.
-    pub name: String,
-    /// Stiffnesses `(c1, c2, c3)` \[N·m²\]: torsion, bending about body y and z.
-    pub c: [f64; 3],
-    /// Length between the clamp points \[m\].
-    pub length: f64,
-    /// Radius \[m\].
-    pub radius: f64,
-    /// Density \[kg/m³\].
-    pub density: f64,
-    /// Rest twist and curvatures `(κ1, κ2, κ3)` \[1/m\] in the body frame (default zero: a
-    /// straight rest shape).
-    #[serde(default)]
-    pub natural_curvature: [f64; 3],
-}
-
-/// Why a wire could not be had.
-#[derive(Debug, Error)]
-pub enum WireSpecError {
-    /// Neither a preset nor a name of a file (see [`WireSpec::load`]).
-    #[error(
-        "unknown wire {given:?}: give a preset ({}) or a path to a .toml wire file",
-        PRESETS.join(", ")
-    )]
-    Unknown {
-        /// What was given.
-        given: String,
-    },
-    /// The file could not be read.
-    #[error("cannot read wire file {path}: {message}")]
-    Read {
-        /// The file.
-        path: String,
-        /// The system's message.
-        message: String,
-    },
-    /// The file is not a valid wire file (the message names the line and the key).
-    #[error("bad wire file {path}: {message}")]
-    Parse {
-        /// The file.
-        path: String,
-        /// What `toml` said, with the line and the key.
-        message: String,
-    },
-    /// A value is out of range.
-    #[error("wire {name:?}: {key} = {value} is not allowed: {allowed}")]
-    Value {
-        /// The wire.
-        name: String,
-        /// The key.
-        key: &'static str,
-        /// The value.
-        value: f64,
-        /// What is allowed.
-        allowed: &'static str,
-    },
-}
-
-impl WireSpec {
-    /// A preset wire by name, if there is one.
-    ///
-    /// # Example
-    /// ```
-    /// let wire = ftwire_lab::wire::WireSpec::preset("nitinol-3mm-820").expect("a preset");
-    /// assert_eq!(wire.c, [0.214, 0.278, 0.278]);
-    /// assert!(ftwire_lab::wire::WireSpec::preset("copper").is_none());
-    /// ```
-    pub fn preset(name: &str) -> Option<Self> {
-        let params = match name {
-            "nitinol-2mm-630" => RodParams::nitinol_2mm_630(),
-            "nitinol-3mm-910" => RodParams::nitinol_3mm_910(),
-            "nitinol-3mm-820" => RodParams::nitinol_3mm_820(),
-            "cable-3mm-920" => RodParams::electric_cable_3mm_920(),
-            _ => return None,
-        };
-        Some(Self {
-            name: name.to_owned(),
-            c: params.stiffness,
-            length: params.length,
-            radius: params.radius,
-            density: params.density,
-            natural_curvature: params.rest_strain.into(),
-        })
+/// The simulator's parameters of `wire`, with gravity `gravity` \[m/s²\] in the world frame
+/// (zero switches it off) and `edges` edges.
+pub fn rod_params(wire: &WireSpec, gravity: Vector3<f64>, edges: usize) -> RodParams {
+    RodParams {
+        stiffness: wire.c,
+        length: wire.length,
+        radius: wire.radius,
+        density: wire.density,
+        gravity,
+        rest_strain: Vector3::from(wire.natural_curvature),
+        edges,
+        ..RodParams::default()
     }
-
-    /// A preset name, or else a path to a wire file (a name that looks like a path, or where
-    /// something exists, is read as a file, so that a file that cannot be read says why).
-    ///
-    /// # Errors
-    /// [`WireSpecError`] naming what was wrong.
-    pub fn load(given: &str) -> Result<Self, WireSpecError> {
-        if let Some(wire) = Self::preset(given) {
-            return Ok(wire);
-        }
-        if !crate::setup::names_a_file(given) {
-            return Err(WireSpecError::Unknown {
-                given: given.to_owned(),
-            });
-        }
-        let text = ftwire_core::text::read_text(Path::new(given)).map_err(|e| match e {
-            ftwire_core::CoreError::Unreadable { message } => WireSpecError::Read {
-                path: given.to_owned(),
-                message,
-            },
-            e => WireSpecError::Parse {
-                path: given.to_owned(),
-                message: e.to_string(),
-            },
-        })?;
-        Self::from_toml(&text, given)
-    }
-
-    /// A wire from the text of a wire file (`path` names it in errors).
-    ///
-    /// # Errors
-    /// [`WireSpecError::Parse`] with the line and key, or [`WireSpecError::Value`].
-    pub fn from_toml(text: &str, path: &str) -> Result<Self, WireSpecError> {
-        let wire: Self = toml::from_str(text).map_err(|e| WireSpecError::Parse {
-            path: path.to_owned(),
-            message: e.to_string().trim_end().to_owned(),
-        })?;
-        wire.validate().map_err(|e| match &e {
-            // A value out of range: the file, and the line of its key (`c` for `c2`,
-            // `natural_curvature` for `natural_curvature[1]`).
-            WireSpecError::Value { key, .. } => {
-                let name = key.split('[').next().unwrap_or(key);
-                let name = if matches!(name, "c1" | "c2" | "c3") {
-                    "c"
-                } else {
-                    name
-                };
-                let line = crate::setup::line_of(text, name)
-                    .map_or_else(String::new, |line| format!("line {line}, "));
-                WireSpecError::Parse {
-                    path: path.to_owned(),
-                    message: format!("{line}key {name}: {e}"),
-                }
-            }
-            _ => e,
-        })?;
-        Ok(wire)
-    }
-
-    fn validate(&self) -> Result<(), WireSpecError> {
-        let value = |key: &'static str, value: f64, allowed: &'static str| WireSpecError::Value {
-            name: self.name.clone(),
-            key,
-            value,
-            allowed,
-        };
-        for (key, v) in ["c1", "c2", "c3"].into_iter().zip(self.c) {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(value(key, v, "a finite stiffness > 0 [N·m²]"));
-            }
-        }
-        let positive = [
-            ("length", self.length, "a finite length > 0 [m]"),
-            ("radius", self.radius, "a finite radius > 0 [m]"),
-            ("density", self.density, "a finite density > 0 [kg/m³]"),
-        ];
-        for (key, v, allowed) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(value(key, v, allowed));
-            }
-        }
-        if 2.0 * self.radius >= self.length {
-            return Err(value(
-                "radius",
-                self.radius,
-                "less than half the length (a wire, not a disc)",
-            ));
-        }
-        for (key, v) in [
-            "natural_curvature[0]",
-            "natural_curvature[1]",
-            "natural_curvature[2]",
-        ]
-        .into_iter()
-        .zip(self.natural_curvature)
-        {
-            if !v.is_finite() {
-                return Err(value(key, v, "a finite curvature [1/m]"));
-            }
-        }
-        Ok(())
-    }
-
-    /// The model's wire parameters (stiffness, length, radius).
-    ///
-    /// # Errors
-    /// Never for a validated spec; kept fallible for the core type's own checks.
-    pub fn wire_params(&self) -> Result<WireParams, ftwire_core::CoreError> {
-        WireParams::new(self.c, self.length, self.radius)
-    }
-
-    /// The simulator's parameters of this wire, with gravity `gravity` \[m/s²\] in the world
-    /// frame (zero switches it off) and `edges` edges.
-    pub fn rod_params(&self, gravity: Vector3<f64>, edges: usize) -> RodParams {
-        RodParams {
-            stiffness: self.c,
-            length: self.length,
-            radius: self.radius,
-            density: self.density,
-            gravity,
-            rest_strain: Vector3::from(self.natural_curvature),
-            edges,
-            ..RodParams::default()
-        }
-    }
-}
-
-/// The rule of wire files ([`WireSpec`]) for a wire given otherwise (command-line options, a
-/// batch line): a radius below half the length (a wire, not a disc). `radius` and `length`
-/// name the two values in the message, e.g. `--radius` and `--length`.
-///
-/// # Errors
-/// The message, naming both values and the largest radius allowed.
-///
-/// # Example
-/// ```
-/// use ftwire_lab::wire::check_radius;
-/// let disc = ftwire_core::WireParams::new([0.1; 3], 0.63, 1.0)?;
-/// let e = check_radius(&disc, "--radius", "--length").err().unwrap_or_default();
-/// assert!(e.starts_with("--radius 1: "));
-/// let wire = ftwire_core::WireParams::new([0.1; 3], 0.63, 0.001)?;
-/// assert!(check_radius(&wire, "--radius", "--length").is_ok());
-/// # Ok::<(), ftwire_core::CoreError>(())
-/// ```
-pub fn check_radius(wire: &WireParams, radius: &str, length: &str) -> Result<(), String> {
-    if 2.0 * wire.radius() < wire.length() {
-        return Ok(());
-    }
-    Err(format!(
-        "{radius} {}: give less than half the wire's length ({length} {} m), a wire, not a disc",
-        wire.radius(),
-        wire.length()
-    ))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The presets' numbers live in `ftwire-app`, which never sees the simulator: they must be
+    /// the simulator's presets.
     #[test]
     fn every_preset_loads_and_matches_the_simulator() -> Result<(), WireSpecError> {
         for name in PRESETS {
             let wire = WireSpec::load(name)?;
             assert_eq!(wire.name, name);
-            let back = wire.rod_params(Vector3::new(0.0, 0.0, -9.81), 100);
+            let back = rod_params(&wire, Vector3::new(0.0, 0.0, -9.81), 100);
             let original = match name {
                 "nitinol-2mm-630" => RodParams::nitinol_2mm_630(),
                 "nitinol-3mm-910" => RodParams::nitinol_3mm_910(),
@@ -314,42 +42,5 @@ mod tests {
             assert_eq!(back, original, "{name}");
         }
         Ok(())
-    }
-
-    #[test]
-    fn a_wire_file_round_trips() -> Result<(), Box<dyn std::error::Error>> {
-        let wire = WireSpec::preset("cable-3mm-920").ok_or("preset")?;
-        let text = toml::to_string(&wire)?;
-        assert_eq!(WireSpec::from_toml(&text, "cable.toml")?, wire);
-        Ok(())
-    }
-
-    #[test]
-    fn a_bad_file_names_the_line_and_the_key() {
-        let text = "name = \"w\"\nc = [0.1, 0.1, 0.1]\nlength = 0.5\nradius = 0.001\ndensity = 6450\nstifness = 3\n";
-        let message = match WireSpec::from_toml(text, "w.toml") {
-            Err(e) => e.to_string(),
-            Ok(w) => panic!("accepted {w:?}"),
-        };
-        assert!(message.contains("w.toml"), "{message}");
-        assert!(message.contains("line 6"), "{message}");
-        assert!(message.contains("stifness"), "{message}");
-        let negative = text
-            .replace("stifness = 3\n", "")
-            .replace("length = 0.5", "length = -0.5");
-        let message = WireSpec::from_toml(&negative, "w.toml")
-            .map(|_| ())
-            .err()
-            .map(|e| e.to_string());
-        assert!(
-            message.as_ref().is_some_and(|m| m.contains("length = -0.5")
-                && m.contains("w.toml")
-                && m.contains("line 3, key length")),
-            "{message:?}"
-        );
-        assert!(matches!(
-            WireSpec::load("no-such-wire"),
-            Err(WireSpecError::Unknown { .. })
-        ));
     }
 }

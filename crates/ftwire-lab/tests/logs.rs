@@ -185,7 +185,7 @@ fn a_long_log_of_a_soft_wire_is_identified_with_the_sensor_s_drift_modelled() {
         let (_, without) = error(&params);
         params.drift = Some(identify::LogDrift {
             sensor: "undistorted".to_owned(),
-            params: sensor.config.clone(),
+            params: ftwire_lab::setup::sensor::data_sheet(&sensor.config),
             rest_samples: ftwire_lab::identify::REST_SAMPLES,
             tare_samples: ftwire_lab::experiment::rig::TARE_SAMPLES,
             tare_time: None,

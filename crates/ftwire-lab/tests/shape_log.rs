@@ -551,7 +551,7 @@ fn error_bars_from_the_sensor_grow_with_the_drift() {
     let spec = ftwire_lab::setup::SensorSpec::load("undistorted").expect("the preset");
     let sensor = |tare_time| ftwire_lab::log::identify::LogDrift {
         sensor: "undistorted".to_owned(),
-        params: spec.config.clone(),
+        params: ftwire_lab::setup::sensor::data_sheet(&spec.config),
         rest_samples: 400,
         tare_samples: 500,
         tare_time,

@@ -296,11 +296,11 @@ fn drift(
             "tare_time = {t}; allowed: finite seconds"
         )));
     }
-    let spec = ftwire_lab::setup::SensorSpec::load(given)
+    let spec = ftwire_lab::config::sensor::DataSheetSpec::load(given)
         .map_err(|e| value_error(format!("sensor: {e}")))?;
     Ok(Some(LogDrift {
         sensor: given.to_owned(),
-        params: spec.config,
+        params: spec.sheet,
         rest_samples,
         tare_samples,
         tare_time,

@@ -10,6 +10,7 @@
 //!                  └─ ShapeRecord: the one record every front end prints, writes, publishes
 //! ```
 
+pub mod datasheet;
 pub mod error;
 pub mod map;
 pub mod model;
@@ -18,6 +19,7 @@ pub mod record;
 pub mod shape;
 pub mod stream;
 
+pub use datasheet::DataSheet;
 pub use error::RigError;
 pub use map::RawMap;
 pub use model::{WireBody, WireModelChoice};

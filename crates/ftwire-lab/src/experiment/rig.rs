@@ -4,10 +4,10 @@
 use ftwire_control::{BiasObserverParams, NoiseModel, NoiseParams};
 use ftwire_core::{FtSample, GripperPoses, Pose, Rig};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, Measurement, Mounting, RestAverage, Tare};
-use ftwire_estimate::identify::{BiasDrift, MeasurementNoise};
+use ftwire_estimate::identify::MeasurementNoise;
 use ftwire_rod::{Load, Rod};
 use ftwire_sim::{BoxObstacle, RigParams, SimRig, Simulator, World};
-use nalgebra::{Matrix6, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 use super::{Gravity, ModelKind, SIM_EDGES};
 use crate::error::{LabError, from_rod, from_sim};
@@ -75,7 +75,7 @@ fn world_among(
     gravity: Gravity,
     obstacles: &[BoxObstacle],
 ) -> Result<World, LabError> {
-    let params = wire.rod_params(gravity.vector(), SIM_EDGES);
+    let params = crate::wire::rod_params(wire, gravity.vector(), SIM_EDGES);
     Ok(obstacles.iter().fold(
         World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?,
         |world, obstacle| world.with_box(*obstacle),
@@ -299,32 +299,9 @@ pub fn identification_noise_of(
     rest_samples: usize,
     tare_samples: usize,
 ) -> Result<MeasurementNoise, LabError> {
-    let to_a =
-        Matrix6::from_fn(|row, column| mount.to_configuration(&Vector6::ith(column, 1.0))[row]);
-    let scaled = |n: usize| sensor.noise_std.map(|s| s / (n.max(1) as f64).sqrt());
-    let bias = BiasDrift::from_sensor(
-        &to_a,
-        scaled(tare_samples),
-        sensor.bias_random_walk,
-        sensor.bias_time_constant,
-    )
-    .map_err(|e| LabError::bad_input(format!("the sensor's drift: {e}")))?;
-    let rest = scaled(rest_samples);
-    let rest =
-        to_a * Matrix6::from_diagonal(&Vector6::from(rest.map(|s| s * s))) * to_a.transpose();
-    let largest =
-        |range: std::ops::Range<usize>| range.map(|i| rest[(i, i)]).fold(0.0, f64::max).sqrt();
-    let defaults = MeasurementNoise::default();
-    // The rest's own noise keeps the mounting's correlation of torque and force; a channel
-    // without noise keeps a floor far below any sensor's, so the covariance stays invertible.
-    let floor = Matrix6::from_diagonal(&Vector6::repeat(1e-30));
-    Ok(MeasurementNoise {
-        torque: largest(0..3).max(f64::MIN_POSITIVE),
-        force: largest(3..6).max(f64::MIN_POSITIVE),
-        wrench: Some(rest + floor),
-        bias: Some(bias),
-        ..defaults
-    })
+    crate::setup::sensor::data_sheet(sensor)
+        .noise(mount, rest_samples, tare_samples)
+        .map_err(|e| LabError::bad_input(e.to_string()))
 }
 
 /// A pipeline with the default rest average ([`SAMPLES_PER_REST`], at least half of them

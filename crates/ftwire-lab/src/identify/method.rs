@@ -1,35 +1,7 @@
-//! How an identification is run: the residual it minimises and how `ã` is computed.
+//! How an identification experiment computes `ã` (the residual form, `Form`, is
+//! `ftwire_logs::identification`'s).
 
-use ftwire_estimate::identify::ResidualForm;
 use serde::Serialize;
-
-/// The residual identification minimises (`ftwire_estimate::identify::ResidualForm`), by the
-/// names the summaries use.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Form {
-    /// The exact absolute form `log(Γ_η(ã_i)⁻¹ b̃_i)`: reaches the noise floor.
-    #[default]
-    Absolute,
-    /// The paper's eq. 12, `J_η(ã_i) δã_i − δb̃_i`: limited to 2–3 % by its linearisation.
-    Eq12,
-    /// Eq. 12 with `J` at the midpoint of each step.
-    Midpoint,
-    /// Exact relative poses of consecutive samples.
-    Relative,
-}
-
-impl Form {
-    /// The library's residual form.
-    pub fn residual(self) -> ResidualForm {
-        match self {
-            Self::Absolute => ResidualForm::Absolute,
-            Self::Eq12 => ResidualForm::Eq12,
-            Self::Midpoint => ResidualForm::Midpoint,
-            Self::Relative => ResidualForm::Relative,
-        }
-    }
-}
 
 /// How `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]

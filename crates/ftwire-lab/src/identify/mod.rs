@@ -54,13 +54,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use ftwire_estimate::calibration::Calibration;
-use ftwire_estimate::identify::{IdentifierParams, MeasurementNoise, ParameterConstraints, Sample};
+use ftwire_estimate::identify::{IdentifierParams, Sample};
 use serde::Serialize;
 
-pub use self::estimate::{
-    flag_name, identifier, loaded_config, run_identification, template_model,
-};
-pub use self::method::{Form, Pipeline};
+pub use self::estimate::loaded_config;
+pub use self::method::Pipeline;
 use self::summary::Row;
 pub use self::summary::{
     BySamples, DensityStats, IdentifySummary, IdentifyTimings, MedianTiming, ModelResults,
@@ -74,6 +72,10 @@ use crate::results::ResultsFolder;
 use crate::setup::SimSetup;
 use crate::wire::WireSpec;
 pub use ftwire_estimate::identify::MotionPlan;
+pub use ftwire_logs::identification::{
+    Form, ResidualParams, TEMPLATE_RADIUS, data_sheet_noise, flag_name, identifier,
+    run_identification, template_model,
+};
 
 /// The wires of Table I: 2 mm / 630 mm and 3 mm / 820 mm nitinol.
 pub const DEFAULT_WIRES: [&str; 2] = ["nitinol-2mm-630", "nitinol-3mm-820"];
@@ -98,137 +100,6 @@ pub const DEFAULT_TWIST: f64 = 40.0;
 /// 400 and 1000 the unseen-wire survey (`crates/ftwire/tests/identify_unseen.rs`) measured
 /// 400 best.
 pub const REST_SAMPLES: usize = 400;
-
-/// How to identify: the residual form and the known relations between the parameters.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct ResidualParams {
-    /// The residual minimised (default [`Form::Absolute`]).
-    pub form: Form,
-    /// Isotropic bending, `c3 = c2` (a wire of round cross-section).
-    pub isotropic: bool,
-    /// A known torsion ratio `ν = c1/c2` (a round rod: `1/(1 + Poisson's ratio)`); `None`:
-    /// identified.
-    pub torsion_ratio: Option<f64>,
-    /// The standard deviation of the pose `b̃` per axis, rotation \[rad\] and translation
-    /// \[m\]: the robot's repeatability at the rests, as the fit weights it and as its
-    /// covariance counts it; `None`: the library's default (0.05°, 0.1 mm).
-    pub pose_noise: Option<[f64; 2]>,
-    /// The relative error of each channel of `ã` that every sample shares (a calibration's
-    /// gain error), as a fraction ([`MeasurementNoise::gain`]); `None`: the command's default.
-    pub gain_error: Option<f64>,
-    /// The wire model's own relative error in each parameter, as a fraction
-    /// ([`IdentifierParams::model_error`]); `None`: the command's default.
-    pub model_floor: Option<f64>,
-}
-
-impl ResidualParams {
-    /// The library's settings: its defaults with these applied.
-    ///
-    /// # Errors
-    /// Bad input (exit 2) for a torsion ratio that is not positive.
-    pub fn config(&self) -> Result<IdentifierParams, LabError> {
-        let mut config = IdentifierParams {
-            form: self.form.residual(),
-            constraints: ParameterConstraints {
-                isotropic: self.isotropic,
-                torsion_ratio: self.torsion_ratio,
-                stiffness_per_length: false,
-                weight: None,
-            },
-            ..IdentifierParams::default()
-        };
-        config
-            .validate()
-            .map_err(|e| LabError::bad_input(format!("--torsion-ratio: {e}")))?;
-        config.noise = self.with_noise_settings(config.noise)?;
-        self.with_model_floor(&mut config, 0.0)?;
-        Ok(config)
-    }
-
-    /// Sets `config`'s model error to [`Self::model_floor`], or to `default` when not given.
-    ///
-    /// # Errors
-    /// Bad input (exit 2) naming a model floor outside `[0, 100)` %.
-    pub fn with_model_floor(
-        &self,
-        config: &mut IdentifierParams,
-        default: f64,
-    ) -> Result<(), LabError> {
-        let floor = self.model_floor.unwrap_or(default);
-        if !(floor.is_finite() && (0.0..1.0).contains(&floor)) {
-            return Err(LabError::bad_input(format!(
-                "--model-floor {}: give a percentage from 0 to below 100",
-                1e2 * floor
-            )));
-        }
-        config.model_error = floor;
-        Ok(())
-    }
-
-    /// `noise` with [`Self::pose_noise`] and [`Self::gain_error`] in place of its own, where
-    /// given.
-    ///
-    /// # Errors
-    /// Bad input (exit 2) naming a pose noise that is not finite and positive, or a gain error
-    /// outside `[0, 100)` %.
-    pub fn with_noise_settings(
-        &self,
-        noise: MeasurementNoise,
-    ) -> Result<MeasurementNoise, LabError> {
-        let mut noise = noise;
-        if let Some(gain) = self.gain_error {
-            if !(gain.is_finite() && (0.0..1.0).contains(&gain)) {
-                return Err(LabError::bad_input(format!(
-                    "--gain-error {}: give a percentage from 0 to below 100",
-                    1e2 * gain
-                )));
-            }
-            noise.gain = gain;
-            noise.torque_gain = None;
-        }
-        let Some([rotation, translation]) = self.pose_noise else {
-            return Ok(noise);
-        };
-        for (option, value, unit) in [
-            ("--pose-noise-deg", rotation.to_degrees(), "degrees"),
-            ("--pose-noise-mm", 1e3 * translation, "mm"),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(LabError::bad_input(format!(
-                    "{option} {value}: give a finite standard deviation > 0 [{unit}]"
-                )));
-            }
-        }
-        Ok(MeasurementNoise {
-            rotation,
-            translation,
-            ..noise
-        })
-    }
-}
-
-/// [`crate::experiment::rig::identification_noise_of`] with the map's relative gain error
-/// `gain` of every channel (a fraction; `None`: none): the error of `ã` a rig's log or a node
-/// draws its error bars and intervals from, given the sensor's data sheet.
-///
-/// # Errors
-/// Bad input naming `--sensor` for a drift that is not valid, or `--gain-error` outside
-/// `[0, 100)` %.
-pub fn data_sheet_noise(
-    sensor: &ftwire_sim::FtSensorParams,
-    mount: &ftwire_estimate::ft::Mounting,
-    (rest_samples, tare_samples): (usize, usize),
-    gain: Option<f64>,
-) -> Result<MeasurementNoise, LabError> {
-    let noise =
-        crate::experiment::rig::identification_noise_of(sensor, mount, rest_samples, tare_samples)
-            .map_err(|e| e.context("--sensor"))?;
-    ResidualParams {
-        gain_error: gain,
-        ..ResidualParams::default()
-    }
-    .with_noise_settings(noise)
-}
 
 /// The settings of the identification experiment.
 #[derive(Debug, Clone, PartialEq, Serialize)]

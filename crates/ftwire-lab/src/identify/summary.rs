@@ -4,13 +4,14 @@
 use ftwire_report::{LineChart, Series};
 use serde::Serialize;
 
-use super::method::{Form, Pipeline};
+use super::method::Pipeline;
 use crate::csv_table::{Cell, CsvTable, text, value};
 use crate::error::LabError;
 use crate::experiment::stats::median;
 use crate::experiment::{Gravity, ModelKind};
 use crate::results::ResultsFolder;
 use crate::wire::{WireSpec, file_stem};
+use ftwire_logs::identification::Form;
 
 /// Names of the four parameters, in the order of every `[4]` array.
 pub const PARAMETERS: [&str; 4] = ["c1", "c2", "c3", "L"];

@@ -10,9 +10,9 @@ use ftwire_estimate::identify::Sample;
 use ftwire_estimate::identify::{Estimate, IdentifierParams};
 use serde::Serialize;
 
-use super::estimate::run_identification;
 use crate::experiment::stats::median;
 use crate::wire::WireSpec;
+use ftwire_logs::identification::run_identification;
 
 /// Smallest `--until` target \[%\].
 pub const MIN_TARGET_PERCENT: f64 = 0.01;

@@ -10,8 +10,6 @@
 //! With neither file, [`SimSetup::default`] is exactly the rig the experiments have always
 //! run against.
 
-mod file;
-pub mod mounting;
 pub mod rig;
 pub mod sensor;
 
@@ -19,8 +17,7 @@ use std::path::Path;
 
 use ftwire_sim::RigParams;
 
-pub use file::SetupError;
-pub(crate) use file::{line_of, names_a_file};
+pub use ftwire_app::config::{SetupError, mounting};
 pub use rig::RigSpec;
 pub use sensor::SensorSpec;
 

@@ -24,7 +24,7 @@ use std::path::Path;
 use ftwire_sim::{ExecutionErrorParams, MarkerParams, RigParams};
 use serde::{Deserialize, Serialize};
 
-use super::file::{SetupError, parse_toml, read_toml, value_error};
+use ftwire_app::config::{SetupError, parse_toml, read_toml, value_error};
 
 /// The rig file: `ftwire_sim::RigParams` without its sensor (`--sensor`) and seed (`--seed`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -15,7 +15,7 @@ use std::path::Path;
 
 use ftwire_sim::{FtSensor, FtSensorParams};
 
-use super::file::{SetupError, parse_toml, read_toml, value_error};
+use ftwire_app::config::{SetupError, parse_toml, read_toml, value_error};
 
 /// The names of the preset sensors, as `--sensor` takes them.
 pub const PRESETS: [&str; 3] = ["distorted", "undistorted", "real-like"];
@@ -111,7 +111,7 @@ impl SensorSpec {
             return Ok(sensor);
         }
         let path = Path::new(given);
-        if !super::names_a_file(given) {
+        if !ftwire_app::config::names_a_file(given) {
             return Err(SetupError::Unknown {
                 kind: "sensor",
                 given: given.to_owned(),
@@ -146,6 +146,18 @@ impl SensorSpec {
             name: path.to_owned(),
             config,
         })
+    }
+}
+
+/// The data sheet of the simulated sensor `params`: what a rig would know of it (its white
+/// noise, drift and clamp), in the real rig's type, which never sees the simulator.
+pub fn data_sheet(params: &FtSensorParams) -> ftwire_rig::DataSheet {
+    ftwire_rig::DataSheet {
+        noise_std: params.noise_std,
+        bias_random_walk: params.bias_random_walk,
+        bias_time_constant: params.bias_time_constant,
+        clamp_position_in_sensor: params.clamp_position_in_sensor,
+        clamp_rotation_in_sensor: params.clamp_rotation_in_sensor,
     }
 }
 
@@ -189,6 +201,44 @@ mod tests {
         assert_eq!(
             SensorSpec::from_toml("", "s.toml")?.config,
             SensorSpec::default().config
+        );
+        Ok(())
+    }
+
+    /// The real rig's side reads the same files and presets without the simulator
+    /// (`ftwire_app::config::sensor`): its presets, its default and its keys must be the
+    /// simulator's.
+    #[test]
+    fn the_real_rigs_data_sheets_are_the_simulated_sensors()
+    -> Result<(), Box<dyn std::error::Error>> {
+        use ftwire_app::config::sensor::{
+            DEFAULT, DataSheetSpec, PRESETS as SHEETS, SIMULATOR_KEYS,
+        };
+        assert_eq!(SHEETS, PRESETS);
+        for name in PRESETS {
+            let simulated = SensorSpec::preset(name).ok_or("a preset")?;
+            let sheet = DataSheetSpec::preset(name).ok_or("a data sheet")?;
+            assert_eq!(sheet.sheet, data_sheet(&simulated.config), "{name}");
+        }
+        assert_eq!(DEFAULT, data_sheet(&FtSensorParams::default()));
+        let table = toml::Table::try_from(FtSensorParams::default())?;
+        let mut keys: Vec<&str> = table.keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        let mut known: Vec<&str> = SIMULATOR_KEYS
+            .into_iter()
+            .chain(ftwire_rig::DataSheet::KEYS)
+            .collect();
+        known.sort_unstable();
+        assert_eq!(keys, known);
+        // A file of the simulator's is a data sheet too, the same one.
+        let file = "rate = 500.0\nnoise_std = [0.1, 0.1, 0.1, 0.01, 0.01, 0.01]\n";
+        assert_eq!(
+            DataSheetSpec::from_toml(file, "s.toml")?.sheet,
+            data_sheet(&SensorSpec::from_toml(file, "s.toml")?.config)
+        );
+        assert_eq!(
+            crate::identify::TEMPLATE_RADIUS,
+            ftwire_sim::RodParams::default().radius
         );
         Ok(())
     }

@@ -153,7 +153,7 @@ pub fn place_in_scene(
     a0: &Vector6<f64>,
     config: RigParams,
 ) -> Result<SimRig, LabError> {
-    let params = wire.rod_params(gravity.vector(), SIM_EDGES);
+    let params = crate::wire::rod_params(wire, gravity.vector(), SIM_EDGES);
     let mut world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
     if obstacles {
         world = with_scene(world, scene).map_err(|e| from_sim(e, "the scene's obstacles"))?;

@@ -219,7 +219,7 @@ fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
         .mounting()
         .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?;
     let noise = ftwire_lab::identify::data_sheet_noise(
-        &sensor.config,
+        &ftwire_lab::setup::sensor::data_sheet(&sensor.config),
         &mount,
         (args.window, args.tare),
         args.gain_error.map(|pct| 1e-2 * pct),

@@ -1,4 +1,4 @@
-//! Reading a setup file: the TOML text of a sensor, rig or mounting file into its settings,
+//! Reading a settings file: the TOML text of a wire, sensor, rig or mounting file into its settings,
 //! and the errors that name the file, the line and the key.
 
 use std::path::Path;
@@ -47,7 +47,7 @@ pub enum SetupError {
 ///
 /// # Errors
 /// [`SetupError::Read`] or [`SetupError::Bad`] naming the file, with `toml`'s line and key.
-pub(super) fn read_toml<T: DeserializeOwned>(
+pub fn read_toml<T: DeserializeOwned>(
     kind: &'static str,
     path: &Path,
 ) -> Result<(T, String), SetupError> {
@@ -72,7 +72,7 @@ pub(super) fn read_toml<T: DeserializeOwned>(
 /// (a path separator, or a `.toml` name), or something exists there, a link that leads nowhere
 /// or round in a loop included. Such a name is read, and the system's error is reported when it
 /// cannot be; any other name is a misspelt preset. Used by `--wire` and `--sensor`.
-pub(crate) fn names_a_file(given: &str) -> bool {
+pub fn names_a_file(given: &str) -> bool {
     let path = Path::new(given);
     given.contains(std::path::MAIN_SEPARATOR)
         || given.contains('/')
@@ -86,7 +86,7 @@ pub(crate) fn names_a_file(given: &str) -> bool {
 ///
 /// # Errors
 /// [`SetupError::Bad`] with `toml`'s line, column and key.
-pub(super) fn parse_toml<T: DeserializeOwned>(
+pub fn parse_toml<T: DeserializeOwned>(
     kind: &'static str,
     text: &str,
     path: &str,
@@ -102,7 +102,7 @@ pub(super) fn parse_toml<T: DeserializeOwned>(
 /// first word of the message that is one of `defaults`' keys (at any depth), and the line of
 /// its first `key = …` in `text` is added when the file sets it (a default can fail a check only
 /// together with the file's other values, and has no line).
-pub(super) fn value_error(
+pub fn value_error(
     kind: &'static str,
     (path, text): (&str, &str),
     defaults: &impl serde::Serialize,
@@ -140,7 +140,7 @@ fn leaf_keys(table: &toml::Table) -> Vec<String> {
 }
 
 /// The 1-based line of the first `key = …` in `text`, if any (also used for wire files).
-pub(crate) fn line_of(text: &str, key: &str) -> Option<usize> {
+pub fn line_of(text: &str, key: &str) -> Option<usize> {
     if key.is_empty() {
         return None;
     }

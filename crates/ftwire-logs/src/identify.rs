@@ -1,6 +1,6 @@
 //! Identify a wire's `η = (c1, c2, c3, L)` from a recorded log (paper §III-B, eq. 12; the
 //! library's `ftwire_estimate::identify`), through the one identification the live experiment
-//! makes ([`crate::identify::run_identification`]: the model template, the swarm's random
+//! makes ([`crate::identification::run_identification`]: the model template, the swarm's random
 //! generator), so that both give the same answer on the same data and seed.
 //!
 //! Records with `a` (tared and calibrated) are used as they are; records with `raw` go
@@ -17,14 +17,16 @@ use std::time::Duration;
 
 use ftwire_core::Pose;
 use ftwire_estimate::ft::MountingSpec;
-use ftwire_estimate::identify::{Estimate, IdentifierParams, Sample, Unidentified};
+use ftwire_estimate::identify::{
+    Estimate, IdentifierParams, MeasurementNoise, Sample, Unidentified,
+};
 use nalgebra::{Vector3, Vector6};
 use serde::Serialize;
 
 use super::{LogLine, RawMap, a_tilde, read_log};
-use crate::error::{LabError, from_estimate};
-use crate::experiment::Progress;
-use crate::identify::{Form, ResidualParams, flag_name, identifier};
+use crate::identification::{Form, ResidualParams, flag_name, identifier};
+use ftwire_app::Progress;
+use ftwire_app::error::{LabError, from_estimate};
 
 /// What to identify from: the log, how its records become `ã`, and how to identify.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -51,9 +53,9 @@ pub struct IdentifyLogParams {
     pub drift: Option<LogDrift>,
 }
 
-/// What `identify --log` needs to model the sensor's shared bias
-/// ([`crate::experiment::rig::identification_noise_of`]): the sensor's data sheet, how many
-/// readings each record and the tare averaged, and when the tare was taken.
+/// What `identify --log` needs to model the sensor's shared bias, and `shape --log` to draw
+/// error bars ([`ftwire_rig::DataSheet::noise`]): the sensor's data sheet, how many readings
+/// each record and the tare averaged, and when the tare was taken.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LogDrift {
     /// The sensor preset or file (`--sensor`), as given.
@@ -61,7 +63,7 @@ pub struct LogDrift {
     /// Its settings: `noise_std`, `bias_random_walk`, `bias_time_constant` and, without
     /// `--mounting`, its clamp's place.
     #[serde(skip)]
-    pub params: ftwire_sim::FtSensorParams,
+    pub params: ftwire_rig::DataSheet,
     /// Readings averaged per record (`--rest-samples`).
     pub rest_samples: usize,
     /// Readings averaged by the tare (`--tare-samples`).
@@ -82,15 +84,40 @@ impl LogDrift {
         tare_samples: usize,
         tare_time: Option<f64>,
     ) -> Result<Self, LabError> {
-        let spec = crate::setup::SensorSpec::load(sensor)
+        let spec = ftwire_app::config::sensor::DataSheetSpec::load(sensor)
             .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
         Ok(Self {
             sensor: sensor.to_owned(),
-            params: spec.config,
+            params: spec.sheet,
             rest_samples,
             tare_samples,
             tare_time,
         })
+    }
+
+    /// The noise of `ã` from the data sheet, mapped by `mounting` (or else the sensor's own
+    /// clamp), with the map's gain error `gain` (a fraction; `None`: none).
+    ///
+    /// # Errors
+    /// Bad input naming `--sensor`, `--mounting` or `--gain-error`.
+    pub fn noise(
+        &self,
+        mounting: Option<&MountingSpec>,
+        gain: Option<f64>,
+    ) -> Result<MeasurementNoise, LabError> {
+        let mount = match mounting {
+            Some(spec) => spec
+                .mounting()
+                .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?,
+            None => ftwire_estimate::ft::Mounting::new(self.params.sensor_from_clamp())
+                .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
+        };
+        crate::identification::data_sheet_noise(
+            &self.params,
+            &mount,
+            (self.rest_samples, self.tare_samples),
+            gain,
+        )
     }
 }
 
@@ -105,22 +132,9 @@ impl IdentifyLogParams {
     pub fn config(&self) -> Result<IdentifierParams, LabError> {
         let mut config = self.residual.config()?;
         if let Some(drift) = &self.drift {
-            let mount = match &self.mounting {
-                Some(spec) => spec
-                    .mounting()
-                    .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?,
-                None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
-                    .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
-            };
-            config.noise = self.residual.with_noise_settings(
-                crate::experiment::rig::identification_noise_of(
-                    &drift.params,
-                    &mount,
-                    drift.rest_samples,
-                    drift.tare_samples,
-                )
-                .map_err(|e| e.context("--sensor"))?,
-            )?;
+            config.noise = self
+                .residual
+                .with_noise_settings(drift.noise(self.mounting.as_ref(), None)?)?;
         }
         // The calibration's own label model unless the flag names the same one.
         let given = self.gravity.map(Into::into);
@@ -228,8 +242,8 @@ pub const PROGRESS_TICK: Duration = Duration::from_millis(200);
 
 /// Identifies the wire from `samples` ([`samples`]) with the swarm seeded by
 /// [`IdentifyLogParams::seed`]: the same estimate as
-/// [`crate::identify::run_identification`] for the same samples and seed (the search is cut
-/// into steps of [`PROGRESS_TICK`] by [`crate::identify::identifier`], which the library's
+/// [`crate::identification::run_identification`] for the same samples and seed (the search is cut
+/// into steps of [`PROGRESS_TICK`] by [`crate::identification::identifier`], which the library's
 /// streaming identifier makes independent of the cut). After each step `progress` gets where
 /// the search is: the search round and the swarm iteration, or the refinement.
 ///
@@ -237,7 +251,7 @@ pub const PROGRESS_TICK: Duration = Duration::from_millis(200);
 /// ([`EstimateReport::reason`]).
 ///
 /// # Errors
-/// As [`IdentifyLogParams::config`] and [`crate::identify::run_identification`], with the
+/// As [`IdentifyLogParams::config`] and [`crate::identification::run_identification`], with the
 /// log named.
 pub fn estimate(
     params: &IdentifyLogParams,

@@ -38,9 +38,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::ShapeLog;
-use crate::error::LabError;
-use crate::experiment::Progress;
-use crate::results::ResultsFolder;
+use ftwire_app::Progress;
+use ftwire_app::error::LabError;
+use ftwire_app::results::ResultsFolder;
 
 /// Records solved together before they are flagged and written: bounds the memory of a long
 /// log, and gives the threads enough work each.

@@ -49,8 +49,8 @@ pub use folder::{BLOCK, ShapeLogRun, ShapeLogSummary, ShapeLogTimings};
 pub use ftwire_rig::shape::{DEFAULT_POINTS, MARKER_NODES, MAX_POINTS, MIN_POINTS};
 
 use super::{LogLine, a_tilde, raw_map, read_log};
-use crate::error::LabError;
-use crate::wire::WireSpec;
+use ftwire_app::config::wire::WireSpec;
+use ftwire_app::error::LabError;
 
 /// What to shape: the log, the wire, the model, and how its `raw` records become `ã`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -83,7 +83,7 @@ pub struct ShapeLogParams {
     pub model_error: Option<f64>,
     /// The sensor's data sheet (`--sensor`), for the error bars of every record: its rest's
     /// noise, the tare's and the drift since the tare at the record's time, mapped to `ã`
-    /// ([`crate::experiment::rig::identification_noise_of`]), in place of the calibration's
+    /// ([`super::identify::LogDrift::noise`]), in place of the calibration's
     /// test error; `None`: not given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensor: Option<super::identify::LogDrift>,
@@ -217,7 +217,7 @@ impl ShapeLog {
             .sensor
             .as_ref()
             .map(|drift| {
-                let noise = sensor_noise(drift, params.mounting.as_ref(), params.gain_error)?;
+                let noise = drift.noise(params.mounting.as_ref(), params.gain_error)?;
                 Ok::<_, LabError>((noise, drift.tare_time.unwrap_or(first_time)))
             })
             .transpose()?;
@@ -359,31 +359,6 @@ impl Iterator for LogShapes {
             covariance.as_ref(),
         ))
     }
-}
-
-/// The noise of `ã` from the sensor's data sheet `drift`, mapped by `mounting` (or the
-/// sensor's own clamp), with the gain error `gain` (a fraction).
-///
-/// # Errors
-/// Bad input naming `--sensor`, `--mounting` or `--gain-error`.
-fn sensor_noise(
-    drift: &super::identify::LogDrift,
-    mounting: Option<&MountingSpec>,
-    gain: Option<f64>,
-) -> Result<MeasurementNoise, LabError> {
-    let mount = match mounting {
-        Some(spec) => spec
-            .mounting()
-            .map_err(|e| LabError::bad_input(format!("--mounting: {e}")))?,
-        None => ftwire_estimate::ft::Mounting::new(drift.params.sensor_from_clamp())
-            .map_err(|e| LabError::bad_input(format!("--sensor's mounting: {e}")))?,
-    };
-    crate::identify::data_sheet_noise(
-        &drift.params,
-        &mount,
-        (drift.rest_samples, drift.tare_samples),
-        gain,
-    )
 }
 
 #[cfg(test)]

@@ -19,6 +19,7 @@
 //! `crates/ftwire/tests/{identify_log,shape_log}.rs`.
 
 pub mod calibrate;
+pub mod identification;
 pub mod identify;
 pub mod shape;
 
@@ -32,7 +33,7 @@ pub use ftwire_rig::RawMap;
 use ftwire_rig::{Reading, RigError};
 use nalgebra::Vector6;
 
-use crate::error::LabError;
+use ftwire_app::error::LabError;
 
 /// Reads the log at `path`: every record with its line number in the file, in order.
 ///
@@ -49,10 +50,10 @@ use crate::error::LabError;
 /// let path = dir.join("rig.jsonl");
 /// let good = r#"{"time": 0.0, "a": [0, 0.01, 0, 0, 0.1, 0], "b": {"position": [0.5, 0.1, 0], "rotation": [0, 0, 0.4]}}"#;
 /// std::fs::write(&path, format!("{good}\n{{\"time\": oops\n"))?;
-/// let error = ftwire_lab::log::read_log(&path).err().ok_or("line 2 is bad")?;
+/// let error = ftwire_logs::read_log(&path).err().ok_or("line 2 is bad")?;
 /// assert!(error.to_string().contains("line 2"));
 /// std::fs::write(&path, format!("# rig 7\n{good}\n"))?;
-/// let log = ftwire_lab::log::read_log(&path)?;
+/// let log = ftwire_logs::read_log(&path)?;
 /// assert_eq!((log.len(), log[0].line), (1, 2));
 /// # std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -116,7 +117,7 @@ pub fn model_gravity(map: &RawMap, given: Option<[f64; 3]>) -> Result<Option<[f6
 /// # Example
 /// ```
 /// use ftwire_estimate::ft::MountingSpec;
-/// use ftwire_lab::log::{LogLine, LogRecord, a_tilde};
+/// use ftwire_logs::{LogLine, LogRecord, a_tilde};
 /// use ftwire_rig::RawMap;
 /// let record = LogRecord { time: 0.5, raw: Some([0.1, 0.0, -0.2, 0.0, 0.01, 0.0]), a: None, b: None, markers: None, gravity: None };
 /// let line = LogLine { line: 7, record };

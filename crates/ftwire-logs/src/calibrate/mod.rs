@@ -61,11 +61,11 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use crate::csv_table::{CsvTable, text, value};
-use crate::error::{LabError, from_estimate};
-use crate::experiment::{ModelKind, Progress, known_model_under};
-use crate::results::ResultsFolder;
-use crate::wire::WireSpec;
+use ftwire_app::Progress;
+use ftwire_app::config::wire::WireSpec;
+use ftwire_app::csv_table::{CsvTable, text, value};
+use ftwire_app::error::{LabError, from_estimate};
+use ftwire_app::results::ResultsFolder;
 
 mod drift;
 mod labelled;
@@ -237,10 +237,7 @@ impl LogCalibrateParams {
 
     /// The model under `gravity` in the clamp frame (`None`: weight-free).
     fn model_under(&self, gravity: Option<[f64; 3]>) -> Result<KirchhoffModel, LabError> {
-        match gravity {
-            None => known_model_under(&self.wire, Vector3::zeros(), ModelKind::Weightless),
-            Some(g) => known_model_under(&self.wire, Vector3::from(g), ModelKind::Loaded),
-        }
+        crate::shape::wire_model(&self.wire, gravity)
     }
 }
 
