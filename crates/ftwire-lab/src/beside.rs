@@ -36,9 +36,18 @@ pub fn report(dir: &Path, statuses: &[(&str, &str)], quick: bool, sensor: &str) 
         md,
         "# ftwire against Mishani & Sintov (RA-L 2022), §IV\n\nIn the simulator, gravity on, \
          {sensor} through the learnt calibration{}. Each experiment's own folder has its full \
-         summary, figures and log.\n",
+         summary, figures and log.\n\nWhat to expect on a real rig: the columns and rows marked \
+         *real-like* repeat an experiment with the `real-like` recording preset (`--sensor \
+         real-like --protocol single-readings`: the sensor as a real recording shows it, offsets, \
+         drift, a weak torsion channel, one reading's scatter and hysteresis, and its calibration \
+         session recorded as single readings; `docs/real-rig.md`){}.\n",
         if quick {
             "; **quick run** (reduced trial counts)"
+        } else {
+            ""
+        },
+        if quick {
+            ", in a quick run Table II's only"
         } else {
             ""
         }
@@ -56,23 +65,32 @@ pub fn report(dir: &Path, statuses: &[(&str, &str)], quick: bool, sensor: &str) 
             md,
             "## §IV-A: the learnt F/T calibration\n\nOn the test split of the known wire \
              ({}): relative error of `ã` against the true wrench, and the shape error of \
-             Φ(ã).\n\n| map | torque % | force % | shape mm |\n| --- | --- | --- | --- |\n\
-             | raw (mounting only) | {} | {} | {} |\n| calibrated | {} | {} | {} |\n",
+             Φ(ã).\n\n| map | torque % | force % | shape mm |\n| --- | --- | --- | --- |",
             escape_markdown(s["wire"]["name"].as_str().unwrap_or("?")),
-            percent(&s["raw"]["torque_rel"]),
-            percent(&s["raw"]["force_rel"]),
-            number(&s["raw"]["shape_mm"], 2),
-            percent(&s["calibrated"]["torque_rel"]),
-            percent(&s["calibrated"]["force_rel"]),
-            number(&s["calibrated"]["shape_mm"], 2),
         );
+        let real_like = summary_of(dir, "calibrate_real_like");
+        let runs = [("", Some(&s)), (", real-like", real_like.as_ref())];
+        for (suffix, run) in runs {
+            let Some(run) = run else { continue };
+            for (key, label) in [("raw", "raw (mounting only)"), ("calibrated", "calibrated")] {
+                let _ = writeln!(
+                    md,
+                    "| {label}{suffix} | {} | {} | {} |",
+                    percent(&run[key]["torque_rel"]),
+                    percent(&run[key]["force_rel"]),
+                    number(&run[key]["shape_mm"], 2),
+                );
+            }
+        }
+        md.push('\n');
     }
     if let Some(s) = summary_of(dir, "shape") {
+        let real_like = summary_of(dir, "shape_real_like");
         let _ = writeln!(
             md,
             "## Table II: shape from F/T, mean distance to the true wire [mm]\n\n\
-             | wire | ours, loaded model | ours, the paper's model (same ã) | paper |\n\
-             | --- | --- | --- | --- |"
+             | wire | ours, loaded model | ours, the paper's model (same ã) | real-like, loaded \
+             model | paper |\n| --- | --- | --- | --- | --- |"
         );
         for wire in s["wires"].as_array().into_iter().flatten() {
             let name = wire["name"].as_str().unwrap_or("?");
@@ -80,9 +98,18 @@ pub fn report(dir: &Path, statuses: &[(&str, &str)], quick: bool, sensor: &str) 
                 .iter()
                 .find(|(n, _)| *n == name)
                 .map_or_else(|| "–".to_owned(), |(_, mm)| format!("{mm:.2}"));
+            let realistic = real_like
+                .as_ref()
+                .and_then(|r| {
+                    r["wires"]
+                        .as_array()
+                        .and_then(|ws| ws.iter().find(|w| w["name"] == name))
+                        .map(|w| number(&w["loaded_mean_mm"], 2))
+                })
+                .unwrap_or_else(|| "–".to_owned());
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {paper} |",
+                "| {} | {} | {} | {realistic} | {paper} |",
                 escape_markdown(name),
                 number(&wire["loaded_mean_mm"], 2),
                 number(&wire["kirchhoff_mean_mm"], 2),
@@ -91,23 +118,28 @@ pub fn report(dir: &Path, statuses: &[(&str, &str)], quick: bool, sensor: &str) 
         md.push('\n');
     }
     if let Some(s) = summary_of(dir, "goal") {
-        goal_table(&mut md, &s);
+        goal_table(&mut md, &s, summary_of(dir, "goal_real_like").as_ref());
     }
     if let Some(s) = summary_of(dir, "track") {
-        track_table(&mut md, &s);
+        track_table(&mut md, &s, summary_of(dir, "track_real_like").as_ref());
     }
-    let passages: Vec<Value> = ["passage", "passage_offset"]
-        .iter()
-        .filter_map(|id| summary_of(dir, id))
-        .collect();
+    let passages: Vec<(Value, &str)> = [
+        ("passage", ""),
+        ("passage_offset", ""),
+        ("passage_real_like", " (real-like)"),
+    ]
+    .iter()
+    .filter_map(|(id, label)| summary_of(dir, id).map(|s| (s, *label)))
+    .collect();
     if !passages.is_empty() {
         passage_table(&mut md, &passages);
     }
     md
 }
 
-/// Table IV: tracking planned paths, ours beside the paper's.
-fn track_table(md: &mut String, s: &Value) {
+/// Table IV: tracking planned paths, ours (and the real-like run's, if there is one) beside
+/// the paper's.
+fn track_table(md: &mut String, s: &Value, real_like: Option<&Value>) {
     let _ = writeln!(
         md,
         "## Table IV: tracking a path planned with RRT* ({} pairs, noise model {}, gain {})\n\n\
@@ -119,18 +151,24 @@ fn track_table(md: &mut String, s: &Value) {
         number(&s["gain"], 2),
     );
     let (open, closed, closed_std) = TABLE_IV;
-    for (key, label, paper) in [
+    let rows = [
         ("open_loop", "open loop", format!("{open:.2}")),
         (
             "closed_loop",
             "closed loop",
             format!("{closed:.2} ± {closed_std:.2}"),
         ),
-    ] {
-        let r = &s["results"][key];
+    ];
+    let runs = [(s, ""), (real_like.unwrap_or(&Value::Null), ", real-like")];
+    for ((run, suffix), (key, label, paper)) in runs
+        .iter()
+        .filter(|(run, _)| !run.is_null())
+        .flat_map(|run| rows.iter().map(move |row| (run, row)))
+    {
+        let r = &run["results"][key];
         let _ = writeln!(
             md,
-            "| {label} | {} ± {} | {} | {} | {paper} |",
+            "| {label}{suffix} | {} ± {} | {} | {} | {paper} |",
             number(&r["mean_mm"], 2),
             number(&r["std_mm"], 2),
             number(&r["max_mm"], 2),
@@ -142,7 +180,7 @@ fn track_table(md: &mut String, s: &Value) {
 
 /// §IV-E: the passage success rates, ours beside the paper's ([`PASSAGE_SUCCESSES`] of
 /// [`PASSAGE_ATTEMPTS`], with the paper's noise).
-fn passage_table(md: &mut String, runs: &[Value]) {
+fn passage_table(md: &mut String, runs: &[(Value, &str)]) {
     let _ = writeln!(
         md,
         "## §IV-E: through the 50 mm passage\n\nSuccess: the whole path executed and the true \
@@ -156,7 +194,7 @@ fn passage_table(md: &mut String, runs: &[Value]) {
     );
     let rate = |successes: usize| format!("{successes}/{PASSAGE_ATTEMPTS} (increment)");
     let (open, closed) = (rate(PASSAGE_SUCCESSES.0), rate(PASSAGE_SUCCESSES.1));
-    for s in runs {
+    for (s, suffix) in runs {
         let noise = s["noise_model"].as_str().unwrap_or("?");
         for (key, label, paper) in [
             ("open_loop", "open loop", open.as_str()),
@@ -165,7 +203,7 @@ fn passage_table(md: &mut String, runs: &[Value]) {
             let r = &s["results"][key];
             let _ = writeln!(
                 md,
-                "| {} | {label} | {}/{} | {} | {} | {} | {} | {} |",
+                "| {} | {label}{suffix} | {}/{} | {} | {} | {} | {} | {} |",
                 code_span(noise),
                 number(&r["successes"], 0),
                 number(&r["attempts"], 0),
@@ -243,16 +281,18 @@ fn identification_table(md: &mut String, s: &Value) {
     md.push('\n');
 }
 
-/// Table III: goal reaching, ours beside the paper's.
-fn goal_table(md: &mut String, s: &Value) {
+/// Table III: goal reaching, ours (and the real-like run's, if there is one) beside the
+/// paper's.
+fn goal_table(md: &mut String, s: &Value, real_like: Option<&Value>) {
     let _ = writeln!(
         md,
         "## Table III: reaching a goal in A ({} pairs, noise model {})\n\nMean distance \
          [mm] between the true final shape and Φ(a_g) (± std), the trials counted (failed runs \
          and simulator failures are left out and listed in the experiment's summary), and the \
          mean over the trials in which the simulated wire did not snap to another shape.\n\n\
-         | | ours, open loop | ours, closed loop | paper, open loop | paper, closed loop |\n\
-         | --- | --- | --- | --- | --- |",
+         | | ours, open loop | ours, closed loop | real-like, open loop | real-like, closed \
+         loop | paper, open loop | paper, closed loop |\n\
+         | --- | --- | --- | --- | --- | --- | --- |",
         number(&s["pairs"], 0),
         code_span(s["noise_model"].as_str().unwrap_or("?")),
     );
@@ -266,12 +306,17 @@ fn goal_table(md: &mut String, s: &Value) {
         )
     };
     for (key, open, closed) in TABLE_III {
+        let realistic = |mode: &str| {
+            real_like.map_or_else(|| "–".to_owned(), |r| cell(&r["results"][mode][key]))
+        };
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {open:.2} | {closed:.2} |",
+            "| {} | {} | {} | {} | {} | {open:.2} | {closed:.2} |",
             key.replace('_', " "),
             cell(&s["results"]["open_loop"][key]),
             cell(&s["results"]["closed_loop"][key]),
+            realistic("open_loop"),
+            realistic("closed_loop"),
         );
     }
     let c = &s["collision"];

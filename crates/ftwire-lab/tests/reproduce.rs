@@ -1,6 +1,6 @@
 //! A reproduction as a library call, with a runner that stands in for the experiments: the
-//! calibration first, the others after it on the pool, each job's log moved into its folder,
-//! a failure kept as a status, and nothing after a failed calibration.
+//! calibrations first, the others after them on the pool, each job's log moved into its folder,
+//! a failure kept as a status, and nothing that needs a failed calibration.
 
 use std::sync::Mutex;
 
@@ -38,12 +38,14 @@ fn a_failed_experiment_is_a_status_and_the_others_still_run() {
         run.ids(),
         [
             "calibrate",
+            "calibrate_real_like",
             "identify",
             "shape",
             "goal",
             "track",
             "passage",
-            "passage_offset"
+            "passage_offset",
+            "shape_real_like"
         ]
     );
     for status in &run.summary.experiments {
@@ -54,7 +56,7 @@ fn a_failed_experiment_is_a_status_and_the_others_still_run() {
         };
         assert_eq!(status.status, expected, "{}", status.id);
     }
-    assert_eq!(run.timings.experiments.len(), 7);
+    assert_eq!(run.timings.experiments.len(), 9);
     let shape_log = folder.dir().join("shape").join("log.txt");
     assert_eq!(
         std::fs::read_to_string(shape_log).ok().as_deref(),
@@ -74,10 +76,10 @@ fn a_failed_experiment_is_a_status_and_the_others_still_run() {
     }
     let lines = lines.into_inner().expect("not poisoned");
     assert!(
-        lines[0].contains("7 experiments (quick), 2 at a time"),
+        lines[0].contains("9 experiments (quick), 2 at a time"),
         "{lines:?}"
     );
-    assert_eq!(lines.len(), 8);
+    assert_eq!(lines.len(), 10);
     let e = run.require_all_ok(folder.dir()).expect_err("goal failed");
     assert_eq!(e.exit_code(), 1);
     assert!(
@@ -87,11 +89,12 @@ fn a_failed_experiment_is_a_status_and_the_others_still_run() {
 }
 
 #[test]
-fn nothing_runs_after_a_failed_calibration() {
+fn nothing_that_needs_a_failed_calibration_runs() {
     let dir = TempDir::new("reproduce-no-calibration");
     let folder = dir.results("reproduce");
     let params = ReproduceParams {
         jobs: Some(1),
+        quick: true,
         ..ReproduceParams::default()
     };
     let ran = Mutex::new(Vec::new());
@@ -100,12 +103,19 @@ fn nothing_runs_after_a_failed_calibration() {
         fake(job, "calibrate")
     };
     let run = reproduce::run(&params, &folder, &runner, &|_| {}).expect("a report");
-    assert_eq!(ran.into_inner().expect("not poisoned"), ["calibrate"]);
-    assert!(
-        run.summary.experiments[1..]
-            .iter()
-            .all(|s| s.status == "not run: the calibration failed")
+    // The real-like calibration and its experiment still run.
+    assert_eq!(
+        ran.into_inner().expect("not poisoned"),
+        ["calibrate", "calibrate_real_like", "shape_real_like"]
     );
+    for status in &run.summary.experiments[2..] {
+        let expected = if status.id == "shape_real_like" {
+            OK
+        } else {
+            "not run: the calibration calibrate failed"
+        };
+        assert_eq!(status.status, expected, "{}", status.id);
+    }
 }
 
 #[test]

@@ -54,6 +54,8 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
             "track",
             "passage",
             "passage_offset",
+            "calibrate_real_like",
+            "shape_real_like",
         ] {
             assert!(out.join(id).join("summary.json").is_file(), "{id}");
             assert!(out.join(id).join("log.txt").is_file(), "{id}'s log");
@@ -102,6 +104,26 @@ fn the_quick_report_is_the_same_for_one_or_two_jobs() {
         assert!(one.contains(table), "{table} in the report:\n{one}");
         assert!(page.contains(table), "{table} in docs/results.md");
     }
+    // Table II has the real-like column filled: every cell of a wire's row is a number.
+    let table_ii = one
+        .split("## Table II")
+        .nth(1)
+        .and_then(|rest| rest.split("\n## ").next())
+        .expect("Table II");
+    let rows: Vec<&str> = table_ii
+        .lines()
+        .filter(|l| l.starts_with("| nitinol") || l.starts_with("| cable"))
+        .collect();
+    assert!(!rows.is_empty(), "{table_ii}");
+    for row in rows {
+        let cells: Vec<&str> = row.trim_matches('|').split('|').map(str::trim).collect();
+        assert_eq!(cells.len(), 5, "{row}");
+        assert!(
+            cells[1..4].iter().all(|c| c.parse::<f64>().is_ok()),
+            "{row}"
+        );
+    }
+    assert!(one.contains("calibrated, real-like"), "{one}");
     let row = one
         .lines()
         .find(|l| l.starts_with("| nitinol-2mm-630 | c1 |"))

@@ -1,5 +1,11 @@
-//! The experiments of a reproduction and their arguments: the calibration first, then the
-//! experiments that use it, each an `ftwire` command line with its own results folder and log.
+//! The experiments of a reproduction and their arguments: the calibrations first, then the
+//! experiments that use them, each an `ftwire` command line with its own results folder and log.
+//!
+//! Beside the simulated tables, the same experiments with the `real-like` recording preset
+//! ([`REAL_LIKE_ARGS`]: the sensor as a real recording shows it, its calibration session
+//! recorded as single readings), ids ending in [`REAL_LIKE_SUFFIX`]: what to expect on a real
+//! rig. A quick run has only the shape's (Table II); a full run also the goal's, the
+//! tracking's and the passage's.
 
 use std::ffi::OsString;
 use std::path::Path;
@@ -22,7 +28,16 @@ pub struct Job {
     /// Expected wall time \[s\] on a 2-core machine, quick and full, announced before the run
     /// (an estimate, not a bound).
     pub expected_s: (f64, f64),
+    /// The calibration job whose `calibration.json` it uses (`None`: it is a calibration).
+    pub calibration: Option<&'static str>,
 }
+
+/// The arguments of the `real-like` recording preset: the sensor of `--sensor real-like` and a
+/// calibration session of single readings (`docs/real-rig.md`).
+pub const REAL_LIKE_ARGS: [&str; 4] = ["--sensor", "real-like", "--protocol", "single-readings"];
+
+/// The end of a real-like job's id: `shape` beside `shape_real_like`.
+pub const REAL_LIKE_SUFFIX: &str = "_real_like";
 
 impl Job {
     /// The expected wall time \[s\] of a quick or a full run.
@@ -40,21 +55,25 @@ fn strings(args: &[&str]) -> Vec<String> {
 }
 
 impl ReproduceParams {
-    /// The calibration job of a reproduction into `dir` (it runs alone, before the others).
-    pub fn calibration_job(&self, dir: &Path) -> Job {
+    /// The calibration jobs of a reproduction into `dir`, the simulated and the real-like
+    /// (they run before the others).
+    pub fn calibration_jobs(&self, dir: &Path) -> Vec<Job> {
         let trials = if self.quick { "300" } else { "600" };
         let args = strings(&["experiment", "calibrate", "--trials", trials]);
-        self.job(dir, "calibrate", args, (25.0, 50.0))
+        vec![
+            self.job(dir, "calibrate", args.clone(), (25.0, 50.0), None),
+            self.real_like_job(dir, "calibrate_real_like", args, (25.0, 50.0), None),
+        ]
     }
 
-    /// The calibration's weights in a reproduction into `dir`.
-    pub fn calibration_file(&self, dir: &Path) -> std::path::PathBuf {
-        dir.join("calibrate").join("calibration.json")
+    /// The `calibration.json` of calibration job `id` in a reproduction into `dir`.
+    pub fn calibration_file(&self, dir: &Path, id: &str) -> std::path::PathBuf {
+        dir.join(id).join("calibration.json")
     }
 
-    /// The jobs of a reproduction into `dir` that use the calibration, in report order.
-    /// Quick: the paper's trial counts at three samples only; full: every sample count of
-    /// Figs. 3–4.
+    /// The jobs of a reproduction into `dir` that use a calibration, in report order, the
+    /// real-like ones last. Quick: the paper's trial counts at three samples only, and of the
+    /// real-like ones the shape's; full: every sample count of Figs. 3–4.
     pub fn experiment_jobs(&self, dir: &Path) -> Vec<Job> {
         let quick = self.quick;
         let mut identify = strings(&["experiment", "identify"]);
@@ -76,26 +95,71 @@ impl ReproduceParams {
             passage.extend(strings(&["--attempts", "4", "--plan-candidates", "1"]));
             passage_offset.extend(strings(&["--attempts", "4"]));
         }
-        let calibration = self.calibration_file(dir).to_string_lossy().into_owned();
-        [
+        let calibration = |id: &str| {
+            vec![
+                "--calibration".to_owned(),
+                self.calibration_file(dir, id)
+                    .to_string_lossy()
+                    .into_owned(),
+            ]
+        };
+        let simulated = [
             ("identify", identify, (5.0, 120.0)),
-            ("shape", shape, (10.0, 10.0)),
-            ("goal", goal, (25.0, 70.0)),
-            ("track", track, (50.0, 220.0)),
-            ("passage", passage, (20.0, 230.0)),
+            ("shape", shape.clone(), (10.0, 10.0)),
+            ("goal", goal.clone(), (25.0, 70.0)),
+            ("track", track.clone(), (50.0, 220.0)),
+            ("passage", passage.clone(), (20.0, 230.0)),
             ("passage_offset", passage_offset, (20.0, 170.0)),
-        ]
-        .into_iter()
-        .map(|(id, mut args, expected_s)| {
-            args.extend(["--calibration".to_owned(), calibration.clone()]);
-            self.job(dir, id, args, expected_s)
-        })
-        .collect()
+        ];
+        let mut jobs: Vec<Job> = simulated
+            .into_iter()
+            .map(|(id, mut args, expected_s)| {
+                args.extend(calibration("calibrate"));
+                self.job(dir, id, args, expected_s, Some("calibrate"))
+            })
+            .collect();
+        let mut real_like = vec![("shape_real_like", shape, (10.0, 10.0))];
+        if !quick {
+            real_like.extend([
+                ("goal_real_like", goal, (25.0, 70.0)),
+                ("track_real_like", track, (50.0, 220.0)),
+                ("passage_real_like", passage, (20.0, 230.0)),
+            ]);
+        }
+        for (id, mut args, expected_s) in real_like {
+            args.extend(calibration("calibrate_real_like"));
+            jobs.push(self.real_like_job(dir, id, args, expected_s, Some("calibrate_real_like")));
+        }
+        jobs
+    }
+
+    /// [`Self::job`] with the real-like recording preset in place of the sensor given.
+    fn real_like_job(
+        &self,
+        dir: &Path,
+        id: &'static str,
+        mut args: Vec<String>,
+        expected_s: (f64, f64),
+        calibration: Option<&'static str>,
+    ) -> Job {
+        args.extend(strings(&REAL_LIKE_ARGS));
+        let own = Self {
+            sensor: None,
+            ..self.clone()
+        };
+        own.job(dir, id, args, expected_s, calibration)
     }
 
     /// Job `id` into `dir/<id>`: `args`, then the sensor and rig passed on, the seed and the
     /// results folder.
-    fn job(&self, dir: &Path, id: &'static str, args: Vec<String>, expected_s: (f64, f64)) -> Job {
+    fn job(
+        &self,
+        dir: &Path,
+        id: &'static str,
+        args: Vec<String>,
+        expected_s: (f64, f64),
+        calibration: Option<&'static str>,
+    ) -> Job {
         let out = dir.join(id);
         let mut args: Vec<OsString> = args.into_iter().map(OsString::from).collect();
         if let Some(sensor) = &self.sensor {
@@ -116,6 +180,7 @@ impl ReproduceParams {
             out,
             log: dir.join(format!("{id}.log")),
             expected_s,
+            calibration,
         }
     }
 }
@@ -133,10 +198,15 @@ mod tests {
             ..ReproduceParams::default()
         };
         let dir = Path::new("/tmp/r");
-        let calibration = params.calibration_job(dir);
+        let calibrations = params.calibration_jobs(dir);
         assert_eq!(
-            calibration.args.join(std::ffi::OsStr::new(" ")),
+            calibrations[0].args.join(std::ffi::OsStr::new(" ")),
             "experiment calibrate --trials 300 --sensor undistorted --seed 7 --out /tmp/r/calibrate"
+        );
+        assert_eq!(
+            calibrations[1].args.join(std::ffi::OsStr::new(" ")),
+            "experiment calibrate --trials 300 --sensor real-like --protocol single-readings \
+             --seed 7 --out /tmp/r/calibrate_real_like"
         );
         let jobs = params.experiment_jobs(dir);
         let ids: Vec<&str> = jobs.iter().map(|j| j.id).collect();
@@ -148,18 +218,42 @@ mod tests {
                 "goal",
                 "track",
                 "passage",
-                "passage_offset"
+                "passage_offset",
+                "shape_real_like"
             ]
         );
         for job in &jobs {
             let line = job.args.join(std::ffi::OsStr::new(" "));
             let line = line.to_string_lossy();
+            let real_like = job.id.ends_with(REAL_LIKE_SUFFIX);
+            let (calibration, sensor) = if real_like {
+                (
+                    "calibrate_real_like",
+                    "--sensor real-like --protocol single-readings",
+                )
+            } else {
+                ("calibrate", "--sensor undistorted")
+            };
+            assert_eq!(job.calibration, Some(calibration));
             assert!(
-                line.contains("--calibration /tmp/r/calibrate/calibration.json --sensor"),
+                line.contains(&format!(
+                    "--calibration /tmp/r/{calibration}/calibration.json {sensor} --seed"
+                )),
                 "{line}"
             );
             assert!(line.ends_with(&format!("--seed 7 --out /tmp/r/{}", job.id)));
             assert_eq!(job.log, dir.join(format!("{}.log", job.id)));
         }
+        let full = ReproduceParams {
+            quick: false,
+            ..params
+        };
+        let ids: Vec<&str> = full.experiment_jobs(dir).iter().map(|j| j.id).collect();
+        assert!(ids.ends_with(&[
+            "shape_real_like",
+            "goal_real_like",
+            "track_real_like",
+            "passage_real_like"
+        ]));
     }
 }

@@ -1,8 +1,9 @@
 //! A reproduction of the paper's §IV (`ftwire reproduce`): every experiment ftwire has, in the
 //! simulator, and one report that sets the paper's tables beside ours.
 //!
-//! The calibration runs first ([`ReproduceParams::calibration_job`]); the experiments that
-//! use it ([`ReproduceParams::experiment_jobs`]) then run in parallel, [`ReproduceParams::jobs`]
+//! The calibrations run first ([`ReproduceParams::calibration_jobs`]: the simulated sensor's and
+//! the real-like recording's); the experiments that use them
+//! ([`ReproduceParams::experiment_jobs`]) then run in parallel, [`ReproduceParams::jobs`]
 //! at a time on a rayon pool, each through the caller's [`Runner`] (the `ftwire` binary runs
 //! each as an `ftwire experiment` process of its own, so their printed tables do not
 //! interleave and one failure does not take the others down) with its own results folder and
@@ -27,7 +28,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
-pub use jobs::Job;
+pub use jobs::{Job, REAL_LIKE_ARGS, REAL_LIKE_SUFFIX};
 pub use params::ReproduceParams;
 
 use crate::error::LabError;
@@ -133,8 +134,8 @@ fn run_job(job: &Job, runner: Runner, progress: SharedProgress) -> (Status, f64)
     (Status { id: job.id, status }, seconds)
 }
 
-/// Runs the calibration, then every other experiment on a pool of [`ReproduceParams::jobs`]
-/// threads (none when the calibration failed: each is then "not run"), each into its subfolder
+/// Runs the calibrations, then every other experiment on a pool of [`ReproduceParams::jobs`]
+/// threads (an experiment whose calibration failed is "not run"), each into its subfolder
 /// of `folder` through `runner`; writes `report.md` and `report.html`, and returns the summary,
 /// timings and report for the caller to write (it does not finish the folder).
 ///
@@ -150,40 +151,62 @@ pub fn run(
     let total = Instant::now();
     let jobs = params.jobs();
     let dir = folder.dir().to_path_buf();
-    let calibration = params.calibration_job(&dir);
+    let calibrations = params.calibration_jobs(&dir);
     let rest = params.experiment_jobs(&dir);
     let quick = params.quick;
-    let parallel: f64 = rest.iter().map(|j| j.expected(quick)).sum::<f64>() / jobs as f64;
-    let longest = rest.iter().map(|j| j.expected(quick)).fold(0.0, f64::max);
+    let expected = |jobs_of: &[Job]| {
+        let parallel: f64 = jobs_of.iter().map(|j| j.expected(quick)).sum::<f64>() / jobs as f64;
+        let longest = jobs_of
+            .iter()
+            .map(|j| j.expected(quick))
+            .fold(0.0, f64::max);
+        parallel.max(longest)
+    };
     progress(&format!(
         "reproduce: {} experiments{}, {jobs} at a time; expected time about {:.0} min on a \
          2-core machine",
-        rest.len() + 1,
+        calibrations.len() + rest.len(),
         if quick { " (quick)" } else { "" },
-        ((calibration.expected(quick) + parallel.max(longest)) / 60.0).ceil()
+        ((expected(&calibrations) + expected(&rest)) / 60.0).ceil()
     ));
-    let (first, first_s) = run_job(&calibration, runner, progress);
-    let mut statuses = vec![first];
-    let mut timings = vec![(calibration.id, first_s)];
-    if statuses[0].status == OK {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(jobs)
-            .build()
-            .map_err(|e| LabError::bad_input(format!("--jobs {jobs}: {e}")))?;
-        let results: Vec<(Status, f64)> = pool.install(|| {
-            rest.par_iter()
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| LabError::bad_input(format!("--jobs {jobs}: {e}")))?;
+    let run_all = |list: &[&Job]| -> Vec<(Status, f64)> {
+        pool.install(|| {
+            list.par_iter()
                 .map(|job| run_job(job, runner, progress))
                 .collect()
-        });
-        for (job, (status, seconds)) in rest.iter().zip(results) {
+        })
+    };
+    let mut statuses = Vec::new();
+    let mut timings = Vec::new();
+    let first: Vec<&Job> = calibrations.iter().collect();
+    for (job, (status, seconds)) in calibrations.iter().zip(run_all(&first)) {
+        statuses.push(status);
+        timings.push((job.id, seconds));
+    }
+    let calibrated = |job: &Job| {
+        statuses
+            .iter()
+            .any(|s| Some(s.id) == job.calibration && s.status == OK)
+    };
+    let (runnable, blocked): (Vec<&Job>, Vec<&Job>) = rest.iter().partition(|j| calibrated(j));
+    let done = run_all(&runnable);
+    // In report order: every experiment job, run or not.
+    for job in &rest {
+        if let Some(i) = runnable.iter().position(|r| r.id == job.id) {
+            let (status, seconds) = done[i].clone();
             statuses.push(status);
             timings.push((job.id, seconds));
-        }
-    } else {
-        for job in &rest {
+        } else if blocked.iter().any(|b| b.id == job.id) {
             statuses.push(Status {
                 id: job.id,
-                status: "not run: the calibration failed".to_owned(),
+                status: format!(
+                    "not run: the calibration {} failed",
+                    job.calibration.unwrap_or("?")
+                ),
             });
         }
     }
