@@ -40,6 +40,12 @@ pub fn read_log(py: Python<'_>, path: PathBuf) -> PyResult<Py<PyDict>> {
         .filter_map(|l| l.record.markers.as_ref().map(Vec::len))
         .max();
     let m = markers_count.unwrap_or(0);
+    // Every record gets the most markers any record has: one record with many markers would
+    // multiply the log's size.
+    crate::input::check_output(
+        &format!("{n} records of up to {m} markers"),
+        (n as u128) * (m as u128) * 3,
+    )?;
     let mut markers = vec![nan; n * m * 3];
     for (i, l) in lines.iter().enumerate() {
         let r = &l.record;

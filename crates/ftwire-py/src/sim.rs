@@ -220,7 +220,7 @@ impl SimulatedRig {
     /// The F/T sensor averaged over a rest: reads `samples` samples (one per sensor tick),
     /// skips dropouts and saturated or non-finite samples, and returns the (6,) mean raw
     /// reading, force first [N, N·m], sensor frame, sensor offset and drift included (subtract
-    /// Rig.tare()'s reading). samples ≥ 4. Raises RuntimeError when fewer than half survive.
+    /// Rig.tare()'s reading). 4 ≤ samples ≤ 10⁶. Raises RuntimeError when fewer than half survive.
     #[pyo3(signature = (samples = 100))]
     fn rest<'py>(
         &mut self,
@@ -300,14 +300,18 @@ impl SimulatedRig {
     }
 }
 
+/// Most F/T samples one rest or tare reads: 10⁶, 1000 s at the simulated sensor's 1 kHz, far
+/// beyond any rest (each sample is read and kept until the mean is taken).
+pub const MAX_REST_SAMPLES: usize = 1_000_000;
+
 /// The average of a rest of `samples` F/T samples: at least half of them good.
 ///
 /// # Errors
-/// `ValueError` for fewer than 4 samples.
+/// `ValueError` for fewer than 4 samples or more than [`MAX_REST_SAMPLES`].
 fn rest_average(samples: usize) -> PyResult<RestAverage> {
-    if samples < 4 {
+    if !(4..=MAX_REST_SAMPLES).contains(&samples) {
         return Err(value_error(format!(
-            "samples = {samples} is not allowed: at least 4 F/T samples"
+            "samples = {samples} is not allowed: from 4 to {MAX_REST_SAMPLES} F/T samples"
         )));
     }
     RestAverage::new(samples / 2).map_err(|e| value_error(format!("samples: {e}")))

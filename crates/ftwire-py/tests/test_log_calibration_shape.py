@@ -154,6 +154,28 @@ def test_fortran_ordered_and_strided_arrays_are_read_by_their_strides(recording)
         calibration.apply(bad)
 
 
+def test_a_log_whose_markers_multiply_its_size_is_a_value_error(tmp_path):
+    # 1000 records of one marker and one of 200 000: (1000, 200000, 3) would be 4.8 GB.
+    small = '{"time": %d, "a": [0, 0.01, 0, 0, 0.1, 0], "markers": [[0, 0, 0]]}\n'
+    path = tmp_path / "log.jsonl"
+    with open(path, "w") as f:
+        f.writelines(small % t for t in range(999))
+        f.write('{"time": 999, "a": [0, 0.01, 0, 0, 0.1, 0], "markers": [')
+        f.write(",".join(["[0,0,0]"] * 200_000))
+        f.write("]}\n")
+    with pytest.raises(ValueError, match="1000 records of up to 200000 markers"):
+        ftwire.read_log(path)
+
+
+def test_a_huge_rest_is_a_value_error_before_any_read():
+    from ftwire.sim import Rig
+
+    rig = Rig(wire=WIRE, seed=0)
+    for read in (rig.rest, rig.tare):
+        with pytest.raises(ValueError, match="samples = 100000000"):
+            read(samples=10**8)
+
+
 def test_an_output_too_large_is_a_value_error_before_any_work():
     wire = ftwire.Wire.preset(WIRE)
     with pytest.raises(ValueError, match="bytes"):

@@ -48,7 +48,7 @@ impl DataSheet {
         )
     }
 
-    /// Checks every value: noise and drift finite and ≥ 0, `τ` > 0 (infinite allowed), the
+    /// Checks every value: noise and drift finite and ≥ 0, `τ` in `(0, 1e9]` or infinite, the
     /// clamp's pose finite.
     ///
     /// # Errors
@@ -65,9 +65,10 @@ impl DataSheet {
             }
         }
         let tau = self.bias_time_constant;
-        if tau.is_nan() || tau <= 0.0 {
+        if tau.is_nan() || tau <= 0.0 || (tau.is_finite() && tau > 1e9) {
             return Err(RigError::Setting(format!(
-                "bias_time_constant = {tau}: a time constant > 0 [s] (inf: a random walk)"
+                "bias_time_constant = {tau}: a time constant > 0 and ≤ 1e9 [s] (inf: a random \
+                 walk)"
             )));
         }
         for (key, values) in [

@@ -21,6 +21,11 @@ use crate::EstimateError;
 /// tonne; a larger value is a unit mistake.
 pub const MAX_TOOL_MASS: f64 = 1000.0;
 
+/// The farthest the clamp or the tool's centre of mass may be from the sensor \[m\]: a
+/// wrist's tool is centimetres long; a larger value is a unit mistake (millimetres given as
+/// metres), and would turn a reading's force into an implausible torque.
+pub const MAX_LEVER: f64 = 10.0;
+
 /// The mounting file's contents (TOML). Missing keys take their defaults; unknown keys are
 /// errors.
 ///
@@ -66,11 +71,24 @@ impl MountingSpec {
     /// # Errors
     /// [`EstimateError::Core`] naming a non-finite value or a rotation vector beyond
     /// `ftwire_core::MAX_ROTATION_ANGLE`; [`EstimateError::InvalidSetting`] for a tool mass
-    /// outside `[0, MAX_TOOL_MASS]`.
+    /// outside `[0, MAX_TOOL_MASS]`, or a clamp or centre of mass farther than [`MAX_LEVER`].
     pub fn validate(&self) -> Result<(), EstimateError> {
         ensure_finite("clamp_position_in_sensor", &self.clamp_position_in_sensor)?;
         ensure_rotation_vector("clamp_rotation_in_sensor", &self.clamp_rotation_in_sensor)?;
         ensure_finite("tool_centre_of_mass", &self.tool_centre_of_mass)?;
+        for (field, point) in [
+            ("clamp_position_in_sensor", self.clamp_position_in_sensor),
+            ("tool_centre_of_mass", self.tool_centre_of_mass),
+        ] {
+            let distance = Vector3::from(point).norm();
+            if distance > MAX_LEVER {
+                return Err(EstimateError::InvalidSetting {
+                    field,
+                    value: distance,
+                    allowed: "a point at most 10 m from the sensor (its distance is the value)",
+                });
+            }
+        }
         if !(0.0..=MAX_TOOL_MASS).contains(&self.tool_mass) {
             return Err(EstimateError::InvalidSetting {
                 field: "tool_mass",
@@ -143,6 +161,32 @@ mod tests {
         let along = mounting.sensor_from_clamp().rotation * Vector3::x();
         assert!((along - Vector3::z()).norm() < 1e-12);
         Ok(())
+    }
+
+    #[test]
+    fn a_lever_in_millimetres_given_as_metres_is_refused() {
+        for spec in [
+            MountingSpec {
+                tool_centre_of_mass: [0.0, 0.0, 40.0],
+                ..MountingSpec::default()
+            },
+            MountingSpec {
+                clamp_position_in_sensor: [0.0, 0.0, 110.0],
+                ..MountingSpec::default()
+            },
+        ] {
+            let e = spec
+                .validate()
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default();
+            assert!(e.contains("at most 10 m"), "{e}");
+        }
+        let near = MountingSpec {
+            tool_centre_of_mass: [0.0, 0.0, 0.04],
+            ..MountingSpec::default()
+        };
+        assert!(near.validate().is_ok());
     }
 
     #[test]
