@@ -68,12 +68,14 @@
 
 use ftwire_core::Pose;
 use ftwire_estimate::WireModel;
+use ftwire_rig::DataSheet;
 use ftwire_rod::{from_normalised, se3, to_normalised};
-use nalgebra::{Matrix6, SMatrix, SVector, Vector6};
+use nalgebra::{Matrix6, SMatrix, SVector, Vector3, Vector6};
 use serde::Serialize;
 
 use crate::ControlError;
 use crate::collision::{configuration_at, normalised_jacobian};
+use crate::noise::{NoiseModel, NoiseParams};
 
 type Matrix12 = SMatrix<f64, 12, 12>;
 type Matrix6x12 = SMatrix<f64, 6, 12>;
@@ -159,6 +161,63 @@ impl Default for BiasObserverParams {
             fuse_rest: false,
         }
     }
+}
+
+impl BiasObserverParams {
+    /// The settings for a sensor of data sheet `sheet`, tared over `tare_samples` readings, on
+    /// a robot of execution error `noise` with the standard deviations `execution`; `None`
+    /// under [`NoiseModel::Absolute`] (the reported pose is off by a new error at every rest,
+    /// which the observer would read as drift).
+    /// - The drift intensities are the data sheet's largest per kind; a force drift also
+    ///   drifts the torque at the clamp, `clamp_position_in_sensor` away:
+    ///   `q_τ = hypot(q_τ,sensor, |r| q_f)`.
+    /// - The bias just after the tare: `2 σ / √n` per kind (the tare's noise with a margin of
+    ///   two).
+    /// - The calibration error `Δ₀`: the robot's repeatability where it goes where it is told
+    ///   or reports where it went (`none`, `increment`), its calibration spread under
+    ///   `offset`; each rest is fused with the pose ([`BiasObserverParams::fuse_rest`]) where
+    ///   the robot knows it to its repeatability ([`fuses_rest`]).
+    pub fn for_sensor(
+        sheet: &DataSheet,
+        tare_samples: usize,
+        noise: NoiseModel,
+        execution: &NoiseParams,
+    ) -> Option<Self> {
+        let (offset_position_std, offset_rotation_std) = match noise {
+            NoiseModel::None | NoiseModel::Increment => (
+                execution.repeat_position_std,
+                execution.repeat_orientation_std,
+            ),
+            NoiseModel::Offset => (execution.position_std, execution.orientation_std),
+            NoiseModel::Absolute => return None,
+        };
+        let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        let force_drift = max(&sheet.bias_random_walk[..3]);
+        let lever = Vector3::from(sheet.clamp_position_in_sensor).norm();
+        let torque_drift = max(&sheet.bias_random_walk[3..]).hypot(lever * force_drift);
+        #[allow(clippy::cast_precision_loss)] // a tare far below 2⁵² samples
+        let tare = 2.0 / (tare_samples.max(1) as f64).sqrt();
+        Some(Self {
+            force_drift,
+            torque_drift,
+            initial_force_std: tare * max(&sheet.noise_std[..3]),
+            initial_torque_std: tare * max(&sheet.noise_std[3..]),
+            offset_position_std,
+            offset_rotation_std,
+            repeat_position_std: execution.repeat_position_std,
+            repeat_rotation_std: execution.repeat_orientation_std,
+            fuse_rest: fuses_rest(noise),
+            ..Self::default()
+        })
+    }
+}
+
+/// Whether the bias observer fuses each rest with the reported pose under `noise`
+/// ([`BiasObserverParams::fuse_rest`]): where the robot knows where its gripper is to its
+/// repeatability (no noise; `increment`, whose error the encoders see). Under `offset` the
+/// pose is off by the unknown calibration error, which the observer estimates slowly.
+pub fn fuses_rest(noise: NoiseModel) -> bool {
+    matches!(noise, NoiseModel::None | NoiseModel::Increment)
 }
 
 impl BiasObserverParams {

@@ -261,6 +261,39 @@ impl CollisionDetector {
         Self::new(1.0, floor)?.with_threshold_from(residuals, quantile, margin)
     }
 
+    /// Floor of the residual's denominator over the median noise of `ã` at rest, in standard
+    /// errors, of [`CollisionDetector::from_free_moves`].
+    pub const FLOOR_SIGMAS: f64 = 5.0;
+    /// Quantile of the free residuals the threshold is set from, of
+    /// [`CollisionDetector::from_free_moves`].
+    pub const FREE_QUANTILE: f64 = 0.95;
+
+    /// The detector calibrated on free motions, as the goal experiment and `ftwire ros2
+    /// estimate` calibrate it: its floor [`CollisionDetector::FLOOR_SIGMAS`] times the median
+    /// of `noise_levels` (the norm of `ã`'s standard error at rest, normalised;
+    /// [`CollisionDetector::DEFAULT_FLOOR`] when that is not a positive number), its slope and
+    /// threshold from `free_moves` (one slice per free motion, in order):
+    /// [`CollisionDetector::calibrate_moves`] at [`CollisionDetector::FREE_QUANTILE`] with
+    /// the default margin. Returns the detector and its floor \[normalised\].
+    ///
+    /// # Errors
+    /// [`ControlError::TooFewResiduals`] when the moves hold fewer than
+    /// [`MIN_CALIBRATION_RESIDUALS`] finite residuals.
+    pub fn from_free_moves(
+        noise_levels: &[f64],
+        free_moves: &[&[MoveCheck]],
+    ) -> Result<(Self, f64), ControlError> {
+        let floor = Self::FLOOR_SIGMAS * median(noise_levels);
+        let floor = if floor.is_finite() && floor > 0.0 {
+            floor
+        } else {
+            Self::DEFAULT_FLOOR
+        };
+        let detector =
+            Self::calibrate_moves(free_moves, Self::FREE_QUANTILE, Self::DEFAULT_MARGIN, floor)?;
+        Ok((detector, floor))
+    }
+
     /// Calibrates the whole detector on the moves of free motions (one slice per motion, in
     /// order), with `floor` set from the measured noise of `ã` (see the module docs): the slope
     /// is the [`SLOPE_QUANTILE`] of `‖e_i‖ / β_i` over the moves whose bound `β_i` is at least
@@ -458,6 +491,17 @@ pub fn configuration_at<M: WireModel>(
     // Accept a nearly converged answer; a diverging one is no answer.
     let tip = model.tip(&next).ok()?;
     (se3::log(&(tip.inverse() * target)).norm() < 1e-6).then_some(next)
+}
+
+/// The median of the finite values (NaN when there are none).
+fn median(values: &[f64]) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
 }
 
 #[cfg(test)]

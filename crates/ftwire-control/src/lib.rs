@@ -11,7 +11,7 @@ mod reach;
 mod retreat;
 pub mod tracking;
 
-pub use bias::{BiasObserver, BiasObserverParams};
+pub use bias::{BiasObserver, BiasObserverParams, fuses_rest};
 pub use collision::{
     CollisionDetector, MIN_CALIBRATION_RESIDUALS, MoveCheck, SLOPE_QUANTILE, configuration_at,
     miss, predicted_change, predicted_delta_a,

@@ -5,7 +5,8 @@ mod common;
 
 use common::{ModelRig, feedback, pair, wire};
 use ftwire_control::{
-    AnyPose, BiasObserver, BiasObserverParams, ControlError, ControlParams, Controller, Outcome,
+    AnyPose, BiasObserver, BiasObserverParams, ControlError, ControlParams, Controller, NoiseModel,
+    Outcome,
 };
 use ftwire_core::Pose;
 use ftwire_estimate::{KirchhoffModel, WireModel};
@@ -451,4 +452,35 @@ fn the_bias_covariance_matches_the_bias_error() {
     // A consistent filter: mean 6 (a χ² of 6 dof averaged over 40 runs: 6 ± 0.6).
     println!("mean NEES of the bias over {runs} runs: {mean:.2}");
     assert!((3.5..9.0).contains(&mean), "mean NEES {mean}");
+}
+
+/// A data sheet's numbers become the observer's settings: the largest drift per kind, the
+/// force drift acting at the clamp's lever on the torque, the tare's noise with a margin of
+/// two, and the robot's calibration spread by its execution model.
+#[test]
+fn the_settings_follow_the_data_sheet_and_the_execution_model() {
+    let sheet = ftwire_rig::DataSheet {
+        noise_std: [0.05, 0.04, 0.03, 0.002, 0.001, 0.001],
+        bias_random_walk: [0.001, 0.003, 0.002, 8e-5, 5e-5, 1e-5],
+        bias_time_constant: 600.0,
+        clamp_position_in_sensor: [0.0, 0.06, 0.08],
+        clamp_rotation_in_sensor: [0.0; 3],
+    };
+    let execution = ftwire_control::NoiseParams::default();
+    let none = BiasObserverParams::for_sensor(&sheet, 400, NoiseModel::None, &execution)
+        .expect("an observer without execution noise");
+    assert!((none.force_drift - 0.003).abs() < 1e-15);
+    assert!((none.torque_drift - 8e-5_f64.hypot(0.1 * 0.003)).abs() < 1e-15);
+    assert!((none.initial_force_std - 2.0 * 0.05 / 20.0).abs() < 1e-15);
+    assert!((none.initial_torque_std - 2.0 * 0.002 / 20.0).abs() < 1e-15);
+    assert_eq!(none.offset_position_std, execution.repeat_position_std);
+    assert!(none.fuse_rest);
+    let offset = BiasObserverParams::for_sensor(&sheet, 400, NoiseModel::Offset, &execution)
+        .expect("an observer under offset");
+    assert_eq!(offset.offset_position_std, execution.position_std);
+    assert_eq!(offset.offset_rotation_std, execution.orientation_std);
+    assert!(!offset.fuse_rest);
+    assert!(
+        BiasObserverParams::for_sensor(&sheet, 400, NoiseModel::Absolute, &execution).is_none()
+    );
 }

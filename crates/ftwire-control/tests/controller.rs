@@ -6,8 +6,8 @@ mod common;
 use common::{ModelRig, feedback, pair, settings, wire};
 use ftwire_control::open_loop::{a_connected, roll_out, straight_line_in_a, straight_line_in_b};
 use ftwire_control::{
-    AnyPose, CollisionDetector, ControlError, ControlParams, Controller, NoiseModel, NoiseParams,
-    NoisyRig, Outcome, Reach, ReachCheck, retreat,
+    AnyPose, CollisionDetector, ControlError, ControlParams, Controller, MoveCheck, NoiseModel,
+    NoiseParams, NoisyRig, Outcome, Reach, ReachCheck, retreat,
 };
 use ftwire_core::{Pose, WireParams};
 use ftwire_estimate::{EstimateError, KirchhoffModel, WireModel};
@@ -690,4 +690,33 @@ fn the_late_shape_stop_applies_from_its_step_on_and_never_before() {
     .run(&mut ModelRig::new(a_s), &feedback(), &mut AnyPose, &a_g)
     .expect("runs");
     assert!(tight_only.steps.len() > run.steps.len());
+}
+
+/// The detector from free moves: its floor five times the median noise (the default when the
+/// noise is unknown), its threshold above every free residual but an outlier's, and too few
+/// moves refused.
+#[test]
+fn a_detector_from_free_moves_takes_its_floor_from_the_noise() {
+    let moves: Vec<MoveCheck> = (0..40)
+        .map(|i| {
+            let e = 0.002 * f64::from(i % 7);
+            MoveCheck {
+                deviation: Vector6::new(e, 0.0, 0.0, 0.0, 0.0, 0.0),
+                step: 0.05,
+                bound: 0.05,
+            }
+        })
+        .collect();
+    let (detector, floor) =
+        CollisionDetector::from_free_moves(&[0.004, 0.002, f64::NAN, 0.003], &[&moves])
+            .expect("forty free moves calibrate a detector");
+    assert!((floor - CollisionDetector::FLOOR_SIGMAS * 0.003).abs() < 1e-15);
+    assert!(detector.threshold() >= 1.0);
+    assert!(!detector.is_contact(detector.residual(&moves)));
+    let (_, unknown) = CollisionDetector::from_free_moves(&[], &[&moves]).expect("calibrated");
+    assert_eq!(unknown, CollisionDetector::DEFAULT_FLOOR);
+    assert!(matches!(
+        CollisionDetector::from_free_moves(&[0.003], &[&moves[..3]]),
+        Err(ControlError::TooFewResiduals { .. })
+    ));
 }

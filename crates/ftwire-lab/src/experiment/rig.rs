@@ -144,57 +144,16 @@ pub fn tare(rig: &mut SimRig) -> Result<Tare, LabError> {
 }
 
 /// The bias observer's settings for a robot with `setup`'s sensor and the execution error
-/// `noise`, when it is switched `on`: what a user reads off the sensor's data sheet (its drift
-/// intensity; a force drift also drifts the torque at the clamp, `clamp_position_in_sensor`
-/// away) and knows of the tare
-/// ([`TARE_SAMPLES`] of its noise, with a margin of two) and of the robot's calibration (the
-/// `offset` model's spread; the repeatability for a robot that goes where it is told, or that
-/// reports where it went).
-/// - Without noise and under `increment` the robot reports where its gripper is (under
-///   `increment` the encoders see each move's error), so the observer also fuses each rest with
-///   that pose ([`fuse_rest`]): a light wire's few mN are then no longer the limit, and under
-///   `increment` the shape stop picks a landing by the fused estimate.
-/// - `None` under `absolute`: the reported pose is off by a new 10 mm / 3° at every rest, which
-///   the observer would read as drift.
+/// `noise`, when it is switched `on`: [`BiasObserverParams::for_sensor`] of the sensor's data
+/// sheet, tared over [`TARE_SAMPLES`], with the default execution noise. Without noise and
+/// under `increment` each rest is also fused with the reported pose, so that a light wire's
+/// few mN are no longer the limit; `None` under `absolute`.
 pub fn bias_observer(setup: &SimSetup, noise: NoiseModel, on: bool) -> Option<BiasObserverParams> {
     if !on {
         return None;
     }
-    let execution = NoiseParams::default();
-    let (offset_position_std, offset_rotation_std) = match noise {
-        NoiseModel::None | NoiseModel::Increment => (
-            execution.repeat_position_std,
-            execution.repeat_orientation_std,
-        ),
-        NoiseModel::Offset => (execution.position_std, execution.orientation_std),
-        NoiseModel::Absolute => return None,
-    };
-    let sensor = &setup.rig_config(0).sensor;
-    let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
-    let force_drift = max(&sensor.bias_random_walk[..3]);
-    let lever = nalgebra::Vector3::from(sensor.clamp_position_in_sensor).norm();
-    let torque_drift = max(&sensor.bias_random_walk[3..]).hypot(lever * force_drift);
-    let tare = 2.0 / (TARE_SAMPLES as f64).sqrt();
-    Some(BiasObserverParams {
-        force_drift,
-        torque_drift,
-        initial_force_std: tare * max(&sensor.noise_std[..3]),
-        initial_torque_std: tare * max(&sensor.noise_std[3..]),
-        offset_position_std,
-        offset_rotation_std,
-        repeat_position_std: execution.repeat_position_std,
-        repeat_rotation_std: execution.repeat_orientation_std,
-        fuse_rest: fuse_rest(noise),
-        ..BiasObserverParams::default()
-    })
-}
-
-/// Whether the bias observer also fuses each rest with the reported pose under `noise`
-/// (`BiasObserverParams::fuse_rest`): where the robot knows where its gripper is to its
-/// repeatability (no noise; `increment`, whose error the encoders see). Under `offset` the
-/// pose is off by the unknown calibration error, which the observer estimates slowly.
-pub fn fuse_rest(noise: NoiseModel) -> bool {
-    matches!(noise, NoiseModel::None | NoiseModel::Increment)
+    let sheet = crate::setup::sensor::data_sheet(&setup.rig_config(0).sensor);
+    BiasObserverParams::for_sensor(&sheet, TARE_SAMPLES, noise, &NoiseParams::default())
 }
 
 /// The mounting the robot knows from its drawings: the simulated sensor's `sensor_from_clamp`.

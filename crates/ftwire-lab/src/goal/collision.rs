@@ -57,13 +57,8 @@ pub struct Collision {
 pub(super) const DETECTOR_MOTIONS: usize = 5;
 /// The ε of the free motions that calibrate the collision detector and of the contact runs.
 const DETECTOR_EPSILON: f64 = 0.05;
-/// The quantile of the free residuals the threshold is set from (snaps of the true wire,
-/// which the model does not have, are rare large residuals on free motion).
-pub const DETECTOR_QUANTILE: f64 = 0.95;
 /// Obstacle motions of the collision sub-run (at most the run's pairs).
 const CONTACT_TRIALS: usize = 10;
-/// The detector's floor in multiples of the measured noise of `ã` at rest.
-pub const FLOOR_SIGMAS: f64 = 5.0;
 /// The seed offset of the trials of the detector's free motions.
 const FREE_TRIALS: u64 = 10_000;
 /// The seed offset of the trials of the contact runs.
@@ -88,9 +83,10 @@ fn free_setup(detector: Option<CollisionDetector>) -> ClosedSetup<'static> {
     }
 }
 
-/// The collision detector of a run: its floor [`FLOOR_SIGMAS`] times the median noise of `ã`
-/// at rest at the start of `pairs` (or `CollisionDetector::DEFAULT_FLOOR` when that is not a
-/// positive number), its slope and threshold from the moves of their free closed loops.
+/// The collision detector of a run ([`CollisionDetector::from_free_moves`]): its floor from
+/// the median noise of `ã` at rest at the start of `pairs`, its slope and threshold from the
+/// moves of their free closed loops (snaps of the true wire, which the model does not have,
+/// are rare large residuals on free motion: hence a quantile, not the largest).
 ///
 /// # Errors
 /// No answer when the detector cannot be calibrated from those moves; as the trials
@@ -114,7 +110,8 @@ pub(super) fn calibrate_detector(
     }
     let free_moves: Vec<Vec<MoveCheck>> = calibration_runs.iter().map(moves).collect();
     let free_moves: Vec<&[MoveCheck]> = free_moves.iter().map(Vec::as_slice).collect();
-    let (detector, floor) = detector_from_free_moves(&noise_levels, &free_moves)?;
+    let (detector, floor) = CollisionDetector::from_free_moves(&noise_levels, &free_moves)
+        .map_err(|e| LabError::no_answer(format!("calibrating the collision detector: {e}")))?;
     progress(&format!(
         "collision detector: floor {floor:.4}, slope {:.3}, threshold {:.3} from {} free steps",
         detector.slope(),
@@ -122,37 +119,6 @@ pub(super) fn calibrate_detector(
         free_moves.iter().map(|m| m.len()).sum::<usize>()
     ));
     Ok(DetectorSetup { detector, floor })
-}
-
-/// The collision detector calibrated on free motions as the goal experiment calibrates it:
-/// its floor [`FLOOR_SIGMAS`] times the median of `noise_levels` (the norm of `ã`'s standard
-/// error at rest, normalised; `CollisionDetector::DEFAULT_FLOOR` when that is not a positive
-/// number), its slope and threshold from `free_moves` (one slice per free motion, in order:
-/// `CollisionDetector::calibrate_moves` at the [`DETECTOR_QUANTILE`] with the default margin).
-/// Returns the detector and its floor \[normalised\]. `ftwire ros2 estimate` calibrates its
-/// detector by this function on the first moves it sees.
-///
-/// # Errors
-/// No answer when the moves cannot calibrate a detector (fewer than
-/// `ftwire_control::MIN_CALIBRATION_RESIDUALS` finite residuals).
-pub fn detector_from_free_moves(
-    noise_levels: &[f64],
-    free_moves: &[&[MoveCheck]],
-) -> Result<(CollisionDetector, f64), LabError> {
-    let floor = FLOOR_SIGMAS * median(noise_levels);
-    let floor = if floor.is_finite() && floor > 0.0 {
-        floor
-    } else {
-        CollisionDetector::DEFAULT_FLOOR
-    };
-    let detector = CollisionDetector::calibrate_moves(
-        free_moves,
-        DETECTOR_QUANTILE,
-        CollisionDetector::DEFAULT_MARGIN,
-        floor,
-    )
-    .map_err(|e| LabError::no_answer(format!("calibrating the collision detector: {e}")))?;
-    Ok((detector, floor))
 }
 
 /// The checks of `run`'s moves.

@@ -88,7 +88,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use self::closed::ClosedTrial;
-pub use self::collision::{Collision, DETECTOR_QUANTILE, FLOOR_SIGMAS, detector_from_free_moves};
+pub use self::collision::Collision;
 use self::collision::{DetectorSetup, calibrate_detector, contact_runs, count_false_alarm};
 pub use self::pairs::PairDraws;
 use self::pairs::draw_pairs;

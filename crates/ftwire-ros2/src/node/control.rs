@@ -25,10 +25,10 @@
 
 use std::sync::atomic::AtomicBool;
 
+use ftwire_app::config::wire::WireSpec;
 use ftwire_control::{ControlParams, Controller};
 use ftwire_estimate::shape::marker_distances;
 use ftwire_estimate::{KirchhoffModel, WireModel};
-use ftwire_lab::wire::WireSpec;
 use nalgebra::{Vector3, Vector6};
 use ros2_client::Publisher;
 use serde::Serialize;
@@ -36,7 +36,7 @@ use serde::Serialize;
 use super::robot::{Halt, Robot, RobotCounts, RobotParams};
 use super::{BASE_FRAME, Log, NodeError, NodeSettings, SHAPE_TOPIC, header, publish, reliable};
 use crate::msg::Path;
-use crate::node::sim::ros_point;
+use crate::node::pose::ros_point;
 use crate::node::{check_contact_miss, path_message};
 
 /// Nodes of the published shapes.
@@ -133,8 +133,8 @@ impl ControlNodeParams {
     /// The controller, with every goal checked.
     fn controller(&self) -> Result<Controller<KirchhoffModel>, NodeError> {
         self.validate()?;
-        let gravity = ftwire_lab::log::model_gravity(&self.robot.map, self.gravity_in_clamp)?;
-        let model = ftwire_lab::log::shape::wire_model(&self.wire, gravity).map_err(|e| {
+        let gravity = ftwire_logs::model_gravity(&self.robot.map, self.gravity_in_clamp)?;
+        let model = ftwire_logs::shape::wire_model(&self.wire, gravity).map_err(|e| {
             NodeError::BadSetting {
                 setting: "--wire or --gravity-in-clamp",
                 value: format!("{} ({e})", self.wire.name),

@@ -26,7 +26,7 @@ pub enum NodeError {
     },
     /// The wire, the rig or the estimator could not be set up.
     #[error(transparent)]
-    Lab(#[from] ftwire_lab::LabError),
+    Lab(#[from] ftwire_app::LabError),
     /// The node ran but could not finish its task (too few samples, no estimate, the goal
     /// refused).
     #[error("{0}")]

@@ -55,9 +55,9 @@
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
+use ftwire_app::config::wire::WireSpec;
 use ftwire_estimate::ft::Tare;
-use ftwire_lab::log::RawMap;
-use ftwire_lab::wire::WireSpec;
+use ftwire_logs::RawMap;
 use ftwire_rig::{Measurement, Reading, Stream, StreamParams};
 use nalgebra::Vector6;
 use ros2_client::MessageInfo;
@@ -158,6 +158,10 @@ pub struct EstimateSummary {
     pub publish_failed: Counts,
     /// Samples missing from the stamp sequence (between the first and the last received).
     pub lost: u64,
+    /// Publishers of the wrench topic whose QoS the subscription's (`--qos`) does not match,
+    /// so that none of their samples arrive (a best-effort driver and `--qos reliable`), at
+    /// the end of the run.
+    pub qos_mismatch: u64,
     /// Samples whose stamp was not after the one before.
     pub out_of_order: u64,
     /// Index `k` of the first sample received (`k / rate` its stamp): 0 when the tare saw the
@@ -216,8 +220,8 @@ impl Pipeline {
     /// The measurement of `params` (its map, its wire's model: loaded with
     /// `gravity_in_clamp`, weight-free without) and a stream with its tare and window.
     pub(super) fn new(params: &EstimateNodeParams) -> Result<Self, NodeError> {
-        let gravity = ftwire_lab::log::model_gravity(&params.map, params.gravity_in_clamp)?;
-        let measurement = ftwire_lab::log::shape::measurement(
+        let gravity = ftwire_logs::model_gravity(&params.map, params.gravity_in_clamp)?;
+        let measurement = ftwire_logs::shape::measurement(
             &params.wire,
             params.map.clone(),
             gravity,
@@ -569,15 +573,14 @@ mod tests {
             .collect();
         std::fs::write(&log, text).expect("writes the log");
         for gravity in [None, Some([0.0, 0.0, -9.81])] {
-            let cli =
-                ftwire_lab::log::shape::LogShapes::new(&ftwire_lab::log::shape::ShapeLogParams {
-                    mounting: Some(MountingSpec::default()),
-                    gravity_in_clamp: gravity,
-                    ..ftwire_lab::log::shape::ShapeLogParams::new(log.clone(), "nitinol-3mm-820")
-                })
-                .expect("a good log")
-                .collect::<Result<Vec<_>, _>>()
-                .expect("every record");
+            let cli = ftwire_logs::shape::LogShapes::new(&ftwire_logs::shape::ShapeLogParams {
+                mounting: Some(MountingSpec::default()),
+                gravity_in_clamp: gravity,
+                ..ftwire_logs::shape::ShapeLogParams::new(log.clone(), "nitinol-3mm-820")
+            })
+            .expect("a good log")
+            .collect::<Result<Vec<_>, _>>()
+            .expect("every record");
             let mut p = params(0, 1);
             p.gravity_in_clamp = gravity;
             let mut pipeline = Pipeline::new(&p).expect("valid settings");

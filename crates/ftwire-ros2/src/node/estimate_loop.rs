@@ -27,7 +27,7 @@ use crate::bag::BagWriter;
 use crate::msg::{
     self, MarkerArray, Path, PoseStamped, RosMessage, StringMsg, TFMessage, WrenchStamped,
 };
-use crate::node::sim::{pose_of, ros_point};
+use crate::node::pose::{pose_of, ros_point};
 use crate::node::{path_message, path_points};
 
 /// Longest wait in one poll, so that a stop or the end of the duration is seen \[ms\].
@@ -215,6 +215,7 @@ impl<'p> State<'p> {
                 refused: Counts::new(),
                 publish_failed: Counts::new(),
                 lost: 0,
+                qos_mismatch: 0,
                 out_of_order: 0,
                 first_sample: None,
                 dropped: 0,
@@ -586,7 +587,7 @@ impl<'p> State<'p> {
             }
             let (written, failed) = (recorder.written, recorder.failed);
             let path = recorder.bag.finish().map_err(|e| {
-                NodeError::Lab(ftwire_lab::LabError::no_answer(format!("--record: {e}")))
+                NodeError::Lab(ftwire_app::LabError::no_answer(format!("--record: {e}")))
             })?;
             log(&format!(
                 "estimate: recorded {written} messages into {}",
@@ -626,7 +627,7 @@ pub fn run(
     let recorder = match &params.record {
         Some(r) => {
             let bad = |e: crate::bag::BagError| {
-                NodeError::Lab(ftwire_lab::LabError::bad_input(format!("--record: {e}")))
+                NodeError::Lab(ftwire_app::LabError::bad_input(format!("--record: {e}")))
             };
             let mut bag = BagWriter::create(&r.path, r.overwrite).map_err(bad)?;
             for (topic, qos) in topic_qos(params) {
@@ -689,6 +690,17 @@ pub fn run(
         }
     }
     state.summary.tf = io.tf.as_ref().map(TfListener::summary);
+    state.summary.qos_mismatch =
+        node.qos_mismatches(&params.wrench_topic, &params.qos.profile(WRENCH_QUEUE));
+    if state.summary.qos_mismatch > 0 {
+        log(&format!(
+            "estimate: {} publisher(s) of {} offer a QoS that --qos {} does not match: none of \
+             their samples arrive",
+            state.summary.qos_mismatch,
+            params.wrench_topic,
+            params.qos.name()
+        ));
+    }
     state.finish(log)
 }
 

@@ -9,7 +9,7 @@
 //!    the simulator. Each pose is sent on `/wire/tip_target` and waited for;
 //! 3. **rest**: at the start and after each move reached, the wrench is averaged over the rest
 //!    and mapped to `ã` ([`super::robot`]), and `(ã, b̃)` (the reported pose) is pushed into
-//!    the streaming identifier (`ftwire_lab::identify::identifier`: the template model, the
+//!    the streaming identifier (`ftwire_logs::identification::identifier`: the template model, the
 //!    swarm seeded by `seed`, exactly as `ftwire identify --log`) with the rest's time since
 //!    the tare on the wrench stamps' clock: with a sensor drift in
 //!    [`IdentifyNodeParams::config`]'s noise (`--sensor`), the bias every rest shares is
@@ -28,7 +28,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use ftwire_estimate::identify::{Estimate, IdentifierParams, MotionPlan};
-use ftwire_lab::identify::{flag_name, identifier};
+use ftwire_logs::identification::{flag_name, identifier};
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::SeedableRng;
 use ros2_client::QosProfile;

@@ -40,16 +40,19 @@ pub mod estimate;
 pub mod estimate_loop;
 pub mod identify;
 pub mod observe;
+pub mod pose;
 pub mod robot;
 pub mod sigma;
+#[cfg(feature = "sim")]
 pub mod sim;
 pub mod stats;
 pub mod tf;
+#[cfg(feature = "sim")]
 pub mod truth_bias;
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use ros2_client::qos::{Durability, History, WhenFull};
 use ros2_client::{Context, MessageTypeName, Name, Node, NodeName, NodeOptions, QosProfile};
@@ -59,7 +62,7 @@ pub use error::NodeError;
 
 use ftwire_core::FtSample;
 use ftwire_estimate::ft::Tare;
-use ftwire_lab::log::RawMap;
+use ftwire_logs::RawMap;
 use nalgebra::{Point3, Vector6};
 
 use crate::msg::{self, Header, Path, PoseStamped, RosMessage, Time};
@@ -204,6 +207,14 @@ pub enum SensorQos {
 }
 
 impl SensorQos {
+    /// The name, as `--qos` spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::SensorData => "sensor-data",
+            Self::Reliable => "reliable",
+        }
+    }
+
     /// The profile, the last `depth` messages kept.
     pub fn profile(self, depth: usize) -> QosProfile {
         match self {
@@ -216,6 +227,7 @@ impl SensorQos {
 /// A ROS 2 node on its own DDS participant.
 pub(crate) struct RosNode {
     node: Node,
+    context: Context,
 }
 
 impl RosNode {
@@ -237,7 +249,31 @@ impl RosNode {
                     .start_parameter_services(false),
             )
             .map_err(|e| ros("the node", format!("{e:?}")))?;
-        Ok(Self { node })
+        Ok(Self { node, context })
+    }
+
+    /// Publishers of `topic` discovered on the network whose offered QoS the `requested` one
+    /// does not match (DDS's request-offered rule: a best-effort writer and a reliable
+    /// reader, a volatile writer and a transient-local reader, …), so that DDS never connects
+    /// them: no sample of theirs arrives. Counted from the participant's discovery data,
+    /// whose topics carry ROS 2's `rt` prefix.
+    pub(crate) fn qos_mismatches(&self, topic: &str, requested: &QosProfile) -> u64 {
+        let requested = ros2_client::dds::rustdds::QosPolicies::from(requested);
+        let dds_topic = format!("rt{topic}");
+        let mismatched = self
+            .context
+            .domain_participant()
+            .discovered_writers()
+            .iter()
+            .filter(|w| *w.publication_topic_data.topic_name() == dds_topic)
+            .filter(|w| {
+                w.publication_topic_data
+                    .qos()
+                    .compliance_failure_wrt(&requested)
+                    .is_some()
+            })
+            .count();
+        u64::try_from(mismatched).unwrap_or(u64::MAX)
     }
 
     fn topic<M: RosMessage>(
@@ -293,6 +329,7 @@ impl RosNode {
     }
 
     /// Subscriptions to `topic` discovered on the network (any participant).
+    #[cfg(feature = "sim")]
     pub(crate) fn subscription_count(&self, topic: &str) -> usize {
         self.node.subscription_count(topic)
     }
@@ -314,7 +351,8 @@ pub(crate) fn publish<M: serde::Serialize>(
 }
 
 /// Sleeps until `deadline`, at most `cap`.
-pub(crate) fn sleep_until(deadline: Instant, cap: Duration) {
+#[cfg(feature = "sim")]
+pub(crate) fn sleep_until(deadline: Instant, cap: std::time::Duration) {
     let now = Instant::now();
     if deadline > now {
         std::thread::sleep((deadline - now).min(cap));
@@ -378,6 +416,33 @@ pub(crate) fn check_contact_miss(miss: Option<f64>) -> Result<(), NodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A best-effort publisher (as many F/T drivers publish) is a QoS mismatch for a reliable
+    /// subscription, and none for the sensor-data one, once discovery has seen it.
+    #[test]
+    fn a_best_effort_publisher_is_a_mismatch_for_a_reliable_subscription() {
+        let domain = 187;
+        let topic = "/ftwire_test/qos_wrench";
+        let mut driver = RosNode::new("ftwire_test_driver", domain).expect("a node");
+        let _publisher = driver
+            .publisher::<msg::WrenchStamped>(topic, &SensorQos::SensorData.profile(10))
+            .expect("a publisher");
+        let mut reader = RosNode::new("ftwire_test_reader", domain).expect("a node");
+        let reliable = SensorQos::Reliable.profile(10);
+        let _subscription = reader
+            .subscription::<msg::WrenchStamped>(topic, &reliable)
+            .expect("a subscription");
+        let deadline = Instant::now() + std::time::Duration::from_secs(20);
+        while reader.qos_mismatches(topic, &reliable) == 0 && Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        assert_eq!(reader.qos_mismatches(topic, &reliable), 1);
+        assert_eq!(
+            reader.qos_mismatches(topic, &SensorQos::SensorData.profile(10)),
+            0
+        );
+        assert_eq!(reader.qos_mismatches("/ftwire_test/other", &reliable), 0);
+    }
 
     #[test]
     fn tick_stamps_are_k_over_rate_to_the_nanosecond() {

@@ -21,7 +21,7 @@
 //!    same rests and the same `ã` in any interleaving.
 //! 2. **bias**: `ftwire_control::BiasObserver::update` with the rest (`ã`, its standard
 //!    errors, the mean tip pose, the rest's last stamp), built with
-//!    [`ftwire_lab::experiment::rig::bias_observer`]'s settings for the node's sensor; every
+//!    [`BiasObserverParams::for_sensor`]'s settings for the node's sensor; every
 //!    later `ã` goes into the shape as `BiasObserver::correct(ã) = ã − β̂`, the correction the
 //!    experiments' controller steers by.
 //! 3. **collision**: between two consecutive rests the move's check,
@@ -29,7 +29,7 @@
 //!    model's Newton prediction for the reported motion `b_i⁻¹ b_{i+1}`, from the first-order
 //!    guess `J(L)⁻¹ log(b_i⁻¹ b_{i+1})` at `ã_i`). The first `calibration_moves` moves are
 //!    taken as free of contact and calibrate the detector as the goal experiment does
-//!    ([`ftwire_lab::goal::detector_from_free_moves`]: floor from the rests' noise, slope and
+//!    ([`CollisionDetector::from_free_moves`]: floor from the rests' noise, slope and
 //!    threshold from the moves); from then on each move's cumulative residual
 //!    (`CollisionDetector::residual`) above the threshold is a contact, until a later move's
 //!    residual falls back below it. The detector watches the raw `ã`, never the corrected
@@ -44,8 +44,7 @@ use ftwire_control::{
 use ftwire_core::{FtSample, Pose};
 use ftwire_estimate::ft::{FtCalibration, FtPipeline, RestAverage, Tare};
 use ftwire_estimate::{KirchhoffModel, WireModel};
-use ftwire_lab::goal::detector_from_free_moves;
-use ftwire_lab::log::RawMap;
+use ftwire_logs::RawMap;
 use ftwire_rod::{se3, to_normalised};
 use nalgebra::{Translation3, UnitQuaternion, Vector3, Vector6};
 use serde::Serialize;
@@ -575,7 +574,7 @@ impl Observer {
             Detector::Calibrating { noise: levels } => {
                 levels.push(noise);
                 if self.checks.len() >= self.params.calibration_moves {
-                    match detector_from_free_moves(levels, &[&self.checks]) {
+                    match CollisionDetector::from_free_moves(levels, &[&self.checks]) {
                         Ok((detector, floor)) => {
                             events.push(RestEvent::Calibrated(DetectorSummary {
                                 threshold: detector.threshold(),
@@ -586,7 +585,9 @@ impl Observer {
                             }));
                             self.detector = Detector::Armed { detector, floor };
                         }
-                        Err(e) => events.push(RestEvent::NotCalibrated(e.to_string())),
+                        Err(e) => events.push(RestEvent::NotCalibrated(format!(
+                            "calibrating the collision detector: {e}"
+                        ))),
                     }
                 }
             }

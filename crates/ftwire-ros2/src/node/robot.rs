@@ -14,14 +14,14 @@
 //!   halves agree within [`SETTLE_Z`] standard errors in every component; an unsettled rest is
 //!   taken again (at most [`SETTLE_TRIES`] times, then used and counted as `unsettled`);
 //! - **ã**: the rest's mean through the learnt calibration or the mounting
-//!   ([`ftwire_lab::log::a_tilde`], exactly as `ftwire shape --log` maps a record's `raw`).
+//!   ([`ftwire_logs::a_tilde`], exactly as `ftwire shape --log` maps a record's `raw`).
 
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use ftwire_core::{FtSample, Pose};
 use ftwire_estimate::ft::Tare;
-use ftwire_lab::log::RawMap;
+use ftwire_logs::RawMap;
 use nalgebra::{Point3, Vector6};
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::{Publisher, Subscription};
@@ -33,7 +33,7 @@ use super::{
     reliable, seconds, should_stop,
 };
 use crate::msg::{Path, PoseStamped, WrenchStamped};
-use crate::node::sim::{pose_of, ros_pose};
+use crate::node::pose::{pose_of, ros_pose};
 use crate::node::{a_of_raw, path_points, tare_of};
 
 /// Standard errors by which the means of a rest's two halves may differ in a component.
@@ -188,6 +188,9 @@ pub struct RobotCounts {
     pub unreached: u64,
     /// Rests used although their halves disagreed.
     pub unsettled: u64,
+    /// Publishers of the wrench topic whose QoS the subscription's (`--qos`) does not match,
+    /// so that none of their samples arrive, at the end of the run.
+    pub qos_mismatch: u64,
 }
 
 /// The ROS side of the robot (module docs).
@@ -295,6 +298,10 @@ impl Robot {
     /// The counts, with the losses so far.
     pub(crate) fn finish_counts(&mut self) -> RobotCounts {
         self.counts.lost = self.loss.lost();
+        self.counts.qos_mismatch = self.node.qos_mismatches(
+            &self.params.wrench_topic,
+            &self.params.qos.profile(WRENCH_QUEUE),
+        );
         self.counts.clone()
     }
 

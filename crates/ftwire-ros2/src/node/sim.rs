@@ -32,13 +32,13 @@
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
-use ftwire_core::{Command, FtSample, Pose, Rig};
+use ftwire_core::{Command, FtSample, Rig};
 use ftwire_lab::experiment::rig::{place_among, touches, true_centreline};
 use ftwire_lab::experiment::{Gravity, ModelKind};
 use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
 use ftwire_sim::{BoxObstacle, SimRig};
-use nalgebra::{Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
+use nalgebra::Vector6;
 use ros2_client::{Publisher, Subscription};
 use serde::Serialize;
 
@@ -50,10 +50,8 @@ use super::{
 };
 use crate::msg::{self, Path, PoseArray, PoseStamped, StringMsg, TFMessage, WrenchStamped};
 use crate::node::path_message;
+use crate::node::pose::{TargetRefusal, pose_of, ros_point, ros_pose};
 use crate::node::truth_bias::{TRUTH_BIAS_TOPIC, TruthBias};
-
-/// How far a target's orientation quaternion may be from unit length before it is refused.
-pub const QUATERNION_TOLERANCE: f64 = 1e-3;
 
 /// Grace after the first subscriber to the wrench is discovered, before the clock starts
 /// \[s\]: both ends then have matched each other's reader and writer.
@@ -170,91 +168,6 @@ impl SimNodeParams {
             self.setup.rig_config(self.seed),
             &self.obstacles,
         )?)
-    }
-}
-
-/// Why a target pose was refused.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TargetRefusal {
-    /// Not in [`BASE_FRAME`].
-    FrameId(String),
-    /// A coordinate that is not finite.
-    NonFinite,
-    /// An orientation that is not a unit quaternion.
-    BadOrientation(f64),
-    /// Out of reach of the wire, or no equilibrium on the way there.
-    Unreachable(String),
-}
-
-impl TargetRefusal {
-    /// The reason's name in the summary.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::FrameId(_) => "frame_id",
-            Self::NonFinite => "non_finite",
-            Self::BadOrientation(_) => "bad_orientation",
-            Self::Unreachable(_) => "unreachable",
-        }
-    }
-}
-
-impl std::fmt::Display for TargetRefusal {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::FrameId(frame) => write!(f, "frame_id {frame:?}, not {BASE_FRAME:?}"),
-            Self::NonFinite => write!(f, "a coordinate is not finite"),
-            Self::BadOrientation(norm) => {
-                write!(f, "the orientation's quaternion has norm {norm}, not 1")
-            }
-            Self::Unreachable(why) => write!(f, "unreachable: {why}"),
-        }
-    }
-}
-
-/// The pose of a ROS pose.
-///
-/// # Errors
-/// [`TargetRefusal::NonFinite`] or [`TargetRefusal::BadOrientation`].
-pub fn pose_of(pose: &msg::Pose) -> Result<Pose, TargetRefusal> {
-    let (p, q) = (&pose.position, &pose.orientation);
-    if [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
-        .iter()
-        .any(|v| !v.is_finite())
-    {
-        return Err(TargetRefusal::NonFinite);
-    }
-    let quaternion = Quaternion::new(q.w, q.x, q.y, q.z);
-    let norm = quaternion.norm();
-    if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
-        return Err(TargetRefusal::BadOrientation(norm));
-    }
-    Ok(Pose::from_parts(
-        Translation3::new(p.x, p.y, p.z),
-        UnitQuaternion::new_normalize(quaternion),
-    ))
-}
-
-/// The ROS pose of a pose.
-pub fn ros_pose(pose: &Pose) -> msg::Pose {
-    let t = &pose.translation.vector;
-    let q = pose.rotation.quaternion();
-    msg::Pose {
-        position: ros_point(t),
-        orientation: msg::Quaternion {
-            x: q.i,
-            y: q.j,
-            z: q.k,
-            w: q.w,
-        },
-    }
-}
-
-/// The ROS point of a vector \[m\].
-pub fn ros_point(p: &Vector3<f64>) -> msg::Point {
-    msg::Point {
-        x: p.x,
-        y: p.y,
-        z: p.z,
     }
 }
 

@@ -35,8 +35,8 @@ use crate::msg::{
 };
 
 /// How far an edge's rotation quaternion may be from unit length: closer, it is normalised;
-/// farther, the edge is refused (the sim's tolerance for a target's orientation).
-pub const QUATERNION_TOLERANCE: f64 = 1e-3;
+/// farther, the edge is refused (the tolerance of every pose a node reads).
+pub use super::pose::QUATERNION_TOLERANCE;
 
 /// The dynamic transforms.
 pub const TF_TOPIC: &str = "/tf";

@@ -5,11 +5,10 @@
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use ftwire_control::ControlParams;
+use ftwire_control::{BiasObserverParams, ControlParams, NoiseParams};
+use ftwire_lab::config::sensor::DataSheetSpec;
 use ftwire_lab::error::LabError;
-use ftwire_lab::experiment::rig::bias_observer;
 use ftwire_lab::plan::{PlanParams, PlanWireParams};
-use ftwire_lab::setup::SimSetup;
 use ftwire_lab::wire::WireSpec;
 use ftwire_ros2::node::control::ControlNodeParams;
 use ftwire_ros2::node::estimate::{EstimateNodeParams, Record};
@@ -193,7 +192,7 @@ fn estimate_params(
         },
         truth_topic: args.truth_topic.clone(),
         contact_miss: args.contact_miss.map(|mm| 1e-3 * mm),
-        observe: observe_params(&args.observe)?,
+        observe: observe_params(&args.observe, args.tare)?,
         error_bars: error_bars(args)?,
         record: args.record.clone().map(|path| Record {
             path,
@@ -232,11 +231,25 @@ fn error_bars(args: &EstimateNodeArgs) -> Result<Option<ErrorBars>, LabError> {
     Ok(Some(ErrorBars { noise, model_error }))
 }
 
-/// The rests, and the bias observer's settings for `--sensor` and `--pose-error` by
-/// `ftwire_lab::experiment::rig::bias_observer` (the experiments' builder).
-fn observe_params(args: &ObserveArgs) -> Result<ObserveParams, LabError> {
-    let setup = SimSetup::load(args.sensor.as_deref(), None)
-        .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?;
+/// The rests, and the bias observer's settings for `--sensor`'s data sheet, a tare of
+/// `tare` samples and `--pose-error` ([`ftwire_control::BiasObserverParams::for_sensor`]).
+fn observe_params(args: &ObserveArgs, tare: usize) -> Result<ObserveParams, LabError> {
+    let sheet = match args.sensor.as_deref() {
+        Some(given) => {
+            DataSheetSpec::load(given)
+                .map_err(|e| LabError::bad_input(format!("--sensor: {e}")))?
+                .sheet
+        }
+        None => ftwire_lab::config::sensor::DEFAULT,
+    };
+    let bias_observer = args.bias_observer.on().then(|| {
+        BiasObserverParams::for_sensor(
+            &sheet,
+            tare,
+            args.pose_error.model(),
+            &NoiseParams::default(),
+        )
+    });
     Ok(ObserveParams {
         rest: RestParams {
             position_tolerance: 1e-3 * args.rest_tolerance_mm,
@@ -244,7 +257,7 @@ fn observe_params(args: &ObserveArgs) -> Result<ObserveParams, LabError> {
             dwell: args.rest_dwell,
             settle: args.rest_settle,
         },
-        bias_observer: bias_observer(&setup, args.pose_error.model(), args.bias_observer.on()),
+        bias_observer: bias_observer.flatten(),
         calibration_moves: args.collision_calibration,
     })
 }

@@ -240,10 +240,11 @@ fn the_bias_estimate_moves_to_a_constant_bias_and_free_moves_arm_the_detector() 
     // gripper is: the node's settings for the default sensor.
     let bias = Vector6::new(1e-4, 0.0, -1e-4, 0.01, -0.008, 0.006);
     let params = ObserveParams {
-        bias_observer: ftwire_lab::experiment::rig::bias_observer(
-            &ftwire_lab::setup::SimSetup::default(),
+        bias_observer: BiasObserverParams::for_sensor(
+            &ftwire_app::config::sensor::DEFAULT,
+            500,
             ftwire_control::NoiseModel::None,
-            true,
+            &ftwire_control::NoiseParams::default(),
         ),
         ..ObserveParams::default()
     };
