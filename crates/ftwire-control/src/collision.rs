@@ -283,7 +283,7 @@ impl CollisionDetector {
         noise_levels: &[f64],
         free_moves: &[&[MoveCheck]],
     ) -> Result<(Self, f64), ControlError> {
-        let floor = Self::FLOOR_SIGMAS * median(noise_levels);
+        let floor = Self::FLOOR_SIGMAS * ftwire_core::stats::median(noise_levels);
         let floor = if floor.is_finite() && floor > 0.0 {
             floor
         } else {
@@ -491,17 +491,6 @@ pub fn configuration_at<M: WireModel>(
     // Accept a nearly converged answer; a diverging one is no answer.
     let tip = model.tip(&next).ok()?;
     (se3::log(&(tip.inverse() * target)).norm() < 1e-6).then_some(next)
-}
-
-/// The median of the finite values (NaN when there are none).
-fn median(values: &[f64]) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
 }
 
 #[cfg(test)]

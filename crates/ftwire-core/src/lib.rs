@@ -3,6 +3,7 @@
 mod error;
 pub mod geometry;
 mod rig;
+pub mod stats;
 pub mod text;
 mod wire;
 mod wrench;

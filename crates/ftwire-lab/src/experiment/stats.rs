@@ -1,15 +1,6 @@
 //! Summary statistics the experiments share.
 
-/// The median of the finite values (NaN when there are none).
-pub fn median(values: &[f64]) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
-}
+pub use ftwire_core::stats::median;
 
 /// The mean and the sample standard deviation (NaN, NaN for no values; a standard deviation
 /// of 0 for one).
