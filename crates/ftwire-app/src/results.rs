@@ -130,6 +130,37 @@ impl OutGuard {
         self
     }
 
+    /// Adds every path named on the command line `args` (the program's arguments, without its
+    /// name) as an input, under the option it follows (`--wire FILE`, `--wire=FILE`; a bare
+    /// argument is `an argument`), but for `--out`'s own value: one place that registers every
+    /// file a command reads, so that an option added later cannot be forgotten. A value that
+    /// names nothing on disk (a preset, a number) is left out, as in [`OutGuard::input`].
+    #[must_use]
+    pub fn command_line(mut self, args: impl IntoIterator<Item = std::ffi::OsString>) -> Self {
+        let mut option: Option<String> = None;
+        for arg in args {
+            let text = arg.to_string_lossy();
+            if let Some(flag) = text.strip_prefix("--").filter(|f| !f.is_empty()) {
+                match flag.split_once('=') {
+                    Some((name, value)) => {
+                        if name != "out" {
+                            self = self.input(&format!("--{name}"), value);
+                        }
+                        option = None;
+                    }
+                    None => option = Some(format!("--{flag}")),
+                }
+                continue;
+            }
+            match option.take() {
+                Some(name) if name == "--out" => {}
+                Some(name) => self = self.input(&name, &arg),
+                None => self = self.input("an argument", &arg),
+            }
+        }
+        self
+    }
+
     /// Adds an optional input (see [`OutGuard::input`]).
     #[must_use]
     pub fn input_opt(self, option: &str, path: Option<impl AsRef<Path>>) -> Self {
@@ -603,6 +634,44 @@ mod tests {
             .collect();
         names.sort();
         names
+    }
+
+    /// Every path on a command line is an input, under the option it follows, but `--out`'s
+    /// own value and what names nothing on disk.
+    #[test]
+    fn every_path_on_the_command_line_is_an_input() {
+        let dir = TempDir::new("command-line");
+        let file = |name: &str| {
+            let path = dir.0.join(name);
+            fs::write(&path, "x").expect("writes");
+            path.display().to_string()
+        };
+        let (wire, log, sensor) = (file("wire.toml"), file("log.jsonl"), file("sensor.toml"));
+        let out = dir.0.display().to_string();
+        let args = [
+            "shape",
+            "--log",
+            &log,
+            "--wire",
+            &wire,
+            &format!("--sensor={sensor}"),
+            "--points",
+            "64",
+            "--calibration",
+            "nitinol-2mm-630",
+            "--out",
+            &out,
+        ];
+        let guard = OutGuard::default().command_line(args.iter().map(std::ffi::OsString::from));
+        let named: Vec<&str> = guard.inputs.iter().map(|(o, _)| o.as_str()).collect();
+        assert_eq!(named, ["--log", "--wire", "--sensor"]);
+        let refused = guard
+            .check(&dir.0)
+            .expect_err("the folder holds the inputs");
+        assert!(
+            refused.to_string().contains("holds the run's input --log"),
+            "{refused}"
+        );
     }
 
     /// A folder a user makes at `--out` during the run is checked at the rename by the same

@@ -413,7 +413,10 @@ impl ResultsArgs {
         id: &str,
         inputs: ftwire_lab::results::OutGuard,
     ) -> Result<ftwire_lab::results::ResultsFolder, LabError> {
-        let guard = inputs.with_force(self.force);
+        // Every path on the command line is an input too (one place for every option).
+        let guard = inputs
+            .with_force(self.force)
+            .command_line(std::env::args_os().skip(1));
         ftwire_lab::results::ResultsFolder::create_or_default(self.out.as_deref(), id, &guard)
     }
 }

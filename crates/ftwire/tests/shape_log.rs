@@ -394,4 +394,45 @@ fn inputs_inside_out_are_refused_and_kept() {
     ]);
     assert_exit(&calibrate, 2, "holds the run's input", "calibrate --wire");
     assert!(wire.is_file(), "calibrate: the input is kept");
+    // Every other file input, each alone inside --out, in either spelling of its option.
+    let inner_log = out.join("rig.jsonl");
+    std::fs::copy(&log, &inner_log).expect("a copy of the log");
+    let sensor = out.join("sensor.toml");
+    std::fs::write(
+        &sensor,
+        "noise_std = [0.05, 0.05, 0.05, 0.002, 0.002, 0.002]\n",
+    )
+    .expect("a sensor file");
+    let mounting = out.join("mounting.toml");
+    std::fs::write(&mounting, "clamp_position_in_sensor = [0.0, 0.0, 0.11]\n")
+        .expect("a mounting file");
+    let wire_preset = ["--wire", "nitinol-2mm-630"];
+    let cases: [(&str, Vec<String>); 4] = [
+        ("shape", vec!["--log".into(), text(&inner_log).into()]),
+        ("shape", vec![format!("--sensor={}", text(&sensor))]),
+        ("shape", vec!["--mounting".into(), text(&mounting).into()]),
+        (
+            "calibrate",
+            vec!["--mounting".into(), text(&mounting).into()],
+        ),
+    ];
+    for (command, input) in &cases {
+        let mut args = vec![*command];
+        if !input.iter().any(|a| a == "--log") {
+            args.extend(["--log", text(&log)]);
+        }
+        args.extend(input.iter().map(String::as_str));
+        args.extend(wire_preset);
+        args.extend(["--out", text(&out)]);
+        let output = ftwire(&args);
+        assert_exit(
+            &output,
+            2,
+            "holds the run's input",
+            &format!("{command} {input:?}"),
+        );
+    }
+    for kept in [&inner_log, &sensor, &mounting] {
+        assert!(kept.is_file(), "{} is kept", kept.display());
+    }
 }
