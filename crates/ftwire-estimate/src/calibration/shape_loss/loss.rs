@@ -287,9 +287,10 @@ impl<'a, M: WireModel> Problem<'a, M> {
     }
 }
 
-/// How a calibration's shapes meet `samples`' markers, as the candidates are judged: the mean
-/// over records of each one's mean marker distance to `Φ(apply(raw) + offset)` \[m\], and the
-/// records whose shape could not be solved. `nodes` as [`ShapeLossParams::nodes`](super::ShapeLossParams::nodes).
+/// How a calibration's shapes meet `samples`' markers, as the candidates are judged: the mean over
+/// records of each one's mean marker distance to `Φ(apply(raw) + offset)` \[m\], and the records
+/// whose shape could not be solved. `nodes` as
+/// [`ShapeLossParams::nodes`](super::ShapeLossParams::nodes).
 ///
 /// # Errors
 /// [`EstimateError::InvalidSetting`] for fewer than 2 nodes.
