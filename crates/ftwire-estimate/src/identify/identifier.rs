@@ -24,9 +24,9 @@
 //! swarm there can miss the basin of a stiff wire. Three choices make the 2-D coarse search
 //! reliable, where the plain `(ln c2, L)` search at a fixed ratio can settle in a wrong basin,
 //! at a half or a quarter of the stiffness:
-//! - **stiffness per length** ([`ParameterConstraints::stiffness_per_length`]): the data pin
-//!   `c/L`, so the basin is a thin valley along `c2 ∝ L`, one grid column in eighty wide; in
-//!   `(ln(c2/L), L)` it runs straight along `L`;
+//! - **stiffness per length** ([`super::ParameterConstraints::stiffness_per_length`]): the
+//!   data pin `c/L`, so the basin is a thin valley along `c2 ∝ L`, one grid column in eighty
+//!   wide; in `(ln(c2/L), L)` it runs straight along `L`;
 //! - **no twist in the coarse cost** ([`super::Weights::tangent_rotation`] `= 0`): the
 //!   identification motion twists the wire ([`super::MotionPlan`]), so the twist at the tip
 //!   measures `c1`; at the coarse search's fixed ratio it misfits every candidate of a wire
@@ -43,48 +43,45 @@
 //! `identify_unseen`). A wire far from these assumptions (`c3/c2` far from 1) can fall outside
 //! the fine fit's basin; the result is then flagged by the χ² test, not returned as
 //! identified.
+//!
+//! Pieces, one per file: this file the streaming [`Identifier`] and the driver's loop
+//! (`run`); `identifier/search` steps 1 to 3 (the search boxes, the fine fits, the wrong
+//! basin); `identifier/assess` step 4 and the estimate at an optimum; `identifier/objectives`
+//! what one search runs on; `identifier/params` the settings; `identifier/batch` the batch
+//! calls.
 
 use std::time::{Duration, Instant};
 
 use ftwire_core::Pose;
-use nalgebra::{DMatrix, Vector3, Vector6};
+use nalgebra::Vector6;
 use rand::Rng;
 
-use super::parameters::{L_MAX, L_MIN, LAMBDA_MAX, LAMBDA_MIN};
-
-/// The prior linear density of a weight identification when the model has none \[kg/m\]:
-/// about a 2.5 mm steel or nitinol wire (the paper's nitinol wires are 0.020 and 0.046 kg/m).
-pub const DEFAULT_LINEAR_DENSITY: f64 = 0.03;
+use super::parameters::L_MAX;
 use super::refine::Refined;
-use super::{
-    CostFunction, Estimate, LevenbergMarquardt, MeasurementNoise, ParameterConstraints,
-    ParameterCovariance, ParticleSwarm, ResidualForm, Residuals, Sample, Swarm, Unidentified,
-    Weights, Whitening,
-};
+use super::{Estimate, Sample, Swarm, Unidentified};
 use crate::{EstimateError, WireModel};
 
-/// Most samples of a fit whose samples share the sensor's bias or gain
-/// ([`MeasurementNoise`] with a bias drift or a gain error, the absolute residual): their
-/// errors are correlated between every pair, so the fit whitens with the Cholesky factor of
-/// a dense `6N × 6N` covariance, `3 · 288 N²` bytes (216 MB at this bound), and its time
-/// grows as `N³`. More is refused before any work.
-pub const MAX_SHARED_SAMPLES: usize = 500;
-
+mod assess;
 mod batch;
+mod objectives;
 mod params;
+mod search;
 pub use batch::{identify, identify_samples};
+pub use objectives::DEFAULT_LINEAR_DENSITY;
+use objectives::{Objectives, prior_linear_density, provisional, resume_swarm};
 pub use params::IdentifierParams;
+pub use search::MAX_SHARED_SAMPLES;
 
 /// Streaming identification for a sensor loop: [`Identifier::push`] samples as they come,
 /// [`Identifier::step`] within a time budget each tick.
 ///
 /// The work is a sequence of indivisible units (a swarm iteration: 20 residual evaluations; the
-/// refinement: a few hundred), and `step` starts a unit only while its budget lasts, so the
-/// results depend only on the data and the seed when each set of samples is run to
-/// completion ([`Identifier::run_to_completion`]); how the work is cut into steps does not
-/// matter. New samples make the swarm current ([`ParticleSwarm::refresh`]) and restart the
-/// iteration count; how far the search got before they arrived does depend on the budgets,
-/// so for a reproducible estimate run to completion after the last push.
+/// refinement: a few hundred), and `step` starts a unit only while its budget lasts, so the results
+/// depend only on the data and the seed when each set of samples is run to completion
+/// ([`Identifier::run_to_completion`]); how the work is cut into steps does not matter. New samples
+/// make the swarm current ([`ParticleSwarm::refresh`](super::ParticleSwarm::refresh)) and restart
+/// the iteration count; how far the search got before they arrived does depend on the budgets, so
+/// for a reproducible estimate run to completion after the last push.
 ///
 /// # Example
 /// ```
@@ -160,9 +157,9 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         self.push_sample(sample)
     }
 
-    /// Adds a sample `(ã, b̃)` taken `time` seconds after the sensor was tared: with a bias
-    /// model ([`MeasurementNoise::bias`]) the final fit then estimates the bias's drift with the
-    /// wire ([`super::drift`]).
+    /// Adds a sample `(ã, b̃)` taken `time` seconds after the sensor was tared: with a bias model
+    /// ([`MeasurementNoise::bias`](super::MeasurementNoise::bias)) the final fit then estimates the
+    /// bias's drift with the wire ([`super::drift`]).
     ///
     /// # Errors
     /// As [`Identifier::push`], and [`EstimateError::BadSampleTime`].
@@ -226,68 +223,6 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
     /// As [`identify`].
     pub fn run_to_completion(&mut self) -> Result<Estimate, EstimateError> {
         self.run(|| true)
-    }
-
-    /// The search boxes for the current samples and the residual weighting.
-    fn search_space(&self) -> Result<SearchSpace, EstimateError> {
-        let unknowns = self.config.constraints.unknowns();
-        let form = self.config.form;
-        let required = (2..).find(|m| form.equations(*m) > unknowns).unwrap_or(2);
-        if self.samples.len() < required {
-            return Err(EstimateError::TooFewSamples {
-                samples: self.samples.len(),
-                required,
-                unknowns,
-                form: form.name(),
-            });
-        }
-        if form == ResidualForm::Absolute
-            && self.samples.len() > MAX_SHARED_SAMPLES
-            && super::shared::shared_bias(&self.samples, &self.config.noise).is_some()
-        {
-            return Err(EstimateError::TooManySharedSamples {
-                samples: self.samples.len(),
-                max: MAX_SHARED_SAMPLES,
-            });
-        }
-        let spread = self
-            .config
-            .noise
-            .pose_spread(self.samples.iter().map(|s| &s.b));
-        if spread < self.config.min_motion {
-            return Err(EstimateError::DegenerateMotion {
-                spread,
-                required: self.config.min_motion,
-            });
-        }
-        let chord = self.samples.iter().map(Sample::chord).fold(0.0, f64::max);
-        let length_min = L_MIN.max(chord + self.config.length_margin);
-        let (lower, upper) = self.config.constraints.bounds(length_min);
-        let (coarse_lower, coarse_upper) = self.coarse_constraints().bounds(length_min);
-        let (unweighed_lower, unweighed_upper) = ParameterConstraints {
-            weight: None,
-            ..self.config.constraints
-        }
-        .bounds(length_min);
-        let first_chord = self.samples.first().map_or(0.0, Sample::chord);
-        let length_scale = self.config.length_scale.unwrap_or(first_chord.max(0.05));
-        Ok(SearchSpace {
-            lower,
-            upper,
-            coarse_lower,
-            coarse_upper,
-            unweighed_lower,
-            unweighed_upper,
-            weights: Weights {
-                length_scale,
-                tangent_rotation: 1.0,
-            },
-            search_whitening: super::joint::search_weights(
-                &self.samples,
-                self.config.form,
-                &self.config.noise,
-            ),
-        })
     }
 
     /// The driver (module docs): the coarse swarm's iterations of the current round while
@@ -373,430 +308,4 @@ impl<M: WireModel, R: Rng> Identifier<M, R> {
         self.swarm = Some(swarm);
         outcome
     }
-
-    /// Step 2 of the driver for one round: the fine fit from each of the swarm's distinct
-    /// personal bests ([`IdentifierParams::refine_starts`], at least 1 % of the box's
-    /// narrowest side apart), and the one of lowest `χ²` with its `χ²`; also the residual
-    /// evaluations spent.
-    ///
-    /// Fits are compared by `χ²`, not by the fixed weighting's cost: a wrong basin can leave
-    /// small pose residuals where the noise predicts even smaller ones (a far too stiff wire
-    /// barely moves with the wrench).
-    fn refine_round(
-        &self,
-        objectives: &Objectives<'_, M>,
-        swarm: &Swarm,
-        space: &SearchSpace,
-    ) -> (Option<(Refined, f64)>, usize) {
-        let span = space
-            .coarse_lower
-            .iter()
-            .zip(&space.coarse_upper)
-            .map(|(l, u)| u - l)
-            .fold(f64::INFINITY, f64::min);
-        let mut evaluations = 0;
-        let mut round_best: Option<(Refined, f64)> = None;
-        for start in swarm.distinct_bests(self.config.refine_starts, 0.01 * span) {
-            let (refined, spent) = self.refine_from(objectives, &start, space);
-            evaluations += spent;
-            let chi2 = objectives
-                .fine
-                .chi_squared(&refined.theta, &self.config.noise)
-                .unwrap_or(f64::INFINITY);
-            if round_best.as_ref().is_none_or(|(_, b)| chi2 < *b) {
-                round_best = Some((refined, chi2));
-            }
-        }
-        (round_best, evaluations)
-    }
-
-    /// The fine fit from one coarse start: Levenberg–Marquardt in the coarse parameters, then,
-    /// when the configured parameters differ, in those from the coarse optimum (through the
-    /// fit without the weight first when the weight is identified); also the residual
-    /// evaluations spent.
-    fn refine_from(
-        &self,
-        objectives: &Objectives<'_, M>,
-        start: &[f64],
-        space: &SearchSpace,
-    ) -> (Refined, usize) {
-        let coarse = objectives.coarse.constraints;
-        let full = objectives.fine.constraints;
-        let unweighed = objectives.unweighed.constraints;
-        let coarse_residual = |theta: &[f64]| objectives.coarse.evaluate(theta);
-        let fine_residual = |theta: &[f64]| objectives.fine.evaluate(theta);
-        let unweighed_residual = |theta: &[f64]| objectives.unweighed.evaluate(theta);
-        let mut refined = self.config.refine.minimise(
-            &coarse_residual,
-            start,
-            &space.coarse_lower,
-            &space.coarse_upper,
-        );
-        let mut evaluations = refined.evaluations;
-        if coarse != full {
-            let (mut c, mut length) = coarse.eta(&refined.theta);
-            if full.weight.is_some() {
-                // Free c and L with the weight at its prior first: the fit with the weight free
-                // then starts in the right basin (from the coarse optimum it could trade
-                // torsion for weight and wander off).
-                let start = clamp(
-                    unweighed.theta(c, length, 0.0),
-                    &space.unweighed_lower,
-                    &space.unweighed_upper,
-                );
-                let step = self.config.refine.minimise(
-                    &unweighed_residual,
-                    &start,
-                    &space.unweighed_lower,
-                    &space.unweighed_upper,
-                );
-                evaluations += step.evaluations;
-                (c, length) = unweighed.eta(&step.theta);
-            }
-            let lambda = full
-                .weight
-                .map_or(0.0, |g| prior_linear_density(&self.model, &g));
-            let start = clamp(full.theta(c, length, lambda), &space.lower, &space.upper);
-            refined =
-                self.config
-                    .refine
-                    .minimise(&fine_residual, &start, &space.lower, &space.upper);
-            evaluations += refined.evaluations;
-        }
-        (refined, evaluations)
-    }
-
-    /// Whether a fit is most likely in the wrong basin, to be searched again (step 3): far
-    /// above the noise whatever else is wrong with it (a wrong basin is often ill-conditioned
-    /// too), or flagged above the noise or at the box's edge.
-    fn is_wrong_basin(&self, estimate: &Estimate) -> bool {
-        estimate.chi2_per_dof > self.config.max_chi2_per_dof
-            || matches!(
-                estimate.unidentified,
-                Some(Unidentified::ResidualAboveNoise { .. } | Unidentified::AtBound { .. })
-            )
-    }
-
-    /// The constraints of the swarm's coarse search: the configured ones, plus isotropic
-    /// bending and the coarse torsion ratio where they leave a parameter free.
-    fn coarse_constraints(&self) -> ParameterConstraints {
-        let k = self.config.constraints;
-        ParameterConstraints {
-            isotropic: true,
-            torsion_ratio: k.torsion_ratio.or(Some(self.config.coarse_torsion_ratio)),
-            stiffness_per_length: true,
-            // The weight stays at its prior in the coarse search.
-            weight: None,
-        }
-    }
-
-    /// Step 4 of the driver: Levenberg–Marquardt on the noise-whitened residuals from the
-    /// search's best fit (generalised least squares, see [`super::residual`]; for the
-    /// absolute form jointly with the samples' path, [`super::joint::polish_continued`]), and
-    /// the estimate there.
-    /// `None` when the whitening cannot be computed at the best fit (the model fails at a
-    /// sample), or the independent-noise polish ends at a higher `χ²` (never expected: it
-    /// starts from the best fit and only accepts steps that lower its cost); the caller keeps
-    /// the unpolished estimate then.
-    fn polish(
-        &self,
-        fine: &Residuals<'_, M>,
-        best: &Refined,
-        space: &SearchSpace,
-        evaluations: usize,
-    ) -> Option<Estimate> {
-        let noise = &self.config.noise;
-        let bounds = (&space.lower[..], &space.upper[..]);
-        let (polished, samples, chi2) = match super::joint::polish_continued(
-            fine,
-            &best.theta,
-            noise,
-            &self.config.refine,
-            bounds,
-        ) {
-            Some(joint) => {
-                let chi2 = joint.refined.cost;
-                let refined = Refined {
-                    evaluations: joint.evaluations,
-                    ..joint.refined
-                };
-                (refined, joint.samples, Some(chi2))
-            }
-            None => {
-                let whitening = fine.whitening(&best.theta, noise).ok()?;
-                let whitened = Residuals {
-                    whitening: Some(&whitening),
-                    ..*fine
-                };
-                let residual = |theta: &[f64]| whitened.evaluate(theta);
-                let polished =
-                    self.config
-                        .refine
-                        .minimise(&residual, &best.theta, bounds.0, bounds.1);
-                let before = fine.chi_squared(&best.theta, noise).ok()?;
-                let after = fine.chi_squared(&polished.theta, noise).ok()?;
-                if after > before {
-                    return None;
-                }
-                (polished, fine.samples.to_vec(), None)
-            }
-        };
-        // Judge the polished fit exactly as the unpolished one: the fixed weighting's cost and
-        // Jacobian (its conditioning threshold is in those units), at the polished θ, on the
-        // samples the polish ended with.
-        let fine = Residuals {
-            samples: &samples,
-            ..*fine
-        };
-        let unwhitened = |theta: &[f64]| fine.evaluate(theta);
-        let residual = unwhitened(&polished.theta);
-        let jacobian = LevenbergMarquardt::jacobian(
-            &unwhitened,
-            &polished.theta,
-            bounds.0,
-            bounds.1,
-            self.config.refine.fd_step,
-            residual.len(),
-        );
-        let judged = Refined {
-            cost: residual.norm_squared(),
-            residual,
-            jacobian,
-            theta: polished.theta.clone(),
-            iterations: polished.iterations,
-            evaluations: polished.evaluations + 1 + 2 * space.lower.len(),
-        };
-        let total = evaluations + judged.evaluations;
-        self.assess(
-            &fine,
-            &judged,
-            space,
-            total,
-            Some((&polished.jacobian, chi2)),
-        )
-        .ok()
-    }
-
-    /// The estimate at a refined optimum: uncertainty and identifiability.
-    ///
-    /// The standard deviations are first order: `s² (JᵀJ)⁻¹` of the fixed weighting's
-    /// Jacobian, `s²` its cost per degree of freedom; or, after the polish, `(J_wᵀJ_w)⁻¹` of
-    /// the whitened Jacobian `whitened` (the covariance of a generalised least-squares fit),
-    /// inflated by `χ²/dof` when the fit is worse than the noise explains; `χ²` is the
-    /// polish's own when it gives one (the joint fit's), otherwise the residuals'.
-    fn assess(
-        &self,
-        residuals: &Residuals<'_, M>,
-        best: &Refined,
-        space: &SearchSpace,
-        evaluations: usize,
-        whitened: Option<(&DMatrix<f64>, Option<f64>)>,
-    ) -> Result<Estimate, EstimateError> {
-        let (lower, upper) = (&space.lower, &space.upper);
-        let constraints = self.config.constraints;
-        let (c, length) = constraints.eta(&best.theta);
-        let p = best.theta.len();
-        let dof = residuals.len().saturating_sub(p).max(1) as f64;
-        // Condition in (ln c, ln L, ln λ): scale the L column by L.
-        let l = constraints.length_index();
-        let mut scaled: DMatrix<f64> = best.jacobian.clone();
-        scaled.column_mut(l).scale_mut(length);
-        let sv = scaled.singular_values();
-        let (smax, smin) = (sv.max(), sv.min());
-        let condition = if smax > 0.0 { smin / smax } else { 0.0 };
-        let chi2 = match whitened.and_then(|(_, chi2)| chi2) {
-            Some(chi2) => chi2,
-            None => residuals.chi_squared(&best.theta, &self.config.noise)?,
-        };
-        let chi2_per_dof = chi2 / dof;
-        let (jacobian, s2) = match whitened {
-            Some((jw, _)) => (jw, chi2_per_dof.max(1.0)),
-            None => (&best.jacobian, best.cost / dof),
-        };
-        let jtj = jacobian.transpose() * jacobian;
-        // The fit's covariance in θ, with the model's own error: a relative variance ε² of
-        // every search parameter (the stiffnesses and λ are searched as logarithms, L as
-        // itself), which no number of samples lowers.
-        let floor = self.config.model_error.powi(2);
-        let theta_covariance = jtj.try_inverse().filter(|_| condition > 0.0).map(|inv| {
-            let mut cov = inv * s2;
-            for i in 0..p {
-                cov[(i, i)] += floor * if i == l { length * length } else { 1.0 };
-            }
-            cov
-        });
-        let std: Vec<f64> = match &theta_covariance {
-            Some(cov) => (0..p).map(|i| cov[(i, i)].max(0.0).sqrt()).collect(),
-            None => vec![f64::INFINITY; p],
-        };
-        let covariance = theta_covariance.and_then(|cov| {
-            let g = constraints.eta_jacobian(&best.theta);
-            ParameterCovariance::from_matrix(&(&g * cov * g.transpose()))
-        });
-        let index = constraints.stiffness_index();
-        let c_std = [0, 1, 2].map(|i| c[i] * std.get(index[i]).copied().unwrap_or(f64::INFINITY));
-        let length_std = std.get(l).copied().unwrap_or(f64::INFINITY);
-        let linear_density = constraints.linear_density(&best.theta);
-        let linear_density_std =
-            linear_density.map(|lambda| lambda * std.get(l + 1).copied().unwrap_or(f64::INFINITY));
-        let at_bound = best.theta.iter().enumerate().find(|(i, v)| {
-            let (l, u) = (lower[*i], upper[*i]);
-            let tol = 1e-6 * (u - l);
-            **v <= l + tol || **v >= u - tol
-        });
-        let unidentified = if condition < self.config.min_condition {
-            Some(Unidentified::IllConditioned {
-                condition,
-                threshold: self.config.min_condition,
-            })
-        } else if let Some((index, value)) = at_bound {
-            Some(Unidentified::AtBound {
-                index,
-                value: *value,
-            })
-        } else if chi2_per_dof > self.config.max_chi2_per_dof {
-            Some(Unidentified::ResidualAboveNoise {
-                chi2_per_dof,
-                threshold: self.config.max_chi2_per_dof,
-            })
-        } else {
-            None
-        };
-        Ok(Estimate {
-            c,
-            length,
-            c_std,
-            length_std,
-            linear_density,
-            linear_density_std,
-            cost: best.cost,
-            chi2_per_dof,
-            condition,
-            samples: self.samples.len(),
-            evaluations,
-            unidentified,
-            covariance,
-        })
-    }
-}
-
-/// The search boxes of the fine (configured) and coarse parameterisations, and the weighting.
-#[derive(Debug, Clone)]
-struct SearchSpace {
-    lower: Vec<f64>,
-    upper: Vec<f64>,
-    coarse_lower: Vec<f64>,
-    coarse_upper: Vec<f64>,
-    /// The box of the configured parameters without the weight.
-    unweighed_lower: Vec<f64>,
-    unweighed_upper: Vec<f64>,
-    weights: Weights,
-    /// The search's per-sample weights under a shared bias ([`super::joint::search_weights`]).
-    search_whitening: Option<Whitening>,
-}
-
-/// The residuals of one search: the coarse swarm's (coarse parameters, no twist about the
-/// tangent), the configured parameters' (the fine fit's), and the configured ones without the
-/// weight.
-struct Objectives<'a, M: WireModel> {
-    coarse: Residuals<'a, M>,
-    fine: Residuals<'a, M>,
-    unweighed: Residuals<'a, M>,
-}
-
-impl<'a, M: WireModel> Objectives<'a, M> {
-    fn new(
-        model: &'a M,
-        samples: &'a [Sample],
-        config: &IdentifierParams,
-        space: &'a SearchSpace,
-        coarse: ParameterConstraints,
-    ) -> Self {
-        let residuals = |constraints| Residuals {
-            model,
-            samples,
-            form: config.form,
-            weights: space.weights,
-            constraints,
-            whitening: space.search_whitening.as_ref(),
-        };
-        let full = config.constraints;
-        let coarse_weights = Weights {
-            tangent_rotation: 0.0,
-            ..space.weights
-        };
-        Self {
-            coarse: Residuals {
-                weights: coarse_weights,
-                ..residuals(coarse)
-            },
-            fine: residuals(full),
-            unweighed: residuals(ParameterConstraints {
-                weight: None,
-                ..full
-            }),
-        }
-    }
-}
-
-/// The swarm to search on: the kept one, refreshed on the samples when they changed
-/// (`stale`), or a new one.
-fn resume_swarm<F: CostFunction, R: Rng + ?Sized>(
-    pso: &ParticleSwarm,
-    cost: &F,
-    kept: Option<Swarm>,
-    stale: bool,
-    rng: &mut R,
-) -> Swarm {
-    match kept {
-        Some(mut swarm) => {
-            if stale {
-                pso.refresh(cost, &mut swarm, rng);
-            }
-            swarm
-        }
-        None => pso.init(cost, rng),
-    }
-}
-
-/// `theta` clamped into the box.
-fn clamp(mut theta: Vec<f64>, lower: &[f64], upper: &[f64]) -> Vec<f64> {
-    for ((x, l), u) in theta.iter_mut().zip(lower).zip(upper) {
-        *x = x.clamp(*l, *u);
-    }
-    theta
-}
-
-/// An unrefined estimate at `theta`: no uncertainty.
-fn provisional<M: WireModel>(
-    residuals: &Residuals<'_, M>,
-    theta: &[f64],
-    evaluations: usize,
-    reason: Unidentified,
-) -> Estimate {
-    let (c, length) = residuals.constraints.eta(theta);
-    Estimate {
-        c,
-        length,
-        c_std: [f64::INFINITY; 3],
-        length_std: f64::INFINITY,
-        linear_density: None,
-        linear_density_std: None,
-        cost: residuals.cost(theta),
-        chi2_per_dof: f64::INFINITY,
-        condition: 0.0,
-        samples: residuals.samples.len(),
-        evaluations,
-        unidentified: Some(reason),
-        covariance: None,
-    }
-}
-
-/// The prior linear density \[kg/m\] of a weight identification under gravity `g`: the model's
-/// own weight along `g`, or [`DEFAULT_LINEAR_DENSITY`] for a weightless model, clamped into
-/// the search box.
-fn prior_linear_density<M: WireModel>(model: &M, g: &Vector3<f64>) -> f64 {
-    let w = model.weight_per_length().dot(g) / g.norm_squared();
-    let lambda = if w > 0.0 { w } else { DEFAULT_LINEAR_DENSITY };
-    lambda.clamp(LAMBDA_MIN, LAMBDA_MAX)
 }

@@ -1,9 +1,9 @@
 //! The settings of the identification driver ([`super::Identifier`]).
 
-use super::{
+use crate::EstimateError;
+use crate::identify::{
     LevenbergMarquardt, MeasurementNoise, ParameterConstraints, ParticleSwarm, ResidualForm,
 };
-use crate::EstimateError;
 
 /// Identification settings (a parameter bundle; checked when identification starts).
 #[derive(Debug, Clone, PartialEq)]
