@@ -103,6 +103,47 @@ impl LabError {
     }
 }
 
+/// The front end a library call came from, so that its errors name an input as that front end
+/// spells it: a command-line flag (`--tare-time`), a Python keyword (`tare_time`) or a ROS 2
+/// parameter (`tare_time`), and the data as its user gave it (a log file, or arrays).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrontEnd {
+    /// The `ftwire` command.
+    #[default]
+    Cli,
+    /// The Python module.
+    Python,
+    /// A ROS 2 node.
+    Ros,
+}
+
+impl FrontEnd {
+    /// The input named by its command-line `flag` (`"--tare-time"`), as this front end
+    /// spells it.
+    ///
+    /// ```
+    /// use ftwire_app::error::FrontEnd;
+    /// assert_eq!(FrontEnd::Cli.spell("--tare-time"), "--tare-time");
+    /// assert_eq!(FrontEnd::Python.spell("--tare-time"), "tare_time");
+    /// assert_eq!(FrontEnd::Ros.spell("--gravity-in-clamp"), "gravity_in_clamp");
+    /// ```
+    pub fn spell(self, flag: &str) -> String {
+        match self {
+            Self::Cli => flag.to_owned(),
+            Self::Python | Self::Ros => flag.trim_start_matches('-').replace('-', "_"),
+        }
+    }
+
+    /// The recorded data, a log at `path`, as its user gave it: `the log PATH`, or for Python
+    /// `the arrays` (a call that reads no file).
+    pub fn source(self, path: &std::path::Path) -> String {
+        match self {
+            Self::Python => "the arrays".to_owned(),
+            Self::Cli | Self::Ros => format!("the log {}", path.display()),
+        }
+    }
+}
+
 /// Sorts a Kirchhoff-model error: an integration that overflowed is "no answer"; everything
 /// else (parameters, a configuration outside `A`, node counts) is bad input.
 pub fn from_rod(error: ftwire_rod::RodError, context: &str) -> LabError {

@@ -52,6 +52,7 @@ fn a_saved_identification_log_gives_the_live_estimate() {
         gravity: None,
         seed: 3,
         drift: None,
+        front_end: Default::default(),
     };
     params.check().expect("good settings");
     let samples = identify::samples(&params).expect("the saved log reads");
@@ -173,6 +174,7 @@ fn a_long_log_of_a_soft_wire_is_identified_with_the_sensor_s_drift_modelled() {
             gravity: None,
             seed: 2,
             drift: None,
+            front_end: Default::default(),
         };
         let samples = identify::samples(&params).expect("the saved log reads");
         assert_eq!(samples.len(), 30);

@@ -359,6 +359,7 @@ fn shape_needs_no_b_but_identify_does() {
         gravity: None,
         seed: 0,
         drift: None,
+        front_end: Default::default(),
     })
     .expect_err("identification needs b");
     assert_eq!(error.kind(), "bad_input");

@@ -15,6 +15,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use ftwire_app::error::FrontEnd;
 use ftwire_core::Pose;
 use ftwire_estimate::ft::MountingSpec;
 use ftwire_estimate::identify::{
@@ -51,6 +52,9 @@ pub struct IdentifyLogParams {
     /// The sensor's data sheet, to model the bias all records share (the tare's offset and its
     /// drift, estimated with the wire); `None`: the records' errors are independent.
     pub drift: Option<LogDrift>,
+    /// Who calls, so that errors name the inputs as that front end spells them.
+    #[serde(skip)]
+    pub front_end: FrontEnd,
 }
 
 /// What `identify --log` needs to model the sensor's shared bias, and `shape --log` to draw
@@ -182,8 +186,9 @@ pub fn samples(params: &IdentifyLogParams) -> Result<Vec<Sample>, LabError> {
     if let Some(n) = params.samples {
         if n > samples.len() {
             return Err(LabError::bad_input(format!(
-                "--samples {n}: the log {} holds only {} records",
-                params.log.display(),
+                "{} {n}: {} holds only {} records",
+                params.front_end.spell("--samples"),
+                params.front_end.source(&params.log),
                 samples.len()
             )));
         }
@@ -260,8 +265,12 @@ pub fn estimate(
 ) -> Result<EstimateReport, LabError> {
     let config = params.config()?;
     let samples = since_tare(params, samples)?;
-    let estimate = search(&samples, &config, params.seed, progress)
-        .map_err(|e| e.context(format!("identifying from {}", params.log.display())))?;
+    let estimate = search(&samples, &config, params.seed, progress).map_err(|e| {
+        e.context(format!(
+            "identifying from {}",
+            params.front_end.source(&params.log)
+        ))
+    })?;
     Ok(EstimateReport::new(&estimate, params.residual.form))
 }
 
@@ -286,9 +295,10 @@ fn since_tare(params: &IdentifyLogParams, samples: &[Sample]) -> Result<Vec<Samp
             let time = s.time.unwrap_or(first);
             if time < tare {
                 return Err(LabError::bad_input(format!(
-                    "--tare-time {tare}: record {i} of {} is at time {time}, before the tare; \
-                     give the tare's time on the log's clock, at or before the first record",
-                    params.log.display()
+                    "{} {tare}: record {i} of {} is at time {time}, before the tare; give the \
+                     tare's time on the records' clock, at or before the first record",
+                    params.front_end.spell("--tare-time"),
+                    params.front_end.source(&params.log)
                 )));
             }
             Ok(Sample {
@@ -504,6 +514,7 @@ mod tests {
             gravity: None,
             seed: 0,
             drift: None,
+            front_end: Default::default(),
         };
         let error = samples(&params).expect_err("one record, two asked for");
         assert!(

@@ -191,6 +191,7 @@ pub fn identify(
             tare_time,
             (rest_samples, tare_samples),
         )?,
+        front_end: ftwire_lab::error::FrontEnd::Python,
     };
     params.check().map_err(|e| lab_error(&e, "identify"))?;
     let times = sample_times(times, a.len())?;

@@ -120,6 +120,16 @@ def test_the_sensor_s_drift_modelled_is_the_cli_to_the_last_digit(samples):
     assert found.chi2_per_dof != ftwire.identify(a, b, seed=3).chi2_per_dof
 
 
+def test_errors_name_the_python_keyword_and_the_arrays(samples):
+    _, a, b = samples
+    times = np.arange(len(a), dtype=float)
+    with pytest.raises(ValueError) as refused:
+        ftwire.identify(a, b, seed=3, sensor="distorted", times=times, tare_time=2.5)
+    message = str(refused.value)
+    assert "tare_time 2.5: record 0 of the arrays is at time 0" in message, message
+    assert "--" not in message and "<arrays>" not in message, message
+
+
 def test_pose_noise_and_gain_error_are_the_cli_to_the_last_digit(samples):
     path, a, b = samples
     out = cli_json("identify", "--log", str(path), "--json", "--seed", "3",

@@ -22,7 +22,7 @@ pub mod stream;
 pub use datasheet::DataSheet;
 pub use error::RigError;
 pub use map::RawMap;
-pub use model::{WireBody, WireModelChoice};
+pub use model::{ModelKind, WireBody, WireModelChoice};
 pub use reading::Reading;
 pub use record::ShapeRecord;
 pub use shape::{Measurement, MeasurementParams, ShapeConfidence, Solved};

@@ -29,6 +29,88 @@ pub enum WireModelChoice {
     },
 }
 
+/// The kind of wire model a user chooses (`--model kirchhoff|loaded`): the paper's weightless
+/// rod or the loaded one; with gravity's direction it is a [`WireModelChoice`]
+/// ([`ModelKind::choice`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModelKind {
+    /// The paper's model: a weightless Kirchhoff rod, straight at rest (`kirchhoff` on the
+    /// command line and in summaries).
+    #[serde(rename = "kirchhoff")]
+    Weightless,
+    /// The loaded Kirchhoff rod: the wire's weight under gravity and its rest
+    /// curvature (`ftwire_rod::Load`).
+    Loaded,
+}
+
+impl ModelKind {
+    /// The model given, or the default for a world with gravity on or off: `loaded` when
+    /// gravity is on, `kirchhoff` when it is off.
+    pub fn resolve(given: Option<Self>, gravity_on: bool) -> Self {
+        match (given, gravity_on) {
+            (Some(model), _) => model,
+            (None, true) => Self::Loaded,
+            (None, false) => Self::Weightless,
+        }
+    }
+
+    /// The model with gravity `gravity_in_clamp` (base clamp frame \[m/s²\]) for the loaded
+    /// rod.
+    ///
+    /// ```
+    /// use ftwire_rig::{ModelKind, WireModelChoice};
+    /// let g = [0.0, 0.0, -9.81];
+    /// let loaded = WireModelChoice::Loaded { gravity_in_clamp: g };
+    /// assert_eq!(ModelKind::resolve(None, true).choice(g), loaded);
+    /// assert_eq!(ModelKind::resolve(None, false).choice(g), WireModelChoice::Weightless);
+    /// assert_eq!("loaded".parse::<ModelKind>(), Ok(ModelKind::Loaded));
+    /// ```
+    pub fn choice(self, gravity_in_clamp: [f64; 3]) -> WireModelChoice {
+        match self {
+            Self::Weightless => WireModelChoice::Weightless,
+            Self::Loaded => WireModelChoice::Loaded { gravity_in_clamp },
+        }
+    }
+
+    /// Every value's name, as `--model` takes it.
+    pub const NAMES: [&'static str; 2] = ["kirchhoff", "loaded"];
+
+    /// The model's name in tables and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Weightless => "kirchhoff",
+            Self::Loaded => "loaded",
+        }
+    }
+
+    /// The other model.
+    pub fn other(self) -> Self {
+        match self {
+            Self::Weightless => Self::Loaded,
+            Self::Loaded => Self::Weightless,
+        }
+    }
+}
+
+impl std::fmt::Display for ModelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ModelKind {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        match text {
+            "kirchhoff" => Ok(Self::Weightless),
+            "loaded" => Ok(Self::Loaded),
+            _ => Err(format!("model {text:?}: expected kirchhoff or loaded")),
+        }
+    }
+}
+
 /// What a wire is beyond its stiffnesses and length: what its weight and rest shape need.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WireBody {

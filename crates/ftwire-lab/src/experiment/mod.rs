@@ -73,67 +73,7 @@ impl std::str::FromStr for Gravity {
 /// accuracy of the simulator against the model holds (N = 100).
 pub const SIM_EDGES: usize = 100;
 
-/// The wire model an experiment's estimators use (`--model`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ModelKind {
-    /// The paper's model: a weightless Kirchhoff rod, straight at rest (`kirchhoff` on the
-    /// command line and in summaries).
-    #[serde(rename = "kirchhoff")]
-    Weightless,
-    /// The loaded Kirchhoff rod: the wire's weight under gravity and its rest
-    /// curvature (`ftwire_rod::Load`).
-    Loaded,
-}
-
-impl ModelKind {
-    /// `--model`, or its default for `gravity`: `loaded` when gravity is on, `kirchhoff`
-    /// when it is off.
-    pub fn resolve(given: Option<Self>, gravity: Gravity) -> Self {
-        match (given, gravity) {
-            (Some(model), _) => model,
-            (None, Gravity::On) => Self::Loaded,
-            (None, Gravity::Off) => Self::Weightless,
-        }
-    }
-
-    /// Every value's name, as `--model` takes it.
-    pub const NAMES: [&'static str; 2] = ["kirchhoff", "loaded"];
-
-    /// The model's name in tables and summaries.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Weightless => "kirchhoff",
-            Self::Loaded => "loaded",
-        }
-    }
-
-    /// The other model.
-    pub fn other(self) -> Self {
-        match self {
-            Self::Weightless => Self::Loaded,
-            Self::Loaded => Self::Weightless,
-        }
-    }
-}
-
-impl std::fmt::Display for ModelKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for ModelKind {
-    type Err = String;
-
-    fn from_str(text: &str) -> Result<Self, Self::Err> {
-        match text {
-            "kirchhoff" => Ok(Self::Weightless),
-            "loaded" => Ok(Self::Loaded),
-            _ => Err(format!("model {text:?}: expected kirchhoff or loaded")),
-        }
-    }
-}
+pub use ftwire_rig::ModelKind;
 
 /// The model of a wire whose parameters are known (the calibration wire, or the wire of a
 /// shape experiment, whose `c` and `L` were identified before): the paper's weightless rod,
@@ -216,7 +156,7 @@ impl Default for CommonParams {
 impl CommonParams {
     /// The estimators' model: the given one, or its default for the gravity.
     pub fn model(&self) -> ModelKind {
-        ModelKind::resolve(self.model, self.gravity)
+        ModelKind::resolve(self.model, self.gravity == Gravity::On)
     }
 
     /// The given wire, or the experiment's `default` wire (a preset name or a file).

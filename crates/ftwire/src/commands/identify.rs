@@ -42,6 +42,7 @@ fn params(args: &IdentifyArgs) -> Result<IdentifyLogParams, LabError> {
                 )
             })
             .transpose()?,
+        front_end: ftwire_lab::error::FrontEnd::Cli,
     })
 }
 
