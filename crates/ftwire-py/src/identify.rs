@@ -201,9 +201,15 @@ pub fn identify(
         .zip(times)
         .map(|((a, b), time)| Sample { a, b, time })
         .collect();
-    let report: EstimateReport = py
-        .detach(|| estimate(&params, &samples, &mut |_: &str| {}))
-        .map_err(|e| lab_error(&e, "identify"))?;
+    // Ctrl-C ends the search's wait (`KeyboardInterrupt`): the particle swarm of a long log
+    // runs for minutes.
+    let report: EstimateReport = {
+        let params = params.clone();
+        crate::interrupt::interruptible(py, move || {
+            estimate(&params, &samples, &mut |_: &str| {})
+        })?
+    }
+    .map_err(|e| lab_error(&e, "identify"))?;
     let guess = wire_guess.map(|w| w.spec.clone());
     let mut spec = guess.unwrap_or_else(|| ftwire_lab::wire::WireSpec {
         name: "identified".to_owned(),

@@ -15,6 +15,7 @@ mod control;
 mod error;
 mod identify;
 mod input;
+mod interrupt;
 mod log;
 mod plan;
 mod pose;

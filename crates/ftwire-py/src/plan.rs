@@ -94,9 +94,12 @@ pub fn plan<'py>(
         seed,
     };
     params.check().map_err(|e| lab_error(&e, "plan"))?;
-    let report = py
-        .detach(|| run(&params))
-        .map_err(|e| lab_error(&e, "plan"))?;
+    // Ctrl-C ends the wait for the planner (`KeyboardInterrupt`).
+    let report = {
+        let params = params.clone();
+        crate::interrupt::interruptible(py, move || run(&params))?
+    }
+    .map_err(|e| lab_error(&e, "plan"))?;
     let dict = waypoints(py, &report.waypoints)?;
     dict.set_item("length", report.length)?;
     dict.set_item("cost", report.cost)?;
