@@ -205,9 +205,7 @@ pub fn identify(
     // runs for minutes.
     let report: EstimateReport = {
         let params = params.clone();
-        crate::interrupt::interruptible(py, move || {
-            estimate(&params, &samples, &mut |_: &str| {})
-        })?
+        crate::interrupt::interruptible(py, move || estimate(&params, &samples, &mut |_: &str| {}))?
     }
     .map_err(|e| lab_error(&e, "identify"))?;
     let guess = wire_guess.map(|w| w.spec.clone());

@@ -17,7 +17,7 @@ fn calibrate_loss_names() -> [&'static str; 2] {
 #[derive(Debug, Clone, Args, Serialize)]
 #[command(
     after_help = "Example (a simulated recording, then its calibration):\n  \
-    ftwire experiment calibrate --gravity off --trials 600 --save-log --out rec\n  \
+    ftwire experiment calibrate --gravity off --trials 150 --save-log --out rec\n  \
     ftwire calibrate --log rec/logs/recording.jsonl --wire nitinol-3mm-820 --out cal"
 )]
 pub struct CalibrateArgs {

@@ -12,11 +12,13 @@ use crate::cli::groups::{CalibrationArgs, GravityInClampArgs, MountingArgs};
 /// `ftwire shape --log FILE.jsonl --wire W [--calibration FILE] [--mounting FILE.toml]
 /// [--gravity-in-clamp X,Y,Z] [--a-std T1,T2,T3,F1,F2,F3] [--points N] [--out DIR] [--json]`.
 #[derive(Debug, Clone, Args, Serialize)]
-#[command(after_help = "Examples:\n  \
-    ftwire shape --log results/shape/logs/nitinol-2mm-630.jsonl --wire nitinol-2mm-630 \\\n    \
-    --calibration results/shape/calibration.json --json\n  \
-    ftwire shape --log rig.jsonl --wire nitinol-3mm-820 --calibration cal/calibration.json \\\n    \
-    --out shapes --points 50\n\n\
+#[command(
+    after_help = "Examples (a simulated recording as a rig writes it, its calibration, its \
+    shapes):\n  \
+    ftwire experiment calibrate --gravity off --trials 150 --save-log --out rec\n  \
+    ftwire calibrate --log rec/logs/recording.jsonl --wire nitinol-3mm-820 --out cal\n  \
+    ftwire shape --log rec/logs/recording.jsonl --wire nitinol-3mm-820 \\\n    \
+    --calibration cal/calibration.json --out shapes --points 50\n\n\
     Each record is one shape record: line, time, a, points [m], stable, confident, \
     confidence, with error bars sigma [m], with inner markers marker_mean_mm. Without --out \
     each is printed (text, or JSON Lines with --json); with --out DIR they go to \
@@ -26,7 +28,8 @@ use crate::cli::groups::{CalibrationArgs, GravityInClampArgs, MountingArgs};
     point's first-order error [m], and summary.json sigma_mean_mm.\n\n\
     Exit codes: 0 every record shaped, 1 the model has no shape for some record (its `error` \
     says why; the others are written), 2 bad input (a bad log line, a raw record with neither \
-    --calibration nor --mounting, a tool without the record's gravity).")]
+    --calibration nor --mounting, a tool without the record's gravity)."
+)]
 pub struct ShapeArgs {
     /// The JSON Lines log (format: `ftwire_estimate::log`); each record has `a` (calibrated)
     /// or `raw` (force first, sensor frame; needs --calibration or --mounting). `b` is not
