@@ -7,7 +7,7 @@
 use std::io::{self, IsTerminal};
 use std::time::Duration;
 
-use ftwire::output;
+use ftwire_app::output;
 use ftwire_lab::error::LabError;
 use ftwire_lab::experiment::Progress;
 use ftwire_lab::log::identify::{self, IdentifyLogParams};

@@ -16,7 +16,7 @@
 use std::fmt;
 use std::io::{self, Write};
 
-use ftwire::output::{self, JsonLines};
+use ftwire_app::output::{self, JsonLines};
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
 use ftwire_lab::log::shape::{LogShapes, ShapeLog, ShapeLogParams, ShapeLogSummary};

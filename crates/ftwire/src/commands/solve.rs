@@ -10,7 +10,7 @@
 use std::io::{self, BufRead, BufReader};
 use std::path::Path;
 
-use ftwire::output::{self, ErrorLine, JsonLines};
+use ftwire_app::output::{self, ErrorLine, JsonLines};
 use ftwire_lab::error::LabError;
 use ftwire_lab::solve::{self, Batch, BatchTally, SolveParams};
 
