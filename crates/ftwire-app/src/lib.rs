@@ -4,6 +4,7 @@ pub mod config;
 pub mod csv_table;
 pub mod error;
 pub mod header;
+pub mod init;
 pub mod output;
 pub mod provenance;
 pub mod report;
