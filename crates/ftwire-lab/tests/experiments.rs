@@ -375,6 +375,24 @@ fn goal_steers_one_pair_closed_and_open_loop_and_writes_its_files() {
     assert_eq!(run.summary.epsilon_tradeoff.no_noise.len(), 3);
     assert_eq!(run.summary.collision.free_motions, 1);
     assert!(run.timings.controller_step_us_median > 0.0);
+    let text = run.text(Path::new("out"));
+    assert!(
+        text.starts_with(
+            "goal: nitinol-3mm-820 (kirchhoff model), 1 pairs, K = 0.2, noise model offset\n"
+        ),
+        "{text}"
+    );
+    for row in [
+        "open loop, no noise",
+        "closed loop, no noise",
+        "open loop, noise",
+        "closed loop, noise",
+        "paper Table III: open 4.80 / 17.35, closed 9.67 / 9.11 (no noise / noise)",
+        "collision: ",
+    ] {
+        assert!(text.contains(&format!("\n{row}")), "{row}: {text}");
+    }
+    assert!(text.ends_with("; results in out\n"), "{text}");
     for file in [
         "trials.csv",
         "motion_in_a.png",
