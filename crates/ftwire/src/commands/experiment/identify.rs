@@ -7,7 +7,7 @@
 //! `--pipeline calibrated` with `--calibration FILE` or a calibration run first and cached,
 //! or `--pipeline mounting`; `--model`; `--samples`; `--save-log`), writes `summary.json` and
 //! `timings.json`, and prints each wire's 3-sample row beside Table I
-//! ([`ftwire_lab::identify::IdentifyRun::table`]).
+//! ([`ftwire_lab::identify::IdentifyRun::text`]).
 //!
 //! Results folder (`--out`, default `results/identify`):
 //! - `summary.json`: the run header, then `model`, `form`, `gravity`, `sensor`, `pipeline`
@@ -63,6 +63,6 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), LabError> {
     let run = identify::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
     let header = RunHeader::new("experiment identify", Some(args.common.seed.seed), &args)?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    print!("{}", run.table(&target));
+    print!("{}", run.text(&target));
     Ok(())
 }

@@ -12,7 +12,7 @@ impl IdentifyRun {
     /// The run's results as text ([`table`]), each sample count with its median identification
     /// time from the run's timings; `results` is the folder the run was written to, named in
     /// the first line.
-    pub fn table(&self, results: &Path) -> String {
+    pub fn text(&self, results: &Path) -> String {
         let summary = &self.summary;
         let median_ms = |w: usize, n: usize| {
             summary.wires.get(w).map_or(f64::NAN, |r| {
