@@ -132,6 +132,23 @@ fn shape_from_a_calibration_file_reports_every_metric_and_writes_its_files() {
     // The wire is known: the shape from F/T is within centimetres of the truth.
     assert!(row.mean_mm > 0.0 && row.mean_mm < 30.0, "{}", row.mean_mm);
     assert_eq!(run.timings.estimate_us_median.len(), 1);
+    let text = run.text(Path::new("out"));
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        "shape: kirchhoff model (mean_mm), the loaded model from the same ã beside it"
+    );
+    assert!(
+        lines[1].starts_with("wire               configs  mean_mm"),
+        "{text}"
+    );
+    // The wire's row: its name, 2 configurations, and Table II's 5.72 mm beside it.
+    assert!(
+        lines[2].starts_with("nitinol-2mm-630          2 "),
+        "{text}"
+    );
+    assert!(lines[2].contains(" 5.72 "), "{text}");
+    assert!(lines[3].ends_with("; results in out"), "{text}");
     for file in [
         "configs.csv",
         "error_per_wire.png",
