@@ -78,6 +78,23 @@ fn calibrate_writes_the_weights_and_reports_both_maps() {
     assert!(run.summary.calibrated.torque_rel < run.summary.raw.torque_rel);
     assert!(exists(&folder, "calibration.json") && exists(&folder, "samples.csv"));
     assert!(lines.first().is_some_and(|l| l.contains("nitinol-3mm-820")));
+    let text = run.text(Path::new("out"));
+    let printed: Vec<&str> = text.lines().collect();
+    assert!(
+        printed[0].starts_with(&format!(
+            "calibration on nitinol-3mm-820 ({} train, {} validation, {} test; skipped",
+            s.train, s.validation, s.test
+        )),
+        "{text}"
+    );
+    assert_eq!(
+        printed[1],
+        "                 torque_rel  force_rel  shape_mm"
+    );
+    assert!(printed[2].starts_with("raw (mounting)  "), "{text}");
+    assert!(printed[3].starts_with("calibrated      "), "{text}");
+    assert!(printed[4].starts_with("labels: marker RMS "), "{text}");
+    assert!(printed[5].ends_with("; results in out"), "{text}");
 }
 
 #[test]
