@@ -5,6 +5,7 @@ pub mod csv_table;
 pub mod error;
 pub mod header;
 pub mod init;
+pub mod out_file;
 pub mod output;
 pub mod provenance;
 pub mod report;
