@@ -54,13 +54,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), LabError> {
         identify::estimate(&params, &samples, progress)
     })?;
     output::print_display(&report, args.output.json)?;
-    match report.reason {
-        None => Ok(()),
-        Some(reason) => Err(LabError::no_answer(format!(
-            "the data of {} do not identify the wire: {reason}",
-            args.log.display()
-        ))),
-    }
+    report.verdict(&args.log)
 }
 
 /// Runs `work` with a progress line on stderr while it runs, when stderr is a terminal: where
