@@ -6,8 +6,12 @@
 //! experiment writing a results folder: `calibration.json` (the weights, in the format the
 //! other experiments' `--calibration` loads) and `samples.csv` (one row per configuration).
 //! The caller writes `summary.json` ([`CalibrateRun::summary`]) and `timings.json`
-//! ([`CalibrateRun::timings`]). Guarded by the tests of `tests/experiments.rs` and by the
+//! ([`CalibrateRun::timings`]), and may print [`CalibrateRun::text`], the results as text.
+//! Guarded by the tests of `tests/experiments.rs` and by the
 //! recorded summary of `crates/ftwire/tests/calibrate_experiment.rs`.
+
+use std::fmt::Write as _;
+use std::path::Path;
 
 use serde::Serialize;
 
@@ -70,6 +74,42 @@ pub struct CalibrateRun {
     pub summary: CalibrationSummary,
     /// `timings.json`: the wall-clock times of collection and training.
     pub timings: CalibrationTimings,
+}
+
+impl CalibrateRun {
+    /// The results as text: the split, the raw (mounting) and calibrated errors of the test
+    /// split (relative errors of `ã`'s torque and force, shape error \[mm\]), the labels' fit,
+    /// then the wall times and `results`, the folder the run was written to.
+    pub fn text(&self, results: &Path) -> String {
+        let s = &self.summary;
+        let mut text = String::new();
+        let _ = writeln!(
+            text,
+            "calibration on {} ({} train, {} validation, {} test; skipped {:?})",
+            s.wire.name, s.samples.train, s.samples.validation, s.samples.test, s.skipped
+        );
+        let _ = writeln!(text, "                 torque_rel  force_rel  shape_mm");
+        for (name, e) in [("raw (mounting)", &s.raw), ("calibrated", &s.calibrated)] {
+            let _ = writeln!(
+                text,
+                "{name:<16} {:>10.4} {:>10.4} {:>9.2}",
+                e.torque_rel, e.force_rel, e.shape_mm
+            );
+        }
+        let _ = writeln!(
+            text,
+            "labels: marker RMS {:.3} mm, shape vs truth {:.2} mm",
+            s.label_fit_mm, s.label_shape_mm
+        );
+        let _ = writeln!(
+            text,
+            "collect {:.1} s, train {:.1} s; results in {}",
+            self.timings.collect_s,
+            self.timings.train_s,
+            results.display()
+        );
+        text
+    }
 }
 
 /// Runs the calibration experiment into `folder`: writes `calibration.json` and

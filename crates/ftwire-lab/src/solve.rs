@@ -7,12 +7,16 @@
 //! batch goes on; a line obeys the bounds of the single solve (`"nodes"` within the model's
 //! `[MIN_NODES, MAX_NODES]`, the radius below half the length), and a byte-order mark before
 //! the first line is dropped. [`BatchTally`] sums the batch up: bad input if any line was,
-//! else no answer if any line had none (an integration that diverged).
+//! else no answer if any line had none (an integration that diverged); [`serve`] answers a
+//! batch line by line, as `ftwire solve --batch` does.
 //!
 //! Guarded by this module's tests and `crates/ftwire/tests/solve_cli.rs`.
 
 use std::fmt;
-use std::io::BufRead;
+use std::io::{self, BufRead, BufReader, Write};
+use std::path::Path;
+
+use ftwire_app::output::{ErrorLine, JsonLines};
 
 use ftwire_core::{CoreError, WireParams, text};
 use ftwire_rod::rod::{MAX_NODES, MIN_NODES};
@@ -289,6 +293,49 @@ impl BatchTally {
     }
 }
 
+/// The input of a batch: stdin for `-`, else the file at `path` (a regular file; `option`
+/// names the input as the caller's front end spells it, `--batch` on the command line).
+///
+/// # Errors
+/// Bad input for a folder or a file that cannot be opened.
+pub fn batch_input(path: &Path, option: &str) -> Result<Box<dyn BufRead>, LabError> {
+    if path.as_os_str() == "-" {
+        return Ok(Box::new(io::stdin().lock()));
+    }
+    if path.is_dir() {
+        return Err(LabError::bad_input(format!(
+            "{option} {}: a folder, not a file; give a JSON Lines file, or - for stdin",
+            path.display()
+        )));
+    }
+    let file = text::open_regular(path).map_err(|e| {
+        LabError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
+    })?;
+    Ok(Box::new(BufReader::new(file)))
+}
+
+/// Answers every line of `input` on `out` as soon as it is read, so that another process can
+/// drive the batch as a service (one line in, one flushed line out): the line's answer, or
+/// its error object ([`ErrorLine`]), and the batch goes on.
+///
+/// # Errors
+/// [`LabError::Io`] when the input cannot be read or `out` written; at the end of the input,
+/// the batch's verdict ([`BatchTally::verdict`]).
+pub fn serve<W: Write>(input: impl BufRead, out: &mut JsonLines<W>) -> Result<(), LabError> {
+    let mut tally = BatchTally::default();
+    for line in Batch::new(input) {
+        let line = line?;
+        match &line.answer {
+            Ok(answer) => out.write(answer)?,
+            Err(error) => {
+                tally.count(error);
+                out.write(&ErrorLine::new(error, line.line))?;
+            }
+        }
+    }
+    tally.verdict()
+}
+
 /// The tip's pose.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Tip {
@@ -424,6 +471,36 @@ mod tests {
 
     const GOOD: &str =
         r#"{"c": [0.042, 0.055, 0.055], "length": 0.63, "a": [0, 0, 0.01, 0, 0, 0], "nodes": 11}"#;
+
+    #[test]
+    fn a_served_batch_answers_each_line_at_once_and_sums_up() {
+        let input = format!("{GOOD}\n{{not json\n{GOOD}\n");
+        let mut out = JsonLines::new(Vec::new());
+        let verdict = serve(input.as_bytes(), &mut out).expect_err("a bad line");
+        assert_eq!(verdict.exit_code(), EXIT_BAD_INPUT);
+        assert!(
+            verdict
+                .to_string()
+                .starts_with("1 line(s) of the batch were bad input and 0")
+        );
+        let text = String::from_utf8(out.into_inner()).expect("UTF-8");
+        let lines: Vec<serde_json::Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).expect("a JSON line"))
+            .collect();
+        assert_eq!(lines.len(), 3, "{text}");
+        assert!(
+            lines[0].get("tip").is_some() && lines[2].get("tip").is_some(),
+            "{text}"
+        );
+        assert_eq!(lines[1]["kind"], "bad_input");
+        assert_eq!(lines[1]["line"], 2);
+        let mut out = JsonLines::new(Vec::new());
+        assert!(serve(GOOD.as_bytes(), &mut out).is_ok());
+        let folder = batch_input(&std::env::temp_dir(), "--batch").err();
+        let message = folder.map(|e| e.to_string()).unwrap_or_default();
+        assert!(message.starts_with("--batch ") && message.contains("a folder, not a file"));
+    }
 
     #[test]
     fn a_batch_answers_each_line_and_names_the_bad_ones() {

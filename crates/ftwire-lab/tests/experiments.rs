@@ -78,6 +78,23 @@ fn calibrate_writes_the_weights_and_reports_both_maps() {
     assert!(run.summary.calibrated.torque_rel < run.summary.raw.torque_rel);
     assert!(exists(&folder, "calibration.json") && exists(&folder, "samples.csv"));
     assert!(lines.first().is_some_and(|l| l.contains("nitinol-3mm-820")));
+    let text = run.text(Path::new("out"));
+    let printed: Vec<&str> = text.lines().collect();
+    assert!(
+        printed[0].starts_with(&format!(
+            "calibration on nitinol-3mm-820 ({} train, {} validation, {} test; skipped",
+            s.train, s.validation, s.test
+        )),
+        "{text}"
+    );
+    assert_eq!(
+        printed[1],
+        "                 torque_rel  force_rel  shape_mm"
+    );
+    assert!(printed[2].starts_with("raw (mounting)  "), "{text}");
+    assert!(printed[3].starts_with("calibrated      "), "{text}");
+    assert!(printed[4].starts_with("labels: marker RMS "), "{text}");
+    assert!(printed[5].ends_with("; results in out"), "{text}");
 }
 
 #[test]
@@ -132,6 +149,23 @@ fn shape_from_a_calibration_file_reports_every_metric_and_writes_its_files() {
     // The wire is known: the shape from F/T is within centimetres of the truth.
     assert!(row.mean_mm > 0.0 && row.mean_mm < 30.0, "{}", row.mean_mm);
     assert_eq!(run.timings.estimate_us_median.len(), 1);
+    let text = run.text(Path::new("out"));
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        "shape: kirchhoff model (mean_mm), the loaded model from the same ã beside it"
+    );
+    assert!(
+        lines[1].starts_with("wire               configs  mean_mm"),
+        "{text}"
+    );
+    // The wire's row: its name, 2 configurations, and Table II's 5.72 mm beside it.
+    assert!(
+        lines[2].starts_with("nitinol-2mm-630          2 "),
+        "{text}"
+    );
+    assert!(lines[2].contains(" 5.72 "), "{text}");
+    assert!(lines[3].ends_with("; results in out"), "{text}");
     for file in [
         "configs.csv",
         "error_per_wire.png",
@@ -375,6 +409,24 @@ fn goal_steers_one_pair_closed_and_open_loop_and_writes_its_files() {
     assert_eq!(run.summary.epsilon_tradeoff.no_noise.len(), 3);
     assert_eq!(run.summary.collision.free_motions, 1);
     assert!(run.timings.controller_step_us_median > 0.0);
+    let text = run.text(Path::new("out"));
+    assert!(
+        text.starts_with(
+            "goal: nitinol-3mm-820 (kirchhoff model), 1 pairs, K = 0.2, noise model offset\n"
+        ),
+        "{text}"
+    );
+    for row in [
+        "open loop, no noise",
+        "closed loop, no noise",
+        "open loop, noise",
+        "closed loop, noise",
+        "paper Table III: open 4.80 / 17.35, closed 9.67 / 9.11 (no noise / noise)",
+        "collision: ",
+    ] {
+        assert!(text.contains(&format!("\n{row}")), "{row}: {text}");
+    }
+    assert!(text.ends_with("; results in out\n"), "{text}");
     for file in [
         "trials.csv",
         "motion_in_a.png",

@@ -66,6 +66,30 @@ pub struct ResidualParams {
 }
 
 impl ResidualParams {
+    /// [`Self::pose_noise`] of a pose noise given in part, `rotation` \[rad\] or
+    /// `translation` \[m\]: the half not given is the library's default
+    /// ([`MeasurementNoise::default`]); `None` when neither is given.
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_logs::identification::ResidualParams;
+    /// let default = ftwire_estimate::identify::MeasurementNoise::default();
+    /// assert_eq!(ResidualParams::pose_noise_of(None, None), None);
+    /// assert_eq!(
+    ///     ResidualParams::pose_noise_of(None, Some(2e-4)),
+    ///     Some([default.rotation, 2e-4])
+    /// );
+    /// ```
+    pub fn pose_noise_of(rotation: Option<f64>, translation: Option<f64>) -> Option<[f64; 2]> {
+        let defaults = MeasurementNoise::default();
+        (rotation.is_some() || translation.is_some()).then(|| {
+            [
+                rotation.unwrap_or(defaults.rotation),
+                translation.unwrap_or(defaults.translation),
+            ]
+        })
+    }
+
     /// The library's settings: its defaults with these applied.
     ///
     /// # Errors

@@ -12,7 +12,7 @@
 //! (a saved log gives the live run's estimate).
 
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use ftwire_app::error::FrontEnd;
@@ -400,6 +400,21 @@ impl EstimateReport {
             reason: estimate.unidentified.as_ref().map(ToString::to_string),
         }
     }
+
+    /// `Ok` when the data identify the wire, else no answer naming `log` (the log read) and
+    /// the reason: the estimate is a result either way, reported before the verdict.
+    ///
+    /// # Errors
+    /// No answer (exit 1) with [`Self::reason`].
+    pub fn verdict(&self, log: &Path) -> Result<(), LabError> {
+        match &self.reason {
+            None => Ok(()),
+            Some(reason) => Err(LabError::no_answer(format!(
+                "the data of {} do not identify the wire: {reason}",
+                log.display()
+            ))),
+        }
+    }
 }
 
 /// The human text: each parameter with its standard deviation, `χ²/dof`, the condition and
@@ -455,6 +470,37 @@ mod tests {
                 gravity: None,
             },
         }
+    }
+
+    #[test]
+    fn the_verdict_is_no_answer_naming_the_log_and_the_reason() {
+        let mut report = EstimateReport {
+            samples: 3,
+            form: Form::Absolute,
+            c: [0.042, 0.055, 0.055],
+            length: 0.63,
+            c_std: [1e-4; 3],
+            length_std: 1e-4,
+            linear_density: None,
+            linear_density_std: None,
+            covariance: None,
+            interval95: None,
+            chi2_per_dof: 1.0,
+            condition: 0.1,
+            identified: true,
+            flag: None,
+            reason: None,
+        };
+        let log = Path::new("rig.jsonl");
+        assert!(report.verdict(log).is_ok());
+        report.identified = false;
+        report.reason = Some("too little motion".to_owned());
+        let error = report.verdict(log).expect_err("not identified");
+        assert_eq!(error.kind(), "no_answer");
+        assert_eq!(
+            error.to_string(),
+            "the data of rig.jsonl do not identify the wire: too little motion"
+        );
     }
 
     #[test]

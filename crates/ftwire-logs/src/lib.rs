@@ -19,6 +19,7 @@
 //! `crates/ftwire/tests/{identify_log,shape_log}.rs`.
 
 pub mod calibrate;
+mod calibrate_text;
 pub mod identification;
 pub mod identify;
 pub mod shape;

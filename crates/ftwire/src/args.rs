@@ -19,7 +19,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use ftwire_core::Pose;
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use ftwire_robot::pose_from_vectors;
 use serde::Serialize;
 
 use ftwire_lab::error::LabError;
@@ -298,14 +298,6 @@ pub struct DensityArgs {
     pub density: f64,
 }
 
-/// A pose from a position and a rotation vector.
-fn pose(position: &Vec3, rotation: &Vec3) -> Pose {
-    Isometry3::from_parts(
-        Translation3::from(position.to_vector()),
-        UnitQuaternion::from_scaled_axis(Vector3::from(rotation.0)),
-    )
-}
-
 /// A target pose: `--position` and `--rotation` (a rotation vector, axis × angle).
 #[derive(Debug, Clone, Args, Serialize)]
 pub struct PoseArgs {
@@ -331,7 +323,7 @@ pub struct PoseArgs {
 impl PoseArgs {
     /// The pose.
     pub fn pose(&self) -> Pose {
-        pose(&self.position, &self.rotation)
+        pose_from_vectors(self.position.to_vector(), self.rotation.to_vector())
     }
 }
 
@@ -360,7 +352,7 @@ pub struct TipPoseArgs {
 impl TipPoseArgs {
     /// The tip clamp pose.
     pub fn pose(&self) -> Pose {
-        pose(&self.tip_position, &self.tip_rotation)
+        pose_from_vectors(self.tip_position.to_vector(), self.tip_rotation.to_vector())
     }
 }
 

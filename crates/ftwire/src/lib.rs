@@ -1,15 +1,12 @@
-//! The command-line side of ftwire: argument groups and value parsers, output, and `init`'s
-//! example files. The experiments, tracking in the simulator and what they share live in
+//! The command-line side of ftwire: the argument groups and value parsers of [`args`]. The
+//! commands' output conventions are `ftwire_app::output`, `init`'s example files
+//! `ftwire_app::init`; the experiments, tracking in the simulator and what they share live in
 //! `ftwire-lab`.
 //!
 //! - [`args`]: the shared argument groups (wire, poses, seed, output) and the one value parser
-//!   per type (vectors accept a leading minus; only finite numbers);
-//! - [`output`]: JSON / text / JSON Lines output;
-//! - [`init`]: the commented example files of `ftwire init`.
+//!   per type (vectors accept a leading minus; only finite numbers).
 
 pub mod args;
-pub mod init;
-pub mod output;
 
 // The README's library example, compiled and run as a doctest (`cargo test -p ftwire --doc`).
 #[cfg(doctest)]

@@ -1,8 +1,8 @@
 //! `ftwire`: sense and steer an elastic wire with a dual-arm robot from one wrist F/T sensor.
 //!
 //! The binary is thin: clap types live in [`cli`], each subcommand's logic in its own module
-//! under [`commands`], the shared argument groups, error type and output writer in the `ftwire`
-//! library, and the libraries do the work. Exit codes are mapped here, in one place
+//! under [`commands`], the shared argument groups in the `ftwire` library, the error type and
+//! the output writer in `ftwire-app`, and the libraries do the work. Exit codes are mapped here, in one place
 //! ([`ftwire_lab::error::LabError::exit_code`]): 0 success, 1 valid input but no answer, 2 bad input.
 
 mod cli;
@@ -11,8 +11,6 @@ mod commands;
 use std::process::ExitCode;
 
 use clap::Parser;
-
-use commands::reproduce::PARENT_PID_VAR;
 
 /// Ends the process cleanly on SIGINT, SIGTERM or SIGHUP (exit 128 + the signal's number):
 /// the temporary results folders it is writing are removed, and a folder moving into place
@@ -29,28 +27,6 @@ fn end_cleanly_on_signals() {
     }
 }
 
-/// Under `ftwire reproduce` ([`PARENT_PID_VAR`] set), ends the process cleanly once its parent
-/// is gone: the parent was killed (even by SIGKILL, which it cannot catch) and this process
-/// was handed to another. Checked every 100 ms.
-#[cfg(unix)]
-fn end_with_parent() {
-    let Some(parent) = std::env::var(PARENT_PID_VAR)
-        .ok()
-        .and_then(|v| v.parse::<u32>().ok())
-    else {
-        return;
-    };
-    std::thread::spawn(move || {
-        loop {
-            if std::os::unix::process::parent_id() != parent {
-                eprintln!("error: the ftwire process that started this one has ended");
-                ftwire_lab::results::abandon_all_and_exit(129);
-            }
-            std::thread::sleep(std::time::Duration::from_millis(100));
-        }
-    });
-}
-
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
     #[cfg(unix)]
@@ -63,7 +39,8 @@ fn main() -> ExitCode {
         if !own_signals {
             end_cleanly_on_signals();
         }
-        end_with_parent();
+        // An experiment that `ftwire reproduce` started ends once that process is gone.
+        ftwire_lab::reproduce::end_with_parent();
     }
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

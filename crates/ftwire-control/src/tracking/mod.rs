@@ -3,7 +3,8 @@
 //!
 //! - [`TrackingPolicy`]: every tuning choice of the execution, per execution noise
 //!   ([`TrackingPolicy::for_noise`]): the legs' controller settings and stops, the retreats,
-//!   undos and relocation, and the success rule ([`TrackingPolicy::judge`]).
+//!   undos and relocation, and the success rule ([`TrackingPolicy::judge`]); a user's
+//!   gain and stops over it, each checked ([`TrackingPolicy::with_settings`]).
 //! - [`PathTracker`]: the controller (eq. 13–14) toward each waypoint in turn under that
 //!   policy, with an optional collision detector and bias observer; a caller with ground
 //!   truth reads it in the observer called at every [`Rest`].
@@ -17,4 +18,5 @@ pub use policy::{
     MAX_ITERATIONS_THROUGH_NOISY, MAX_RETREATS, MAX_UNDOS, RELOCATION_STEPS, SHAPE_STOP_NEAR_NOISY,
     SHAPE_STOP_NOISY, SUCCESS_EPSILON, TrackingPolicy, Verdict,
 };
+pub use policy::{PolicyError, PolicySettings};
 pub use tracker::{PathTracker, Relocate, Rest, RestKind, TrackEnd, Tracked, TrackedLeg};

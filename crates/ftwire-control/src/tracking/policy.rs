@@ -156,6 +156,43 @@ pub struct TrackingPolicy {
     pub success_needs_goal: bool,
 }
 
+/// A user's settings of the tracking policy, over the tuned policy of the execution noise
+/// ([`TrackingPolicy::with_settings`]): each `None` keeps the tuned value. Every front end
+/// (the binary's `--gain`, `--shape-stop`, `--near-shape-stop`, `--waypoint-moves`) gives
+/// its numbers here, so that each is checked against the same range.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PolicySettings {
+    /// The controller's gain `K` of every leg ([`TrackingPolicy::gain`]), in `(0, 1]`.
+    pub gain: Option<f64>,
+    /// The shape stop \[m\] of every leg ([`TrackingPolicy::shape_stop`]), at least 0 (0: the
+    /// `ε` stops alone).
+    pub shape_stop: Option<f64>,
+    /// The shape stop \[m\] of a leg from or to a waypoint near an obstacle
+    /// ([`TrackingPolicy::near_shape_stop`]), at least 0 (0: off) [default:
+    /// [`TrackingPolicy::near_shape_stop_for`] of the shape stop].
+    pub near_shape_stop: Option<f64>,
+    /// Most moves toward each waypoint before the last (`through.max_iterations`), at least 1.
+    pub waypoint_moves: Option<usize>,
+}
+
+/// A setting of [`PolicySettings`] outside its allowed range, with the value given (in the
+/// settings' units), so that a front end can name it as it spells it.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum PolicyError {
+    /// [`PolicySettings::gain`] is not in `(0, 1]` (or not a number).
+    #[error("gain {0}: give a gain K in (0, 1]")]
+    Gain(f64),
+    /// [`PolicySettings::shape_stop`] is negative (or not a number).
+    #[error("shape stop {0} m: give a distance ≥ 0 m (0: off)")]
+    ShapeStop(f64),
+    /// [`PolicySettings::near_shape_stop`] is negative (or not a number).
+    #[error("shape stop near an obstacle {0} m: give a distance ≥ 0 m (0: off)")]
+    NearShapeStop(f64),
+    /// [`PolicySettings::waypoint_moves`] is 0.
+    #[error("waypoint moves {0}: give at least 1")]
+    WaypointMoves(usize),
+}
+
 /// Whether an attempt succeeded, and whether it ended at the goal ([`TrackingPolicy::judge`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct Verdict {
@@ -219,6 +256,65 @@ impl TrackingPolicy {
         };
         policy.near_shape_stop = policy.near_shape_stop_for(shape_stop);
         policy
+    }
+
+    /// The tuned policy of `noise` ([`TrackingPolicy::for_noise`]) with a user's `settings`,
+    /// each checked: the shape stop first, then the gain, the near shape stop (by default
+    /// [`TrackingPolicy::near_shape_stop_for`] of the shape stop) and the waypoint moves.
+    ///
+    /// # Errors
+    /// [`PolicyError`] naming the first setting outside its range, with its value.
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_control::tracking::{PolicyError, PolicySettings};
+    /// use ftwire_control::{NoiseModel, TrackingPolicy};
+    /// let settings = PolicySettings {
+    ///     shape_stop: Some(0.004),
+    ///     ..PolicySettings::default()
+    /// };
+    /// let policy = TrackingPolicy::with_settings(NoiseModel::Increment, &settings)?;
+    /// assert_eq!((policy.shape_stop, policy.near_shape_stop), (0.004, 0.010));
+    /// let bad = PolicySettings {
+    ///     gain: Some(1.5),
+    ///     ..PolicySettings::default()
+    /// };
+    /// let error = TrackingPolicy::with_settings(NoiseModel::Offset, &bad);
+    /// assert_eq!(error, Err(PolicyError::Gain(1.5)));
+    /// # Ok::<(), PolicyError>(())
+    /// ```
+    pub fn with_settings(
+        noise: NoiseModel,
+        settings: &PolicySettings,
+    ) -> Result<Self, PolicyError> {
+        let tuned = Self::for_noise(noise);
+        let shape_stop = match settings.shape_stop {
+            None => tuned.shape_stop,
+            Some(stop) if stop >= 0.0 => stop,
+            Some(stop) => return Err(PolicyError::ShapeStop(stop)),
+        };
+        let gain = match settings.gain {
+            None => tuned.gain,
+            Some(gain) if gain > 0.0 && gain <= 1.0 => gain,
+            Some(gain) => return Err(PolicyError::Gain(gain)),
+        };
+        let near_shape_stop = match settings.near_shape_stop {
+            None => tuned.near_shape_stop_for(shape_stop),
+            Some(stop) if stop >= 0.0 => stop,
+            Some(stop) => return Err(PolicyError::NearShapeStop(stop)),
+        };
+        let mut policy = Self {
+            gain,
+            shape_stop,
+            near_shape_stop,
+            ..tuned
+        };
+        match settings.waypoint_moves {
+            None => {}
+            Some(0) => return Err(PolicyError::WaypointMoves(0)),
+            Some(moves) => policy.through.max_iterations = moves,
+        }
+        Ok(policy)
     }
 
     /// The shape stop \[m\] near an obstacle for a leg shape stop `shape_stop`: no tighter
@@ -480,6 +576,79 @@ mod tests {
                 !policy.success_needs_goal
             );
         }
+    }
+
+    #[test]
+    fn a_users_settings_replace_the_tuned_ones_each_checked() {
+        for noise in ALL {
+            let tuned = TrackingPolicy::for_noise(noise);
+            let none = TrackingPolicy::with_settings(noise, &PolicySettings::default());
+            assert_eq!(none, Ok(tuned));
+            let given = PolicySettings {
+                gain: Some(0.3),
+                shape_stop: Some(0.004),
+                near_shape_stop: None,
+                waypoint_moves: Some(7),
+            };
+            let policy = TrackingPolicy::with_settings(noise, &given).expect("valid settings");
+            assert_eq!((policy.gain, policy.shape_stop), (0.3, 0.004));
+            // The near stop follows the given stop, loosened to the floor under fresh noise.
+            assert_eq!(policy.near_shape_stop, tuned.near_shape_stop_for(0.004));
+            assert_eq!(policy.through.max_iterations, 7);
+            assert_eq!(policy.goal, tuned.goal);
+            let near = PolicySettings {
+                near_shape_stop: Some(0.0),
+                ..given
+            };
+            let policy = TrackingPolicy::with_settings(noise, &near).expect("valid settings");
+            assert_eq!(policy.near_shape_stop, 0.0);
+        }
+        let bad = |settings: PolicySettings| {
+            TrackingPolicy::with_settings(NoiseModel::Increment, &settings).err()
+        };
+        let none = PolicySettings::default();
+        for gain in [0.0, -0.5, 1.5, f64::NAN] {
+            let error = bad(PolicySettings {
+                gain: Some(gain),
+                ..none
+            });
+            assert!(
+                matches!(error, Some(PolicyError::Gain(_))),
+                "{gain}: {error:?}"
+            );
+        }
+        assert_eq!(
+            bad(PolicySettings {
+                shape_stop: Some(-0.001),
+                ..none
+            }),
+            Some(PolicyError::ShapeStop(-0.001))
+        );
+        assert_eq!(
+            bad(PolicySettings {
+                near_shape_stop: Some(-0.002),
+                ..none
+            }),
+            Some(PolicyError::NearShapeStop(-0.002))
+        );
+        assert_eq!(
+            bad(PolicySettings {
+                waypoint_moves: Some(0),
+                ..none
+            }),
+            Some(PolicyError::WaypointMoves(0))
+        );
+        // The shape stop is checked before the gain.
+        let both = PolicySettings {
+            gain: Some(2.0),
+            shape_stop: Some(-1.0),
+            ..none
+        };
+        assert_eq!(bad(both), Some(PolicyError::ShapeStop(-1.0)));
+        assert_eq!(
+            PolicyError::Gain(2.0).to_string(),
+            "gain 2: give a gain K in (0, 1]"
+        );
     }
 
     #[test]

@@ -63,7 +63,8 @@
 //! [`run`] writes `trials.csv`, `calibration.json` (when it ran one), and the figures
 //! `motion_in_a` (Fig. 6) and `shape_error_along_motion` (Fig. 7). The caller writes
 //! `summary.json` ([`GoalRun::summary`], the same for the same seed) and `timings.json`
-//! ([`GoalRun::timings`]). Guarded by `tests/experiments.rs` and the recorded summary of
+//! ([`GoalRun::timings`]), and may print [`GoalRun::text`], the results as text beside
+//! Table III. Guarded by `tests/experiments.rs` and the recorded summary of
 //! `crates/ftwire/tests/goal_experiment.rs`.
 
 mod closed;
@@ -71,6 +72,7 @@ mod collision;
 mod figures;
 mod pairs;
 mod summary;
+mod text;
 mod trial;
 mod tuning;
 mod variant;

@@ -35,7 +35,8 @@
 //! - `calibration.json`: the weights, when a calibration was run.
 //!
 //! The caller writes `summary.json` ([`IdentifySummary`]: every value the same for the same
-//! seed) and `timings.json` ([`IdentifyTimings`]). In each `by_samples` row, `relative_error`
+//! seed) and `timings.json` ([`IdentifyTimings`]), and may print [`IdentifyRun::text`], the
+//! results as text beside Table I. In each `by_samples` row, `relative_error`
 //! is that of the mean over trials (Table I), `mean_abs_relative_error` the mean of each
 //! trial's absolute relative error, both over the trials that returned an estimate
 //! (`estimated`), flagged ones included; `identified` counts the trials whose estimate was not
@@ -46,6 +47,7 @@
 mod estimate;
 mod method;
 mod summary;
+pub mod text;
 mod trial;
 pub mod until;
 

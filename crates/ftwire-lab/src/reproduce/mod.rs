@@ -5,8 +5,8 @@
 //! the real-like recording's); the experiments that use them
 //! ([`ReproduceParams::experiment_jobs`]) then run in parallel, [`ReproduceParams::jobs`]
 //! at a time on a rayon pool, each through the caller's [`Runner`] (the `ftwire` binary runs
-//! each as an `ftwire experiment` process of its own, so their printed tables do not
-//! interleave and one failure does not take the others down) with its own results folder and
+//! each as an `ftwire experiment` process of its own, [`Job::run_as_child`], so their printed
+//! tables do not interleave and one failure does not take the others down) with its own results folder and
 //! log. Every experiment is seeded by [`ReproduceParams::seed`] alone, so the results do not
 //! depend on the number of jobs.
 //!
@@ -17,6 +17,7 @@
 //! `{id, status}`) and `timings.json` ([`ReproduceRun::timings`]), and with `--docs` the
 //! documentation's page ([`docs`]). Guarded by the `ftwire` binary's `tests/reproduce_cli.rs`.
 
+mod child;
 pub mod docs;
 mod jobs;
 mod page;
@@ -28,6 +29,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
+pub use child::PARENT_PID_VAR;
+#[cfg(unix)]
+pub use child::end_with_parent;
 pub use jobs::{Job, REAL_LIKE_ARGS, REAL_LIKE_SUFFIX};
 pub use params::ReproduceParams;
 

@@ -111,6 +111,13 @@ mod tests {
     }
 
     #[test]
+    fn the_init_example_is_the_default_rig() -> Result<(), Box<dyn std::error::Error>> {
+        let text = ftwire_app::init::example("rig.toml").ok_or("no rig.toml example")?;
+        assert_eq!(RigSpec::from_toml(text, "rig.toml")?, RigSpec::default());
+        Ok(())
+    }
+
+    #[test]
     fn a_bad_rig_file_names_the_file_the_line_and_the_key() {
         let error = |text: &str| match RigSpec::from_toml(text, "r.toml") {
             Err(e) => e.to_string(),

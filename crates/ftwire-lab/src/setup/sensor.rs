@@ -191,6 +191,14 @@ mod tests {
     }
 
     #[test]
+    fn the_init_example_is_the_default_sensor() -> Result<(), Box<dyn std::error::Error>> {
+        let text = ftwire_app::init::example("sensor.toml").ok_or("no sensor.toml example")?;
+        let sensor = SensorSpec::from_toml(text, "sensor.toml")?;
+        assert_eq!(sensor.config, SensorSpec::default().config);
+        Ok(())
+    }
+
+    #[test]
     fn the_defaults_round_trip_and_an_empty_file_is_the_default()
     -> Result<(), Box<dyn std::error::Error>> {
         let text = toml::to_string(&FtSensorParams::default())?;

@@ -71,6 +71,21 @@ pub struct ShapeLogSummary {
     pub sigma_mean_mm: Option<f64>,
 }
 
+/// The summary as a line of text: the counts, and the inner markers' mean distance when
+/// there is one.
+impl std::fmt::Display for ShapeLogSummary {
+    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let markers = self.marker_mean_mm.map_or_else(String::new, |m| {
+            format!(", inner markers {m:.2} mm from the shapes")
+        });
+        writeln!(
+            out,
+            "{} records: {} not stable, {} not confident{markers}",
+            self.records, self.not_stable, self.not_confident
+        )
+    }
+}
+
 /// Wall-clock times (`timings.json`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ShapeLogTimings {
@@ -89,6 +104,21 @@ pub struct ShapeLogRun {
     pub timings: ShapeLogTimings,
     /// Records the model could not solve (their lines carry an `error`).
     pub no_shape: usize,
+}
+
+impl ShapeLogRun {
+    /// No answer when the model had no shape for some records (their lines in
+    /// `shapes.jsonl` carry the `error`).
+    ///
+    /// # Errors
+    /// No answer (exit 1) naming the count ([`super::no_shape`]).
+    pub fn all_shaped(&self) -> Result<(), LabError> {
+        super::no_shape(
+            self.no_shape,
+            self.summary.records,
+            "see their `error` in shapes.jsonl",
+        )
+    }
 }
 
 impl ShapeLog {
@@ -265,5 +295,33 @@ impl Tally {
             marker_mean_mm,
             sigma_mean_mm,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_line_has_the_counts_and_the_markers_when_measured() {
+        let summary = ShapeLogSummary {
+            records: 40,
+            not_stable: 1,
+            not_confident: 3,
+            marker_mean_mm: Some(0.456),
+            sigma_mean_mm: None,
+        };
+        assert_eq!(
+            summary.to_string(),
+            "40 records: 1 not stable, 3 not confident, inner markers 0.46 mm from the shapes\n"
+        );
+        let unmeasured = ShapeLogSummary {
+            marker_mean_mm: None,
+            ..summary
+        };
+        assert_eq!(
+            unmeasured.to_string(),
+            "40 records: 1 not stable, 3 not confident\n"
+        );
     }
 }

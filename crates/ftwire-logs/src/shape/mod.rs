@@ -8,8 +8,8 @@
 //! a possible contact, or `no_shape`). [`ShapeLog::load`] reads and checks the log (every
 //! record's `ã` before any shape), then:
 //!
-//! - [`LogShapes`] gives the records' [`ShapeRecord`]s one by one, in order, as `ftwire shape
-//!   --log` prints them;
+//! - [`LogShapes`] gives the records' [`ShapeRecord`]s one by one, in order, and
+//!   [`LogShapes::write_all`] prints them as `ftwire shape --log` does (text or JSON Lines);
 //! - [`ShapeLog::write`] writes the same records as `shapes.jsonl` into a results folder, as
 //!   `ftwire shape --log --out DIR` does ([`folder`]: the records solved in parallel, flagged
 //!   in order).
@@ -32,6 +32,7 @@
 
 pub mod folder;
 
+use std::io::Write;
 use std::path::PathBuf;
 
 use ftwire_estimate::KirchhoffModel;
@@ -51,6 +52,7 @@ pub use ftwire_rig::shape::{DEFAULT_POINTS, MARKER_NODES, MAX_POINTS, MIN_POINTS
 use super::{LogLine, a_tilde, raw_map, read_log};
 use ftwire_app::config::wire::WireSpec;
 use ftwire_app::error::LabError;
+use ftwire_app::output::JsonLines;
 
 /// What to shape: the log, the wire, the model, and how its `raw` records become `ã`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -342,6 +344,50 @@ impl LogShapes {
     }
 }
 
+impl LogShapes {
+    /// Writes every record's shape to `out` as soon as it has it, each flushed so that a
+    /// reader at the other end of a pipe gets it at once: one JSON object per line with `json`
+    /// ([`ftwire_app::output::JsonLines`]), its line of text ([`ShapeRecord`]'s `Display`)
+    /// otherwise. A record the model cannot solve is written with its `error`.
+    ///
+    /// # Errors
+    /// Bad input for a record the iterator refuses; [`LabError::Io`] when `out` cannot be
+    /// written; after the last record, no answer when the model had no shape for some
+    /// records ([`no_shape`]).
+    pub fn write_all(self, out: &mut impl Write, json: bool) -> Result<(), LabError> {
+        let records = self.lines().len();
+        let mut failed = 0_usize;
+        for shape in self {
+            let shape = shape?;
+            if shape.error.is_some() {
+                failed += 1;
+            }
+            if json {
+                JsonLines::new(&mut *out).write(&shape)?;
+            } else {
+                write!(out, "{shape}")
+                    .and_then(|()| out.flush())
+                    .map_err(|e| LabError::io("writing the result", e))?;
+            }
+        }
+        no_shape(failed, records, "see their `error`")
+    }
+}
+
+/// No answer when the model had no shape for `failed` of the `records` (`where_` says where
+/// their `error` is); `Ok` when it had one for every record.
+///
+/// # Errors
+/// No answer (exit 1) naming the count.
+pub fn no_shape(failed: usize, records: usize, where_: &str) -> Result<(), LabError> {
+    if failed > 0 {
+        return Err(LabError::no_answer(format!(
+            "no shape for {failed} of {records} records ({where_})"
+        )));
+    }
+    Ok(())
+}
+
 impl Iterator for LogShapes {
     type Item = Result<ShapeRecord, LabError>;
 
@@ -403,6 +449,51 @@ mod tests {
             "{text}"
         );
         assert!(text.ends_with(" mm\n"), "{text}");
+    }
+
+    #[test]
+    fn every_record_is_written_as_text_or_json_lines_and_a_missing_shape_is_no_answer() {
+        // Outside A (a2 = a3 = a5 = a6 = 0): the model has no shape for it.
+        let outside = GOOD.replace(
+            "[0, 0.01, 0.01, -0.05, 0.03, 0]",
+            "[0.01, 0, 0, -0.05, 0, 0]",
+        );
+        let path = log_file("write", &format!("{GOOD}\n{outside}\n"));
+        let params = ShapeLogParams::new(path.clone(), "nitinol-2mm-630");
+        let write = |json| -> (String, Result<(), LabError>) {
+            let mut out = Vec::new();
+            let result = LogShapes::new(&params).and_then(|s| s.write_all(&mut out, json));
+            (String::from_utf8_lossy(&out).into_owned(), result)
+        };
+        let (text, result) = write(false);
+        let (json, json_result) = write(true);
+        let _ = std::fs::remove_file(&path);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 2, "{text}");
+        assert!(
+            lines[0].starts_with("line 1 t = 0.250 s: confident, "),
+            "{text}"
+        );
+        assert!(
+            lines[1].starts_with("line 2 t = 0.250 s: no shape: "),
+            "{text}"
+        );
+        let objects: Vec<serde_json::Value> = json
+            .lines()
+            .map(|l| serde_json::from_str(l).expect("a JSON line"))
+            .collect();
+        assert_eq!(objects.len(), 2, "{json}");
+        assert_eq!(objects[1]["line"], 2);
+        assert!(objects[1]["error"].is_string(), "{json}");
+        for result in [result, json_result] {
+            let error = result.expect_err("one record has no shape");
+            assert_eq!(error.kind(), "no_answer");
+            assert_eq!(
+                error.to_string(),
+                "no shape for 1 of 2 records (see their `error`)"
+            );
+        }
+        assert!(no_shape(0, 2, "anywhere").is_ok());
     }
 
     #[test]

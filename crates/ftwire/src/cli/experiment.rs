@@ -6,6 +6,7 @@ use ftwire_lab::results::{OutGuard, ResultsFolder};
 use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire_control::TrackingPolicy;
+use ftwire_control::tracking::{PolicyError, PolicySettings};
 use ftwire_lab::experiment::Gravity;
 
 pub use super::groups::NoiseModelArg;
@@ -284,87 +285,38 @@ pub struct RolloutArgs {
 
 impl RolloutArgs {
     /// The tracking policy of the noise model with `--gain`, `--shape-stop`,
-    /// `--waypoint-moves` and `--near-shape-stop` (each checked, or the policy's default).
+    /// `--waypoint-moves` and `--near-shape-stop` in metres, each checked or the policy's
+    /// default (`ftwire_control::TrackingPolicy::with_settings`).
     ///
     /// # Errors
-    /// Bad input for a bad gain or a negative distance.
+    /// Bad input for a bad gain or a negative distance, naming the option.
     pub fn policy(&self) -> Result<TrackingPolicy, LabError> {
-        let shape_stop = self.shape_stop()?;
-        let mut policy = TrackingPolicy {
-            gain: self.gain()?,
-            shape_stop,
-            near_shape_stop: self.near_shape_stop(shape_stop)?,
-            ..TrackingPolicy::for_noise(self.closed_loop.noise_model().model())
+        let settings = PolicySettings {
+            gain: self.gain,
+            shape_stop: self.closed_loop.shape_stop.map(|mm| 1e-3 * mm),
+            near_shape_stop: self.near_shape_stop.map(|mm| 1e-3 * mm),
+            waypoint_moves: self.waypoint_moves,
         };
-        policy.through.max_iterations = self.waypoint_moves();
-        Ok(policy)
-    }
-
-    /// `--gain`, checked, or the default for the noise model
-    /// (`ftwire_control::TrackingPolicy::gain`).
-    ///
-    /// # Errors
-    /// Bad input for a gain outside `(0, 1]`.
-    pub fn gain(&self) -> Result<f64, LabError> {
         let noise = self.closed_loop.noise_model().model();
-        match self.gain {
-            None => Ok(TrackingPolicy::for_noise(noise).gain),
-            Some(gain) if gain > 0.0 && gain <= 1.0 => Ok(gain),
-            Some(gain) => Err(LabError::bad_input(format!(
-                "--gain {gain}: give a gain K in (0, 1]"
-            ))),
-        }
-    }
-
-    /// `--shape-stop` in metres, checked, or the default for the noise model.
-    ///
-    /// # Errors
-    /// Bad input for a negative distance.
-    pub fn shape_stop(&self) -> Result<f64, LabError> {
-        shape_stop(self.closed_loop.shape_stop, self.closed_loop.noise_model())
-    }
-
-    /// `--waypoint-moves` (checked by its parser), or the default for the noise model
-    /// (`ftwire_control::TrackingPolicy::through`).
-    pub fn waypoint_moves(&self) -> usize {
-        self.waypoint_moves.unwrap_or_else(|| {
-            TrackingPolicy::for_noise(self.closed_loop.noise_model().model())
-                .through
-                .max_iterations
+        TrackingPolicy::with_settings(noise, &settings).map_err(|error| {
+            // The option as given: a distance in mm, as the user typed it.
+            let given = |value: Option<f64>| value.map_or_else(String::new, |v| v.to_string());
+            LabError::bad_input(match error {
+                PolicyError::Gain(gain) => format!("--gain {gain}: give a gain K in (0, 1]"),
+                PolicyError::ShapeStop(_) => format!(
+                    "--shape-stop {}: give a distance ≥ 0 mm (0: off)",
+                    given(self.closed_loop.shape_stop)
+                ),
+                PolicyError::NearShapeStop(_) => format!(
+                    "--near-shape-stop {}: give a distance ≥ 0 mm (0: off)",
+                    given(self.near_shape_stop)
+                ),
+                PolicyError::WaypointMoves(moves) => format!(
+                    "--waypoint-moves {moves}: at least {} and at most {}",
+                    WAYPOINT_MOVES.min, WAYPOINT_MOVES.max
+                ),
+            })
         })
-    }
-
-    /// `--near-shape-stop` in metres, checked, or the default for the noise model and
-    /// `shape_stop` \[m\] (`ftwire_control::TrackingPolicy::near_shape_stop_for`).
-    ///
-    /// # Errors
-    /// Bad input for a negative distance.
-    pub fn near_shape_stop(&self, shape_stop: f64) -> Result<f64, LabError> {
-        match self.near_shape_stop {
-            None => Ok(
-                TrackingPolicy::for_noise(self.closed_loop.noise_model().model())
-                    .near_shape_stop_for(shape_stop),
-            ),
-            Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
-            Some(mm) => Err(LabError::bad_input(format!(
-                "--near-shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
-            ))),
-        }
-    }
-}
-
-/// `--shape-stop` \[mm\] in metres, or the default for `noise`
-/// (`ftwire_control::TrackingPolicy::shape_stop`).
-///
-/// # Errors
-/// Bad input for a negative distance.
-pub fn shape_stop(mm: Option<f64>, noise: NoiseModelArg) -> Result<f64, LabError> {
-    match mm {
-        None => Ok(TrackingPolicy::for_noise(noise.model()).shape_stop),
-        Some(mm) if mm >= 0.0 => Ok(1e-3 * mm),
-        Some(mm) => Err(LabError::bad_input(format!(
-            "--shape-stop {mm}: give a distance ≥ 0 mm (0: off)"
-        ))),
     }
 }
 

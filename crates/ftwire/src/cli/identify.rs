@@ -81,16 +81,10 @@ pub struct IdentifySettingsArgs {
 impl IdentifySettingsArgs {
     /// The lab's settings of these flags.
     pub fn settings(&self) -> ResidualParams {
-        let defaults = ftwire_estimate::identify::MeasurementNoise::default();
-        let pose_noise =
-            (self.pose_noise_deg.is_some() || self.pose_noise_mm.is_some()).then(|| {
-                [
-                    self.pose_noise_deg
-                        .map_or(defaults.rotation, f64::to_radians),
-                    self.pose_noise_mm
-                        .map_or(defaults.translation, |mm| 1e-3 * mm),
-                ]
-            });
+        let pose_noise = ResidualParams::pose_noise_of(
+            self.pose_noise_deg.map(f64::to_radians),
+            self.pose_noise_mm.map(|mm| 1e-3 * mm),
+        );
         ResidualParams {
             form: self.form.form(),
             isotropic: self.isotropic,

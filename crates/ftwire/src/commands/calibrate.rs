@@ -2,7 +2,8 @@
 //! ([`ftwire_lab::log::calibrate`]: labels by shape fitting the markers, a split by blocks of
 //! time, the map fitted on the shape or on the labels and chosen on the validation block, the
 //! test block's marker errors). Writes
-//! `calibration.json`, `summary.json`, `labels.csv`, `test.csv`, the figures and the report.
+//! `calibration.json`, `summary.json`, `labels.csv`, `test.csv`, the figures and the report, and
+//! prints the results ([`ftwire_lab::log::calibrate::LogCalibrateRun::text`]).
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
@@ -55,14 +56,6 @@ fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
     })
 }
 
-/// `shape` or `labels`.
-fn loss_name(loss: MapLoss) -> &'static str {
-    match loss {
-        MapLoss::Shape => "shape",
-        MapLoss::Labels => "labels",
-    }
-}
-
 /// Runs `calibrate --log`.
 pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
     let params = params(&args)?;
@@ -75,50 +68,6 @@ pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
     let header = RunHeader::new("calibrate", Some(args.seed.seed), &args)?;
     let run = calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    let s = &run.summary;
-    println!(
-        "labels: {} of {} records fitted ({} rejected), marker RMS {:.2} mm",
-        s.labels.fitted, s.labels.records, s.labels.rejected, s.labels.marker_rms_mm
-    );
-    println!(
-        "split by time: {} train, {} validation, {} test",
-        s.split.train, s.split.validation, s.split.test
-    );
-    println!(
-        "map: {} fitted on the {} ({})",
-        s.fit.map,
-        loss_name(s.fit.loss),
-        s.fit.chosen_by
-    );
-    if let Some(g) = s.fit.gravity_in_clamp {
-        println!(
-            "gravity in the clamp frame: {:.3}, {:.3}, {:.3} m/s²",
-            g[0], g[1], g[2]
-        );
-    }
-    let t = &s.test;
-    println!(
-        "test block, mean inner-marker distance: {:.2} mm uncalibrated, {:.2} mm calibrated{} \
-         (map fitted on the labels {:.2} mm; labels {:.2} mm)",
-        t.raw_marker_mean_mm,
-        t.calibrated_marker_mean_mm,
-        t.affine_marker_mean_mm
-            .map_or_else(String::new, |a| format!(
-                ", {a:.2} mm its affine part alone"
-            )),
-        t.label_map_marker_mean_mm,
-        t.label_marker_mean_mm
-    );
-    println!(
-        "test block, mean distance along the wire to the labels' shapes: {:.2} mm calibrated",
-        t.calibrated_wire_mean_mm
-    );
-    println!(
-        "labels {:.1} s, training {:.1} s, shape fit {:.1} s; results in {}",
-        run.timings.label_s,
-        run.timings.train_s,
-        run.timings.fit_s,
-        target.display()
-    );
+    print!("{}", run.text(&target));
     Ok(())
 }

@@ -7,7 +7,7 @@
 use std::io::{self, IsTerminal};
 use std::time::Duration;
 
-use ftwire::output;
+use ftwire_app::output;
 use ftwire_lab::error::LabError;
 use ftwire_lab::experiment::Progress;
 use ftwire_lab::log::identify::{self, IdentifyLogParams};
@@ -55,13 +55,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), LabError> {
         identify::estimate(&params, &samples, progress)
     })?;
     output::print_display(&report, args.output.json)?;
-    match report.reason {
-        None => Ok(()),
-        Some(reason) => Err(LabError::no_answer(format!(
-            "the data of {} do not identify the wire: {reason}",
-            args.log.display()
-        ))),
-    }
+    report.verdict(&args.log)
 }
 
 /// Runs `work` with a progress line on stderr while it runs, when stderr is a terminal: where

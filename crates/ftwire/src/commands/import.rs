@@ -1,10 +1,8 @@
 //! `ftwire import <format>`: a recording made elsewhere to ftwire's JSON Lines log. The work
-//! is [`ftwire_ros2::import`]'s; this command maps the options, guards `--out`, writes the log
-//! and prints a one-line summary on stderr.
+//! is [`ftwire_ros2::import`]'s; this command maps the options, guards `--out` and writes the
+//! log ([`ftwire_app::out_file`]), and prints a one-line summary on stderr.
 
-use std::io::Write;
-use std::path::Path;
-
+use ftwire_app::out_file::OutFile;
 use ftwire_estimate::log::to_line;
 use ftwire_lab::error::LabError;
 use ftwire_ros2::bag::BagReader;
@@ -41,35 +39,6 @@ fn params(args: &McapArgs) -> ImportParams {
     }
 }
 
-/// Refuses an `--out` that exists (without `--force`) or that is the bag itself.
-fn guard_out(args: &McapArgs) -> Result<(), LabError> {
-    let out = &args.out;
-    let same = match (out.canonicalize(), args.bag.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    if same {
-        return Err(LabError::bad_input(format!(
-            "--out {} is the bag being read: give another file",
-            out.display()
-        )));
-    }
-    if out.is_dir() {
-        return Err(LabError::bad_input(format!(
-            "--out {} is a folder: give a file name, such as {}",
-            out.display(),
-            out.join("log.jsonl").display()
-        )));
-    }
-    if out.exists() && !args.force {
-        return Err(LabError::bad_input(format!(
-            "--out {} exists: give another file, or --force to replace it",
-            out.display()
-        )));
-    }
-    Ok(())
-}
-
 /// `ftwire import mcap`.
 fn mcap(args: &McapArgs) -> Result<(), LabError> {
     let params = params(args);
@@ -78,7 +47,13 @@ fn mcap(args: &McapArgs) -> Result<(), LabError> {
             "{e} (--rest-position-mm, --rest-angle-rad, --min-rest-s, --settle-s)"
         ))
     })?;
-    guard_out(args)?;
+    let out = OutFile {
+        path: &args.out,
+        option: "--out",
+        force_option: "--force",
+        force: args.force,
+    };
+    out.check(&args.bag, "the bag being read", "log.jsonl")?;
     let bag = BagReader::open(&args.bag).map_err(|e| LabError::bad_input(e.to_string()))?;
     let import = import::import(&bag, &params).map_err(|e| LabError::bad_input(e.to_string()))?;
     let summary = &import.summary;
@@ -96,33 +71,11 @@ fn mcap(args: &McapArgs) -> Result<(), LabError> {
         text.push_str(&line);
         text.push('\n');
     }
-    write_replacing(&args.out, text.as_bytes())?;
+    out.write(text.as_bytes())?;
     eprintln!(
         "ftwire import mcap: {} -> {}: {summary}",
         args.bag.display(),
         args.out.display()
     );
-    Ok(())
-}
-
-/// Writes `bytes` to a temporary sibling of `path` and renames it into place, so that `path`
-/// is never left half written.
-fn write_replacing(path: &Path, bytes: &[u8]) -> Result<(), LabError> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "log.jsonl".into());
-    let temp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let context = format!("writing {}", path.display());
-    let result = std::fs::File::create(&temp)
-        .and_then(|mut file| {
-            file.write_all(bytes)?;
-            file.sync_all()
-        })
-        .and_then(|()| std::fs::rename(&temp, path));
-    if let Err(e) = result {
-        std::fs::remove_file(&temp).ok();
-        return Err(LabError::io(context, e));
-    }
     Ok(())
 }

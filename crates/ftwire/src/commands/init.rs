@@ -1,4 +1,4 @@
-//! `ftwire init DIR`: writes the commented example files ([`ftwire::init`]).
+//! `ftwire init DIR`: writes the commented example files ([`ftwire_app::init`]).
 
 use ftwire_lab::error::LabError;
 
@@ -6,7 +6,7 @@ use crate::cli::init::InitArgs;
 
 /// Writes the examples and names each file written.
 pub fn run(args: &InitArgs) -> Result<(), LabError> {
-    for path in ftwire::init::write_examples(&args.dir, args.force)? {
+    for path in ftwire_app::init::write_examples(&args.dir, args.force, "--force")? {
         println!("{}", path.display());
     }
     Ok(())

@@ -1,26 +1,11 @@
 //! `ftwire plan` and `ftwire scene check`: the arguments as [`ftwire_lab::plan`]'s settings,
 //! its answer printed (the lab does the work).
 
-use std::fmt::Display;
-use std::io::{self, Write};
-
-use ftwire::output::{self, Report};
+use ftwire_app::output;
 use ftwire_lab::error::LabError;
 use ftwire_lab::plan::{self, PlanParams, PlanWireParams, Planner, SceneCheckParams};
-use serde::Serialize;
 
 use crate::cli::plan::{PlanArgs, PlanWireArgs, PlannerArg, SceneArgs, SceneCommand};
-
-/// A lab answer: its JSON with `--json`, its `Display` text otherwise.
-#[derive(Serialize)]
-#[serde(transparent)]
-struct Shown<'a, T>(&'a T);
-
-impl<T: Serialize + Display> Report for Shown<'_, T> {
-    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
-        write!(out, "{}", self.0)
-    }
-}
 
 /// The lab's wire settings of `args`.
 fn wire(args: &PlanWireArgs) -> PlanWireParams {
@@ -40,7 +25,7 @@ pub fn run_scene(args: &SceneArgs) -> Result<(), LabError> {
         start: args.endpoints.start.clone(),
         goal: args.endpoints.goal.clone(),
     })?;
-    output::print(&Shown(&report), args.json.json)?;
+    output::print_display(&report, args.json.json)?;
     report.require_endpoints()
 }
 
@@ -68,5 +53,5 @@ fn params(args: &PlanArgs) -> PlanParams {
 /// Runs `ftwire plan`.
 pub fn run(args: &PlanArgs) -> Result<(), LabError> {
     let report = plan::run(&params(args))?;
-    output::print(&Shown(&report), args.json.json)
+    output::print_display(&report, args.json.json)
 }

@@ -8,20 +8,12 @@
 //! all): one subfolder per experiment, `report.md`, `report.html`, `summary.json` (the run
 //! header, then `quick`, `experiments`: each `{id, status}`) and `timings.json`.
 
-use std::fs::File;
-use std::process::{Command, Stdio};
-
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
 use ftwire_lab::reproduce::{self, Job, ReproduceParams};
 use ftwire_lab::results::OutGuard;
 
 use crate::cli::reproduce::ReproduceArgs;
-
-/// The environment variable through which `ftwire reproduce` tells the experiments it starts
-/// its process id: each one ends (removing its temporary results folder) once that process is
-/// gone, so that killing `reproduce` leaves none of them running.
-pub const PARENT_PID_VAR: &str = "FTWIRE_PARENT_PID";
 
 /// The lab's settings of `args`.
 fn params(args: &ReproduceArgs) -> ReproduceParams {
@@ -36,31 +28,10 @@ fn params(args: &ReproduceArgs) -> ReproduceParams {
     }
 }
 
-/// Runs `job` as a child process of this binary, its output into its log; on a failure, its
-/// exit code and the log's last line.
+/// Runs `job` as a child process of this binary ([`Job::run_as_child`]).
 fn run_job(job: &Job) -> Result<(), String> {
-    let log = &job.log;
     let exe = std::env::current_exe().map_err(|e| format!("cannot find ftwire itself: {e}"))?;
-    let file = File::create(log).map_err(|e| format!("cannot write {}: {e}", log.display()))?;
-    let err = file
-        .try_clone()
-        .map_err(|e| format!("cannot write {}: {e}", log.display()))?;
-    let exit = ftwire_lab::results::run_child(
-        Command::new(exe)
-            .args(&job.args)
-            .env(PARENT_PID_VAR, std::process::id().to_string())
-            .stdin(Stdio::null())
-            .stdout(file)
-            .stderr(err),
-    )
-    .map_err(|e| format!("cannot start: {e}"))?;
-    if exit.success() {
-        Ok(())
-    } else {
-        let text = std::fs::read_to_string(log).unwrap_or_default();
-        let last = text.lines().last().unwrap_or("").to_owned();
-        Err(format!("exit {}: {last}", exit.code().unwrap_or(-1)))
-    }
+    job.run_as_child(&exe)
 }
 
 /// Runs every experiment and writes the report.

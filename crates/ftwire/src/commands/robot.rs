@@ -1,7 +1,7 @@
 //! `ftwire robot`: forward and inverse kinematics of the SDA10F from the command line. The
 //! work and the answers are [`ftwire_lab::robot`]'s; this command maps the options and prints.
 
-use ftwire::output;
+use ftwire_app::output;
 use ftwire_lab::error::{EXIT_NO_ANSWER, LabError};
 use ftwire_lab::robot::{self, ArmParams, NoSolution};
 use ftwire_robot::{Arm, EndFrame};

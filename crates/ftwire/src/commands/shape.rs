@@ -13,15 +13,13 @@
 //! `raw` record with neither `--calibration` nor `--mounting`, or one without `gravity` when
 //! the mounting has a tool, is bad input (exit 2) naming the line, before anything is written.
 
-use std::fmt;
-use std::io::{self, Write};
+use std::io;
 
-use ftwire::output::{self, JsonLines};
+use ftwire_app::output;
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
-use ftwire_lab::log::shape::{LogShapes, ShapeLog, ShapeLogParams, ShapeLogSummary};
+use ftwire_lab::log::shape::{LogShapes, ShapeLog, ShapeLogParams};
 use ftwire_lab::results::OutGuard;
-use serde::Serialize;
 
 use crate::cli::shape::ShapeArgs;
 
@@ -62,27 +60,11 @@ pub fn run(args: ShapeArgs) -> Result<(), LabError> {
     print_records(&args, &params)
 }
 
-/// Prints each record's shape as soon as it has it.
+/// Prints each record's shape as soon as it has it ([`LogShapes::write_all`]).
 fn print_records(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabError> {
     let shapes = LogShapes::new(params)?;
-    let records = shapes.lines().len();
     let stdout = io::stdout();
-    let mut out = stdout.lock();
-    let mut failed = 0_usize;
-    for shape in shapes {
-        let shape = shape?;
-        if shape.error.is_some() {
-            failed += 1;
-        }
-        if args.output.json {
-            JsonLines::new(&mut out).write(&shape)?;
-        } else {
-            write!(out, "{shape}")
-                .and_then(|()| out.flush())
-                .map_err(|e| LabError::io("writing the result", e))?;
-        }
-    }
-    no_shape(failed, records, "see their `error`")
+    shapes.write_all(&mut stdout.lock(), args.output.json)
 }
 
 /// Writes the results folder of `--out` and prints the summary.
@@ -98,7 +80,7 @@ fn write_folder(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabErro
     let header = RunHeader::new("shape", None, args)?;
     let run = log.write(&folder, &mut |line| eprintln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    output::print_display(&Printed(run.summary), args.output.json)?;
+    output::print_display(&run.summary, args.output.json)?;
     if !args.output.json {
         println!(
             "{:.0} records/s; results in {}",
@@ -106,38 +88,5 @@ fn write_folder(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabErro
             target.display()
         );
     }
-    no_shape(
-        run.no_shape,
-        run.summary.records,
-        "see their `error` in shapes.jsonl",
-    )
-}
-
-/// No answer when the model had no shape for some records.
-fn no_shape(failed: usize, records: usize, where_: &str) -> Result<(), LabError> {
-    if failed > 0 {
-        return Err(LabError::no_answer(format!(
-            "no shape for {failed} of {records} records ({where_})"
-        )));
-    }
-    Ok(())
-}
-
-/// The summary as printed: the JSON object, or a line of text.
-#[derive(Serialize)]
-#[serde(transparent)]
-struct Printed(ShapeLogSummary);
-
-impl fmt::Display for Printed {
-    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let s = &self.0;
-        let markers = s.marker_mean_mm.map_or_else(String::new, |m| {
-            format!(", inner markers {m:.2} mm from the shapes")
-        });
-        writeln!(
-            out,
-            "{} records: {} not stable, {} not confident{markers}",
-            s.records, s.not_stable, s.not_confident
-        )
-    }
+    run.all_shaped()
 }

@@ -4,7 +4,7 @@
 //! [`ftwire_lab::equilibrium`]'s; this command maps the options and prints. Exit codes: 1 when
 //! Newton finds no equilibrium, 2 on bad input.
 
-use ftwire::output;
+use ftwire_app::output;
 use ftwire_lab::equilibrium::{self, EquilibriumParams};
 use ftwire_lab::error::LabError;
 

@@ -7,12 +7,12 @@
 //! the input the exit code sums the batch up: 0 if every line was answered, 2 if any line was
 //! bad input, else 1 if any line had no answer (an integration that diverged).
 
-use std::io::{self, BufRead, BufReader};
+use std::io;
 use std::path::Path;
 
-use ftwire::output::{self, ErrorLine, JsonLines};
+use ftwire_app::output::{self, JsonLines};
 use ftwire_lab::error::LabError;
-use ftwire_lab::solve::{self, Batch, BatchTally, SolveParams};
+use ftwire_lab::solve::{self, SolveParams};
 
 use crate::cli::solve::SolveArgs;
 
@@ -41,33 +41,8 @@ fn run_single(args: &SolveArgs) -> Result<(), LabError> {
     output::print_display(&solve::single(&params)?, args.output.json)
 }
 
-/// A batch always prints JSON Lines, so `--json` changes nothing there.
+/// A batch always prints JSON Lines, so `--json` changes nothing there ([`solve::serve`]).
 fn run_batch(path: &Path) -> Result<(), LabError> {
-    let input: Box<dyn BufRead> = if path.as_os_str() == "-" {
-        Box::new(io::stdin().lock())
-    } else {
-        if path.is_dir() {
-            return Err(LabError::bad_input(format!(
-                "--batch {}: a folder, not a file; give a JSON Lines file, or - for stdin",
-                path.display()
-            )));
-        }
-        let file = ftwire_core::text::open_regular(path).map_err(|e| {
-            LabError::bad_input(format!("cannot open batch file {}: {e}", path.display()))
-        })?;
-        Box::new(BufReader::new(file))
-    };
-    let mut out = JsonLines::new(io::stdout().lock());
-    let mut tally = BatchTally::default();
-    for line in Batch::new(input) {
-        let line = line?;
-        match &line.answer {
-            Ok(answer) => out.write(answer)?,
-            Err(error) => {
-                tally.count(error);
-                out.write(&ErrorLine::new(error, line.line))?;
-            }
-        }
-    }
-    tally.verdict()
+    let input = solve::batch_input(path, "--batch")?;
+    solve::serve(input, &mut JsonLines::new(io::stdout().lock()))
 }

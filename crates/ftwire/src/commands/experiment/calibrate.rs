@@ -7,7 +7,8 @@
 //! configurations collected (default
 //! [`ftwire_lab::experiment::calibration::DEFAULT_SAMPLES`]). Writes `summary.json`,
 //! `calibration.json` (the weights, in the format `--calibration` loads), `samples.csv` (one
-//! row per configuration) and `timings.json`.
+//! row per configuration) and `timings.json`, and prints the results
+//! ([`ftwire_lab::calibrate::CalibrateRun::text`]).
 
 use ftwire_lab::calibrate::{self, CalibrateParams};
 use ftwire_lab::error::LabError;
@@ -32,27 +33,6 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), LabError> {
     let header = RunHeader::new("experiment calibrate", Some(args.common.seed.seed), &args)?;
     let run = calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    let s = &run.summary;
-    println!(
-        "calibration on {} ({} train, {} validation, {} test; skipped {:?})",
-        s.wire.name, s.samples.train, s.samples.validation, s.samples.test, s.skipped
-    );
-    println!("                 torque_rel  force_rel  shape_mm");
-    for (name, e) in [("raw (mounting)", &s.raw), ("calibrated", &s.calibrated)] {
-        println!(
-            "{name:<16} {:>10.4} {:>10.4} {:>9.2}",
-            e.torque_rel, e.force_rel, e.shape_mm
-        );
-    }
-    println!(
-        "labels: marker RMS {:.3} mm, shape vs truth {:.2} mm",
-        s.label_fit_mm, s.label_shape_mm
-    );
-    println!(
-        "collect {:.1} s, train {:.1} s; results in {}",
-        run.timings.collect_s,
-        run.timings.train_s,
-        target.display()
-    );
+    print!("{}", run.text(&target));
     Ok(())
 }

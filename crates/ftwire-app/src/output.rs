@@ -1,12 +1,13 @@
-//! The one output writer of the `ftwire` binary: a result as JSON or as human text, JSON Lines
-//! flushed per line, and the run header of a results folder.
+//! The commands' output conventions, for every front end that prints a result: a result as
+//! one JSON object or as human text, JSON Lines flushed per line, and the error object of a bad
+//! JSON Lines request with the values it echoes cut short.
 
 use std::fmt::Display;
 use std::io::{self, Write};
 
 use serde::Serialize;
 
-use ftwire_lab::error::LabError;
+use crate::error::LabError;
 
 /// A command's result: serialised for `--json`, written as text otherwise.
 pub trait Report: Serialize {
@@ -45,7 +46,7 @@ pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(
 }
 
 /// Prints `value` as [`print()`] does, with its [`Display`] as the text: the lab's answers
-/// (`ftwire_lab::log::identify::EstimateReport`, ...) carry their human text so.
+/// (`ftwire_logs::identify::EstimateReport`, ...) carry their human text so.
 ///
 /// # Errors
 /// As [`print()`].
@@ -130,7 +131,7 @@ pub const ECHO_CHARS: usize = 200;
 ///
 /// # Example
 /// ```
-/// use ftwire::output::shorten_echoes;
+/// use ftwire_app::output::shorten_echoes;
 /// let long = "x".repeat(10_000);
 /// let message = format!("invalid type: string \"{long}\", expected f64 at line 1 column 10015");
 /// let short = shorten_echoes(&message);

@@ -1,15 +1,16 @@
-//! `ftwire init DIR`: a commented example of each configuration file, as every command that
-//! takes one accepts it (`tests/init_cli.rs` runs them).
+//! The commented example of each configuration file (`ftwire init DIR` writes them), as every
+//! command that takes one accepts it (the binary's `tests/init_cli.rs` runs them).
 //!
 //! The examples are hand-written TOML under `src/init/`, each key with its unit, default and
 //! allowed range in a comment; `docs/config.md` is the full schema. The sensor, rig and
 //! mounting examples hold the library's defaults and the wire example the preset
-//! `nitinol-3mm-820` (checked by the tests below), so passing them changes nothing but the
+//! `nitinol-3mm-820` (checked by the tests below; the simulator's sensor and rig, which this
+//! crate never sees, by `ftwire-lab`'s `setup` tests), so passing them changes nothing but the
 //! header of a run.
 
 use std::path::{Path, PathBuf};
 
-use ftwire_lab::error::LabError;
+use crate::error::LabError;
 
 /// The example files, by file name.
 pub const EXAMPLES: [(&str, &str); 5] = [
@@ -20,13 +21,38 @@ pub const EXAMPLES: [(&str, &str); 5] = [
     ("mounting.toml", include_str!("init/mounting.toml")),
 ];
 
+/// The text of the example file `name` (`wire.toml`, ...), if there is one.
+pub fn example(name: &str) -> Option<&'static str> {
+    EXAMPLES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
+}
+
 /// Writes the [`EXAMPLES`] into `dir`, creating `dir` when its parent exists. Without `force`
 /// no file is written when any of them exists already. Returns the files written.
+///
+/// `force_option` is the overwrite switch as the caller's front end spells it (`--force` on
+/// the command line), named in the error that refuses to overwrite.
 ///
 /// # Errors
 /// Bad input (exit 2) naming the folder or the file: a missing parent, a `dir` that is a file,
 /// an existing example without `force`, a folder that cannot be written.
-pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, LabError> {
+///
+/// # Example
+/// ```
+/// let dir = std::env::temp_dir().join(format!("ftwire-app-init-doc-{}", std::process::id()));
+/// let written = ftwire_app::init::write_examples(&dir, false, "--force").expect("written");
+/// assert_eq!(written.len(), ftwire_app::init::EXAMPLES.len());
+/// let again = ftwire_app::init::write_examples(&dir, false, "--force").expect_err("exists");
+/// assert!(again.to_string().contains("give --force to overwrite it"), "{again}");
+/// std::fs::remove_dir_all(&dir).expect("removed");
+/// ```
+pub fn write_examples(
+    dir: &Path,
+    force: bool,
+    force_option: &str,
+) -> Result<Vec<PathBuf>, LabError> {
     let shown = dir.display();
     if dir.exists() && !dir.is_dir() {
         return Err(LabError::bad_input(format!(
@@ -51,7 +77,7 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, LabError>
     let existing = targets.iter().find(|(path, _)| path.exists());
     if let Some((path, _)) = existing.filter(|_| !force) {
         return Err(LabError::bad_input(format!(
-            "{} exists already; give --force to overwrite it (and the other examples)",
+            "{} exists already; give {force_option} to overwrite it (and the other examples)",
             path.display()
         )));
     }
@@ -69,19 +95,17 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, LabError>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ftwire_lab::setup::{RigSpec, SensorSpec};
-    use ftwire_lab::wire::WireSpec;
+    use crate::config::sensor::{DEFAULT, DataSheetSpec};
+    use crate::config::wire::WireSpec;
 
-    fn example(name: &str) -> &'static str {
-        EXAMPLES
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map_or("", |(_, text)| text)
+    /// The example file `name`, or an empty text.
+    fn text(name: &str) -> &'static str {
+        example(name).unwrap_or_default()
     }
 
     #[test]
     fn the_examples_parse_and_hold_the_defaults() -> Result<(), Box<dyn std::error::Error>> {
-        let wire = WireSpec::from_toml(example("wire.toml"), "wire.toml")?;
+        let wire = WireSpec::from_toml(text("wire.toml"), "wire.toml")?;
         let preset = WireSpec::preset("nitinol-3mm-820").ok_or("preset")?;
         assert_eq!(
             WireSpec {
@@ -90,17 +114,15 @@ mod tests {
             },
             preset
         );
-        let sensor = SensorSpec::from_toml(example("sensor.toml"), "sensor.toml")?;
-        assert_eq!(sensor.config, SensorSpec::default().config);
-        let rig = RigSpec::from_toml(example("rig.toml"), "rig.toml")?;
-        assert_eq!(rig, RigSpec::default());
-        let scene = ftwire_plan::Scene::from_toml(example("scene.toml"), "scene.toml")?;
+        let sheet = DataSheetSpec::from_toml(text("sensor.toml"), "sensor.toml")?;
+        assert_eq!(sheet.sheet, DEFAULT);
+        let scene = ftwire_plan::Scene::from_toml(text("scene.toml"), "scene.toml")?;
         let shipped = ftwire_plan::Scene::load(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../../scenes/passage.toml"
         ))?;
         assert_eq!(scene, shipped);
-        let mounting: ftwire_estimate::ft::MountingSpec = toml::from_str(example("mounting.toml"))?;
+        let mounting: ftwire_estimate::ft::MountingSpec = toml::from_str(text("mounting.toml"))?;
         assert_eq!(mounting, ftwire_estimate::ft::MountingSpec::default());
         Ok(())
     }

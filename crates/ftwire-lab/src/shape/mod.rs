@@ -33,8 +33,11 @@
 //! **tared** reading averaged at rest (the calibration's input), `b` the believed tip pose,
 //! `markers` the frame in the base clamp frame. The caller writes `summary.json`
 //! ([`ShapeRun::summary`], the same for the same seed) and `timings.json`
-//! ([`ShapeRun::timings`]). Guarded by `tests/experiments.rs` and the recorded summary of
+//! ([`ShapeRun::timings`]), and may print [`ShapeRun::text`], the rows as text beside
+//! Table II. Guarded by `tests/experiments.rs` and the recorded summary of
 //! `crates/ftwire/tests/names_and_timings_cli.rs`.
+
+mod text;
 
 use std::path::PathBuf;
 use std::time::Instant;
