@@ -203,10 +203,9 @@ pub fn identify(
         .collect();
     // Ctrl-C ends the search's wait (`KeyboardInterrupt`): the particle swarm of a long log
     // runs for minutes.
-    let report: EstimateReport = {
-        let params = params.clone();
-        crate::interrupt::interruptible(py, move || estimate(&params, &samples, &mut |_: &str| {}))?
-    }
+    let report: EstimateReport = crate::interrupt::interruptible(py, move || {
+        estimate(&params, &samples, &mut |_: &str| {})
+    })?
     .map_err(|e| lab_error(&e, "identify"))?;
     let guess = wire_guess.map(|w| w.spec.clone());
     let mut spec = guess.unwrap_or_else(|| ftwire_lab::wire::WireSpec {

@@ -95,11 +95,8 @@ pub fn plan<'py>(
     };
     params.check().map_err(|e| lab_error(&e, "plan"))?;
     // Ctrl-C ends the wait for the planner (`KeyboardInterrupt`).
-    let report = {
-        let params = params.clone();
-        crate::interrupt::interruptible(py, move || run(&params))?
-    }
-    .map_err(|e| lab_error(&e, "plan"))?;
+    let report = crate::interrupt::interruptible(py, move || run(&params))?
+        .map_err(|e| lab_error(&e, "plan"))?;
     let dict = waypoints(py, &report.waypoints)?;
     dict.set_item("length", report.length)?;
     dict.set_item("cost", report.cost)?;
