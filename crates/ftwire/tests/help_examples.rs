@@ -71,26 +71,39 @@ fn every_help_example_runs_as_printed() {
         std::env::var("PATH").unwrap_or_default()
     );
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut ran = 0;
-    for (command, help) in helps() {
-        let lines = examples(&help);
-        if lines.is_empty() {
-            continue;
-        }
-        let tmp = TempDir::new(&format!("help-example-{}", command.join("-")));
-        std::os::unix::fs::symlink(&scenes, tmp.0.join("scenes")).expect("links scenes/");
-        for line in lines {
-            let output = Command::new("sh")
-                .arg("-c")
-                .arg(&line)
-                .env("PATH", &path)
-                .current_dir(&tmp.0)
-                .output()
-                .expect("sh runs");
-            assert_success(&output, &format!("{}: {line}", command.join(" ")));
-            ran += 1;
-        }
-    }
+    // Each command's examples in order, the commands at once (CI has two cores).
+    let helps = helps();
+    let ran: usize = std::thread::scope(|s| {
+        let runs: Vec<_> = helps
+            .iter()
+            .map(|(command, help)| {
+                let (path, scenes) = (&path, &scenes);
+                s.spawn(move || {
+                    let lines = examples(help);
+                    if lines.is_empty() {
+                        return 0;
+                    }
+                    let tmp = TempDir::new(&format!("help-example-{}", command.join("-")));
+                    std::os::unix::fs::symlink(scenes, tmp.0.join("scenes"))
+                        .expect("links scenes/");
+                    for line in &lines {
+                        let output = Command::new("sh")
+                            .arg("-c")
+                            .arg(line)
+                            .env("PATH", path)
+                            .current_dir(&tmp.0)
+                            .output()
+                            .expect("sh runs");
+                        assert_success(&output, &format!("{}: {line}", command.join(" ")));
+                    }
+                    lines.len()
+                })
+            })
+            .collect();
+        runs.into_iter()
+            .map(|run| run.join().expect("a command's examples pass"))
+            .sum()
+    });
     // calibrate 2, identify 2, plan 2, shape 3, solve 3 at least.
     assert!(ran >= 12, "only {ran} examples found");
 }

@@ -231,3 +231,67 @@ pub fn run(
         report,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+    use crate::results::OutGuard;
+
+    /// The report and the statuses do not depend on the number of jobs, nor on the order in
+    /// which the experiments end: each job here ends later the earlier it is listed, one
+    /// experiment fails, and the experiments of the failed calibration are not run.
+    #[test]
+    fn the_report_is_the_same_for_any_number_of_jobs_and_any_order_of_ending() {
+        let parent = std::env::temp_dir().join(format!("ftwire-jobs-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&parent);
+        std::fs::create_dir_all(&parent).expect("creates a temporary folder");
+        let run_with = |jobs: usize| {
+            let params = ReproduceParams {
+                quick: true,
+                jobs: Some(jobs),
+                ..ReproduceParams::default()
+            };
+            // The experiments listed first end last.
+            let order: Vec<&'static str> = params
+                .experiment_jobs(Path::new("/x"))
+                .iter()
+                .map(|j| j.id)
+                .collect();
+            let runner = move |job: &Job| {
+                let later = order.len() - order.iter().position(|id| *id == job.id).unwrap_or(0);
+                std::thread::sleep(Duration::from_millis(5) * u32::try_from(later).unwrap_or(0));
+                match job.id {
+                    "goal" => Err("exit 1: no goal".to_owned()),
+                    "calibrate_real_like" => Err("exit 1: no labels".to_owned()),
+                    _ => Ok(()),
+                }
+            };
+            let folder =
+                ResultsFolder::create(&parent.join(format!("jobs{jobs}")), &OutGuard::default())
+                    .expect("a results folder");
+            let run = super::run(&params, &folder, &runner, &|_| {}).expect("runs");
+            (run.summary, run.report)
+        };
+        let (one, one_report) = run_with(1);
+        let (three, three_report) = run_with(3);
+        assert_eq!(one, three);
+        assert_eq!(one_report, three_report);
+        let status = |id: &str| {
+            one.experiments
+                .iter()
+                .find(|s| s.id == id)
+                .map(|s| s.status.clone())
+        };
+        assert_eq!(status("calibrate").as_deref(), Some(OK));
+        assert_eq!(status("goal").as_deref(), Some("exit 1: no goal"));
+        assert_eq!(
+            status("shape_real_like").as_deref(),
+            Some("not run: the calibration calibrate_real_like failed")
+        );
+        let ids: Vec<&str> = one.experiments.iter().map(|s| s.id).collect();
+        assert_eq!(ids[..2], ["calibrate", "calibrate_real_like"]);
+        let _ = std::fs::remove_dir_all(&parent);
+    }
+}
