@@ -18,7 +18,7 @@ fn the_quick_report_sets_every_table_beside_the_papers() {
     fs::create_dir_all(&dir).expect("creates a temporary folder");
     let docs = dir.join("docs");
     fs::create_dir_all(&docs).expect("creates docs/");
-    let report = || {
+    let (text, html) = {
         let out = dir.join("jobs2");
         let output = ftwire(&[
             "reproduce",
@@ -54,7 +54,6 @@ fn the_quick_report_sets_every_table_beside_the_papers() {
             fs::read_to_string(out.join("report.html")).expect("report.html"),
         )
     };
-    let (text, html) = report();
     // The documentation's page: the same tables, the provenance, every figure it links.
     let page = fs::read_to_string(docs.join("results.md")).expect("docs/results.md");
     assert!(

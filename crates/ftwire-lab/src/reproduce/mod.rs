@@ -239,7 +239,7 @@ mod tests {
     use super::*;
     use crate::results::OutGuard;
 
-    /// The report and the statuses do not depend on the number of jobs, nor on the order in
+    /// The report (report.md and report.html) and the statuses do not depend on the number of jobs, nor on the order in
     /// which the experiments end: each job here ends later the earlier it is listed, one
     /// experiment fails, and the experiments of the failed calibration are not run.
     #[test]
@@ -272,12 +272,15 @@ mod tests {
                 ResultsFolder::create(&parent.join(format!("jobs{jobs}")), &OutGuard::default())
                     .expect("a results folder");
             let run = super::run(&params, &folder, &runner, &|_| {}).expect("runs");
-            (run.summary, run.report)
+            let page =
+                std::fs::read_to_string(folder.dir().join("report.html")).expect("report.html");
+            (run.summary, run.report, page)
         };
-        let (one, one_report) = run_with(1);
-        let (three, three_report) = run_with(3);
+        let (one, one_report, one_page) = run_with(1);
+        let (three, three_report, three_page) = run_with(3);
         assert_eq!(one, three);
         assert_eq!(one_report, three_report);
+        assert_eq!(one_page, three_page);
         let status = |id: &str| {
             one.experiments
                 .iter()
