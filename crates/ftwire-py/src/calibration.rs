@@ -62,8 +62,8 @@ impl Calibration {
     /// file when it cannot be read or is not a calibration.
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
-        let learnt = ftwire_lab::log::load_calibration(&path)
-            .map_err(|e| value_error(format!("path: {e}")))?;
+        let learnt = Learnt::load(&path)
+            .map_err(|e| value_error(format!("path {}: {e}", path.display())))?;
         Ok(Self { learnt })
     }
 

@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 
-use ftwire_lab::plan::{PlanParams, PlanWireParams, Planner, WaypointJson, run};
+use ftwire_lab::error::FrontEnd;
+use ftwire_lab::plan::{PlanParams, PlanWireParams, Planner, WaypointJson, run_from};
 use numpy::PyArray1;
 use numpy::PyArray2;
 use numpy::ndarray::Array2;
@@ -93,9 +94,11 @@ pub fn plan<'py>(
         resample,
         seed,
     };
-    params.check().map_err(|e| lab_error(&e, "plan"))?;
+    params
+        .check_from(FrontEnd::Python)
+        .map_err(|e| lab_error(&e, "plan"))?;
     // Ctrl-C ends the wait for the planner (`KeyboardInterrupt`).
-    let report = crate::interrupt::interruptible(py, move || run(&params))?
+    let report = crate::interrupt::interruptible(py, move || run_from(&params, FrontEnd::Python))?
         .map_err(|e| lab_error(&e, "plan"))?;
     let dict = waypoints(py, &report.waypoints)?;
     dict.set_item("length", report.length)?;

@@ -66,7 +66,7 @@ pub struct SceneReport {
 /// A configuration outside `Z_free` is a verdict in the report, not an error (see
 /// [`SceneReport::require_endpoints`]).
 pub fn check_scene(params: &SceneCheckParams) -> Result<SceneReport, LabError> {
-    let (scene, spec, checker) = setup(&params.file, &params.wire)?;
+    let (scene, spec, checker) = setup(&params.file, &params.wire, crate::error::FrontEnd::Cli)?;
     let mut configurations = Vec::new();
     for name in scene.configurations.keys() {
         let verdict = scene_configuration(&scene, checker.rod(), name)

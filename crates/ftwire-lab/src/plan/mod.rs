@@ -26,7 +26,7 @@ pub use check::{ConfigurationCheck, SceneCheckParams, SceneReport, check_scene};
 pub use planner::Planner;
 pub use report::{JointsJson, PlanReport, PoseJson, WaypointJson};
 
-use crate::error::{LabError, from_plan};
+use crate::error::{FrontEnd, LabError, from_plan};
 use crate::wire::WireSpec;
 
 /// Largest time budget \[s\]. The tree keeps every node's sample, its wire's centreline
@@ -113,28 +113,41 @@ impl PlanParams {
     /// # Errors
     /// Bad input naming the option (`--time-budget`, `--scene`) and what is allowed.
     pub fn check(&self) -> Result<(), LabError> {
-        self.budget()?;
-        self.scene_file()?;
+        self.check_from(FrontEnd::Cli)
+    }
+
+    /// [`PlanParams::check`], its errors naming the inputs as `front_end` spells them
+    /// (`time_budget` for Python).
+    ///
+    /// # Errors
+    /// As [`PlanParams::check`].
+    pub fn check_from(&self, front_end: FrontEnd) -> Result<(), LabError> {
+        self.budget(front_end)?;
+        self.scene_file(front_end)?;
         Ok(())
     }
 
     /// The time budget as a duration.
-    fn budget(&self) -> Result<Duration, LabError> {
+    fn budget(&self, front_end: FrontEnd) -> Result<Duration, LabError> {
         Duration::try_from_secs_f64(self.time_budget)
             .ok()
             .filter(|b| !b.is_zero() && self.time_budget <= MAX_TIME_BUDGET)
             .ok_or_else(|| {
                 LabError::bad_input(format!(
-                    "--time-budget {} s: give more than 0 and at most {MAX_TIME_BUDGET} seconds",
+                    "{} {} s: give more than 0 and at most {MAX_TIME_BUDGET} seconds",
+                    front_end.spell("--time-budget"),
                     self.time_budget
                 ))
             })
     }
 
     /// The scene file.
-    fn scene_file(&self) -> Result<&Path, LabError> {
+    fn scene_file(&self, front_end: FrontEnd) -> Result<&Path, LabError> {
         self.scene.as_deref().ok_or_else(|| {
-            LabError::bad_input("--scene FILE.toml is required: the scene to plan in")
+            LabError::bad_input(format!(
+                "{} FILE.toml is required: the scene to plan in",
+                front_end.spell("--scene")
+            ))
         })
     }
 
@@ -153,21 +166,30 @@ impl PlanParams {
 }
 
 /// The scene, the wire model and the checker of a plan or a check.
-fn setup(file: &Path, wire: &PlanWireParams) -> Result<(Scene, WireSpec, Checker), LabError> {
+fn setup(
+    file: &Path,
+    wire: &PlanWireParams,
+    front_end: FrontEnd,
+) -> Result<(Scene, WireSpec, Checker), LabError> {
     let scene = Scene::load(file).map_err(|e| from_plan(e, "reading the scene"))?;
-    let spec =
-        WireSpec::load(&wire.wire).map_err(|e| LabError::bad_input(format!("--wire: {e}")))?;
-    let params = spec
-        .wire_params()
-        .map_err(|e| LabError::bad_input(format!("--wire: {e}")))?;
+    let wire_error = |e: &dyn std::fmt::Display| {
+        LabError::bad_input(format!("{}: {e}", front_end.spell("--wire")))
+    };
+    let spec = WireSpec::load(&wire.wire).map_err(|e| wire_error(&e))?;
+    let params = spec.wire_params().map_err(|e| wire_error(&e))?;
     let robot = Robot::sda10f().map_err(|e| LabError::bad_input(e.to_string()))?;
     let validity = ValidityParams {
         margin: wire.margin,
         max_span: wire.max_span,
         ..ValidityParams::default()
     };
+    let margins = format!(
+        "{} or {}",
+        front_end.spell("--margin"),
+        front_end.spell("--max-span")
+    );
     let checker = Checker::new(Rod::new(params), robot, &scene, validity)
-        .map_err(|e| from_plan(e, "--margin or --max-span"))?;
+        .map_err(|e| from_plan(e, &margins))?;
     Ok((scene, spec, checker))
 }
 
@@ -179,9 +201,18 @@ fn setup(file: &Path, wire: &PlanWireParams) -> Result<(Scene, WireSpec, Checker
 /// bad margins, or a start or goal outside `Z_free`; no answer when no path is found within
 /// the budget or the path cannot be resampled.
 pub fn run(params: &PlanParams) -> Result<PlanReport, LabError> {
-    let budget = params.budget()?;
-    let scene_file = params.scene_file()?;
-    let (scene, spec, checker) = setup(scene_file, &params.wire)?;
+    run_from(params, FrontEnd::Cli)
+}
+
+/// [`run`], its errors naming the inputs as `front_end` spells them (`time_budget`,
+/// `wire` for Python).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_from(params: &PlanParams, front_end: FrontEnd) -> Result<PlanReport, LabError> {
+    let budget = params.budget(front_end)?;
+    let scene_file = params.scene_file(front_end)?;
+    let (scene, spec, checker) = setup(scene_file, &params.wire, front_end)?;
     let file = scene_file.display().to_string();
     let endpoint = |name: &str, role: &'static str| {
         scene_endpoint(&scene, &checker, name, role).map_err(|e| from_plan(e, &file))
