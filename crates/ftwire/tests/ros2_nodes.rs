@@ -11,34 +11,14 @@
 //! cross-talk.
 #![cfg(feature = "ros2")]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use serde_json::Value;
 
-const BIN: &str = env!("CARGO_BIN_EXE_ftwire");
+mod ros2_support;
 
-/// A fresh folder for one test's files.
-fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ftwire-ros2-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a temporary folder");
-    dir
-}
-
-/// Fails loudly unless a network namespace can be made here.
-fn require_unshare() {
-    let ok = Command::new("unshare")
-        .args(["-n", "true"])
-        .status()
-        .is_ok_and(|s| s.success());
-    assert!(
-        ok,
-        "`unshare -n` is not permitted here (it needs root or CAP_SYS_ADMIN): the ROS 2 node \
-         tests run only in a network namespace with nothing but the loopback, and will not use \
-         the real network"
-    );
-}
+use ros2_support::{BIN, require_unshare, run_session, temp_dir};
 
 /// Runs the sim for `sim_s` and, 0.3 s later, the estimator for `estimate_s` seconds, in one
 /// loopback-only namespace; returns both summaries.
@@ -431,6 +411,14 @@ fn control_on_ros2_steers_the_simulated_wire_to_a_nearby_goal() {
     assert!(errors >= 2, "the goal is not at the start: {control}");
     let steps = control["steps"].as_u64().unwrap_or(0);
     assert!((1..=40).contains(&steps), "{control}");
+    // One leg of the library's tracker, to the goal.
+    assert_eq!(
+        control["legs"].as_array().map_or(0, Vec::len),
+        1,
+        "{control}"
+    );
+    assert_eq!(control["legs"][0]["moves"], steps, "{control}");
+    assert_eq!(control["passed"], 1, "{control}");
     // The true wire against the goal's model shape: the uncalibrated default sensor's gain
     // and cross-talk (about 1 %) leave a few mm.
     let truth = control["truth"]["mean_mm"]
@@ -451,6 +439,61 @@ fn control_on_ros2_steers_the_simulated_wire_to_a_nearby_goal() {
         "{control}"
     );
     eprintln!("sim: {sim}\ncontrol: {control}");
+}
+
+/// A model tip that misses the reported one by more than `--contact-miss` is a contact: the
+/// ROS rig ends the run at that rest, before any move.
+#[test]
+fn control_on_ros2_ends_in_contact_when_the_models_tip_misses_the_gripper() {
+    // 10 µm: the uncalibrated default sensor's gain and cross-talk alone put the model's tip
+    // a few mm from the gripper, as a force the model does not have would.
+    let (sim, control, log) = run_with_sim(
+        "contact",
+        20.0,
+        "control --goal 0.0,0.3,0.2,-0.33,0.25,0.04 --rest-samples 200 --contact-miss 0.01",
+    );
+    check_moves(&sim, &control);
+    assert_eq!(control["outcome"], "contact", "{control}\n{log}");
+    assert_eq!(control["steps"], 0, "{control}");
+    assert_eq!(count(&control, "published", "tip_target"), 0, "{control}");
+    let miss = control["tip_miss_mm"].as_f64().unwrap_or(0.0);
+    assert!(miss > 0.01, "{control}");
+    assert!(
+        log.contains("contact: the model's tip misses the gripper"),
+        "{log}"
+    );
+    assert_eq!(
+        control["errors"].as_array().map_or(0, Vec::len),
+        1,
+        "{control}"
+    );
+}
+
+/// `--max-steps` bounds the steps of the whole run: the tracker's leg to a far goal is cut by
+/// the ROS rig's refusal of the move after the last, and the rest after the last step is
+/// still measured against the goal.
+#[test]
+fn control_on_ros2_stops_after_max_steps_with_the_last_rest_measured() {
+    let (sim, control, log) = run_with_sim(
+        "max-steps",
+        20.0,
+        &format!("control --goal {FAR_GOAL} --rest-samples 200 --max-steps 2"),
+    );
+    check_moves(&sim, &control);
+    assert_eq!(control["outcome"], "max_steps", "{control}\n{log}");
+    assert_eq!(control["steps"], 2, "{control}");
+    assert_eq!(count(&control, "published", "tip_target"), 2, "{control}");
+    assert_eq!(control["legs"][0]["moves"], 2, "{control}");
+    assert_eq!(control["passed"], 0, "{control}");
+    // The start's rest and one after each step.
+    let errors = control["errors"].as_array().cloned().unwrap_or_default();
+    assert_eq!(errors.len(), 3, "{control}");
+    assert_eq!(count(&control, "published", "shape"), 3, "{control}");
+    assert!(
+        errors.iter().all(|e| e.as_f64().is_some_and(|e| e > 0.1)),
+        "the far goal is not reached in two steps: {errors:?}"
+    );
+    assert_eq!(control["final_error"], errors[2], "{control}");
 }
 
 #[test]
@@ -526,70 +569,6 @@ fn identify_with_every_move_unreached_ends_with_a_clear_error() {
         stderr.contains("no estimate from 1 samples (2 of 2 moves unreached"),
         "{stderr}"
     );
-}
-
-/// What [`run_session`] returns: the summaries of the sim, the mover and each watcher, and the
-/// watchers' logs.
-struct Session {
-    sim: Value,
-    mover: Value,
-    watchers: Vec<(Value, String)>,
-}
-
-/// In one loopback-only namespace, in `dir`: `ftwire ros2 sim <sim_args>`, and 0.3 s later
-/// each of `watchers` (`ftwire ros2 <args>`, until stopped) and `mover` (`ftwire ros2 <args>`,
-/// until it ends by itself), all started together so that each tares on the sim's first
-/// samples; once the mover ends, the watchers and then the sim end with SIGTERM.
-fn run_session(dir: &Path, sim_args: &str, mover: &str, watchers: &[String]) -> Session {
-    require_unshare();
-    let out = |name: &str| dir.join(name).display().to_string();
-    let mut script = format!(
-        "set -e; ip link set lo up; \
-         [ \"$(ip -o link | wc -l)\" = 1 ] || {{ echo 'the namespace has a device besides lo' >&2; exit 97; }}; \
-         '{BIN}' ros2 sim {sim_args} --domain-id 23 --duration 120 > '{}' 2> '{}' & sim=$!; \
-         sleep 0.3; ",
-        out("sim.json"),
-        out("sim.err"),
-    );
-    for (i, args) in watchers.iter().enumerate() {
-        script += &format!(
-            "'{BIN}' ros2 {args} --domain-id 23 > '{}' 2> '{}' & w{i}=$!; ",
-            out(&format!("w{i}.json")),
-            out(&format!("w{i}.err")),
-        );
-    }
-    script += &format!(
-        "code=0; '{BIN}' ros2 {mover} --domain-id 23 > '{}' 2> '{}' || code=$?; ",
-        out("mover.json"),
-        out("mover.err"),
-    );
-    for i in 0..watchers.len() {
-        script += &format!("kill -TERM $w{i}; wait $w{i} || code=$?; ");
-    }
-    script += "kill -TERM $sim; wait $sim || true; exit $code";
-    let status = Command::new("unshare")
-        .args(["-n", "sh", "-c", &script])
-        .status()
-        .expect("runs unshare");
-    let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
-    let mut logs = format!("sim: {}\nmover: {}", read("sim.err"), read("mover.err"));
-    for i in 0..watchers.len() {
-        logs += &format!("\nwatcher {i}: {}", read(&format!("w{i}.err")));
-    }
-    assert!(status.success(), "the nodes failed ({status}):\n{logs}");
-    let summary = |name: &str| -> Value {
-        let text = read(name);
-        let line = text.lines().last().unwrap_or_default();
-        serde_json::from_str(line)
-            .unwrap_or_else(|e| panic!("{name} is not one JSON line ({e}): {text:?}\n{logs}"))
-    };
-    Session {
-        sim: summary("sim.json"),
-        mover: summary("mover.json"),
-        watchers: (0..watchers.len())
-            .map(|i| (summary(&format!("w{i}.json")), read(&format!("w{i}.err"))))
-            .collect(),
-    }
 }
 
 /// The control node's goal in the observer's tests, about 1.7 from the sim's start in

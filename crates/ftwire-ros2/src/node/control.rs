@@ -1,24 +1,27 @@
-//! `ftwire ros2 control`: steers the held wire to a goal configuration by the closed loop of
-//! the paper's Jacobian controller (`ftwire_control::Controller`, eq. 13–14), on a robot that
-//! speaks ROS 2.
+//! `ftwire ros2 control`: steers the held wire to a goal configuration, or along a planned
+//! path, by the library's closed loop ([`ftwire_control::PathTracker`], the tracker of
+//! `ftwire experiment track`, and its Jacobian controller of eq. 13–14) on a robot that speaks
+//! ROS 2, through [`super::ros_rig`].
 //!
-//! After the tare ([`super::robot`]), at each rest:
+//! After the tare ([`super::robot`]), the goals are the tracker's legs, each run by the
+//! controller:
 //!
-//! 1. **measure**: the wrench averaged over the rest, mapped to `ã` ([`super::robot`]);
-//! 2. **shape and contact**: the model's centreline at `ã` is published as `nav_msgs/Path` on
-//!    [`SHAPE_TOPIC`]; with `contact_miss`, the model's tip `Γ(ã)` is compared with the
+//! 1. **measure**: each rest's window of raw samples through the library's pipeline (the
+//!    tare, then the node's raw map) to `ã`; the rig publishes the model's shape at it on
+//!    [`SHAPE_TOPIC`] and, with `contact_miss`, compares the model's tip `Γ(ã)` with the
 //!    reported tip pose, as `ftwire ros2 estimate` does: a free wire's shape ends at the
-//!    gripper, so a miss above `contact_miss` is a force the model does not have, a contact,
-//!    and the run stops there (`contact`);
-//! 3. **stop rule**: `‖a_g − ã‖` in normalised units (torque in `c2/L`, force in `c2/L²`);
+//!    gripper, so a miss above `contact_miss` is a contact, and the run stops there
+//!    (`contact`);
+//! 2. **stop rule**: `‖a_g − ã‖` in normalised units (torque in `c2/L`, force in `c2/L²`);
 //!    within `epsilon` of the goal the run ends (`reached`). With waypoints (a planned path),
-//!    each intermediate goal is passed once within `waypoint_epsilon`, and the next is steered
-//!    to from the same rest;
-//! 4. **step**: `δb = K J(L; ã)(a_g − ã)`, limited and guarded for stability
-//!    ([`ftwire_control::Controller::plan_step`]), and `b_{i+1} = b_i M(δb)` from the reported
-//!    pose `b_i`; `b_{i+1}` is sent on `/wire/tip_target` and waited for. A step the guard
-//!    refuses ends the run (`unstable_step`), a target not reached within the timeout too
-//!    (`unreached`), and so does the step budget (`max_steps`).
+//!    the leg to each waypoint before the goal ends within `waypoint_epsilon`, and the next
+//!    leg starts with a rest of its own at the same pose;
+//! 3. **step**: `δb = K J(L; ã)(a_g − ã)`, limited and guarded for stability
+//!    ([`ftwire_control::Controller`]), `b_{i+1} = b_i M(δb)` from the reported pose `b_i`,
+//!    sent on `/wire/tip_target` and waited for. A step the guard refuses ends the run
+//!    (`unstable_step`), a target not reached within the timeout too (`unreached`), and so
+//!    does the step budget over the whole path (`max_steps`: the move after `max_steps` is
+//!    refused, so that the rest after the last step is still checked against the goal).
 //!
 //! With `truth_topic` (a simulator's `/wire/truth`), the last true centreline is compared with
 //! the goal's model shape `Φ(a_g)`: the mean and largest distance of its nodes to it.
@@ -26,21 +29,21 @@
 use std::sync::atomic::AtomicBool;
 
 use ftwire_app::config::wire::WireSpec;
-use ftwire_control::{ControlParams, Controller};
+use ftwire_control::tracking::{PolicyError, PolicySettings};
+use ftwire_control::{
+    AnyPose, ControlParams, Controller, FtFeedback, NoiseModel, Outcome, PathTracker, Rest,
+    RestKind, TrackEnd, Tracked, TrackedLeg, TrackingPolicy,
+};
 use ftwire_estimate::shape::marker_distances;
 use ftwire_estimate::{KirchhoffModel, WireModel};
-use nalgebra::{Vector3, Vector6};
-use ros2_client::Publisher;
+use nalgebra::Vector6;
 use serde::Serialize;
 
-use super::robot::{Halt, Robot, RobotCounts, RobotParams};
-use super::{BASE_FRAME, Log, NodeError, NodeSettings, SHAPE_TOPIC, header, publish, reliable};
+use super::robot::{Robot, RobotCounts, RobotParams};
+use super::ros_rig::{RigSettings, RosRig, SHAPE_NODES};
+use super::{Log, NodeError, NodeSettings, SHAPE_TOPIC, reliable};
 use crate::msg::Path;
-use crate::node::pose::ros_point;
-use crate::node::{check_contact_miss, path_message};
-
-/// Nodes of the published shapes.
-const SHAPE_NODES: usize = 64;
+use crate::node::check_contact_miss;
 
 /// What the control node does.
 #[derive(Debug, Clone)]
@@ -83,12 +86,17 @@ pub struct ControlSummary {
     #[serde(flatten)]
     pub counts: RobotCounts,
     /// How the run ended: `reached`, `contact`, `max_steps`, `unstable_step`, `unreached`,
-    /// `no_model` (the model has no answer at the measured `ã`) or `stopped`.
+    /// `no_model` (the model has no answer at the measured `ã`) or `stopped`; rarely, an end
+    /// of the tracker's own: `sensor_fault` (a rest without a finite `ã`), `refused` (a goal
+    /// the controller refused before moving), `command_failed`.
     pub outcome: &'static str,
-    /// Steps sent.
+    /// Steps sent (and reached).
     pub steps: usize,
     /// Goals passed (waypoints, and the goal when reached).
     pub passed: usize,
+    /// The tracker's legs as they ran: each leg's waypoint (1: the first goal), moves and
+    /// controller outcome.
+    pub legs: Vec<TrackedLeg>,
     /// The goal \[N·m, N\].
     pub goal: [f64; 6],
     /// The last measured `ã` \[N·m, N\].
@@ -112,13 +120,6 @@ impl ControlNodeParams {
                 allowed: "a goal configuration (--goal or --scene)",
             });
         }
-        if !(self.waypoint_epsilon.is_finite() && self.waypoint_epsilon > 0.0) {
-            return Err(NodeError::BadSetting {
-                setting: "--waypoint-epsilon",
-                value: self.waypoint_epsilon.to_string(),
-                allowed: "a positive normalised distance",
-            });
-        }
         if !(1..=100_000).contains(&self.max_steps) {
             return Err(NodeError::BadSetting {
                 setting: "--max-steps",
@@ -126,12 +127,16 @@ impl ControlNodeParams {
                 allowed: "1 to 100000 steps",
             });
         }
-        check_contact_miss(self.contact_miss)?;
-        Ok(())
+        check_contact_miss(self.contact_miss)
     }
 
-    /// The controller, with every goal checked.
-    fn controller(&self) -> Result<Controller<KirchhoffModel>, NodeError> {
+    /// The model, and the tracking policy: the tuned policy of a robot without execution
+    /// noise (`TrackingPolicy::with_settings`, which checks the gain) with the goal's and the
+    /// waypoints' stops, the step limits, each leg's budget of `max_steps + 1` (the node's
+    /// rig refuses the move after `max_steps` over the whole path) and `rest_samples` at every
+    /// rest. Each leg's controller is built once here, so that a bad setting or a goal outside
+    /// `A_stable` is refused before anything moves.
+    fn tracking(&self) -> Result<(KirchhoffModel, TrackingPolicy), NodeError> {
         self.validate()?;
         let gravity = ftwire_logs::model_gravity(&self.robot.map, self.gravity_in_clamp)?;
         let model = ftwire_logs::shape::wire_model(&self.wire, gravity).map_err(|e| {
@@ -141,43 +146,58 @@ impl ControlNodeParams {
                 allowed: "a wire with valid parameters, gravity of norm in (0, 100] m/s²",
             }
         })?;
-        let controller =
-            Controller::new(model, self.control).map_err(|e| NodeError::BadSetting {
-                setting: "--gain, --epsilon, --max-step-mm or --max-step-deg",
-                value: e.to_string(),
-                allowed: "a gain in (0, 1], positive ε and step limits",
+        let settings = PolicySettings {
+            gain: Some(self.control.gain),
+            waypoint_moves: Some(self.max_steps + 1),
+            ..PolicySettings::default()
+        };
+        let mut policy =
+            TrackingPolicy::with_settings(NoiseModel::None, &settings).map_err(|e| match e {
+                PolicyError::Gain(gain) => NodeError::BadSetting {
+                    setting: "--gain",
+                    value: gain.to_string(),
+                    allowed: "a gain K in (0, 1]",
+                },
+                e => NodeError::Incomplete(format!("the tracking policy: {e}")),
             })?;
-        for goal in &self.goals {
-            controller
-                .check_goal(goal)
-                .map_err(|e| NodeError::BadSetting {
-                    setting: "--goal",
-                    value: format!("{:?} ({e})", goal.as_slice()),
-                    allowed: "a configuration in the model's A_stable",
-                })?;
+        policy.goal = ControlParams {
+            max_iterations: self.max_steps + 1,
+            ..self.control
+        };
+        policy.through = ControlParams {
+            epsilon: self.waypoint_epsilon,
+            ..policy.goal
+        };
+        policy.goal_rest_samples = self.robot.rest_samples;
+        let legs = [
+            (policy.goal, "--epsilon, --max-step-mm or --max-step-deg"),
+            (policy.through, "--waypoint-epsilon"),
+        ];
+        for (leg, setting) in legs {
+            let controller = Controller::new(
+                model,
+                ControlParams {
+                    gain: policy.gain,
+                    ..leg
+                },
+            )
+            .map_err(|e| NodeError::BadSetting {
+                setting,
+                value: e.to_string(),
+                allowed: "positive stops and step limits",
+            })?;
+            for goal in &self.goals {
+                controller
+                    .check_goal(goal)
+                    .map_err(|e| NodeError::BadSetting {
+                        setting: "--goal",
+                        value: format!("{:?} ({e})", goal.as_slice()),
+                        allowed: "a configuration in the model's A_stable",
+                    })?;
+            }
         }
-        Ok(controller)
+        Ok((model, policy))
     }
-}
-
-/// The model's shape at `a`, published; returns its nodes.
-fn publish_shape(
-    model: &KirchhoffModel,
-    a: &Vector6<f64>,
-    stamp: f64,
-    shape_pub: &Publisher<Path>,
-    counts: &mut RobotCounts,
-) -> Option<Vec<Vector3<f64>>> {
-    let nodes = model.shape(a, SHAPE_NODES).ok()?.positions;
-    let path = path_message(header(stamp, BASE_FRAME), nodes.iter().map(ros_point));
-    publish(
-        shape_pub,
-        path,
-        "shape",
-        &mut counts.published,
-        &mut counts.publish_failed,
-    );
-    Some(nodes)
 }
 
 /// The last true centreline against the goal's model shape.
@@ -198,11 +218,17 @@ fn truth_to_goal(
     Some(TruthToGoal { mean_mm, max_mm })
 }
 
+/// `‖a_g − a‖` in normalised units.
+fn distance(model: &KirchhoffModel, a: &Vector6<f64>, goal: &Vector6<f64>) -> f64 {
+    ftwire_rod::to_normalised(model.wire(), &(goal - a)).norm()
+}
+
 /// Runs the closed loop (module docs) until it ends, `settings.duration` ends or `stop` is set.
 ///
 /// # Errors
-/// [`NodeError`] for bad settings (a goal outside `A_stable` among them) or ROS 2 entities
-/// that cannot be created. How the loop ended is the summary's `outcome`, not an error.
+/// [`NodeError`] for bad settings (a goal outside `A_stable` among them), ROS 2 entities
+/// that cannot be created or a middleware that fails. How the loop ended is the summary's
+/// `outcome`, not an error.
 pub fn run(
     params: &ControlNodeParams,
     settings: NodeSettings,
@@ -210,8 +236,7 @@ pub fn run(
     log: Log<'_>,
 ) -> Result<ControlSummary, NodeError> {
     settings.validate()?;
-    let controller = params.controller()?;
-    let model = *controller.model();
+    let (model, policy) = params.tracking()?;
     let last = params.goals.len() - 1;
     let goal = params.goals[last];
     let mut robot = Robot::new(
@@ -239,6 +264,7 @@ pub fn run(
         outcome: "stopped",
         steps: 0,
         passed: 0,
+        legs: Vec::new(),
         goal: goal.into(),
         final_a: None,
         errors: Vec::new(),
@@ -247,15 +273,38 @@ pub fn run(
         truth: None,
     };
     if robot.wait_ready(stop)?.is_ok() {
-        summary.outcome = steer(
-            params,
-            &controller,
-            &mut robot,
-            &shape_pub,
+        let rig_settings = RigSettings {
+            model,
+            contact_miss: params.contact_miss,
+            budget: params.max_steps,
+            move_timeout: params.robot.move_timeout,
+            shape_pub,
             stop,
-            log,
-            &mut summary,
-        )?;
+        };
+        let mut rig = RosRig::new(robot, params.robot.rest_samples, rig_settings)?;
+        let tracker = PathTracker::new(model, policy);
+        let tracked = track(&tracker, &model, &mut rig, &params.goals, log, &mut summary);
+        if let Some(e) = rig.take_fatal() {
+            return Err(e);
+        }
+        let tracked = tracked.map_err(|e| NodeError::Incomplete(format!("tracking: {e}")))?;
+        if let Some(end) = rig.end() {
+            log(&format!("control: {end}"));
+        }
+        summary.outcome = outcome(rig.end(), &tracked);
+        summary.steps = tracked.moves;
+        summary.passed = tracked
+            .legs
+            .iter()
+            .filter(|l| l.scored && matches!(l.outcome, Outcome::Reached { .. }))
+            .count();
+        summary.legs = tracked.legs;
+        if let Some(rest) = rig.rests().last() {
+            summary.final_a = Some(rest.a.into());
+            summary.final_error = Some(distance(&model, &rest.a, &goal));
+            summary.tip_miss_mm = rest.tip_miss.map(|m| 1e3 * m);
+        }
+        robot = rig.into_robot();
     }
     summary.truth = truth_to_goal(&robot, &model, &goal);
     summary.counts = robot.finish_counts();
@@ -268,88 +317,68 @@ pub fn run(
     Ok(summary)
 }
 
-/// The loop of rests and steps; returns the outcome.
-fn steer(
-    params: &ControlNodeParams,
-    controller: &Controller<KirchhoffModel>,
-    robot: &mut Robot,
-    shape_pub: &Publisher<Path>,
-    stop: &AtomicBool,
+/// The goals tracked on `rig`; each rest's error, to the goal then steered to, into
+/// `summary.errors`.
+fn track(
+    tracker: &PathTracker<KirchhoffModel>,
+    model: &KirchhoffModel,
+    rig: &mut RosRig<'_>,
+    goals: &[Vector6<f64>],
     log: Log<'_>,
     summary: &mut ControlSummary,
-) -> Result<&'static str, NodeError> {
-    let model = controller.model();
-    let last = params.goals.len() - 1;
-    let mut index = 0;
-    let mut since = f64::NEG_INFINITY;
-    loop {
-        let rest = match robot.rest(since, stop)? {
-            Ok(rest) => rest,
-            Err(_) => return Ok("stopped"),
-        };
-        let a = rest.a;
-        summary.final_a = Some(a.into());
-        summary.final_error = Some(controller.distance(&a, &params.goals[last]));
-        publish_shape(model, &a, since.max(0.0), shape_pub, &mut robot.counts);
-        let Ok(model_tip) = model.tip(&a) else {
+) -> Result<Tracked, ftwire_control::ControlError> {
+    let feedback = FtFeedback::new(rig.pipeline().clone(), tracker.policy().goal_rest_samples);
+    // Waypoint 0 is where the wire is: the tracker reads it only as its estimate before the
+    // first leg, whose first rest measures the wire.
+    let waypoints: Vec<Vector6<f64>> = std::iter::once(goals[0])
+        .chain(goals.iter().copied())
+        .collect();
+    let errors = &mut summary.errors;
+    // Each rest the rig measured belongs to the leg whose step or end is reported next.
+    let mut tag = |rig: &RosRig<'_>, goal: usize| {
+        for rest in &rig.rests()[errors.len()..] {
+            let error = distance(model, &rest.a, &goals[goal]);
             log(&format!(
-                "control: the model has no shape at ã = {:?}",
-                a.as_slice()
+                "control: rest {}: error {error:.4} to goal {goal}",
+                errors.len()
             ));
-            return Ok("no_model");
-        };
-        let miss = (model_tip.translation.vector - rest.tip.translation.vector).norm();
-        summary.tip_miss_mm = Some(1e3 * miss);
-        if params.contact_miss.is_some_and(|limit| miss > limit) {
-            log(&format!(
-                "control: contact: the model's tip misses the gripper by {:.1} mm",
-                1e3 * miss
-            ));
-            return Ok("contact");
+            errors.push(error);
         }
-        while index < last
-            && controller.distance(&a, &params.goals[index]) < params.waypoint_epsilon
-        {
-            index += 1;
-            summary.passed += 1;
-            log(&format!("control: waypoint {index} passed"));
-        }
-        let error = controller.distance(&a, &params.goals[index]);
-        summary.errors.push(error);
-        log(&format!(
-            "control: rest {}: error {error:.4} to goal {index}",
-            summary.steps
-        ));
-        if index == last && error < params.control.epsilon {
-            summary.passed += 1;
-            return Ok("reached");
-        }
-        if summary.steps >= params.max_steps {
-            return Ok("max_steps");
-        }
-        let plan = match controller.plan_step(&a, &params.goals[index], &rest.tip) {
-            Ok(Some(plan)) => plan,
-            Ok(None) => return Ok("unstable_step"),
-            Err(e) => {
-                log(&format!(
-                    "control: no step from ã = {:?}: {e}",
-                    a.as_slice()
-                ));
-                return Ok("no_model");
+    };
+    let tracked = tracker.track(
+        rig,
+        &feedback,
+        &mut AnyPose,
+        &waypoints,
+        |rig: &RosRig<'_>, rest: &Rest<'_>| {
+            if matches!(rest.kind, RestKind::Step | RestKind::LegEnd) {
+                tag(rig, rest.waypoint.saturating_sub(1).min(goals.len() - 1));
             }
-        };
-        match robot.move_to(&plan.next_tip, stop)? {
-            Ok(t) => since = t,
-            Err(Halt::Stopped) => return Ok("stopped"),
-            Err(Halt::Timeout) => {
-                log(&format!(
-                    "control: step {} not reached within {} s",
-                    summary.steps + 1,
-                    params.robot.move_timeout
-                ));
-                return Ok("unreached");
-            }
-        }
-        summary.steps += 1;
+        },
+    );
+    let steered = tracked
+        .as_ref()
+        .ok()
+        .and_then(|t| t.legs.last())
+        .map_or(0, |leg| leg.waypoint.saturating_sub(1).min(goals.len() - 1));
+    tag(rig, steered);
+    tracked
+}
+
+/// The summary's outcome: the rig's end, else the tracker's.
+fn outcome(rig_end: Option<&super::ros_rig::RosRigError>, tracked: &Tracked) -> &'static str {
+    if let Some(end) = rig_end {
+        return end.outcome();
+    }
+    match &tracked.end {
+        Some(TrackEnd::Leg(leg)) => match leg {
+            Outcome::IterationLimit { .. } => "max_steps",
+            Outcome::PredictedInstability { .. } => "unstable_step",
+            Outcome::ModelFailed { .. } => "no_model",
+            other => other.name(),
+        },
+        Some(TrackEnd::Refused { .. } | TrackEnd::StartOutOfReach { .. }) => "refused",
+        Some(_) => "command_failed",
+        None => "reached",
     }
 }

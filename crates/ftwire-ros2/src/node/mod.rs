@@ -14,10 +14,12 @@
 //! - [`identify`]: the identification motion sent on [`TIP_TARGET_TOPIC`], a rest at each pose,
 //!   and the identified `c` and `L` with their covariance as JSON on
 //!   [`identify::IDENTIFIED_TOPIC`];
-//! - [`control`]: the closed loop of eq. 13–14 to a goal configuration (or along a planned
-//!   path), a rest and a step per iteration, the model's shape on [`SHAPE_TOPIC`];
+//! - [`control`]: the library's path tracker and its closed loop of eq. 13–14 to a goal
+//!   configuration (or along a planned path), a rest and a step per iteration, the model's
+//!   shape on [`SHAPE_TOPIC`];
 //! - [`robot`]: what the last two share: the tare, a target sent and waited for, a rest's
-//!   average mapped to `ã`;
+//!   window of samples and its average mapped to `ã`; [`ros_rig`]: that robot as the
+//!   library's `Rig`, which `control` tracks its goals on;
 //! - [`tf`]: the tip pose from two frames of the TF tree (`/tf`, `/tf_static`), the
 //!   estimator's other tip source.
 //!
@@ -40,8 +42,10 @@ pub mod estimate;
 pub mod estimate_loop;
 pub mod identify;
 pub mod observe;
+pub mod options;
 pub mod pose;
 pub mod robot;
+pub mod ros_rig;
 pub mod sigma;
 #[cfg(feature = "sim")]
 pub mod sim;

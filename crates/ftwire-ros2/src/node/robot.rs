@@ -8,11 +8,14 @@
 //! - **move**: a target is published once; it is *reached* when a tip pose received after it
 //!   is within `reach_translation` and `reach_rotation` of it. A target the robot refuses (the
 //!   sim logs and drops it) or does not reach within `move_timeout` is reported as unreached;
-//! - **rest**: after the move, the samples stamped before the reaching tip pose are dropped,
-//!   `settle_samples` more are skipped (the wire and the arm ringing out), and `rest_samples`
-//!   tared samples are averaged. The wrench is *settled* when the means of the rest's two
-//!   halves agree within [`SETTLE_Z`] standard errors in every component; an unsettled rest is
-//!   taken again (at most [`SETTLE_TRIES`] times, then used and counted as `unsettled`);
+//! - **window**: after the move, the samples stamped before the reaching tip pose are dropped,
+//!   `settle_samples` more are skipped (the wire and the arm ringing out), and the next
+//!   `rest_samples` raw samples are the rest's window. The wrench is *settled* when the means
+//!   of the window's two halves agree within [`SETTLE_Z`] standard errors in every component;
+//!   an unsettled window is taken again (at most [`SETTLE_TRIES`] times, then used and counted
+//!   as `unsettled`). [`super::ros_rig`] hands a window's samples to the library's pipeline one
+//!   at a time;
+//! - **rest**: a window's mean, tared, as [`super::identify`] uses it;
 //! - **ã**: the rest's mean through the learnt calibration or the mounting
 //!   ([`ftwire_logs::a_tilde`], exactly as `ftwire shape --log` maps a record's `raw`).
 
@@ -157,6 +160,24 @@ pub(crate) enum Halt {
     Timeout,
 }
 
+/// One rest's window: its raw samples, as they arrived, past the settle point.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Window {
+    /// The raw samples (force first, sensor frame), `rest_samples` of them.
+    pub samples: Vec<FtSample>,
+    /// The second gripper's reported pose at the rest.
+    pub tip: Pose,
+    /// Whether the two halves agreed.
+    pub settled: bool,
+}
+
+impl Window {
+    /// The mean stamp of the samples \[s\].
+    pub fn mean_time(&self) -> f64 {
+        mean_time(&self.samples)
+    }
+}
+
 /// One rest: the mean of the tared samples, and `ã`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Rest {
@@ -208,8 +229,8 @@ pub(crate) struct Robot {
     tare: Option<Tare>,
     /// The mean stamp of the tare's samples \[s\] (0 without a tare).
     tare_time: f64,
-    /// Tared samples `(stamp, wrench)` since the last rest.
-    buffer: Vec<(f64, Vector6<f64>)>,
+    /// Raw samples since the last window.
+    buffer: Vec<FtSample>,
     /// The latest tip pose and its stamp.
     tip: Option<(f64, Pose)>,
     /// Tip poses received since the last target was sent.
@@ -288,6 +309,21 @@ impl Robot {
     /// The ROS node, to create more publishers on.
     pub(crate) fn node(&mut self) -> &mut RosNode {
         &mut self.node
+    }
+
+    /// The tare (`None` until its samples are in).
+    pub(crate) fn tare(&self) -> Option<&Tare> {
+        self.tare.as_ref()
+    }
+
+    /// The calibration and mounting the node maps raw readings with.
+    pub(crate) fn map(&self) -> &RawMap {
+        &self.params.map
+    }
+
+    /// The latest tip pose received (relative to the base clamp).
+    pub(crate) fn tip(&self) -> Option<Pose> {
+        self.tip.map(|(_, p)| p)
     }
 
     /// The latest true centreline received.
@@ -401,14 +437,15 @@ impl Robot {
         }
     }
 
-    /// A raw sample into the tare, or tared into the buffer.
+    /// A raw sample into the tare, or into the buffer.
     fn add_sample(&mut self, time: f64, raw: Vector6<f64>) {
-        let Some(tare) = &self.tare else {
-            self.tare_samples.push(FtSample {
-                time,
-                raw,
-                saturated: [false; 6],
-            });
+        let sample = FtSample {
+            time,
+            raw,
+            saturated: [false; 6],
+        };
+        if self.tare.is_none() {
+            self.tare_samples.push(sample);
             if self.tare_samples.len() >= self.params.tare {
                 match tare_of(&self.tare_samples) {
                     Ok(tare) => {
@@ -419,11 +456,11 @@ impl Robot {
                 }
             }
             return;
-        };
+        }
         if self.buffer.len() >= MAX_BUFFER {
             self.buffer.drain(..MAX_BUFFER / 2);
         }
-        self.buffer.push((time, tare.apply(&raw)));
+        self.buffer.push(sample);
     }
 
     /// Waits until the tare is done and a tip pose is known; returns the tip pose.
@@ -486,61 +523,73 @@ impl Robot {
         }
     }
 
-    /// The rest after the pose stamped `since` (module docs).
-    pub(crate) fn rest(
+    /// The window of the rest after the pose stamped `since` (module docs).
+    pub(crate) fn window(
         &mut self,
         since: f64,
         stop: &AtomicBool,
-    ) -> Result<Result<Rest, Halt>, NodeError> {
+    ) -> Result<Result<Window, Halt>, NodeError> {
         let (n, settle) = (self.params.rest_samples, self.params.settle_samples);
         // A sample stamped at the reaching pose's tick or later was read at the new pose.
         let first = since - 0.25 / self.params.rate;
         let mut skip = settle;
-        let mut rest: Vec<Vector6<f64>> = Vec::with_capacity(n);
-        let mut stamps = 0.0;
+        let mut window: Vec<FtSample> = Vec::with_capacity(n);
         let mut tries = 0;
         loop {
-            for (t, w) in self.buffer.drain(..) {
-                if t < first {
+            for sample in self.buffer.drain(..) {
+                if sample.time < first {
                     continue;
                 }
                 if skip > 0 {
                     skip -= 1;
-                } else if rest.len() < n {
-                    rest.push(w);
-                    stamps += t;
+                } else if window.len() < n {
+                    window.push(sample);
                 }
             }
-            if rest.len() >= n {
+            if window.len() >= n {
                 tries += 1;
-                let settled = halves_agree(&rest);
+                let settled = halves_agree(&window);
                 if settled || tries >= SETTLE_TRIES {
                     self.counts.unsettled += u64::from(!settled);
                     let Some((_, tip)) = self.tip else {
                         return Ok(Err(Halt::Stopped));
                     };
-                    #[allow(clippy::cast_precision_loss)] // a rest far below 2⁵²
-                    let (mean, stamp) = (
-                        rest.iter().sum::<Vector6<f64>>() / n as f64,
-                        stamps / n as f64,
-                    );
-                    let a = self.a_tilde(&mean)?;
-                    let since_tare = stamp - self.tare_time;
-                    return Ok(Ok(Rest {
-                        a,
+                    return Ok(Ok(Window {
+                        samples: window,
                         tip,
                         settled,
-                        since_tare,
                     }));
                 }
-                rest.clear();
-                stamps = 0.0;
+                window.clear();
             }
             if self.stopped(stop) {
                 return Ok(Err(Halt::Stopped));
             }
             self.pump()?;
         }
+    }
+
+    /// The rest after the pose stamped `since`: its window's mean, tared, to `ã`.
+    pub(crate) fn rest(
+        &mut self,
+        since: f64,
+        stop: &AtomicBool,
+    ) -> Result<Result<Rest, Halt>, NodeError> {
+        let window = match self.window(since, stop)? {
+            Ok(window) => window,
+            Err(halt) => return Ok(Err(halt)),
+        };
+        let tare = self.tare.unwrap_or_else(Tare::none);
+        #[allow(clippy::cast_precision_loss)] // a rest far below 2⁵²
+        let mean = window.samples.iter().map(|s| s.raw).sum::<Vector6<f64>>()
+            / window.samples.len().max(1) as f64;
+        let a = self.a_tilde(&tare.apply(&mean))?;
+        Ok(Ok(Rest {
+            a,
+            tip: window.tip,
+            settled: window.settled,
+            since_tare: window.mean_time() - self.tare_time,
+        }))
     }
 
     /// A tared mean through the calibration or the mounting.
@@ -557,8 +606,10 @@ fn mean_time(samples: &[FtSample]) -> f64 {
 }
 
 /// Whether the means of the two halves of `rest` agree within [`SETTLE_Z`] standard errors
-/// in every component (a wrench still changing over the rest does not).
-pub(crate) fn halves_agree(rest: &[Vector6<f64>]) -> bool {
+/// in every component (a wrench still changing over the rest does not; a tare, a constant
+/// offset, changes nothing of it).
+pub(crate) fn halves_agree(rest: &[FtSample]) -> bool {
+    let rest: Vec<Vector6<f64>> = rest.iter().map(|s| s.raw).collect();
     let half = rest.len() / 2;
     if half < 2 {
         return true;
@@ -583,11 +634,17 @@ mod tests {
     #[test]
     fn a_drifting_rest_is_not_settled() {
         let noise = |k: usize| if k.is_multiple_of(2) { 0.01 } else { -0.01 };
-        let flat: Vec<Vector6<f64>> = (0..200).map(|k| Vector6::repeat(noise(k))).collect();
+        let sample = |raw| FtSample {
+            raw,
+            ..FtSample::default()
+        };
+        let flat: Vec<FtSample> = (0..200)
+            .map(|k| sample(Vector6::repeat(noise(k))))
+            .collect();
         assert!(halves_agree(&flat));
         #[allow(clippy::cast_precision_loss)]
-        let ramp: Vec<Vector6<f64>> = (0..200)
-            .map(|k| Vector6::repeat(noise(k) + 1e-3 * k as f64))
+        let ramp: Vec<FtSample> = (0..200)
+            .map(|k| sample(Vector6::repeat(noise(k) + 1e-3 * k as f64)))
             .collect();
         assert!(!halves_agree(&ramp));
     }

@@ -122,6 +122,51 @@ pub struct SimSummary {
     pub bias_drift: [f64; 6],
 }
 
+/// The sim's start: `given` \[N·m, N\], else (0, 1, 0.5, −1, 0.5, 0) in `wire`'s units (torque
+/// `c2/L`, force `c2/L²`).
+///
+/// # Errors
+/// Bad input for a wire without valid parameters.
+pub fn start_or_default(
+    wire: &WireSpec,
+    given: Option<[f64; 6]>,
+) -> Result<Vector6<f64>, NodeError> {
+    if let Some(a) = given {
+        return Ok(Vector6::from(a));
+    }
+    let params = wire
+        .wire_params()
+        .map_err(|e| ftwire_app::LabError::bad_input(format!("wire {}: {e}", wire.name)))?;
+    Ok(ftwire_rod::from_normalised(
+        &params,
+        &Vector6::new(0.0, 1.0, 0.5, -1.0, 0.5, 0.0),
+    ))
+}
+
+/// The boxes of `--box`, each `cx,cy,cz,hx,hy,hz` \[m\] (centre and half extents, base clamp
+/// frame).
+///
+/// # Errors
+/// Bad input naming the box.
+pub fn obstacles(boxes: &[[f64; 6]]) -> Result<Vec<BoxObstacle>, NodeError> {
+    boxes
+        .iter()
+        .map(|&[cx, cy, cz, hx, hy, hz]| {
+            BoxObstacle::new(
+                ftwire_core::Pose::translation(cx, cy, cz),
+                nalgebra::Vector3::new(hx, hy, hz),
+            )
+            .map_err(|e| {
+                ftwire_app::LabError::bad_input(format!(
+                    "--box {:?}: {e}",
+                    [cx, cy, cz, hx, hy, hz]
+                ))
+                .into()
+            })
+        })
+        .collect()
+}
+
 impl SimNodeParams {
     fn validate(&self) -> Result<(), NodeError> {
         for (setting, value, max) in [

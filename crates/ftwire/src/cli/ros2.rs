@@ -45,7 +45,8 @@ pub enum Ros2Node {
     /// Identifies the held wire's c and L by the identification motion, and publishes them
     /// on /wire/identified.
     Identify(IdentifyNodeArgs),
-    /// Steers the held wire to a goal configuration by the closed loop (eq. 13–14).
+    /// Steers the held wire to a goal configuration, or along a planned path, by the
+    /// library's path tracker and its closed loop (eq. 13–14).
     Control(ControlNodeArgs),
 }
 
@@ -147,42 +148,16 @@ pub struct EstimateNodeArgs {
         default_value = "nitinol-3mm-820"
     )]
     pub wire: String,
-    /// The learnt calibration (`--calibration`).
+    /// The sensor and the tip pose.
     #[command(flatten)]
-    pub calibration: CalibrationArgs,
-    /// The sensor's mounting (`--mounting`); without --calibration the raw readings go through
-    /// the mounting alone. A tool's weight cannot be taken out (a wrench carries no gravity).
-    #[command(flatten)]
-    pub mounting: MountingArgs,
-    /// Gravity in the base clamp frame (`--gravity-in-clamp`): the shapes are the loaded
-    /// model's, with the wire's weight.
-    #[command(flatten)]
-    pub gravity: GravityInClampArgs,
+    pub sensor: SensorArgs,
     /// Points of each published shape, 2 to 10000.
     #[arg(long, value_name = "N", default_value_t = ftwire_rig::shape::DEFAULT_POINTS)]
     pub points: usize,
-    /// The wrench subscription's QoS: sensor-data (best effort: matches a best-effort driver
-    /// and a reliable one) or reliable (matches only a reliable publisher).
-    #[arg(long, value_enum, default_value_t = SensorQosArg::SensorData)]
-    pub qos: SensorQosArg,
-    /// Samples of the tare: the first N received are the sensor's reading with nothing in the
-    /// gripper (0: no tare).
-    #[arg(long, value_name = "N", default_value_t = 500)]
-    pub tare: usize,
     /// Tared samples averaged before each estimate, 1 to 100000 (the noise of ã falls as
     /// 1/√N, at a delay of N/2 samples).
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub window: usize,
-    /// The sensor's rate [Hz], to count the samples lost from the stamps k / rate.
-    #[arg(long, value_name = "HZ", default_value_t = 1000.0, value_parser = parse_finite)]
-    pub rate: f64,
-    /// The F/T samples (`geometry_msgs/WrenchStamped`, frame ft_sensor).
-    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::WRENCH_TOPIC)]
-    pub wrench_topic: String,
-    /// The second gripper's pose relative to the base clamp (`geometry_msgs/PoseStamped`,
-    /// frame wire_base).
-    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_POSE_TOPIC)]
-    pub tip_pose_topic: String,
     /// The tip pose from TF instead of --tip-pose-topic: the base clamp's frame in the TF tree
     /// (/tf, /tf_static), in which the tip frame's pose is looked up by composing the tree's
     /// edges; with --tip-frame (the sim publishes wire_base and wire_tip).
@@ -298,29 +273,46 @@ const MOVING_HELP: &str = "The node tares on the first --tare samples (the sim s
     Exit codes: 0 done (or ended by --duration or a signal), 2 bad input, 1 the task could not \
     be finished (identify: too few samples reached).";
 
-/// How a moving node reads the sensor and moves the robot.
+/// How a node reads the F/T sensor and the tip pose.
 #[derive(Debug, Clone, Args)]
-pub struct RobotArgs {
+pub struct SensorArgs {
     /// The learnt calibration (`--calibration`).
     #[command(flatten)]
     pub calibration: CalibrationArgs,
     /// The sensor's mounting (`--mounting`); without --calibration the raw readings go through
-    /// the mounting alone.
+    /// the mounting alone. A tool's weight cannot be taken out (a wrench carries no gravity).
     #[command(flatten)]
     pub mounting: MountingArgs,
-    /// Gravity in the base clamp frame (`--gravity-in-clamp`): the loaded model.
+    /// Gravity in the base clamp frame (`--gravity-in-clamp`): the loaded model, with the
+    /// wire's weight.
     #[command(flatten)]
     pub gravity: GravityInClampArgs,
     /// The wrench subscription's QoS: sensor-data (best effort: matches a best-effort driver
     /// and a reliable one) or reliable (matches only a reliable publisher).
     #[arg(long, value_enum, default_value_t = SensorQosArg::SensorData)]
     pub qos: SensorQosArg,
-    /// Samples of the tare: the first N received, with nothing in the gripper (0: no tare).
+    /// Samples of the tare: the first N received are the sensor's reading with nothing in the
+    /// gripper (0: no tare).
     #[arg(long, value_name = "N", default_value_t = 500)]
     pub tare: usize,
     /// The sensor's rate [Hz], to count the samples lost from the stamps k / rate.
     #[arg(long, value_name = "HZ", default_value_t = 1000.0, value_parser = parse_finite)]
     pub rate: f64,
+    /// The F/T samples (`geometry_msgs/WrenchStamped`, frame ft_sensor).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::WRENCH_TOPIC)]
+    pub wrench_topic: String,
+    /// The second gripper's pose relative to the base clamp (`geometry_msgs/PoseStamped`,
+    /// frame wire_base).
+    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_POSE_TOPIC)]
+    pub tip_pose_topic: String,
+}
+
+/// How a moving node reads the sensor and moves the robot.
+#[derive(Debug, Clone, Args)]
+pub struct RobotArgs {
+    /// The sensor and the tip pose.
+    #[command(flatten)]
+    pub sensor: SensorArgs,
     /// Tared samples averaged at each rest, 10 to 100000 (the noise of ã falls as 1/√N).
     #[arg(long, value_name = "N", default_value_t = 400)]
     pub rest_samples: usize,
@@ -337,13 +329,6 @@ pub struct RobotArgs {
     /// reached.
     #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_finite)]
     pub move_timeout: f64,
-    /// The F/T samples (`geometry_msgs/WrenchStamped`, frame ft_sensor).
-    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::WRENCH_TOPIC)]
-    pub wrench_topic: String,
-    /// The second gripper's pose relative to the base clamp (`geometry_msgs/PoseStamped`,
-    /// frame wire_base).
-    #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_POSE_TOPIC)]
-    pub tip_pose_topic: String,
     /// Where targets go (`geometry_msgs/PoseStamped`, frame wire_base).
     #[arg(long, value_name = "TOPIC", default_value = ftwire_ros2::node::TIP_TARGET_TOPIC)]
     pub target_topic: String,
@@ -428,7 +413,7 @@ pub struct ControlNodeArgs {
     /// Largest rotation of one step [degrees].
     #[arg(long, value_name = "DEG", default_value_t = 17.0, value_parser = parse_finite)]
     pub max_step_deg: f64,
-    /// Most steps before the run ends without the goal.
+    /// Most steps, over the whole path, before the run ends without the goal.
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub max_steps: usize,
     /// A contact is the model's tip at ã missing the reported tip pose by more than this [mm]:
