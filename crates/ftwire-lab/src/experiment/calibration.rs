@@ -21,9 +21,9 @@
 //! against 0.08–0.09 % and 0.13–0.18 % with them rejected).
 //!
 //! With [`Protocol::SingleReadings`] the session is recorded as a real rig logs it instead:
-//! a walk through `A_free` in steps of the second gripper of about 17 mm, tared once, one
-//! reading per record at 4 Hz, two or three records at some rests, the sensor's hysteresis
-//! carried from rest to rest. The label check above needs a reading tared just before it, so
+//! a walk through `A_free` in steps of the second gripper of about 17 mm that sweeps one
+//! region again and again ([`WALK_RADIUS`]), tared once, one reading per record at 4 Hz, two
+//! or three records at some rests, the sensor's hysteresis carried from rest to rest. The label check above needs a reading tared just before it, so
 //! it is left out there.
 //!
 //! **Labels.** `ShapeFitter` with the known wire's model fits the markers (eq. 15). With the
@@ -372,6 +372,15 @@ pub const SINGLE_READING_RATE: f64 = 4.0;
 /// The second gripper's step between two rests of [`Protocol::SingleReadings`] \[m\].
 pub const SINGLE_READING_STEP: f64 = 0.017;
 
+/// How far the walk of [`Protocol::SingleReadings`] goes from its first configuration, in
+/// normalised `a`. A rig's session sweeps one region of the wire's configurations again and
+/// again: on a real recording a map fitted on the first half in time does as well on an
+/// interleaved split as on the second half (`shared/DESIGN.md`, "Real recordings"). An
+/// unbounded walk instead leaves the first half's region (its tip up to 1.1 m from where it
+/// started over 450 rests), and a map fitted there extrapolates. At this radius the tip stays
+/// within 0.1–0.2 m of its start, and a 17 mm step crosses the region in tens of rests.
+pub const WALK_RADIUS: f64 = 2.0;
+
 /// Directions tried for one step of the walk before it starts anew at a sample of `A_free`.
 const WALK_ATTEMPTS: usize = 40;
 
@@ -385,14 +394,17 @@ fn single_reading(rig: &mut ftwire_sim::SimRig) -> Option<Vector6<f64>> {
 /// sensor's load history carried along.
 #[derive(Debug, Default)]
 struct Walk {
+    /// The walk's first configuration: it stays within [`WALK_RADIUS`] of it.
+    home: Option<Vector6<f64>>,
     last: Option<Vector6<f64>>,
     hysteresis: Option<Vector6<f64>>,
 }
 
 impl Walk {
     /// The next configuration: a step in a random direction of normalised `a`, scaled so that
-    /// the gripper moves by the step; a fresh sample of `A_free` at the start, or when no
-    /// direction stays in `A_free`.
+    /// the gripper moves by the step, within [`WALK_RADIUS`] of the first configuration (a
+    /// sample of `A_free`); back at the first configuration when no direction stays in
+    /// `A_free` and within the radius, or after a failed placement.
     fn next(
         &mut self,
         rod: &Rod,
@@ -404,12 +416,17 @@ impl Walk {
                 .sample_free(rod, rng)
                 .map_err(|e| from_rod(e, "sampling A_free of the known wire"))
         };
+        let wire = rod.wire();
         let Some(a) = self.last else {
-            let a = fresh(rng)?;
+            let a = match self.home {
+                Some(home) => ftwire_rod::from_normalised(wire, &home),
+                None => fresh(rng)?,
+            };
+            self.home.get_or_insert(ftwire_rod::to_normalised(wire, &a));
             self.last = Some(a);
             return Ok(a);
         };
-        let wire = rod.wire();
+        let home = self.home.unwrap_or_default();
         let z = ftwire_rod::to_normalised(wire, &a);
         let tip = |z: &Vector6<f64>| {
             rod.tip(&ftwire_rod::from_normalised(wire, z))
@@ -434,7 +451,7 @@ impl Walk {
                 continue;
             }
             let next = z + (target / per_unit) * d;
-            if next.amax() > sampler.half_width {
+            if next.amax() > sampler.half_width || (next - home).norm() > WALK_RADIUS {
                 continue;
             }
             let b = ftwire_rod::from_normalised(wire, &next);
@@ -448,9 +465,8 @@ impl Walk {
                 return Ok(b);
             }
         }
-        let a = fresh(rng)?;
-        self.last = Some(a);
-        Ok(a)
+        self.last = None;
+        self.next(rod, sampler, rng)
     }
 
     /// A placement failed: the next rest starts anew.
@@ -694,5 +710,68 @@ mod tests {
         // Near zero the slack keeps a noise-sized difference.
         let small = Vector6::repeat(1e-3);
         assert!(!label_disagrees(&small, &(small * 3.0)));
+    }
+
+    /// The single-readings walk stays within its radius of where it started, and its second
+    /// half revisits the region of its first (the time split a rig's session gives).
+    #[test]
+    fn the_walk_sweeps_one_region_again_and_again() -> Result<(), Box<dyn std::error::Error>> {
+        let wire = WireSpec::preset("nitinol-2mm-630")
+            .ok_or("no preset")?
+            .wire_params()?;
+        let rod = Rod::new(wire);
+        let sampler = Sampler::default();
+        for seed in 1..=3 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let mut walk = Walk::default();
+            let z: Vec<Vector6<f64>> = (0..160)
+                .map(|_| {
+                    walk.next(&rod, &sampler, &mut rng)
+                        .map(|a| ftwire_rod::to_normalised(&wire, &a))
+                })
+                .collect::<Result<_, _>>()?;
+            let home = z[0];
+            let far = z.iter().map(|z| (z - home).norm()).fold(0.0, f64::max);
+            assert!(far <= WALK_RADIUS + 1e-9, "seed {seed}: {far} from home");
+            // The tips [m]: within a region of a few tenths of a metre (an unbounded walk of
+            // this many 17 mm steps goes further), its second half near its first.
+            let tips: Vec<Vector3<f64>> = z
+                .iter()
+                .map(|z| rod.tip(&ftwire_rod::from_normalised(&wire, z)))
+                .map(|t| t.map(|t| t.translation.vector))
+                .collect::<Result<_, _>>()?;
+            let spread = tips
+                .iter()
+                .map(|t| (t - tips[0]).norm())
+                .fold(0.0, f64::max);
+            assert!(
+                spread < 0.25,
+                "seed {seed}: the tip went {spread} m from its start"
+            );
+            let (first, second) = tips.split_at(tips.len() / 2);
+            let mut nearest: Vec<f64> = second
+                .iter()
+                .map(|b| {
+                    first
+                        .iter()
+                        .map(|a| (a - b).norm())
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .collect();
+            nearest.sort_by(f64::total_cmp);
+            let median = nearest[nearest.len() / 2];
+            assert!(
+                median < 2.0 * SINGLE_READING_STEP,
+                "seed {seed}: the second half's tips are a median {median} m from the first's"
+            );
+            let mut steps: Vec<f64> = tips.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+            steps.sort_by(f64::total_cmp);
+            let step = steps[steps.len() / 2];
+            assert!(
+                (0.010..0.030).contains(&step),
+                "seed {seed}: median step {step} m"
+            );
+        }
+        Ok(())
     }
 }
