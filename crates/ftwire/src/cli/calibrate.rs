@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::{CountRange, ResultsArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, parse_finite};
 use serde::Serialize;
 
 use crate::cli::groups::MountingArgs;
@@ -50,13 +50,13 @@ pub struct CalibrateArgs {
     /// Hidden layer widths of the network on what the affine map leaves (comma-separated;
     /// `0` for the affine map alone).
     #[arg(long, value_name = "W,W", value_delimiter = ',', default_value = "16,16",
-          value_parser = CountRange::new(0, 256))]
+          value_parser = Count(CountRange::new(0, 256)))]
     pub hidden: Vec<usize>,
     /// Most passes over the training block.
-    #[arg(long, value_name = "N", default_value_t = 2000, value_parser = CountRange::new(1, 1_000_000))]
+    #[arg(long, value_name = "N", default_value_t = 2000, value_parser = Count(CountRange::new(1, 1_000_000)))]
     pub epochs: usize,
     /// Stop after this many epochs without a better validation loss.
-    #[arg(long, value_name = "N", default_value_t = 200, value_parser = CountRange::new(1, 1_000_000))]
+    #[arg(long, value_name = "N", default_value_t = 200, value_parser = Count(CountRange::new(1, 1_000_000)))]
     pub patience: usize,
     /// Do not offer the map a drift term. By default an offset linear in time (a sensor's
     /// creep), fitted on the training block, is kept when it predicts the validation block

@@ -4,7 +4,7 @@ use ftwire_lab::error::LabError;
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire_control::TrackingPolicy;
 use ftwire_control::tracking::{PolicyError, PolicySettings};
 use ftwire_lab::experiment::Gravity;
@@ -55,7 +55,7 @@ pub struct CommonExperimentArgs {
     pub seed: SeedArgs,
     /// Number of trials; for `calibrate`, the configurations visited (each experiment has its own
     /// default, the paper's where it gives one), 1 to 10000.
-    #[arg(long, value_name = "N", value_parser = TRIALS)]
+    #[arg(long, value_name = "N", value_parser = Count(TRIALS))]
     pub trials: Option<usize>,
     /// The results folder (`--out`, `--force`) [default: results/<id>].
     #[command(flatten)]
@@ -137,7 +137,7 @@ pub struct IdentifyExperimentArgs {
     /// default sensor (noise σ, rate f, drift intensity q), but rests shorter or longer than
     /// the default change little: the tare's own noise, the same offset in every sample,
     /// dominates (`docs/identify-soft-wires.md`). 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = Count(REST_SAMPLES))]
     pub rest_samples: usize,
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
@@ -222,7 +222,7 @@ pub struct ShapeExperimentArgs {
     #[command(flatten)]
     pub common: CommonExperimentArgs,
     /// Configurations of A_free per wire, 1 to 10000 (the paper: 50).
-    #[arg(long, value_name = "N", value_parser = TRIALS)]
+    #[arg(long, value_name = "N", value_parser = Count(TRIALS))]
     pub configs: Option<usize>,
     /// The learnt calibration (`--calibration`).
     #[command(flatten)]
@@ -235,7 +235,7 @@ pub struct ShapeExperimentArgs {
     /// F/T samples averaged at each configuration (at the simulated sensor's 1 kHz, 100 is
     /// the 0.1 s of the paper's protocol): the white noise of `ã` falls as `1/√N`; the wire is
     /// placed just after taring, so the bias drift adds little here. 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::SAMPLES_PER_REST, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::SAMPLES_PER_REST, value_parser = Count(REST_SAMPLES))]
     pub rest_samples: usize,
 }
 
@@ -246,7 +246,7 @@ pub struct GoalExperimentArgs {
     #[command(flatten)]
     pub common: CommonExperimentArgs,
     /// Start–goal pairs, 1 to 1000 (the paper: 30).
-    #[arg(long, value_name = "N", default_value_t = 30, value_parser = ROLLOUTS)]
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = Count(ROLLOUTS))]
     pub pairs: usize,
     /// The closed loop: `--noise-model` (of the `noise` runs), `--calibration`,
     /// `--bias-observer`, `--shape-stop` (of the `noise` runs).
@@ -274,7 +274,7 @@ pub struct RolloutArgs {
     /// Most moves of the closed loop toward each waypoint before the last, 1 to 1000
     /// [default: 20]. A tighter `--shape-stop` under `increment` needs more: every move lands
     /// the wire about 12 mm from where it was sent, and the stop waits for a landing within it.
-    #[arg(long, value_name = "N", value_parser = WAYPOINT_MOVES)]
+    #[arg(long, value_name = "N", value_parser = Count(WAYPOINT_MOVES))]
     pub waypoint_moves: Option<usize>,
     /// The shape stop in mm of the legs from or to a waypoint whose planned wire is within
     /// 25 mm of a box: every landing there is a chance to touch it [default: the larger of
@@ -327,7 +327,7 @@ pub struct TrackExperimentArgs {
     #[command(flatten)]
     pub common: CommonExperimentArgs,
     /// Start–goal pairs, 1 to 1000 (the paper: 10).
-    #[arg(long, value_name = "N", default_value_t = 10, value_parser = ROLLOUTS)]
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = Count(ROLLOUTS))]
     pub pairs: usize,
     /// What limits the closed loop's commanded poses: `any` ignores the arms' kinematics,
     /// as the paper's noise experiments and `experiment goal` do (under `increment` noise the
@@ -353,7 +353,7 @@ pub struct PassageExperimentArgs {
     #[serde(flatten)]
     pub scene: SceneArgs,
     /// Roll-outs of each of open and closed loop, 1 to 1000 (the paper: 10).
-    #[arg(long, value_name = "N", default_value_t = 50, value_parser = ROLLOUTS)]
+    #[arg(long, value_name = "N", default_value_t = 50, value_parser = Count(ROLLOUTS))]
     pub attempts: usize,
     /// Track the plan's waypoints as resampled, without the clearance polish (by default,
     /// under `increment` and `absolute` noise, each waypoint whose landings, a move there
@@ -365,7 +365,7 @@ pub struct PassageExperimentArgs {
     /// the fewest touching landings under the paper's noise is tracked (`ftwire_plan::choose_plan`;
     /// under `increment` and `absolute` only: one plan otherwise), 1 to 100; 1 tracks the first
     /// plan.
-    #[arg(long, value_name = "N", default_value_t = ftwire_plan::PLAN_CANDIDATES, value_parser = PLAN_CANDIDATES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_plan::PLAN_CANDIDATES, value_parser = Count(PLAN_CANDIDATES))]
     pub plan_candidates: usize,
     /// Noise, calibration and gain.
     #[command(flatten)]

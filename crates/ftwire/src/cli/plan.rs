@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, CountRange, JsonArgs, SeedArgs, parse_finite};
 
 /// The wire a scene is planned or checked for (a preset or a wire file).
 #[derive(Debug, Clone, Args)]
@@ -134,7 +134,7 @@ pub struct PlanArgs {
 
     /// Most iterations, 1 to 1000000 (with --time-budget, whichever ends first); the same seed
     /// and iteration count give the same path.
-    #[arg(long, value_name = "N", default_value_t = 1_000_000, value_parser = ITERATIONS)]
+    #[arg(long, value_name = "N", default_value_t = 1_000_000, value_parser = Count(ITERATIONS))]
     pub iterations: usize,
 
     /// Stop at the first path found (then shortcut it).
@@ -162,7 +162,7 @@ pub struct PlanArgs {
 
     /// Also print the path resampled into N + 1 equally spaced waypoints γ(i/N), N from 1 to
     /// 100000.
-    #[arg(long, value_name = "N", value_parser = RESAMPLE)]
+    #[arg(long, value_name = "N", value_parser = Count(RESAMPLE))]
     pub resample: Option<usize>,
 
     /// The planner's seed.

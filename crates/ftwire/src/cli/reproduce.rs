@@ -1,7 +1,7 @@
 //! `ftwire reproduce`.
 
 use clap::Args;
-use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
 use serde::Serialize;
 
 /// `--jobs`: each job is an experiment process of its own, and there are fewer experiments
@@ -25,7 +25,7 @@ pub struct ReproduceArgs {
     pub quick: bool,
     /// Experiments run at once, 1 to 64 [default: the machine's cores]. The results do not
     /// depend on it: every experiment is seeded on its own.
-    #[arg(long, value_name = "N", value_parser = JOBS)]
+    #[arg(long, value_name = "N", value_parser = Count(JOBS))]
     pub jobs: Option<usize>,
     /// The results folder (`--out`, `--force`) [default: results/reproduce].
     #[command(flatten)]

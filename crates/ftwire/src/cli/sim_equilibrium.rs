@@ -2,7 +2,7 @@
 
 use clap::Args;
 use ftwire::args::{
-    CountRange, DensityArgs, JsonArgs, TipPoseArgs, Vec3, Vec6, WireArgs, default_gravity,
+    Count, CountRange, DensityArgs, JsonArgs, TipPoseArgs, Vec3, Vec6, WireArgs, default_gravity,
     parse_numbers,
 };
 
@@ -65,7 +65,7 @@ pub struct SimEquilibriumArgs {
         alias = "nodes",
         default_value_t = default_edges(),
         allow_hyphen_values = true,
-        value_parser = EDGES
+        value_parser = Count(EDGES)
     )]
     pub edges: usize,
     /// Start Newton from the Kirchhoff shape of this configuration a = (τ1,τ2,τ3,f1,f2,f3)

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{ArgGroup, Args};
-use ftwire::args::{CountRange, DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
+use ftwire::args::{Count, CountRange, DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
 use ftwire_rod::DEFAULT_NODES;
 use ftwire_rod::rod::{MAX_NODES, MIN_NODES};
 
@@ -83,7 +83,7 @@ pub struct SolveArgs {
         value_name = "N",
         default_value_t = DEFAULT_NODES,
         allow_hyphen_values = true,
-        value_parser = NODES
+        value_parser = Count(NODES)
     )]
     pub nodes: usize,
 
