@@ -16,6 +16,7 @@ use std::fmt;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::Path;
 
+use ftwire_app::input::CountRange;
 use ftwire_app::output::{ErrorLine, JsonLines};
 
 use ftwire_core::{CoreError, WireParams, text};
@@ -26,6 +27,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{EXIT_BAD_INPUT, LabError, from_rod};
 use crate::wire::check_radius;
+
+/// `--nodes` (and a batch line's `"nodes"`): the model's own range. The shape (positions and
+/// rotations), the costates and the self-contact search grow in proportion to the nodes, a
+/// couple of hundred bytes each, so a million stay well under a gigabyte.
+pub const NODES: CountRange = CountRange::new(MIN_NODES, MAX_NODES);
 
 /// One configuration to solve, and the wire's load.
 #[derive(Debug, Clone, PartialEq)]
@@ -162,11 +168,9 @@ pub fn answer(line: &str) -> Result<Solution, LabError> {
         .map_err(|e| LabError::bad_input(format!("invalid wire: {e}")))?;
     check_radius(&wire, "radius", "length").map_err(LabError::bad_input)?;
     let nodes = request.nodes.unwrap_or(DEFAULT_NODES);
-    if !(MIN_NODES..=MAX_NODES).contains(&nodes) {
-        return Err(LabError::bad_input(format!(
-            "nodes {nodes}: at least {MIN_NODES} and at most {MAX_NODES}"
-        )));
-    }
+    NODES
+        .check_value("nodes", nodes)
+        .map_err(LabError::bad_input)?;
     solve(wire, Load::none(), &a, nodes)
 }
 

@@ -1,12 +1,13 @@
 //! What the experiments of paper §IV share: the common options' values, the simulated rig they
 //! run against, the F/T measurement a real robot would make, and the summary statistics
-//! ([`stats`]).
+//! ([`stats`]), and the ranges of their counts ([`limits`]).
 //!
 //! The true wire is given to the simulator only; the estimators see what a real rig gives them
 //! (raw F/T samples and the believed gripper poses).
 
 pub mod calibration;
 pub mod coverage;
+pub mod limits;
 pub mod rig;
 pub mod stats;
 

@@ -4,10 +4,13 @@ use ftwire_lab::error::LabError;
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{Count, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire_control::TrackingPolicy;
 use ftwire_control::tracking::{PolicyError, PolicySettings};
 use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::limits::{
+    PLAN_CANDIDATES, REST_SAMPLES, ROLLOUTS, TRIALS, WAYPOINT_MOVES,
+};
 
 pub use super::groups::NoiseModelArg;
 use super::groups::{CalibrationArgs, ClosedLoopArgs, SceneArgs};
@@ -164,29 +167,6 @@ pub struct IdentifyExperimentArgs {
 }
 
 pub use ftwire_lab::experiment::ModelKind as ModelArg;
-
-/// `--trials` and `--configs`: each trial is bounded by its own settings, and what the
-/// experiments keep of one (a row of results, a trial's samples) is small, so the count
-/// bounds the time and memory linearly; the cap sits far above the paper's counts.
-pub const TRIALS: CountRange = CountRange::new(1, 10_000);
-
-/// `--rest-samples`: at least [`ftwire_lab::experiment::rig::SAMPLES_PER_REST`], so that the rest
-/// average has the half of them that must survive screening; at most 100 s of readings at the
-/// simulated sensor's 1 kHz, whose buffer of one rest stays a few megabytes.
-pub const REST_SAMPLES: CountRange =
-    CountRange::new(ftwire_lab::experiment::rig::SAMPLES_PER_REST, 100_000);
-
-/// `goal --pairs`, `track --pairs`, `passage --attempts`: every roll-out keeps its record for
-/// the summary and the figures (the true centreline at each rest), so the count bounds the
-/// memory linearly; the cap keeps it well under a gigabyte at the default move limits.
-pub const ROLLOUTS: CountRange = CountRange::new(1, 1000);
-
-/// `passage --plan-candidates`: each candidate is a whole plan, made in turn.
-pub const PLAN_CANDIDATES: CountRange = CountRange::new(1, 100);
-
-/// `--waypoint-moves`: a leg's moves are its rests, each recorded, so the cap bounds a
-/// roll-out's record at 1000 rests per waypoint.
-pub const WAYPOINT_MOVES: CountRange = CountRange::new(1, 1000);
 
 /// The F/T pipeline of `ftwire experiment identify`: how `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]

@@ -5,8 +5,9 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use ftwire::args::{Count, CountRange, JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, JsonArgs, SeedArgs, parse_finite};
 use ftwire_lab::identify::{Form, ResidualParams};
+use ftwire_lab::log::identify::LOG_SAMPLES;
 use serde::Serialize;
 
 /// The residual identification minimises (`--form`).
@@ -95,10 +96,6 @@ impl IdentifySettingsArgs {
         }
     }
 }
-
-/// `identify --samples`: a window of the log, whose records are all read in any case (a
-/// million records of a few hundred bytes each).
-pub const LOG_SAMPLES: CountRange = CountRange::new(1, 1_000_000);
 
 /// `ftwire identify --log FILE.jsonl`: identify `η = (c1, c2, c3, L)` from a recorded log.
 #[derive(Debug, Args)]

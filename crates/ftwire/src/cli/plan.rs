@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{Count, CountRange, JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, JsonArgs, SeedArgs, parse_finite};
+use ftwire_lab::plan::{ITERATIONS, RESAMPLE};
 
 /// The wire a scene is planned or checked for (a preset or a wire file).
 #[derive(Debug, Clone, Args)]
@@ -92,14 +93,6 @@ pub enum PlannerArg {
     /// RRT* in Z = A × Q, the base gripper moving too (within 0.15 m and 0.5 rad).
     Moving,
 }
-
-/// `--iterations`: its default, which `--time-budget` ends first on any machine at the
-/// default budget; both bound the tree.
-pub const ITERATIONS: CountRange = CountRange::new(1, 1_000_000);
-
-/// `--resample`: each resampled waypoint is solved, checked and printed whole (a kilobyte or
-/// two in memory and in the output), so the cap bounds both at a few hundred megabytes.
-pub const RESAMPLE: CountRange = CountRange::new(1, 100_000);
 
 /// `ftwire plan`.
 #[derive(Debug, Args)]

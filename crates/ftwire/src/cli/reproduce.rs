@@ -1,12 +1,9 @@
 //! `ftwire reproduce`.
 
 use clap::Args;
-use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{Count, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire_lab::reproduce::JOBS;
 use serde::Serialize;
-
-/// `--jobs`: each job is an experiment process of its own, and there are fewer experiments
-/// than the cap, so more jobs would only add idle threads.
-pub const JOBS: CountRange = CountRange::new(1, 64);
 
 /// `ftwire reproduce`: every experiment of the paper's §IV, one report beside the paper.
 #[derive(Debug, Clone, Args, Serialize)]

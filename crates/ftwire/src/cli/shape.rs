@@ -78,10 +78,10 @@ pub struct ShapeArgs {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensor: Option<String>,
     /// F/T readings averaged into each record (with --sensor), 1 to 1000000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = Count(crate::cli::identify::LOG_SAMPLES), requires = "sensor")]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = Count(ftwire_lab::log::identify::LOG_SAMPLES), requires = "sensor")]
     pub rest_samples: usize,
     /// F/T readings averaged by the tare (with --sensor), 1 to 1000000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = Count(crate::cli::identify::LOG_SAMPLES), requires = "sensor")]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = Count(ftwire_lab::log::identify::LOG_SAMPLES), requires = "sensor")]
     pub tare_samples: usize,
     /// When the sensor was tared, on the log's clock [s] (with --sensor) [default: the first
     /// record's time].

@@ -2,22 +2,9 @@
 
 use clap::Args;
 use ftwire::args::{
-    Count, CountRange, DensityArgs, JsonArgs, TipPoseArgs, Vec3, Vec6, WireArgs, default_gravity,
-    parse_numbers,
+    Count, DensityArgs, JsonArgs, TipPoseArgs, Vec3, Vec6, WireArgs, default_gravity, parse_numbers,
 };
-
-/// `--edges`. The discretisation error of the clamp wrenches falls as `1/N²`; from 12 edges on
-/// it is within a few percent of a fine discretisation's on bent and twisted configurations,
-/// while fewer edges (the simulator accepts 3) give wrenches off by tens of percent, and by
-/// orders of magnitude at 3, that Newton still reports as a converged stable minimum. Beyond
-/// 2000 a solve takes minutes and the error is far below anything the model or a sensor
-/// resolves.
-pub const EDGES: CountRange = CountRange::new(12, 2000);
-
-/// Default `--edges`: that of `ftwire_sim::RodParams::default()`.
-pub fn default_edges() -> usize {
-    ftwire_sim::RodParams::default().edges
-}
+use ftwire_lab::equilibrium::{EDGES, default_edges};
 
 /// Arguments of `ftwire sim-equilibrium`: one equilibrium of the ground-truth discrete elastic
 /// rod, with the base clamp at the identity and the tip clamp at the given pose.
