@@ -5,8 +5,6 @@ use ftwire_lab::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
 use ftwire::args::{Count, ResultsArgs, SeedArgs, SimSetupArgs};
-use ftwire_control::TrackingPolicy;
-use ftwire_control::tracking::{PolicyError, PolicySettings};
 use ftwire_lab::experiment::Gravity;
 use ftwire_lab::experiment::limits::{
     PLAN_CANDIDATES, REST_SAMPLES, ROLLOUTS, TRIALS, WAYPOINT_MOVES,
@@ -261,43 +259,6 @@ pub struct RolloutArgs {
     /// `--shape-stop` and 10 under `increment` and `absolute`, `--shape-stop` otherwise].
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub near_shape_stop: Option<f64>,
-}
-
-impl RolloutArgs {
-    /// The tracking policy of the noise model with `--gain`, `--shape-stop`,
-    /// `--waypoint-moves` and `--near-shape-stop` in metres, each checked or the policy's
-    /// default (`ftwire_control::TrackingPolicy::with_settings`).
-    ///
-    /// # Errors
-    /// Bad input for a bad gain or a negative distance, naming the option.
-    pub fn policy(&self) -> Result<TrackingPolicy, LabError> {
-        let settings = PolicySettings {
-            gain: self.gain,
-            shape_stop: self.closed_loop.shape_stop.map(|mm| 1e-3 * mm),
-            near_shape_stop: self.near_shape_stop.map(|mm| 1e-3 * mm),
-            waypoint_moves: self.waypoint_moves,
-        };
-        let noise = self.closed_loop.noise_model().model();
-        TrackingPolicy::with_settings(noise, &settings).map_err(|error| {
-            // The option as given: a distance in mm, as the user typed it.
-            let given = |value: Option<f64>| value.map_or_else(String::new, |v| v.to_string());
-            LabError::bad_input(match error {
-                PolicyError::Gain(gain) => format!("--gain {gain}: give a gain K in (0, 1]"),
-                PolicyError::ShapeStop(_) => format!(
-                    "--shape-stop {}: give a distance ≥ 0 mm (0: off)",
-                    given(self.closed_loop.shape_stop)
-                ),
-                PolicyError::NearShapeStop(_) => format!(
-                    "--near-shape-stop {}: give a distance ≥ 0 mm (0: off)",
-                    given(self.near_shape_stop)
-                ),
-                PolicyError::WaypointMoves(moves) => format!(
-                    "--waypoint-moves {moves}: at least {} and at most {}",
-                    WAYPOINT_MOVES.min, WAYPOINT_MOVES.max
-                ),
-            })
-        })
-    }
 }
 
 /// `ftwire experiment track`.
