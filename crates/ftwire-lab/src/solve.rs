@@ -26,7 +26,6 @@ use nalgebra::{Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{EXIT_BAD_INPUT, LabError, from_rod};
-use crate::wire::check_radius;
 
 /// `--nodes` (and a batch line's `"nodes"`): the model's own range. The shape (positions and
 /// rotations), the costates and the self-contact search grow in proportion to the nodes, a
@@ -161,12 +160,8 @@ pub fn answer(line: &str) -> Result<Solution, LabError> {
             request.a.len()
         ))
     })?;
-    let radius = request
-        .radius
-        .unwrap_or_else(|| ftwire_sim::RodParams::default().radius);
-    let wire = WireParams::new(c, request.length, radius)
-        .map_err(|e| LabError::bad_input(format!("invalid wire: {e}")))?;
-    check_radius(&wire, "radius", "length").map_err(LabError::bad_input)?;
+    let radius = request.radius.unwrap_or_else(crate::wire::default_radius);
+    let wire = crate::wire::from_numbers(c, request.length, radius, ["radius", "length"])?;
     let nodes = request.nodes.unwrap_or(DEFAULT_NODES);
     NODES
         .check_value("nodes", nodes)

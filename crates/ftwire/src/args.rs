@@ -2,8 +2,8 @@
 //!
 //! Each group is one `#[derive(Args)]` struct, flattened (`#[command(flatten)]`) into the
 //! commands that use it, so that every command spells, parses, checks and documents an option
-//! the same way. Defaults come from the library presets (`ftwire_sim::RodParams::default()`, the
-//! 2 mm nitinol wire of the paper's Table I), never from numbers copied here.
+//! the same way. Defaults come from the library presets (`ftwire_lab::wire::default_radius` and the like,
+//! the simulator's default rod), never from numbers copied here.
 //!
 //! The value parsers and count ranges are [`ftwire_app::input`]'s (re-exported here): vectors
 //! are comma separated, `X,Y,Z`; a leading minus sign is allowed in both `--opt -1,2,3` and
@@ -54,21 +54,6 @@ impl clap::builder::TypedValueParser for Count {
     }
 }
 
-/// Default wire radius \[m\]: that of `ftwire_sim::RodParams::default()`.
-pub fn default_radius() -> f64 {
-    ftwire_sim::RodParams::default().radius
-}
-
-/// Default material density \[kg/m³\]: that of `ftwire_sim::RodParams::default()` (nitinol).
-pub fn default_density() -> f64 {
-    ftwire_sim::RodParams::default().density
-}
-
-/// Default gravity \[m/s²\]: that of `ftwire_sim::RodParams::default()`.
-pub fn default_gravity() -> Vec3 {
-    Numbers(ftwire_sim::RodParams::default().gravity.into())
-}
-
 /// The wire: stiffnesses, length and radius.
 ///
 /// Commands read it through [`WireArgs::params`], not field by field, so that how the wire is
@@ -95,7 +80,7 @@ pub struct WireArgs {
     #[arg(
         long,
         value_name = "R",
-        default_value_t = default_radius(),
+        default_value_t = ftwire_lab::wire::default_radius(),
         allow_hyphen_values = true,
         value_parser = parse_finite
     )]
@@ -107,7 +92,7 @@ impl WireArgs {
     ///
     /// # Errors
     /// Bad input: `--c` or `--length` missing, a value that is not finite and positive, or a
-    /// radius of half the length or more ([`check_radius`]).
+    /// radius of half the length or more ([`ftwire_lab::wire::from_numbers`]).
     pub fn params(&self) -> Result<ftwire_core::WireParams, LabError> {
         let c = self
             .c
@@ -115,15 +100,9 @@ impl WireArgs {
         let length = self
             .length
             .ok_or_else(|| LabError::bad_input("the wire needs --length L"))?;
-        let wire = ftwire_core::WireParams::new(c.0, length, self.radius)
-            .map_err(|e| LabError::bad_input(format!("invalid wire: {e}")))?;
-        check_radius(&wire, "--radius", "--length").map_err(LabError::bad_input)?;
-        Ok(wire)
+        ftwire_lab::wire::from_numbers(c.0, length, self.radius, ["--radius", "--length"])
     }
 }
-
-/// The rule of a wire's radius for a wire given by options: [`ftwire_lab::wire::check_radius`].
-pub use ftwire_lab::wire::check_radius;
 
 /// The wire's weight: its density (the radius is in [`WireArgs`]).
 #[derive(Debug, Clone, Args, Serialize)]
@@ -132,7 +111,7 @@ pub struct DensityArgs {
     #[arg(
         long,
         value_name = "RHO",
-        default_value_t = default_density(),
+        default_value_t = ftwire_lab::wire::default_density(),
         allow_hyphen_values = true,
         value_parser = parse_finite
     )]
@@ -314,17 +293,4 @@ where
 {
     use clap::builder::TypedValueParser as _;
     clap::builder::PossibleValuesParser::new(names).try_map(|name| name.parse::<T>())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn defaults_are_the_presets() {
-        let preset = ftwire_sim::RodParams::default();
-        assert_eq!(default_radius().to_bits(), preset.radius.to_bits());
-        assert_eq!(default_density().to_bits(), preset.density.to_bits());
-        assert_eq!(default_gravity().to_vector(), preset.gravity);
-    }
 }

@@ -2,7 +2,7 @@
 
 use clap::Args;
 use ftwire::args::{
-    Count, DensityArgs, JsonArgs, TipPoseArgs, Vec3, Vec6, WireArgs, default_gravity, parse_numbers,
+    Count, DensityArgs, JsonArgs, Numbers, TipPoseArgs, Vec3, Vec6, WireArgs, parse_numbers,
 };
 use ftwire_lab::equilibrium::{EDGES, default_edges};
 
@@ -38,7 +38,7 @@ pub struct SimEquilibriumArgs {
     #[arg(
         long,
         value_name = "GX,GY,GZ",
-        default_value_t = default_gravity(),
+        default_value_t = Numbers(ftwire_lab::wire::default_gravity()),
         allow_hyphen_values = true,
         value_parser = parse_numbers::<3>
     )]
