@@ -4,14 +4,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, parse_finite};
+use ftwire_lab::log::calibrate::MapLoss;
 use serde::Serialize;
 
 use crate::cli::groups::MountingArgs;
-
-/// The names `--loss` takes.
-fn calibrate_loss_names() -> [&'static str; 2] {
-    ftwire_lab::log::calibrate::MapLoss::NAMES
-}
 
 /// `ftwire calibrate --log FILE.jsonl --wire W [--mounting FILE.toml] [--out DIR]`.
 #[derive(Debug, Clone, Args, Serialize)]
@@ -69,8 +65,8 @@ pub struct CalibrateArgs {
     /// the one closest on the validation block kept), or `labels`, least squares in `a` (the
     /// affine map and the network, the paper's §IV-A).
     #[arg(long, value_name = "LOSS", default_value = "shape",
-          value_parser = clap::builder::PossibleValuesParser::new(calibrate_loss_names()))]
-    pub loss: String,
+          value_parser = ftwire::args::named::<MapLoss>(&MapLoss::NAMES))]
+    pub loss: MapLoss,
     /// With `--loss shape`, the labels' weight beside the shape, relative to the shape's
     /// curvature in the affine weights (0: the shape alone). It keeps the wrench directions
     /// a wire's shape barely shows (a taut wire's tension) near the labels.
