@@ -169,6 +169,15 @@ impl CommonParams {
         WireSpec::load(name).map_err(|e| LabError::bad_input(e.to_string()))
     }
 
+    /// `other` with this run's input files (the wire, sensor and rig files, as `--wire`,
+    /// `--sensor`, `--rig`): the results folder must not hold any of them.
+    pub fn inputs(&self, other: crate::results::OutGuard) -> crate::results::OutGuard {
+        other
+            .input_opt("--wire", self.wire.as_deref())
+            .input_opt("--sensor", self.sensor.as_deref())
+            .input_opt("--rig", self.rig.as_deref())
+    }
+
     /// The simulated sensor and rig.
     ///
     /// # Errors

@@ -97,16 +97,13 @@ impl CommonExperimentArgs {
 impl CommonExperimentArgs {
     /// Opens the results folder: `--out`, or `results/<id>` (creating `results/` in the
     /// working folder when it is missing; a given `--out` must have an existing parent). The
-    /// folder must not hold `--wire`, `--sensor`, `--rig` nor the `other` inputs.
+    /// folder must not hold `--wire`, `--sensor`, `--rig` nor the `other` inputs
+    /// ([`ftwire_lab::experiment::CommonParams::inputs`]).
     ///
     /// # Errors
     /// As [`ResultsArgs::open`].
     pub fn open_results(&self, id: &str, other: OutGuard) -> Result<ResultsFolder, LabError> {
-        let inputs = other
-            .input_opt("--wire", self.wire.as_deref())
-            .input_opt("--sensor", self.setup.sensor.as_deref())
-            .input_opt("--rig", self.setup.rig.as_deref());
-        self.results.open(id, inputs)
+        self.results.open(id, self.params().inputs(other))
     }
 }
 
