@@ -5,6 +5,7 @@ pub mod csv_table;
 pub mod error;
 pub mod header;
 pub mod init;
+pub mod input;
 pub mod out_file;
 pub mod out_guard;
 pub mod output;

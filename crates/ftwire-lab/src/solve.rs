@@ -16,6 +16,7 @@ use std::fmt;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::Path;
 
+use ftwire_app::input::CountRange;
 use ftwire_app::output::{ErrorLine, JsonLines};
 
 use ftwire_core::{CoreError, WireParams, text};
@@ -25,7 +26,11 @@ use nalgebra::{Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{EXIT_BAD_INPUT, LabError, from_rod};
-use crate::wire::check_radius;
+
+/// `--nodes` (and a batch line's `"nodes"`): the model's own range. The shape (positions and
+/// rotations), the costates and the self-contact search grow in proportion to the nodes, a
+/// couple of hundred bytes each, so a million stay well under a gigabyte.
+pub const NODES: CountRange = CountRange::new(MIN_NODES, MAX_NODES);
 
 /// One configuration to solve, and the wire's load.
 #[derive(Debug, Clone, PartialEq)]
@@ -155,18 +160,12 @@ pub fn answer(line: &str) -> Result<Solution, LabError> {
             request.a.len()
         ))
     })?;
-    let radius = request
-        .radius
-        .unwrap_or_else(|| ftwire_sim::RodParams::default().radius);
-    let wire = WireParams::new(c, request.length, radius)
-        .map_err(|e| LabError::bad_input(format!("invalid wire: {e}")))?;
-    check_radius(&wire, "radius", "length").map_err(LabError::bad_input)?;
+    let radius = request.radius.unwrap_or_else(crate::wire::default_radius);
+    let wire = crate::wire::from_numbers(c, request.length, radius, ["radius", "length"])?;
     let nodes = request.nodes.unwrap_or(DEFAULT_NODES);
-    if !(MIN_NODES..=MAX_NODES).contains(&nodes) {
-        return Err(LabError::bad_input(format!(
-            "nodes {nodes}: at least {MIN_NODES} and at most {MAX_NODES}"
-        )));
-    }
+    NODES
+        .check_value("nodes", nodes)
+        .map_err(LabError::bad_input)?;
     solve(wire, Load::none(), &a, nodes)
 }
 

@@ -28,6 +28,7 @@ use super::{LogLine, RawMap, a_tilde, read_log};
 use crate::identification::{Form, ResidualParams, flag_name, identifier};
 use ftwire_app::Progress;
 use ftwire_app::error::{LabError, from_estimate};
+use ftwire_app::input::CountRange;
 
 /// What to identify from: the log, how its records become `ã`, and how to identify.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -241,6 +242,11 @@ pub fn samples_of(
         })
         .collect()
 }
+
+/// `identify --samples` (and the readings of `--rest-samples`, `--tare-samples`): a window
+/// of the log, whose records are all read in any case (a
+/// million records of a few hundred bytes each).
+pub const LOG_SAMPLES: CountRange = CountRange::new(1, 1_000_000);
 
 /// How long the search runs between two progress lines.
 pub const PROGRESS_TICK: Duration = Duration::from_millis(200);

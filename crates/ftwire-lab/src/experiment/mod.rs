@@ -1,12 +1,13 @@
 //! What the experiments of paper §IV share: the common options' values, the simulated rig they
 //! run against, the F/T measurement a real robot would make, and the summary statistics
-//! ([`stats`]).
+//! ([`stats`]), and the ranges of their counts ([`limits`]).
 //!
 //! The true wire is given to the simulator only; the estimators see what a real rig gives them
 //! (raw F/T samples and the believed gripper poses).
 
 pub mod calibration;
 pub mod coverage;
+pub mod limits;
 pub mod rig;
 pub mod stats;
 
@@ -166,6 +167,15 @@ impl CommonParams {
     pub fn wire_or(&self, default: &str) -> Result<WireSpec, LabError> {
         let name = self.wire.as_deref().unwrap_or(default);
         WireSpec::load(name).map_err(|e| LabError::bad_input(e.to_string()))
+    }
+
+    /// `other` with this run's input files (the wire, sensor and rig files, as `--wire`,
+    /// `--sensor`, `--rig`): the results folder must not hold any of them.
+    pub fn inputs(&self, other: crate::results::OutGuard) -> crate::results::OutGuard {
+        other
+            .input_opt("--wire", self.wire.as_deref())
+            .input_opt("--sensor", self.sensor.as_deref())
+            .input_opt("--rig", self.rig.as_deref())
     }
 
     /// The simulated sensor and rig.

@@ -14,6 +14,7 @@ mod report;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use ftwire_app::input::CountRange;
 use ftwire_plan::{
     Checker, FixedBase, MovingBase, Plan, PlannerParams, Sample, Scene, ValidityParams, plan,
     scene_endpoint,
@@ -33,6 +34,14 @@ use crate::wire::WireSpec;
 /// among it (a few kilobytes), and grows by a few hundred nodes a second at most, so ten
 /// minutes keep it under a gigabyte.
 pub const MAX_TIME_BUDGET: f64 = 600.0;
+
+/// `--iterations`: its default, which `--time-budget` ends first on any machine at the
+/// default budget; both bound the tree.
+pub const ITERATIONS: CountRange = CountRange::new(1, 1_000_000);
+
+/// `--resample`: each resampled waypoint is solved, checked and printed whole (a kilobyte or
+/// two in memory and in the output), so the cap bounds both at a few hundred megabytes.
+pub const RESAMPLE: CountRange = CountRange::new(1, 100_000);
 
 /// The wire a scene is planned or checked for, and how far from the obstacles it must stay.
 #[derive(Debug, Clone, PartialEq, Serialize)]

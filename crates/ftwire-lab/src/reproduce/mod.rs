@@ -37,6 +37,11 @@ pub use params::ReproduceParams;
 
 use crate::error::LabError;
 use crate::results::ResultsFolder;
+use ftwire_app::input::CountRange;
+
+/// `--jobs`: each job is an experiment process of its own, and there are fewer experiments
+/// than the cap, so more jobs would only add idle threads.
+pub const JOBS: CountRange = CountRange::new(1, 64);
 
 /// The status of an experiment that ran to its end.
 pub const OK: &str = "ok";

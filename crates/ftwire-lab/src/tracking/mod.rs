@@ -33,7 +33,7 @@ mod rollout;
 mod truth;
 
 pub use attempt::{Attempt, Leg};
-pub use rollout::RolloutParams;
+pub use rollout::{RolloutOptions, RolloutParams};
 pub use truth::{CONTACT_FORCE, touches};
 use truth::{TruthLog, shape_mm, to_points, truth_of};
 

@@ -1,13 +1,17 @@
 //! The settings of the experiments that roll a plan out in the simulator (`track`,
 //! `passage`): the execution noise, the learnt calibration, how the closed loop tracks, and
-//! whether it corrects the sensor's bias drift.
+//! whether it corrects the sensor's bias drift; and the same as a user gives them
+//! ([`RolloutOptions`]: distances in mm, the policy's overrides), checked.
 
 use std::path::PathBuf;
 
+use ftwire_app::error::FrontEnd;
+use ftwire_control::tracking::{PolicyError, PolicySettings};
 use ftwire_control::{NoiseModel, TrackingPolicy};
 use serde::Serialize;
 
 use crate::error::LabError;
+use crate::experiment::limits::WAYPOINT_MOVES;
 
 /// The roll-out settings of [`crate::track`] and [`crate::passage`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -76,6 +80,110 @@ impl RolloutParams {
     }
 }
 
+/// The roll-out settings as a user gives them (`--noise-model`, `--calibration`,
+/// `--bias-observer`, `--gain`, `--shape-stop`, `--near-shape-stop`, `--waypoint-moves`):
+/// distances in mm, each policy setting `None` for the tuned value of the noise's tracking
+/// policy ([`TrackingPolicy::with_settings`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RolloutOptions {
+    /// The second gripper's execution noise.
+    pub noise: NoiseModel,
+    /// Learnt calibration weights; `None`: a calibration is run first and cached.
+    pub calibration: Option<PathBuf>,
+    /// Whether the closed loop corrects the sensor's bias drift.
+    pub bias_observer: bool,
+    /// The controller's gain `K`, in `(0, 1]`.
+    pub gain: Option<f64>,
+    /// The shape stop of every leg \[mm\], at least 0 (0: off).
+    pub shape_stop_mm: Option<f64>,
+    /// The shape stop of a leg from or to a waypoint near an obstacle \[mm\], at least 0.
+    pub near_shape_stop_mm: Option<f64>,
+    /// Most moves toward each waypoint before the last, in [`WAYPOINT_MOVES`].
+    pub waypoint_moves: Option<usize>,
+}
+
+impl RolloutOptions {
+    /// The roll-out settings, their policy checked; an error names the option as
+    /// `front_end` spells it, with the value as the user gave it.
+    ///
+    /// # Errors
+    /// Bad input for a gain outside `(0, 1]`, a negative or non-finite distance, or a move
+    /// count outside [`WAYPOINT_MOVES`].
+    ///
+    /// # Example
+    /// ```
+    /// use ftwire_lab::error::FrontEnd;
+    /// use ftwire_control::NoiseModel;
+    /// use ftwire_lab::tracking::RolloutOptions;
+    /// let mut options = RolloutOptions::new(NoiseModel::Offset);
+    /// options.shape_stop_mm = Some(4.0);
+    /// let params = options.params(FrontEnd::Cli).expect("valid");
+    /// assert_eq!(params.policy.shape_stop, 4e-3);
+    /// options.gain = Some(1.5);
+    /// let error = options.params(FrontEnd::Cli).expect_err("gain above 1");
+    /// assert_eq!(error.to_string(), "--gain 1.5: give a gain K in (0, 1]");
+    /// ```
+    pub fn params(&self, front_end: FrontEnd) -> Result<RolloutParams, LabError> {
+        let name = |flag: &str| front_end.spell(flag);
+        if let Some(moves) = self.waypoint_moves {
+            WAYPOINT_MOVES
+                .check_value(&name("--waypoint-moves"), moves)
+                .map_err(LabError::bad_input)?;
+        }
+        let settings = PolicySettings {
+            gain: self.gain,
+            shape_stop: self.shape_stop_mm.map(|mm| 1e-3 * mm),
+            near_shape_stop: self.near_shape_stop_mm.map(|mm| 1e-3 * mm),
+            waypoint_moves: self.waypoint_moves,
+        };
+        let policy = TrackingPolicy::with_settings(self.noise, &settings).map_err(|error| {
+            // The option as given: a distance in mm, as the user typed it.
+            let given = |value: Option<f64>| value.map_or_else(String::new, |v| v.to_string());
+            LabError::bad_input(match error {
+                PolicyError::Gain(gain) => {
+                    format!("{} {gain}: give a gain K in (0, 1]", name("--gain"))
+                }
+                PolicyError::ShapeStop(_) => format!(
+                    "{} {}: give a distance ≥ 0 mm (0: off)",
+                    name("--shape-stop"),
+                    given(self.shape_stop_mm)
+                ),
+                PolicyError::NearShapeStop(_) => format!(
+                    "{} {}: give a distance ≥ 0 mm (0: off)",
+                    name("--near-shape-stop"),
+                    given(self.near_shape_stop_mm)
+                ),
+                PolicyError::WaypointMoves(moves) => format!(
+                    "{} {moves}: at least {} and at most {}",
+                    name("--waypoint-moves"),
+                    WAYPOINT_MOVES.min,
+                    WAYPOINT_MOVES.max
+                ),
+            })
+        })?;
+        Ok(RolloutParams {
+            noise: self.noise,
+            calibration: self.calibration.clone(),
+            policy,
+            bias_observer: self.bias_observer,
+        })
+    }
+
+    /// The options under `noise` with nothing else given: no calibration file, the bias
+    /// observer on, the policy's tuned values.
+    pub fn new(noise: NoiseModel) -> Self {
+        Self {
+            noise,
+            calibration: None,
+            bias_observer: true,
+            gain: None,
+            shape_stop_mm: None,
+            near_shape_stop_mm: None,
+            waypoint_moves: None,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,5 +200,28 @@ mod tests {
         let mut bad = RolloutParams::default();
         bad.policy.through.max_iterations = 0;
         assert_eq!(bad.check().map_err(|e| e.exit_code()), Err(2));
+    }
+
+    #[test]
+    fn the_options_are_named_as_the_front_end_spells_them() {
+        let mut options = RolloutOptions::new(NoiseModel::Increment);
+        options.near_shape_stop_mm = Some(-2.0);
+        let cli = options.params(FrontEnd::Cli).expect_err("negative");
+        assert_eq!(
+            cli.to_string(),
+            "--near-shape-stop -2: give a distance ≥ 0 mm (0: off)"
+        );
+        let python = options.params(FrontEnd::Python).expect_err("negative");
+        assert!(
+            python.to_string().starts_with("near_shape_stop -2: "),
+            "{python}"
+        );
+        options.near_shape_stop_mm = None;
+        options.waypoint_moves = Some(1001);
+        let many = options.params(FrontEnd::Cli).expect_err("too many moves");
+        assert_eq!(
+            many.to_string(),
+            "--waypoint-moves 1001: at least 1 and at most 1000"
+        );
     }
 }

@@ -98,6 +98,16 @@ impl MapLoss {
     }
 }
 
+/// The loss of a name of [`MapLoss::NAMES`], as `--loss` parses it.
+impl std::str::FromStr for MapLoss {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
+        Self::from_name(name)
+            .ok_or_else(|| format!("--loss {name}: one of {}", Self::NAMES.join(", ")))
+    }
+}
+
 /// Default rest tolerance \[m\]: a few times a motion-capture system's jitter, well below
 /// a rig's steps between rests (about 17 mm).
 pub const DEFAULT_REST_TOLERANCE: f64 = 2e-3;
@@ -119,8 +129,9 @@ impl LogCalibrateParams {
             .map_err(|e| LabError::bad_input(format!("--wire {}: {e}", self.wire.name)))?;
         if !(self.max_label_rms.is_finite() && self.max_label_rms > 0.0) {
             return Err(LabError::bad_input(format!(
-                "--max-label-rms-mm {}: must be a finite distance > 0",
-                1e3 * self.max_label_rms
+                "--max-label-rms-mm {}: must be a finite distance > 0 (default {} mm)",
+                1e3 * self.max_label_rms,
+                1e3 * DEFAULT_MAX_LABEL_RMS
             )));
         }
         if let Some(g) = &self.gravity

@@ -3,15 +3,11 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::{CountRange, ResultsArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, CountRange, ResultsArgs, SeedArgs, parse_finite};
+use ftwire_lab::log::calibrate::MapLoss;
 use serde::Serialize;
 
 use crate::cli::groups::MountingArgs;
-
-/// The names `--loss` takes.
-fn calibrate_loss_names() -> [&'static str; 2] {
-    ftwire_lab::log::calibrate::MapLoss::NAMES
-}
 
 /// `ftwire calibrate --log FILE.jsonl --wire W [--mounting FILE.toml] [--out DIR]`.
 #[derive(Debug, Clone, Args, Serialize)]
@@ -50,13 +46,13 @@ pub struct CalibrateArgs {
     /// Hidden layer widths of the network on what the affine map leaves (comma-separated;
     /// `0` for the affine map alone).
     #[arg(long, value_name = "W,W", value_delimiter = ',', default_value = "16,16",
-          value_parser = CountRange::new(0, 256))]
+          value_parser = Count(CountRange::new(0, 256)))]
     pub hidden: Vec<usize>,
     /// Most passes over the training block.
-    #[arg(long, value_name = "N", default_value_t = 2000, value_parser = CountRange::new(1, 1_000_000))]
+    #[arg(long, value_name = "N", default_value_t = 2000, value_parser = Count(CountRange::new(1, 1_000_000)))]
     pub epochs: usize,
     /// Stop after this many epochs without a better validation loss.
-    #[arg(long, value_name = "N", default_value_t = 200, value_parser = CountRange::new(1, 1_000_000))]
+    #[arg(long, value_name = "N", default_value_t = 200, value_parser = Count(CountRange::new(1, 1_000_000)))]
     pub patience: usize,
     /// Do not offer the map a drift term. By default an offset linear in time (a sensor's
     /// creep), fitted on the training block, is kept when it predicts the validation block
@@ -69,8 +65,8 @@ pub struct CalibrateArgs {
     /// the one closest on the validation block kept), or `labels`, least squares in `a` (the
     /// affine map and the network, the paper's §IV-A).
     #[arg(long, value_name = "LOSS", default_value = "shape",
-          value_parser = clap::builder::PossibleValuesParser::new(calibrate_loss_names()))]
-    pub loss: String,
+          value_parser = ftwire::args::named::<MapLoss>(&MapLoss::NAMES))]
+    pub loss: MapLoss,
     /// With `--loss shape`, the labels' weight beside the shape, relative to the shape's
     /// curvature in the affine weights (0: the shape alone). It keeps the wrench directions
     /// a wire's shape barely shows (a taut wire's tension) near the labels.

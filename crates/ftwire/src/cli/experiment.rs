@@ -4,10 +4,11 @@ use ftwire_lab::error::LabError;
 use ftwire_lab::results::{OutGuard, ResultsFolder};
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
-use ftwire_control::TrackingPolicy;
-use ftwire_control::tracking::{PolicyError, PolicySettings};
+use ftwire::args::{Count, ResultsArgs, SeedArgs, SimSetupArgs};
 use ftwire_lab::experiment::Gravity;
+use ftwire_lab::experiment::limits::{
+    PLAN_CANDIDATES, REST_SAMPLES, ROLLOUTS, TRIALS, WAYPOINT_MOVES,
+};
 
 pub use super::groups::NoiseModelArg;
 use super::groups::{CalibrationArgs, ClosedLoopArgs, SceneArgs};
@@ -55,7 +56,7 @@ pub struct CommonExperimentArgs {
     pub seed: SeedArgs,
     /// Number of trials; for `calibrate`, the configurations visited (each experiment has its own
     /// default, the paper's where it gives one), 1 to 10000.
-    #[arg(long, value_name = "N", value_parser = TRIALS)]
+    #[arg(long, value_name = "N", value_parser = Count(TRIALS))]
     pub trials: Option<usize>,
     /// The results folder (`--out`, `--force`) [default: results/<id>].
     #[command(flatten)]
@@ -96,16 +97,13 @@ impl CommonExperimentArgs {
 impl CommonExperimentArgs {
     /// Opens the results folder: `--out`, or `results/<id>` (creating `results/` in the
     /// working folder when it is missing; a given `--out` must have an existing parent). The
-    /// folder must not hold `--wire`, `--sensor`, `--rig` nor the `other` inputs.
+    /// folder must not hold `--wire`, `--sensor`, `--rig` nor the `other` inputs
+    /// ([`ftwire_lab::experiment::CommonParams::inputs`]).
     ///
     /// # Errors
     /// As [`ResultsArgs::open`].
     pub fn open_results(&self, id: &str, other: OutGuard) -> Result<ResultsFolder, LabError> {
-        let inputs = other
-            .input_opt("--wire", self.wire.as_deref())
-            .input_opt("--sensor", self.setup.sensor.as_deref())
-            .input_opt("--rig", self.setup.rig.as_deref());
-        self.results.open(id, inputs)
+        self.results.open(id, self.params().inputs(other))
     }
 }
 
@@ -137,7 +135,7 @@ pub struct IdentifyExperimentArgs {
     /// default sensor (noise σ, rate f, drift intensity q), but rests shorter or longer than
     /// the default change little: the tare's own noise, the same offset in every sample,
     /// dominates (`docs/identify-soft-wires.md`). 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = Count(REST_SAMPLES))]
     pub rest_samples: usize,
     /// How `ã` is computed from the tared reading.
     #[arg(long, value_enum, default_value_t = IdentifyPipeline::Calibrated)]
@@ -164,29 +162,6 @@ pub struct IdentifyExperimentArgs {
 }
 
 pub use ftwire_lab::experiment::ModelKind as ModelArg;
-
-/// `--trials` and `--configs`: each trial is bounded by its own settings, and what the
-/// experiments keep of one (a row of results, a trial's samples) is small, so the count
-/// bounds the time and memory linearly; the cap sits far above the paper's counts.
-pub const TRIALS: CountRange = CountRange::new(1, 10_000);
-
-/// `--rest-samples`: at least [`ftwire_lab::experiment::rig::SAMPLES_PER_REST`], so that the rest
-/// average has the half of them that must survive screening; at most 100 s of readings at the
-/// simulated sensor's 1 kHz, whose buffer of one rest stays a few megabytes.
-pub const REST_SAMPLES: CountRange =
-    CountRange::new(ftwire_lab::experiment::rig::SAMPLES_PER_REST, 100_000);
-
-/// `goal --pairs`, `track --pairs`, `passage --attempts`: every roll-out keeps its record for
-/// the summary and the figures (the true centreline at each rest), so the count bounds the
-/// memory linearly; the cap keeps it well under a gigabyte at the default move limits.
-pub const ROLLOUTS: CountRange = CountRange::new(1, 1000);
-
-/// `passage --plan-candidates`: each candidate is a whole plan, made in turn.
-pub const PLAN_CANDIDATES: CountRange = CountRange::new(1, 100);
-
-/// `--waypoint-moves`: a leg's moves are its rests, each recorded, so the cap bounds a
-/// roll-out's record at 1000 rests per waypoint.
-pub const WAYPOINT_MOVES: CountRange = CountRange::new(1, 1000);
 
 /// The F/T pipeline of `ftwire experiment identify`: how `ã` is computed from the tared reading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
@@ -222,7 +197,7 @@ pub struct ShapeExperimentArgs {
     #[command(flatten)]
     pub common: CommonExperimentArgs,
     /// Configurations of A_free per wire, 1 to 10000 (the paper: 50).
-    #[arg(long, value_name = "N", value_parser = TRIALS)]
+    #[arg(long, value_name = "N", value_parser = Count(TRIALS))]
     pub configs: Option<usize>,
     /// The learnt calibration (`--calibration`).
     #[command(flatten)]
@@ -235,7 +210,7 @@ pub struct ShapeExperimentArgs {
     /// F/T samples averaged at each configuration (at the simulated sensor's 1 kHz, 100 is
     /// the 0.1 s of the paper's protocol): the white noise of `ã` falls as `1/√N`; the wire is
     /// placed just after taring, so the bias drift adds little here. 100 to 100000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::SAMPLES_PER_REST, value_parser = REST_SAMPLES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::SAMPLES_PER_REST, value_parser = Count(REST_SAMPLES))]
     pub rest_samples: usize,
 }
 
@@ -246,7 +221,7 @@ pub struct GoalExperimentArgs {
     #[command(flatten)]
     pub common: CommonExperimentArgs,
     /// Start–goal pairs, 1 to 1000 (the paper: 30).
-    #[arg(long, value_name = "N", default_value_t = 30, value_parser = ROLLOUTS)]
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = Count(ROLLOUTS))]
     pub pairs: usize,
     /// The closed loop: `--noise-model` (of the `noise` runs), `--calibration`,
     /// `--bias-observer`, `--shape-stop` (of the `noise` runs).
@@ -274,50 +249,13 @@ pub struct RolloutArgs {
     /// Most moves of the closed loop toward each waypoint before the last, 1 to 1000
     /// [default: 20]. A tighter `--shape-stop` under `increment` needs more: every move lands
     /// the wire about 12 mm from where it was sent, and the stop waits for a landing within it.
-    #[arg(long, value_name = "N", value_parser = WAYPOINT_MOVES)]
+    #[arg(long, value_name = "N", value_parser = Count(WAYPOINT_MOVES))]
     pub waypoint_moves: Option<usize>,
     /// The shape stop in mm of the legs from or to a waypoint whose planned wire is within
     /// 25 mm of a box: every landing there is a chance to touch it [default: the larger of
     /// `--shape-stop` and 10 under `increment` and `absolute`, `--shape-stop` otherwise].
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = ftwire::args::parse_finite)]
     pub near_shape_stop: Option<f64>,
-}
-
-impl RolloutArgs {
-    /// The tracking policy of the noise model with `--gain`, `--shape-stop`,
-    /// `--waypoint-moves` and `--near-shape-stop` in metres, each checked or the policy's
-    /// default (`ftwire_control::TrackingPolicy::with_settings`).
-    ///
-    /// # Errors
-    /// Bad input for a bad gain or a negative distance, naming the option.
-    pub fn policy(&self) -> Result<TrackingPolicy, LabError> {
-        let settings = PolicySettings {
-            gain: self.gain,
-            shape_stop: self.closed_loop.shape_stop.map(|mm| 1e-3 * mm),
-            near_shape_stop: self.near_shape_stop.map(|mm| 1e-3 * mm),
-            waypoint_moves: self.waypoint_moves,
-        };
-        let noise = self.closed_loop.noise_model().model();
-        TrackingPolicy::with_settings(noise, &settings).map_err(|error| {
-            // The option as given: a distance in mm, as the user typed it.
-            let given = |value: Option<f64>| value.map_or_else(String::new, |v| v.to_string());
-            LabError::bad_input(match error {
-                PolicyError::Gain(gain) => format!("--gain {gain}: give a gain K in (0, 1]"),
-                PolicyError::ShapeStop(_) => format!(
-                    "--shape-stop {}: give a distance ≥ 0 mm (0: off)",
-                    given(self.closed_loop.shape_stop)
-                ),
-                PolicyError::NearShapeStop(_) => format!(
-                    "--near-shape-stop {}: give a distance ≥ 0 mm (0: off)",
-                    given(self.near_shape_stop)
-                ),
-                PolicyError::WaypointMoves(moves) => format!(
-                    "--waypoint-moves {moves}: at least {} and at most {}",
-                    WAYPOINT_MOVES.min, WAYPOINT_MOVES.max
-                ),
-            })
-        })
-    }
 }
 
 /// `ftwire experiment track`.
@@ -327,7 +265,7 @@ pub struct TrackExperimentArgs {
     #[command(flatten)]
     pub common: CommonExperimentArgs,
     /// Start–goal pairs, 1 to 1000 (the paper: 10).
-    #[arg(long, value_name = "N", default_value_t = 10, value_parser = ROLLOUTS)]
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = Count(ROLLOUTS))]
     pub pairs: usize,
     /// What limits the closed loop's commanded poses: `any` ignores the arms' kinematics,
     /// as the paper's noise experiments and `experiment goal` do (under `increment` noise the
@@ -353,7 +291,7 @@ pub struct PassageExperimentArgs {
     #[serde(flatten)]
     pub scene: SceneArgs,
     /// Roll-outs of each of open and closed loop, 1 to 1000 (the paper: 10).
-    #[arg(long, value_name = "N", default_value_t = 50, value_parser = ROLLOUTS)]
+    #[arg(long, value_name = "N", default_value_t = 50, value_parser = Count(ROLLOUTS))]
     pub attempts: usize,
     /// Track the plan's waypoints as resampled, without the clearance polish (by default,
     /// under `increment` and `absolute` noise, each waypoint whose landings, a move there
@@ -365,7 +303,7 @@ pub struct PassageExperimentArgs {
     /// the fewest touching landings under the paper's noise is tracked (`ftwire_plan::choose_plan`;
     /// under `increment` and `absolute` only: one plan otherwise), 1 to 100; 1 tracks the first
     /// plan.
-    #[arg(long, value_name = "N", default_value_t = ftwire_plan::PLAN_CANDIDATES, value_parser = PLAN_CANDIDATES)]
+    #[arg(long, value_name = "N", default_value_t = ftwire_plan::PLAN_CANDIDATES, value_parser = Count(PLAN_CANDIDATES))]
     pub plan_candidates: usize,
     /// Noise, calibration and gain.
     #[command(flatten)]

@@ -5,8 +5,9 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, JsonArgs, SeedArgs, parse_finite};
 use ftwire_lab::identify::{Form, ResidualParams};
+use ftwire_lab::log::identify::LOG_SAMPLES;
 use serde::Serialize;
 
 /// The residual identification minimises (`--form`).
@@ -96,10 +97,6 @@ impl IdentifySettingsArgs {
     }
 }
 
-/// `identify --samples`: a window of the log, whose records are all read in any case (a
-/// million records of a few hundred bytes each).
-pub const LOG_SAMPLES: CountRange = CountRange::new(1, 1_000_000);
-
 /// `ftwire identify --log FILE.jsonl`: identify `η = (c1, c2, c3, L)` from a recorded log.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:\n  \
@@ -128,7 +125,7 @@ pub struct IdentifyArgs {
     /// memory grows as N² and time as N³, and more than 500 records are refused before any
     /// work; a window of the first few hundred of a long log gives an estimate in seconds (on
     /// a terminal, progress is shown on stderr).
-    #[arg(long, value_name = "N", value_parser = LOG_SAMPLES)]
+    #[arg(long, value_name = "N", value_parser = Count(LOG_SAMPLES))]
     pub samples: Option<usize>,
     /// Gravity in the base clamp frame [m/s²]: identify with the loaded model, the wire's
     /// linear density (its weight) as well as `c` and `L` (default: the paper's weightless
@@ -169,10 +166,10 @@ pub struct LogDriftArgs {
     #[arg(long, value_name = "PRESET|FILE.toml")]
     pub sensor: Option<String>,
     /// F/T readings averaged into each record, for its own noise (with --sensor), 1 to 1000000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = LOG_SAMPLES, requires = "sensor")]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = Count(LOG_SAMPLES), requires = "sensor")]
     pub rest_samples: usize,
     /// F/T readings averaged by the tare (with --sensor), 1 to 1000000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = LOG_SAMPLES, requires = "sensor")]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = Count(LOG_SAMPLES), requires = "sensor")]
     pub tare_samples: usize,
     /// When the sensor was tared, on the log's clock [s] (with --sensor): the drift is counted
     /// from it [default: the first record's time].

@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
-use ftwire::args::{CountRange, JsonArgs, SeedArgs, parse_finite};
+use ftwire::args::{Count, JsonArgs, SeedArgs, parse_finite};
+use ftwire_lab::plan::{ITERATIONS, RESAMPLE};
 
 /// The wire a scene is planned or checked for (a preset or a wire file).
 #[derive(Debug, Clone, Args)]
@@ -93,14 +94,6 @@ pub enum PlannerArg {
     Moving,
 }
 
-/// `--iterations`: its default, which `--time-budget` ends first on any machine at the
-/// default budget; both bound the tree.
-pub const ITERATIONS: CountRange = CountRange::new(1, 1_000_000);
-
-/// `--resample`: each resampled waypoint is solved, checked and printed whole (a kilobyte or
-/// two in memory and in the output), so the cap bounds both at a few hundred megabytes.
-pub const RESAMPLE: CountRange = CountRange::new(1, 100_000);
-
 /// `ftwire plan`.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:\n  \
@@ -134,7 +127,7 @@ pub struct PlanArgs {
 
     /// Most iterations, 1 to 1000000 (with --time-budget, whichever ends first); the same seed
     /// and iteration count give the same path.
-    #[arg(long, value_name = "N", default_value_t = 1_000_000, value_parser = ITERATIONS)]
+    #[arg(long, value_name = "N", default_value_t = 1_000_000, value_parser = Count(ITERATIONS))]
     pub iterations: usize,
 
     /// Stop at the first path found (then shortcut it).
@@ -162,7 +155,7 @@ pub struct PlanArgs {
 
     /// Also print the path resampled into N + 1 equally spaced waypoints γ(i/N), N from 1 to
     /// 100000.
-    #[arg(long, value_name = "N", value_parser = RESAMPLE)]
+    #[arg(long, value_name = "N", value_parser = Count(RESAMPLE))]
     pub resample: Option<usize>,
 
     /// The planner's seed.

@@ -1,12 +1,9 @@
 //! `ftwire reproduce`.
 
 use clap::Args;
-use ftwire::args::{CountRange, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire::args::{Count, ResultsArgs, SeedArgs, SimSetupArgs};
+use ftwire_lab::reproduce::JOBS;
 use serde::Serialize;
-
-/// `--jobs`: each job is an experiment process of its own, and there are fewer experiments
-/// than the cap, so more jobs would only add idle threads.
-pub const JOBS: CountRange = CountRange::new(1, 64);
 
 /// `ftwire reproduce`: every experiment of the paper's §IV, one report beside the paper.
 #[derive(Debug, Clone, Args, Serialize)]
@@ -25,7 +22,7 @@ pub struct ReproduceArgs {
     pub quick: bool,
     /// Experiments run at once, 1 to 64 [default: the machine's cores]. The results do not
     /// depend on it: every experiment is seeded on its own.
-    #[arg(long, value_name = "N", value_parser = JOBS)]
+    #[arg(long, value_name = "N", value_parser = Count(JOBS))]
     pub jobs: Option<usize>,
     /// The results folder (`--out`, `--force`) [default: results/reproduce].
     #[command(flatten)]

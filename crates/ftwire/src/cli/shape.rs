@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use ftwire::args::{CountRange, JsonArgs, ResultsArgs, Vec6, parse_numbers};
+use ftwire::args::{Count, CountRange, JsonArgs, ResultsArgs, Vec6, parse_numbers};
 use ftwire_lab::log::shape::{DEFAULT_POINTS, MAX_POINTS, MIN_POINTS};
 use serde::Serialize;
 
@@ -78,10 +78,10 @@ pub struct ShapeArgs {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensor: Option<String>,
     /// F/T readings averaged into each record (with --sensor), 1 to 1000000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = crate::cli::identify::LOG_SAMPLES, requires = "sensor")]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::identify::REST_SAMPLES, value_parser = Count(ftwire_lab::log::identify::LOG_SAMPLES), requires = "sensor")]
     pub rest_samples: usize,
     /// F/T readings averaged by the tare (with --sensor), 1 to 1000000.
-    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = crate::cli::identify::LOG_SAMPLES, requires = "sensor")]
+    #[arg(long, value_name = "N", default_value_t = ftwire_lab::experiment::rig::TARE_SAMPLES, value_parser = Count(ftwire_lab::log::identify::LOG_SAMPLES), requires = "sensor")]
     pub tare_samples: usize,
     /// When the sensor was tared, on the log's clock [s] (with --sensor) [default: the first
     /// record's time].
@@ -95,7 +95,7 @@ pub struct ShapeArgs {
     pub gain_error: Option<f64>,
     /// Points of each shape, evenly spaced in arc length from the base clamp to the tip, 2 to
     /// 10000, printed or written alike.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_POINTS, value_parser = CountRange::new(MIN_POINTS, MAX_POINTS))]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_POINTS, value_parser = Count(CountRange::new(MIN_POINTS, MAX_POINTS)))]
     pub points: usize,
     /// Results folder (`--out`, `--force`): write shapes.jsonl, summary.json and the report
     /// there instead of printing each record [no default: without --out nothing is written].

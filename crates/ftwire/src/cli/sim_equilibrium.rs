@@ -2,22 +2,9 @@
 
 use clap::Args;
 use ftwire::args::{
-    CountRange, DensityArgs, JsonArgs, TipPoseArgs, Vec3, Vec6, WireArgs, default_gravity,
-    parse_numbers,
+    Count, DensityArgs, JsonArgs, Numbers, TipPoseArgs, Vec3, Vec6, WireArgs, parse_numbers,
 };
-
-/// `--edges`. The discretisation error of the clamp wrenches falls as `1/N²`; from 12 edges on
-/// it is within a few percent of a fine discretisation's on bent and twisted configurations,
-/// while fewer edges (the simulator accepts 3) give wrenches off by tens of percent, and by
-/// orders of magnitude at 3, that Newton still reports as a converged stable minimum. Beyond
-/// 2000 a solve takes minutes and the error is far below anything the model or a sensor
-/// resolves.
-pub const EDGES: CountRange = CountRange::new(12, 2000);
-
-/// Default `--edges`: that of `ftwire_sim::RodParams::default()`.
-pub fn default_edges() -> usize {
-    ftwire_sim::RodParams::default().edges
-}
+use ftwire_lab::equilibrium::{EDGES, default_edges};
 
 /// Arguments of `ftwire sim-equilibrium`: one equilibrium of the ground-truth discrete elastic
 /// rod, with the base clamp at the identity and the tip clamp at the given pose.
@@ -51,7 +38,7 @@ pub struct SimEquilibriumArgs {
     #[arg(
         long,
         value_name = "GX,GY,GZ",
-        default_value_t = default_gravity(),
+        default_value_t = Numbers(ftwire_lab::wire::default_gravity()),
         allow_hyphen_values = true,
         value_parser = parse_numbers::<3>
     )]
@@ -65,7 +52,7 @@ pub struct SimEquilibriumArgs {
         alias = "nodes",
         default_value_t = default_edges(),
         allow_hyphen_values = true,
-        value_parser = EDGES
+        value_parser = Count(EDGES)
     )]
     pub edges: usize,
     /// Start Newton from the Kirchhoff shape of this configuration a = (τ1,τ2,τ3,f1,f2,f3)

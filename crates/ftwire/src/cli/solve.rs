@@ -3,14 +3,9 @@
 use std::path::PathBuf;
 
 use clap::{ArgGroup, Args};
-use ftwire::args::{CountRange, DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
+use ftwire::args::{Count, DensityArgs, JsonArgs, Vec3, Vec6, WireArgs, parse_numbers};
+use ftwire_lab::solve::NODES;
 use ftwire_rod::DEFAULT_NODES;
-use ftwire_rod::rod::{MAX_NODES, MIN_NODES};
-
-/// `--nodes` (and a batch line's `"nodes"`): the model's own range. The shape (positions and
-/// rotations), the costates and the self-contact search grow in proportion to the nodes, a
-/// couple of hundred bytes each, so a million stay well under a gigabyte.
-pub const NODES: CountRange = CountRange::new(MIN_NODES, MAX_NODES);
 
 /// Arguments of `ftwire solve`: one configuration from flags, or a JSON Lines batch.
 #[derive(Debug, Args)]
@@ -83,7 +78,7 @@ pub struct SolveArgs {
         value_name = "N",
         default_value_t = DEFAULT_NODES,
         allow_hyphen_values = true,
-        value_parser = NODES
+        value_parser = Count(NODES)
     )]
     pub nodes: usize,
 

@@ -7,7 +7,7 @@
 
 use ftwire_lab::error::LabError;
 use ftwire_lab::header::RunHeader;
-use ftwire_lab::log::calibrate::{self, DEFAULT_MAX_LABEL_RMS, LogCalibrateParams, MapLoss};
+use ftwire_lab::log::calibrate::{self, LogCalibrateParams};
 use ftwire_lab::results::OutGuard;
 use ftwire_lab::wire::WireSpec;
 
@@ -19,15 +19,6 @@ fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
     train.hidden = args.hidden.iter().copied().filter(|&w| w > 0).collect();
     train.max_epochs = args.epochs;
     train.patience = args.patience;
-    let max_label_rms = if args.max_label_rms_mm > 0.0 {
-        1e-3 * args.max_label_rms_mm
-    } else {
-        return Err(LabError::bad_input(format!(
-            "--max-label-rms-mm {}: must be > 0 (default {} mm)",
-            args.max_label_rms_mm,
-            1e3 * DEFAULT_MAX_LABEL_RMS
-        )));
-    };
     Ok(LogCalibrateParams {
         log: args.log.clone(),
         wire: WireSpec::load(&args.wire)
@@ -36,17 +27,11 @@ fn params(args: &CalibrateArgs) -> Result<LogCalibrateParams, LabError> {
         gravity: args.gravity.given(),
         marker_fractions: (!args.marker_fractions.is_empty())
             .then(|| args.marker_fractions.clone()),
-        max_label_rms,
+        max_label_rms: 1e-3 * args.max_label_rms_mm,
         train,
         drift: !args.no_drift,
         seed: args.seed.seed,
-        loss: MapLoss::from_name(&args.loss).ok_or_else(|| {
-            LabError::bad_input(format!(
-                "--loss {}: one of {}",
-                args.loss,
-                MapLoss::NAMES.join(", ")
-            ))
-        })?,
+        loss: args.loss,
         fit_gravity: args.fit_gravity.then_some(args.gravity_norm),
         rest_tolerance: 1e-3 * args.rest_tolerance_mm,
         shape: ftwire_estimate::calibration::shape_loss::ShapeLossParams {
