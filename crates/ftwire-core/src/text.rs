@@ -151,6 +151,32 @@ pub fn printable(text: &str) -> String {
         .collect()
 }
 
+/// A number as an error message shows it: as Rust prints it, unless it is huge or tiny (`1e308`
+/// would be 309 digits, `1e-300` 301 zeros), then in exponent notation.
+///
+/// # Example
+/// ```
+/// use ftwire_core::text::Number;
+/// assert_eq!(Number(1e308).to_string(), "1e308");
+/// assert_eq!(Number(-2.5e-9).to_string(), "-2.5e-9");
+/// assert_eq!(Number(0.25).to_string(), "0.25");
+/// assert_eq!(Number(1e6).to_string(), "1000000");
+/// assert_eq!(Number(f64::NAN).to_string(), "NaN");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Number(pub f64);
+
+impl std::fmt::Display for Number {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let size = self.0.abs();
+        if self.0.is_finite() && size != 0.0 && !(1e-6..1e15).contains(&size) {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
+}
+
 /// Largest text file [`read_text`] reads \[bytes\]: settings and calibration files are kB.
 pub const MAX_TEXT_BYTES: u64 = 256 << 20;
 

@@ -314,7 +314,10 @@ pub enum EstimateError {
         found: usize,
     },
     /// A calibration weights file holds a non-finite or out-of-range number.
-    #[error("calibration file: {what}[{index}] = {value} is invalid; allowed: {allowed}")]
+    #[error(
+        "calibration file: {what}[{index}] = {} is invalid; allowed: {allowed}",
+        ftwire_core::text::Number(*.value)
+    )]
     CalibrationValue {
         /// Which array (for example `input_normaliser.std`).
         what: String,

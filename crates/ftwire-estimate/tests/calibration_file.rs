@@ -177,6 +177,14 @@ fn malformed_files_are_rejected_with_the_reason() {
         Err(EstimateError::CalibrationValue { ref what, index: 4, .. })
             if what == "input_normaliser.std"
     ));
+    // A huge number is named in exponent notation, not in 309 digits.
+    let huge = load_edited(|v| v["layers"][2]["bias"][1] = 1e308.into());
+    assert!(
+        matches!(&huge, Err(EstimateError::CalibrationValue { what, index: 1, .. }) if what == "layers[2].bias"),
+        "{huge:?}"
+    );
+    let message = huge.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("[1] = 1e308 is invalid"), "{message}");
     assert!(matches!(
         load_edited(|v| v["layers"][0]["weights"][1][3] = serde_json::Value::Null),
         Err(EstimateError::CalibrationSyntax { .. })

@@ -4,7 +4,7 @@
 
 use nalgebra::{Vector3, Vector6};
 use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 
 /// A `ValueError` with `message`.
@@ -142,15 +142,27 @@ pub fn positive(value: f64, name: &str, unit: &str) -> PyResult<f64> {
 /// work, so that a too-large request is a `ValueError`, never an aborted interpreter.
 pub const MAX_OUTPUT_BYTES: u128 = 4 << 30;
 
-/// Checks that an output of `values` float64 numbers fits in [`MAX_OUTPUT_BYTES`].
+/// Checks that an output of `values` float64 numbers fits in [`MAX_OUTPUT_BYTES`], and that
+/// the process can allocate it now: the memory is reserved once and given back, so that under a
+/// memory limit (`ulimit -v`, a container's) the call raises `MemoryError` before any work
+/// instead of aborting the interpreter halfway.
 ///
 /// # Errors
-/// `ValueError` naming `what` (the arguments that set the size) and the bytes asked for.
+/// `ValueError` naming `what` (the arguments that set the size) and the bytes asked for;
+/// `MemoryError` with the same when they cannot be allocated.
 pub fn check_output(what: &str, values: u128) -> PyResult<()> {
     let bytes = values.saturating_mul(8);
     if bytes > MAX_OUTPUT_BYTES {
         return Err(value_error(format!(
             "{what} ask for {bytes} bytes of output, more than the {MAX_OUTPUT_BYTES} allowed: \
+             split the batch or take fewer points"
+        )));
+    }
+    let mut probe: Vec<f64> = Vec::new();
+    let count = usize::try_from(values).unwrap_or(usize::MAX);
+    if probe.try_reserve_exact(count).is_err() {
+        return Err(PyMemoryError::new_err(format!(
+            "{what} ask for {bytes} bytes of output, which this process cannot allocate now: \
              split the batch or take fewer points"
         )));
     }

@@ -183,3 +183,25 @@ def test_an_output_too_large_is_a_value_error_before_any_work():
         wire.solve(np.zeros((1000, 6)), points=10**6)
     with pytest.raises(ValueError, match="bytes"):
         ftwire.ShapeEstimator(wire, points=10_000).estimate(np.zeros((20_000, 6)))
+
+
+def test_an_output_the_process_cannot_allocate_is_a_memory_error():
+    """Under a memory limit (here 3 GiB of address space), an answer under the 4 GiB bound that
+    the process cannot allocate raises MemoryError before any work, not an aborted interpreter."""
+    import subprocess
+    import sys
+
+    child = f"""
+import resource, numpy as np, ftwire
+resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+wire = ftwire.Wire.preset({WIRE!r})
+try:
+    wire.solve(np.zeros((15_000, 6)), points=10_000)
+    print("solved")
+except MemoryError as e:
+    print("MemoryError", e)
+"""
+    done = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, f"exit {done.returncode}: {done.stderr[-2000:]}"
+    assert done.stdout.startswith("MemoryError") and "bytes" in done.stdout, done.stdout
