@@ -100,25 +100,39 @@ pub(super) fn polish<M: WireModel>(
     if fine.form != ResidualForm::Absolute {
         return None;
     }
-    let n = fine.len() / 6;
-    let shared = SharedBias {
-        own: Some(noise.wrench_covariance()),
-        ..fine.shared(noise).unwrap_or_else(|| SharedBias {
-            bias: None,
-            gain: (
-                Vector6::zeros(),
-                fine.samples.iter().take(n).map(|s| s.a).collect(),
-            ),
-            own: None,
-        })
+    let path = match fine.shared(noise) {
+        Some(shared) => {
+            let shared = SharedBias {
+                own: Some(noise.wrench_covariance()),
+                ..shared
+            };
+            let prior = shared.prior();
+            Path::Shared { shared, prior }
+        }
+        None => Path::Own(noise.wrench_covariance()),
     };
-    let n = shared.len();
-    let k = shared.prior();
+    polish_on(fine, start, noise, refine, (lower, upper), &path)
+}
+
+/// [`polish`] on the path's prior `path`.
+fn polish_on<M: WireModel>(
+    fine: &Residuals<'_, M>,
+    start: &[f64],
+    noise: &MeasurementNoise,
+    refine: &LevenbergMarquardt,
+    (lower, upper): (&[f64], &[f64]),
+    path: &Path,
+) -> Option<JointFit> {
+    let n = fine.len() / 6;
+    let n = match path {
+        Path::Shared { shared, .. } => shared.len(),
+        Path::Own(_) => n,
+    };
     let original = fine.samples.get(..n)?;
     // The samples' own noise is in the path; what is left per sample is the pose's.
     let w = fine.weights.matrix();
     let pose = w * noise.pose_covariance() * w.transpose();
-    let objective = Objective::new(fine, original, &k, &pose)?;
+    let objective = Objective::new(fine, original, path, &pose)?;
     let mut beta = DVector::zeros(6 * n);
     let mut theta = start.to_vec();
     let mut fit: Option<JointFit> = None;
@@ -132,18 +146,14 @@ pub(super) fn polish<M: WireModel>(
             ..*fine
         };
         let (wj, _) = shifted.block_covariances(&theta, noise).ok()?;
-        let own = vec![pose; wj.len()];
-        let cholesky = shared.covariance(&wj, &own).cholesky()?;
+        let cholesky = path.covariance(&wj, &pose)?;
         // o = G β̂ = −W J β̂, blockwise.
         let mut offset = DVector::zeros(6 * n);
         for (i, j) in wj.iter().enumerate() {
             let b: Vector6<f64> = beta.fixed_rows::<6>(6 * i).into_owned();
             offset.fixed_rows_mut::<6>(6 * i).copy_from(&(-(j * b)));
         }
-        let whitening = Whitening::Joint {
-            factor: cholesky.l(),
-            offset: offset.clone(),
-        };
+        let whitening = cholesky.whitening(offset.clone())?;
         let whitened = Residuals {
             whitening: Some(&whitening),
             ..shifted
@@ -165,7 +175,7 @@ pub(super) fn polish<M: WireModel>(
             .zip(&theta)
             .map(|(new, old)| (new - old).abs() / old.abs().max(1.0))
             .fold(0.0, f64::max);
-        let next = &k * gty;
+        let next = path.prior_times(&gty);
         // Gauss–Newton on `F` is undamped: an iteration that does not lower it (a
         // linearisation too far from the estimate, on a soft wire's large relative noise)
         // ends the iterations at the last one that did.
@@ -259,8 +269,108 @@ fn shifted_by(samples: &[Sample], beta: &DVector<f64>) -> Vec<Sample> {
 struct Objective<'a, 'm, M: WireModel> {
     fine: &'a Residuals<'m, M>,
     original: &'a [Sample],
-    prior: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    prior: Prior,
     pose: nalgebra::Cholesky<f64, nalgebra::Const<6>>,
+}
+
+/// The path's prior `K`: what the samples share with each sample's own noise (dense
+/// `6N × 6N`), or each sample's own noise alone (`K = blockdiag(Σ_a)`, when nothing is shared:
+/// every product and solve then block by block, linear in the samples).
+#[allow(clippy::large_enum_variant)] // one per fit
+enum Path {
+    /// `K` with the shared terms, and their model.
+    Shared {
+        shared: SharedBias,
+        prior: DMatrix<f64>,
+    },
+    /// `Σ_a`, each sample's own noise.
+    Own(Matrix6<f64>),
+}
+
+/// The Cholesky factor of `K` as [`Objective`] uses it.
+#[allow(clippy::large_enum_variant)] // one per fit
+enum Prior {
+    Shared(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Own(nalgebra::Cholesky<f64, nalgebra::Const<6>>),
+}
+
+/// The Cholesky factor of `C = R + G K Gᵀ`, dense or per sample.
+enum Covariance {
+    Shared(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Own(Vec<nalgebra::Cholesky<f64, nalgebra::Const<6>>>),
+}
+
+impl Path {
+    /// `C = R + G K Gᵀ` from each sample's `W J_i` (`wj`) and the pose covariance, factored;
+    /// `None` when it is not positive definite.
+    fn covariance(&self, wj: &[Matrix6<f64>], pose: &Matrix6<f64>) -> Option<Covariance> {
+        match self {
+            Self::Shared { shared, .. } => {
+                let own = vec![*pose; wj.len()];
+                shared
+                    .covariance(wj, &own)
+                    .cholesky()
+                    .map(Covariance::Shared)
+            }
+            Self::Own(sigma) => wj
+                .iter()
+                .map(|j| (pose + j * sigma * j.transpose()).cholesky())
+                .collect::<Option<Vec<_>>>()
+                .map(Covariance::Own),
+        }
+    }
+
+    /// `K x`.
+    fn prior_times(&self, x: &DVector<f64>) -> DVector<f64> {
+        match self {
+            Self::Shared { prior, .. } => prior * x,
+            Self::Own(sigma) => blockwise(x, |b| sigma * b),
+        }
+    }
+}
+
+impl Covariance {
+    /// The whitening `L⁻¹ (r + offset)`.
+    fn whitening(&self, offset: DVector<f64>) -> Option<Whitening> {
+        Some(match self {
+            Self::Shared(c) => Whitening::Joint {
+                factor: c.l(),
+                offset,
+            },
+            Self::Own(blocks) => Whitening::BlocksOffset {
+                inverse: blocks
+                    .iter()
+                    .map(|c| c.l().try_inverse())
+                    .collect::<Option<Vec<_>>>()?,
+                offset,
+            },
+        })
+    }
+
+    /// `C⁻¹ z`.
+    fn solve(&self, z: &DVector<f64>) -> DVector<f64> {
+        match self {
+            Self::Shared(c) => c.solve(z),
+            Self::Own(blocks) => {
+                let mut i = 0;
+                blockwise(z, |b| {
+                    let y = blocks.get(i).map_or(b, |c| c.solve(&b));
+                    i += 1;
+                    y
+                })
+            }
+        }
+    }
+}
+
+/// `x` with each block of 6 replaced by `f` of it, in order.
+fn blockwise(x: &DVector<f64>, mut f: impl FnMut(Vector6<f64>) -> Vector6<f64>) -> DVector<f64> {
+    let mut out = x.clone();
+    for i in 0..x.len() / 6 {
+        let b: Vector6<f64> = x.fixed_rows::<6>(6 * i).into_owned();
+        out.fixed_rows_mut::<6>(6 * i).copy_from(&f(b));
+    }
+    out
 }
 
 impl<'a, 'm, M: WireModel> Objective<'a, 'm, M> {
@@ -268,13 +378,17 @@ impl<'a, 'm, M: WireModel> Objective<'a, 'm, M> {
     fn new(
         fine: &'a Residuals<'m, M>,
         original: &'a [Sample],
-        prior: &DMatrix<f64>,
+        path: &Path,
         pose: &Matrix6<f64>,
     ) -> Option<Self> {
+        let prior = match path {
+            Path::Shared { prior, .. } => Prior::Shared(prior.clone().cholesky()?),
+            Path::Own(sigma) => Prior::Own(sigma.cholesky()?),
+        };
         Some(Self {
             fine,
             original,
-            prior: prior.clone().cholesky()?,
+            prior,
             pose: pose.cholesky()?,
         })
     }
@@ -294,7 +408,11 @@ impl<'a, 'm, M: WireModel> Objective<'a, 'm, M> {
                 ri.dot(&self.pose.solve(&ri))
             })
             .sum();
-        pose + beta.dot(&self.prior.solve(beta))
+        let prior = match &self.prior {
+            Prior::Shared(k) => beta.dot(&k.solve(beta)),
+            Prior::Own(sigma) => beta.dot(&blockwise(beta, |b| sigma.solve(&b))),
+        };
+        pose + prior
     }
 }
 
@@ -304,6 +422,25 @@ mod tests {
     use crate::identify::{ParameterConstraints, Weights};
     use crate::{KirchhoffModel, WireModel};
     use ftwire_core::WireParams;
+
+    /// The absolute form's residuals of `samples`, unwhitened.
+    fn absolute_residuals<'a>(
+        model: &'a KirchhoffModel,
+        samples: &'a [Sample],
+        constraints: ParameterConstraints,
+    ) -> Residuals<'a, KirchhoffModel> {
+        Residuals {
+            model,
+            samples,
+            form: ResidualForm::Absolute,
+            weights: Weights {
+                length_scale: 0.5,
+                tangent_rotation: 1.0,
+            },
+            constraints,
+            whitening: None,
+        }
+    }
 
     /// The linearisation's sign: the weighted residual of a sample moves by `−W J δa` when
     /// its `a` moves by `δa`, which `G` and the offset assume.
@@ -327,17 +464,7 @@ mod tests {
             },
         ];
         let constraints = ParameterConstraints::default();
-        let residuals = Residuals {
-            model: &model,
-            samples: &samples,
-            form: ResidualForm::Absolute,
-            weights: Weights {
-                length_scale: 0.5,
-                tangent_rotation: 1.0,
-            },
-            constraints,
-            whitening: None,
-        };
+        let residuals = absolute_residuals(&model, &samples, constraints);
         let theta = constraints.theta(wire.c(), wire.length(), 0.0);
         let r = residuals.evaluate(&theta);
         let moved = r.fixed_rows::<6>(6) - r.fixed_rows::<6>(0);
@@ -348,6 +475,79 @@ mod tests {
         assert!(
             (moved - predicted).norm() < 1e-3 * predicted.norm(),
             "{moved} vs {predicted}"
+        );
+    }
+
+    /// With nothing shared between the samples, the joint fit block by block (linear in the
+    /// samples) is the dense one (`6N × 6N`) to rounding.
+    #[test]
+    fn the_block_fit_is_the_dense_fit_when_nothing_is_shared() {
+        let wire = WireParams::new([0.042, 0.055, 0.055], 0.63, 0.001).expect("valid wire");
+        let model = KirchhoffModel::new(wire);
+        let base = [
+            Vector6::new(0.0, 0.02, 0.01, -0.05, 0.03, 0.0),
+            Vector6::new(0.005, -0.01, 0.015, 0.02, -0.04, 0.01),
+            Vector6::new(-0.004, 0.012, -0.008, 0.06, 0.02, -0.02),
+            Vector6::new(0.002, 0.018, 0.004, -0.02, 0.05, 0.015),
+        ];
+        // Noisy readings of exact poses.
+        let samples: Vec<Sample> = (0..12)
+            .map(|k| {
+                let a = base[k % 4] * (1.0 + 0.01 * (k as f64));
+                let b = model.tip(&a).expect("solvable");
+                let wiggle = Vector6::from_fn(|i, _| 1e-4 * (((7 * k + 3 * i) % 5) as f64 - 2.0));
+                Sample {
+                    a: a + wiggle,
+                    b,
+                    time: None,
+                }
+            })
+            .collect();
+        let constraints = ParameterConstraints::default();
+        let fine = absolute_residuals(&model, &samples, constraints);
+        let noise = MeasurementNoise::default();
+        assert!(fine.shared(&noise).is_none(), "nothing is shared");
+        let start = constraints.theta([0.05, 0.06, 0.05], 0.62, 0.0);
+        let (lower, upper) = constraints.bounds(0.5);
+        let refine = LevenbergMarquardt::default();
+        let own = noise.wrench_covariance();
+        let dense = Path::Shared {
+            shared: SharedBias {
+                bias: None,
+                gain: (Vector6::zeros(), samples.iter().map(|s| s.a).collect()),
+                own: Some(own),
+            },
+            prior: SharedBias {
+                bias: None,
+                gain: (Vector6::zeros(), samples.iter().map(|s| s.a).collect()),
+                own: Some(own),
+            }
+            .prior(),
+        };
+        let bounds = (&lower[..], &upper[..]);
+        let blocks = polish_on(&fine, &start, &noise, &refine, bounds, &Path::Own(own))
+            .expect("the block fit");
+        let full =
+            polish_on(&fine, &start, &noise, &refine, bounds, &dense).expect("the dense fit");
+        let moved = blocks
+            .refined
+            .theta
+            .iter()
+            .zip(&start)
+            .map(|(t, s)| (t - s).abs())
+            .fold(0.0, f64::max);
+        assert!(moved > 1e-3, "the fit moved θ by {moved} only");
+        for (b, d) in blocks.refined.theta.iter().zip(&full.refined.theta) {
+            assert!((b - d).abs() <= 1e-9 * d.abs().max(1.0), "{b} vs {d}");
+        }
+        assert!(
+            (blocks.objective - full.objective).abs() <= 1e-9 * full.objective.abs().max(1.0),
+            "{} vs {}",
+            blocks.objective,
+            full.objective
+        );
+        assert!(
+            (blocks.refined.cost - full.refined.cost).abs() <= 1e-9 * full.refined.cost.max(1.0)
         );
     }
 }

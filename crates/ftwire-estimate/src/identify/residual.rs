@@ -166,6 +166,15 @@ pub enum Whitening {
         /// `o`, one entry per scalar residual.
         offset: DVector<f64>,
     },
+    /// [`Whitening::Joint`] when nothing is shared between samples (the stacked covariance is
+    /// block diagonal): `L_i⁻¹ (r_i + o_i)` per sample, in time and memory linear in the
+    /// samples.
+    BlocksOffset {
+        /// `L_i⁻¹` of each block.
+        inverse: Vec<Matrix6<f64>>,
+        /// `o`, one entry per scalar residual.
+        offset: DVector<f64>,
+    },
 }
 
 impl<M: WireModel> Residuals<'_, M> {
@@ -226,6 +235,14 @@ impl<M: WireModel> Residuals<'_, M> {
             Some(Whitening::Joint { factor, offset }) if offset.len() == r.len() => {
                 let shifted = r + offset;
                 factor.solve_lower_triangular(&shifted).unwrap_or(shifted)
+            }
+            Some(Whitening::BlocksOffset { inverse, offset }) if offset.len() == r.len() => {
+                let mut shifted = r + offset;
+                for (i, w) in inverse.iter().enumerate() {
+                    let block: Vector6<f64> = shifted.fixed_rows::<6>(6 * i).into_owned();
+                    shifted.fixed_rows_mut::<6>(6 * i).copy_from(&(w * block));
+                }
+                shifted
             }
             _ => r,
         }
