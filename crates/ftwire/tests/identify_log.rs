@@ -86,6 +86,7 @@ fn a_saved_log_gives_the_live_estimate() {
     );
     assert_replay_gives_the_live_estimate(&out);
     let log = out.join("logs").join("nitinol-2mm-630-trial0.jsonl");
+    assert_many_independent_records_fit_in_little_memory(&tmp.0, &log);
     // Asking for more records than the log holds is bad input.
     let wrong = ftwire(&[
         "identify",
@@ -325,6 +326,39 @@ fn identify(out: &Path, extra: &[&str]) -> serde_json::Value {
         serde_json::from_slice(&fs::read(out.join("summary.json")).expect("a summary"))
             .expect("JSON");
     summary["summary"].clone()
+}
+
+/// 1500 independent records (the log's three, again and again) identify under a 700 MB limit
+/// of address space: the fit's memory is linear in the records. A dense `6N × 6N` covariance
+/// of them would take 650 MB alone.
+fn assert_many_independent_records_fit_in_little_memory(dir: &Path, log: &Path) {
+    let records: Vec<serde_json::Value> = fs::read_to_string(log)
+        .expect("the log")
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a record"))
+        .collect();
+    let many = dir.join("many.jsonl");
+    let text_of: String = (0..1500_u16)
+        .map(|k| {
+            let mut r = records[usize::from(k) % records.len()].clone();
+            r["time"] = serde_json::json!(f64::from(k));
+            format!("{r}\n")
+        })
+        .collect();
+    fs::write(&many, text_of).expect("written");
+    let command =
+        "ulimit -v 700000 && exec \"$0\" identify --log \"$1\" --json --seed 1 > /dev/null";
+    let done = std::process::Command::new("sh")
+        .args(["-c", command, env!("CARGO_BIN_EXE_ftwire"), text(&many)])
+        .output()
+        .expect("sh runs");
+    // 0 identified or 1 not identified; never an abort (134) or a kill for memory.
+    assert!(
+        matches!(done.status.code(), Some(0 | 1)),
+        "{:?}: {}",
+        done.status,
+        String::from_utf8_lossy(&done.stderr)
+    );
 }
 
 /// The `a` of every record of a trial's log.
