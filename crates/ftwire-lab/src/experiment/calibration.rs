@@ -396,6 +396,8 @@ fn single_reading(rig: &mut ftwire_sim::SimRig) -> Option<Vector6<f64>> {
 struct Walk {
     /// The walk's first configuration: it stays within [`WALK_RADIUS`] of it.
     home: Option<Vector6<f64>>,
+    /// Whether the last configuration given is the first one (a start or a restart there).
+    at_home: bool,
     last: Option<Vector6<f64>>,
     hysteresis: Option<Vector6<f64>>,
 }
@@ -423,6 +425,7 @@ impl Walk {
                 None => fresh(rng)?,
             };
             self.home.get_or_insert(ftwire_rod::to_normalised(wire, &a));
+            self.at_home = true;
             self.last = Some(a);
             return Ok(a);
         };
@@ -461,6 +464,7 @@ impl Walk {
                     .is_ok_and(|s| s.is_free());
             let step = tip(&next).map(|t| (t - here).norm());
             if free && step.is_some_and(|s| (0.5 * target..=2.0 * target).contains(&s)) {
+                self.at_home = false;
                 self.last = Some(b);
                 return Ok(b);
             }
@@ -469,8 +473,12 @@ impl Walk {
         self.next(rod, sampler, rng)
     }
 
-    /// A placement failed: the next rest starts anew.
+    /// A placement failed: the next rest starts anew, at the first configuration, or at a new
+    /// first configuration when the first is where the placement failed.
     fn lost(&mut self) {
+        if self.at_home {
+            self.home = None;
+        }
         self.last = None;
     }
 
