@@ -14,7 +14,7 @@ use ftwire_estimate::ft::{RestAverage, Tare};
 use ftwire_estimate::shape::ShapeEstimator;
 use nalgebra::{Vector3, Vector6};
 
-use crate::{Measurement, Reading, RigError, ShapeConfidence, Solved};
+use crate::{Measurement, RawMap, Reading, RigError, ShapeConfidence, Solved};
 
 /// Settings of a [`Stream`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,30 +67,7 @@ impl Stream {
                 "window = 0 is not allowed: at least 1 reading per ã".into(),
             ));
         }
-        if params.tare == 1 {
-            return Err(RigError::Setting(
-                "tare = 1 is not allowed: 0 (no tare) or at least 2 readings".into(),
-            ));
-        }
-        if params.tare > 0 && measurement.map().mounting().is_some_and(|m| m.has_tool()) {
-            return Err(RigError::Setting(
-                "a tare with a mounting that has a tool is not allowed: the tare would hold the \
-                 tool's weight at one orientation; take the tool's weight out with gravity \
-                 (no tare), or give a mounting without a tool"
-                    .into(),
-            ));
-        }
-        if params.tare > 0
-            && let Some(c) = measurement.map().calibration()
-            && c.input() == CalibrationInput::Raw
-        {
-            return Err(RigError::Setting(
-                "a tare with a calibration whose input is raw (calibration.json's `input`) is \
-                 not allowed: its map takes each reading as it comes, offset and all; use no \
-                 tare, or a calibration trained on tared readings (`input: \"tared\"`)"
-                    .into(),
-            ));
-        }
+        check_tare(measurement.map(), params.tare)?;
         let tare = if params.tare == 0 {
             TareState::Done {
                 tare: Tare::none(),
@@ -221,6 +198,58 @@ impl Stream {
     }
 }
 
+/// Readings in a tare by default, where `map` allows one ([`default_tare`]).
+pub const DEFAULT_TARE: usize = 500;
+
+/// The tare a stream or a node takes by default before `map`: none before a calibration whose
+/// input is raw (its map takes each reading as it comes, offset and all) or a mounting with a
+/// tool (the tare would hold the tool's weight at one orientation), else [`DEFAULT_TARE`]
+/// readings.
+pub fn default_tare(map: &RawMap) -> usize {
+    if check_tare(map, DEFAULT_TARE).is_ok() {
+        DEFAULT_TARE
+    } else {
+        0
+    }
+}
+
+/// Whether a tare of `tare` readings may come before `map`: 0 (no tare) always; otherwise at
+/// least 2 readings (the tare measures its own noise), a mounting without a tool and no
+/// calibration whose input is raw.
+///
+/// # Errors
+/// [`RigError::Setting`] saying which rule `tare` breaks and what is allowed.
+pub fn check_tare(map: &RawMap, tare: usize) -> Result<(), RigError> {
+    if tare == 0 {
+        return Ok(());
+    }
+    if tare == 1 {
+        return Err(RigError::Setting(
+            "tare = 1 is not allowed: 0 (no tare) or at least 2 readings".into(),
+        ));
+    }
+    if map.mounting().is_some_and(|m| m.has_tool()) {
+        return Err(RigError::Setting(
+            "a tare with a mounting that has a tool is not allowed: the tare would hold the \
+             tool's weight at one orientation; take the tool's weight out with gravity \
+             (no tare), or give a mounting without a tool"
+                .into(),
+        ));
+    }
+    if map
+        .calibration()
+        .is_some_and(|c| c.input() == CalibrationInput::Raw)
+    {
+        return Err(RigError::Setting(
+            "a tare with a calibration whose input is raw (calibration.json's `input`) is \
+             not allowed: its map takes each reading as it comes, offset and all; use no \
+             tare, or a calibration trained on tared readings (`input: \"tared\"`)"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
 /// The tare of `samples`, read with nothing in the gripper: their mean over the good ones (at
 /// least half, and at least 2, must be), subtracted from every later reading.
 ///
@@ -346,5 +375,53 @@ mod tests {
         )
         .expect_err("refused");
         assert!(error.to_string().contains("tool"), "{error}");
+    }
+
+    /// A node tares by default only where a tare is allowed: not before a calibration that
+    /// takes raw readings (a tare would take its offset out twice), nor under a tool.
+    #[test]
+    fn the_default_tare_is_none_before_a_raw_calibration_and_a_given_one_is_refused() {
+        use ftwire_estimate::calibration::{
+            Calibration, CalibrationInput, Dataset, LabelModel, TrainParams,
+        };
+        let mounting = RawMap::new(None, Some(MountingSpec::default())).expect("valid");
+        assert_eq!(default_tare(&mounting), DEFAULT_TARE);
+        assert!(check_tare(&mounting, DEFAULT_TARE).is_ok());
+        let labels: Vec<Vector6<f64>> = (0..40)
+            .map(|k| {
+                Vector6::from_fn(|i, _| {
+                    f64::from(u8::try_from((k * 7 + i * 3) % 11).expect("small")) - 5.0
+                })
+            })
+            .collect();
+        let data = Dataset::new(labels.iter().map(|a| 2.0 * a).collect(), labels).expect("finite");
+        let params = TrainParams {
+            hidden: vec![],
+            max_epochs: 5,
+            ..TrainParams::default()
+        };
+        let calibration = Calibration::train(&data, &params, 1).expect("trains");
+        for (input, tare) in [
+            (CalibrationInput::Raw, 0),
+            (CalibrationInput::Tared, DEFAULT_TARE),
+        ] {
+            let c = calibration
+                .clone()
+                .with_provenance(LabelModel::WEIGHTLESS, input)
+                .expect("valid");
+            let map = RawMap::new(Some(c), None).expect("valid");
+            assert_eq!(default_tare(&map), tare, "{input:?}");
+            let given = check_tare(&map, 500);
+            assert_eq!(given.is_ok(), input == CalibrationInput::Tared, "{given:?}");
+            assert!(check_tare(&map, 0).is_ok());
+        }
+        let tool = MountingSpec {
+            tool_mass: 0.2,
+            ..MountingSpec::default()
+        };
+        assert_eq!(
+            default_tare(&RawMap::new(None, Some(tool)).expect("valid")),
+            0
+        );
     }
 }

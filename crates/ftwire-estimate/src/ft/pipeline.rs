@@ -12,6 +12,14 @@ use ftwire_core::FtSample;
 pub trait FtCalibration: Send + Sync {
     /// The configuration for a tared raw reading.
     fn configuration(&self, tared: &Vector6<f64>) -> Vector6<f64>;
+
+    /// The configuration for a tared raw reading taken at `time` \[s, the reading's clock\]:
+    /// a map that changes in time (a learnt calibration's drift) is applied at the reading's
+    /// own time. The default is [`FtCalibration::configuration`], a map the same at every time.
+    fn configuration_at(&self, tared: &Vector6<f64>, time: f64) -> Vector6<f64> {
+        let _ = time;
+        self.configuration(tared)
+    }
 }
 
 impl FtCalibration for Mounting {
@@ -93,6 +101,13 @@ impl<C: FtCalibration> FtPipeline<C> {
         self.calibration.configuration(&self.tare.apply(raw))
     }
 
+    /// `ã` for one already averaged raw reading taken at `time` \[s\]: tare, then calibrate
+    /// at that time ([`FtCalibration::configuration_at`]).
+    pub fn configuration_at(&self, raw: &Vector6<f64>, time: f64) -> Vector6<f64> {
+        self.calibration
+            .configuration_at(&self.tare.apply(raw), time)
+    }
+
     /// `ã` from the raw samples of one rest period (`None` for a dropout).
     ///
     /// # Errors
@@ -103,7 +118,8 @@ impl<C: FtCalibration> FtPipeline<C> {
         samples: impl IntoIterator<Item = Option<&'a FtSample>>,
     ) -> Result<Measurement, EstimateError> {
         let raw = self.average.average(samples)?;
-        let a = self.configuration(&raw.mean);
+        // At the time of the rest's last sample: a drifting map is applied when it was read.
+        let a = self.configuration_at(&raw.mean, raw.time);
         if let Some(index) = a.iter().position(|v| !v.is_finite()) {
             return Err(EstimateError::NonFiniteConfiguration {
                 index,
@@ -120,7 +136,9 @@ impl<C: FtCalibration> FtPipeline<C> {
                 let mut minus = raw.mean;
                 plus[j] += h;
                 minus[j] -= h;
-                let column = (self.configuration(&plus) - self.configuration(&minus)) / 2.0;
+                let column = (self.configuration_at(&plus, raw.time)
+                    - self.configuration_at(&minus, raw.time))
+                    / 2.0;
                 variance += column.component_mul(&column);
             }
         }
@@ -137,6 +155,42 @@ mod tests {
     use super::*;
     use ftwire_core::Pose;
     use nalgebra::{Translation3, UnitQuaternion};
+
+    /// A map whose offset drifts with time, as a learnt calibration's drift term does.
+    struct Drifting;
+
+    impl FtCalibration for Drifting {
+        fn configuration(&self, tared: &Vector6<f64>) -> Vector6<f64> {
+            *tared
+        }
+
+        fn configuration_at(&self, tared: &Vector6<f64>, time: f64) -> Vector6<f64> {
+            tared + Vector6::repeat(0.01 * time)
+        }
+    }
+
+    /// A rest is mapped at its own time (its last sample's), so that a drift is applied when
+    /// the rest was read, not at a fixed time.
+    #[test]
+    fn a_rest_is_mapped_at_its_time() -> Result<(), EstimateError> {
+        let pipeline = FtPipeline::new(RestAverage::new(2)?, Tare::none(), Drifting);
+        let raw = Vector6::new(1.0, 2.0, 3.0, 0.1, 0.2, 0.3);
+        let samples: Vec<FtSample> = (0..3)
+            .map(|k| FtSample {
+                time: 10.0 + f64::from(k),
+                raw,
+                ..Default::default()
+            })
+            .collect();
+        let m = pipeline.measure(samples.iter().map(Some))?;
+        assert!(
+            (m.a - (raw + Vector6::repeat(0.12))).norm() < 1e-12,
+            "{}",
+            m.a
+        );
+        assert_eq!(pipeline.configuration(&raw), raw);
+        Ok(())
+    }
 
     #[test]
     fn the_pipeline_undoes_a_known_offset_and_mounting() -> Result<(), EstimateError> {

@@ -83,8 +83,9 @@ pub struct SensorOptions {
     pub gravity_in_clamp: Option<[f64; 3]>,
     /// `--qos` of the wrench subscription.
     pub qos: SensorQos,
-    /// `--tare`: samples of the tare.
-    pub tare: usize,
+    /// `--tare`: samples of the tare (`None`: the map's default,
+    /// [`ftwire_rig::stream::default_tare`]: none before a calibration whose input is raw).
+    pub tare: Option<usize>,
     /// `--rate` \[Hz\].
     pub rate: f64,
     /// `--wrench-topic`.
@@ -99,6 +100,12 @@ impl SensorOptions {
             self.calibration.as_deref(),
             Some(self.mounting.clone()),
         )?)
+    }
+
+    /// `--tare`, or the default tare before `map`.
+    fn tare(&self, map: &RawMap) -> usize {
+        self.tare
+            .unwrap_or_else(|| ftwire_rig::stream::default_tare(map))
     }
 
     fn mount(&self) -> Result<Mounting, NodeError> {
@@ -210,13 +217,15 @@ impl EstimateOptions {
                 ));
             }
         };
+        let map = s.raw_map()?;
+        let tare = s.tare(&map);
         Ok(EstimateNodeParams {
             wire: load_wire(&self.wire)?,
-            map: s.raw_map()?,
+            map,
             gravity_in_clamp: s.gravity_in_clamp,
             points: self.points,
             qos: s.qos,
-            tare: s.tare,
+            tare,
             window: self.window,
             rate: s.rate,
             wrench_topic: s.wrench_topic.clone(),
@@ -224,8 +233,8 @@ impl EstimateOptions {
             tf,
             truth_topic: self.truth_topic.clone(),
             contact_miss: self.contact_miss_mm.map(|mm| 1e-3 * mm),
-            observe: self.observe.params(s.tare)?,
-            error_bars: self.error_bars()?,
+            observe: self.observe.params(tare)?,
+            error_bars: self.error_bars(tare)?,
             record: self.record.clone().map(|path| Record {
                 path,
                 overwrite: self.force,
@@ -236,7 +245,7 @@ impl EstimateOptions {
     /// The error bars: `--sensor`'s data sheet with the window, the tare and `--gain-error`
     /// ([`ftwire_logs::identification::data_sheet_noise`]), and `--model-error`; `None` with
     /// `--error-bars off`.
-    fn error_bars(&self) -> Result<Option<ErrorBars>, NodeError> {
+    fn error_bars(&self, tare: usize) -> Result<Option<ErrorBars>, NodeError> {
         if !self.error_bars {
             return Ok(None);
         }
@@ -244,7 +253,7 @@ impl EstimateOptions {
         let noise = ftwire_logs::identification::data_sheet_noise(
             &sheet,
             &self.sensor.mount()?,
-            (self.window, self.sensor.tare),
+            (self.window, tare),
             self.gain_error_pct.map(|pct| 1e-2 * pct),
         )?;
         let model_error = self
@@ -282,10 +291,11 @@ impl RobotOptions {
     /// Bad input naming the option.
     pub fn params(&self, truth_topic: Option<String>) -> Result<RobotParams, NodeError> {
         let s = &self.sensor;
+        let map = s.raw_map()?;
         let params = RobotParams {
-            map: s.raw_map()?,
+            tare: s.tare(&map),
+            map,
             qos: s.qos,
-            tare: s.tare,
             rate: s.rate,
             rest_samples: self.rest_samples,
             settle_samples: self.settle_samples,
@@ -329,13 +339,13 @@ impl IdentifyOptions {
     pub fn params(&self) -> Result<IdentifyNodeParams, NodeError> {
         let mut config = self.residual.config()?;
         let r = &self.robot;
+        let robot = r.params(None)?;
         if let Some(given) = &self.sensor {
             let noise = data_sheet(Some(given))?
-                .noise(&r.sensor.mount()?, r.rest_samples, r.sensor.tare)
+                .noise(&r.sensor.mount()?, r.rest_samples, robot.tare)
                 .map_err(|e| bad_input(format!("--sensor: {e}")))?;
             config.noise = self.residual.with_noise_settings(noise)?;
         }
-        let robot = r.params(None)?;
         if let Some(g) = ftwire_logs::model_gravity(&robot.map, r.sensor.gravity_in_clamp)? {
             ftwire_rig::WireModelChoice::loaded(g)
                 .map_err(|e| bad_input(format!("--gravity-in-clamp: {e}")))?;
@@ -413,5 +423,90 @@ impl ControlOptions {
             max_steps: self.max_steps,
             contact_miss: self.contact_miss_mm.map(|mm| 1e-3 * mm),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ftwire_estimate::calibration::{
+        Calibration, CalibrationInput, Dataset, LabelModel, TrainParams,
+    };
+
+    /// A calibration file whose map takes `input`, written into a fresh folder.
+    fn calibration_file(input: CalibrationInput, name: &str) -> PathBuf {
+        let labels: Vec<Vector6<f64>> = (0..40_u32)
+            .map(|k| {
+                Vector6::from_fn(|i, _| {
+                    f64::from((k * 7 + 3 * u32::try_from(i).unwrap_or(0)) % 11) - 5.0
+                })
+            })
+            .collect();
+        let raw = labels.iter().map(|a| 2.0 * a).collect();
+        let data = Dataset::new(raw, labels).expect("finite");
+        let params = TrainParams {
+            hidden: vec![],
+            max_epochs: 5,
+            ..TrainParams::default()
+        };
+        let calibration = Calibration::train(&data, &params, 1)
+            .expect("trains")
+            .with_provenance(LabelModel::WEIGHTLESS, input)
+            .expect("valid");
+        let dir =
+            std::env::temp_dir().join(format!("ftwire-options-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a folder");
+        let path = dir.join("calibration.json");
+        calibration.save(&path).expect("written");
+        path
+    }
+
+    fn robot(calibration: PathBuf, tare: Option<usize>) -> RobotOptions {
+        RobotOptions {
+            sensor: SensorOptions {
+                calibration: Some(calibration),
+                mounting: MountingSpec::default(),
+                gravity_in_clamp: None,
+                qos: SensorQos::SensorData,
+                tare,
+                rate: 1000.0,
+                wrench_topic: "/ft".into(),
+                tip_pose_topic: "/tip".into(),
+            },
+            rest_samples: 400,
+            settle_samples: 20,
+            reach_mm: 1.0,
+            reach_deg: 1.0,
+            move_timeout: 5.0,
+            target_topic: "/target".into(),
+        }
+    }
+
+    /// The moving nodes (`identify`, `control`) take no tare by default before a calibration
+    /// that takes raw readings (`calibrate --log`'s), and refuse one given, naming `--tare`,
+    /// as `ros2 estimate` does; a calibration trained on tared readings is tared by default.
+    #[test]
+    fn a_raw_calibration_is_not_tared_by_the_moving_nodes() {
+        let raw = calibration_file(CalibrationInput::Raw, "raw");
+        assert_eq!(
+            robot(raw.clone(), None).params(None).expect("valid").tare,
+            0
+        );
+        let error = robot(raw.clone(), Some(500))
+            .params(None)
+            .expect_err("a tare before a raw calibration");
+        let message = error.to_string();
+        assert!(
+            message.contains("--tare") && message.contains("raw"),
+            "{message}"
+        );
+        let tared = calibration_file(CalibrationInput::Tared, "tared");
+        let params = robot(tared.clone(), None).params(None).expect("valid");
+        assert_eq!(params.tare, ftwire_rig::stream::DEFAULT_TARE);
+        for path in [raw, tared] {
+            if let Some(dir) = path.parent() {
+                std::fs::remove_dir_all(dir).ok();
+            }
+        }
     }
 }

@@ -55,7 +55,8 @@ pub struct RobotParams {
     pub map: RawMap,
     /// The wrench subscription's QoS (default sensor data, [`super::SensorQos`]).
     pub qos: super::SensorQos,
-    /// Samples of the tare, with nothing in the gripper (0: no tare) (default 500).
+    /// Samples of the tare, with nothing in the gripper (0: no tare; none before a
+    /// calibration whose input is raw, [`ftwire_rig::stream::check_tare`]).
     pub tare: usize,
     /// The sensor's rate \[Hz\], to count lost samples from the stamps (default 1000).
     pub rate: f64,
@@ -94,6 +95,14 @@ impl RobotParams {
         };
         if self.tare > 1_000_000 {
             return bad("--tare", self.tare.to_string(), "0 to 1000000 samples");
+        }
+        if let Err(e) = ftwire_rig::stream::check_tare(&self.map, self.tare) {
+            return bad(
+                "--tare",
+                format!("{} ({e})", self.tare),
+                "0 (no tare) before a calibration whose input is raw; otherwise 0 or at least 2 \
+                 samples",
+            );
         }
         if !(10..=100_000).contains(&self.rest_samples) {
             return bad(
@@ -583,7 +592,7 @@ impl Robot {
         #[allow(clippy::cast_precision_loss)] // a rest far below 2⁵²
         let mean = window.samples.iter().map(|s| s.raw).sum::<Vector6<f64>>()
             / window.samples.len().max(1) as f64;
-        let a = self.a_tilde(&tare.apply(&mean))?;
+        let a = self.a_tilde(&tare.apply(&mean), window.mean_time())?;
         Ok(Ok(Rest {
             a,
             tip: window.tip,
@@ -592,9 +601,10 @@ impl Robot {
         }))
     }
 
-    /// A tared mean through the calibration or the mounting.
-    fn a_tilde(&self, mean: &Vector6<f64>) -> Result<Vector6<f64>, NodeError> {
-        a_of_raw(mean, 0.0, &self.params.map).map_err(NodeError::Incomplete)
+    /// A tared mean through the calibration or the mounting, at its stamp `time` \[s\] (a
+    /// calibration's drift at the rest's time, held within its session's span).
+    fn a_tilde(&self, mean: &Vector6<f64>, time: f64) -> Result<Vector6<f64>, NodeError> {
+        a_of_raw(mean, time, &self.params.map).map_err(NodeError::Incomplete)
     }
 }
 

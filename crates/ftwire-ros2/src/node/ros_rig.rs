@@ -39,15 +39,21 @@ pub const SHAPE_NODES: usize = 64;
 const BASE_TOLERANCE: f64 = 1e-9;
 
 /// The node's raw map (`--calibration`, else `--mounting`) as the pipeline's calibration: a
-/// tared raw reading to `ã`, as [`RawMap::a_tilde`] maps it (no answer: not finite, which the
-/// pipeline refuses).
+/// tared raw reading to `ã`, as [`RawMap::a_tilde`] maps it at the rest's stamp (no answer:
+/// not finite, which the pipeline refuses). A calibration's drift is held within its own
+/// session's span; a reading without a time gets the drift at the span's end, as a later
+/// session's reading does.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MapCalibration(pub RawMap);
 
 impl FtCalibration for MapCalibration {
     fn configuration(&self, tared: &Vector6<f64>) -> Vector6<f64> {
+        self.configuration_at(tared, f64::INFINITY)
+    }
+
+    fn configuration_at(&self, tared: &Vector6<f64>, time: f64) -> Vector6<f64> {
         self.0
-            .a_tilde(&Reading::raw(0.0, *tared))
+            .a_tilde(&Reading::raw(time, *tared))
             .unwrap_or_else(|_| Vector6::repeat(f64::NAN))
     }
 }

@@ -292,9 +292,11 @@ pub struct SensorArgs {
     #[arg(long, value_enum, default_value_t = SensorQosArg::SensorData)]
     pub qos: SensorQosArg,
     /// Samples of the tare: the first N received are the sensor's reading with nothing in the
-    /// gripper (0: no tare).
-    #[arg(long, value_name = "N", default_value_t = 500)]
-    pub tare: usize,
+    /// gripper (0: no tare). A calibration whose input is raw (`calibrate --log`'s) takes
+    /// each reading as it comes, offset and all: no tare before it [default: 500, and 0 with a
+    /// calibration whose input is raw or a mounting with a tool]
+    #[arg(long, value_name = "N")]
+    pub tare: Option<usize>,
     /// The sensor's rate [Hz], to count the samples lost from the stamps k / rate.
     #[arg(long, value_name = "HZ", default_value_t = 1000.0, value_parser = parse_finite)]
     pub rate: f64,
