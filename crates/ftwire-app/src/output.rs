@@ -38,7 +38,12 @@ pub fn write(out: &mut impl Write, report: &impl Report, json: bool) -> Result<(
             .map_err(io::Error::from)
             .and_then(|()| out.write_all(b"\n"))
     } else {
-        report.write_text(out)
+        // The text may quote what the user gave (a path, a log's name): its control
+        // characters are escaped, as the binary's errors are (JSON escapes its own).
+        let mut text = Vec::new();
+        report.write_text(&mut text).and_then(|()| {
+            out.write_all(ftwire_core::text::printable(&String::from_utf8_lossy(&text)).as_bytes())
+        })
     };
     written
         .and_then(|()| out.flush())
@@ -219,5 +224,31 @@ mod tests {
             String::from_utf8_lossy(&lines.into_inner()),
             "{\"x\":1.0}\n{\"error\":\"c must have 3 values\",\"kind\":\"bad_input\",\"line\":2}\n"
         );
+    }
+
+    /// A text that quotes the user's input (here a name with an ESC sequence) reaches the
+    /// terminal escaped; newlines stay.
+    #[test]
+    fn the_text_escapes_control_characters() {
+        struct Named(&'static str);
+        impl Serialize for Named {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                s.serialize_str(self.0)
+            }
+        }
+        impl Report for Named {
+            fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+                writeln!(out, "results in {}", self.0)
+            }
+        }
+        let mut text = Vec::new();
+        write(&mut text, &Named("z\u{1b}]0;PWNED\u{7}"), false).expect("writes");
+        assert_eq!(
+            String::from_utf8_lossy(&text),
+            "results in z\\u{1b}]0;PWNED\\u{7}\n"
+        );
+        let mut json = Vec::new();
+        write(&mut json, &Named("z\u{1b}"), true).expect("writes");
+        assert_eq!(json, b"\"z\\u001b\"\n");
     }
 }

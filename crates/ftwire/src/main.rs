@@ -5,6 +5,28 @@
 //! the output writer in `ftwire-app`, and the libraries do the work. Exit codes are mapped here, in one place
 //! ([`ftwire_lab::error::LabError::exit_code`]): 0 success, 1 valid input but no answer, 2 bad input.
 
+/// `println!` with the line's control characters escaped ([`ftwire_core::text::printable`]):
+/// a folder, a file or a name the user gave is shown, never acted on by the terminal.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        println!("{}", ftwire_core::text::printable(&format!($($arg)*)))
+    };
+}
+
+/// `print!` with control characters escaped, as [`outln!`].
+macro_rules! out {
+    ($($arg:tt)*) => {
+        print!("{}", ftwire_core::text::printable(&format!($($arg)*)))
+    };
+}
+
+/// `eprintln!` with control characters escaped, as [`outln!`].
+macro_rules! errln {
+    ($($arg:tt)*) => {
+        eprintln!("{}", ftwire_core::text::printable(&format!($($arg)*)))
+    };
+}
+
 mod cli;
 mod commands;
 

@@ -267,3 +267,23 @@ fn a_bad_sensor_or_rig_file_is_exit_2_naming_the_file_the_line_and_the_key() {
     }
     assert!(!tmp.0.join("out").exists(), "nothing written");
 }
+
+/// A folder name with an ESC sequence is printed escaped: no name the user gives can retitle
+/// the terminal or drive it.
+#[test]
+fn a_control_character_in_a_folder_name_is_printed_escaped() {
+    let tmp = TempDir::new("init-escape");
+    let cfg = tmp.0.join("z\u{1b}]0;PWNED\u{7}");
+    let output = ftwire(&["init", text(&cfg)]);
+    assert_success(&output, "ftwire init");
+    assert!(
+        !output.stdout.iter().any(|&b| b == 0x1b || b == 0x07),
+        "{:?}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+    assert!(
+        String::from_utf8_lossy(&output.stdout).contains("\\u{1b}]0;PWNED\\u{7}"),
+        "{}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+}

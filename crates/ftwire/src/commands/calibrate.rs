@@ -51,8 +51,8 @@ pub fn run(args: CalibrateArgs) -> Result<(), LabError> {
         .input_opt("--mounting", args.mounting.file.as_ref());
     let folder = args.results.open("calibrate-log", guard)?;
     let header = RunHeader::new("calibrate", Some(args.seed.seed), &args)?;
-    let run = calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = calibrate::run(&params, &folder, &mut |line| errln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    print!("{}", run.text(&target));
+    out!("{}", run.text(&target));
     Ok(())
 }

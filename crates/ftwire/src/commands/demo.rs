@@ -64,7 +64,7 @@ impl DemoProgress for Bars {
             bar
         });
         if self.bar.is_none() {
-            eprintln!("{label} ...");
+            errln!("{label} ...");
         }
     }
 
@@ -78,7 +78,7 @@ impl DemoProgress for Bars {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }
-        eprintln!("{}: {result} ({seconds:.1} s)", label(number, name));
+        errln!("{}: {result} ({seconds:.1} s)", label(number, name));
     }
 }
 
@@ -96,7 +96,7 @@ pub fn run(args: DemoArgs) -> Result<(), LabError> {
     let run = demo::run(&params, &folder, &mut Bars::default())?;
     let header = RunHeader::new("demo", Some(params.seed), &args)?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    println!(
+    outln!(
         "demo done in {:.0} s; results in {}",
         run.timings.total_s,
         target.display()

@@ -72,7 +72,7 @@ fn mcap(args: &McapArgs) -> Result<(), LabError> {
         text.push('\n');
     }
     out.write(text.as_bytes())?;
-    eprintln!(
+    errln!(
         "ftwire import mcap: {} -> {}: {summary}",
         args.bag.display(),
         args.out.display()

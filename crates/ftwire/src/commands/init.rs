@@ -7,7 +7,7 @@ use crate::cli::init::InitArgs;
 /// Writes the examples and names each file written.
 pub fn run(args: &InitArgs) -> Result<(), LabError> {
     for path in ftwire_app::init::write_examples(&args.dir, args.force, "--force")? {
-        println!("{}", path.display());
+        outln!("{}", path.display());
     }
     Ok(())
 }

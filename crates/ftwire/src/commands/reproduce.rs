@@ -44,10 +44,10 @@ pub fn run(args: ReproduceArgs) -> Result<(), LabError> {
         .input_opt("--sensor", args.setup.sensor.as_deref())
         .input_opt("--rig", args.setup.rig.as_deref());
     let folder = args.results.open("reproduce", inputs)?;
-    let run = reproduce::run(&params, &folder, &run_job, &|line| eprintln!("{line}"))?;
+    let run = reproduce::run(&params, &folder, &run_job, &|line| errln!("{line}"))?;
     let header = RunHeader::new("reproduce", Some(params.seed), &args)?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    println!(
+    outln!(
         "reproduce: report in {}",
         target.join("report.md").display()
     );
@@ -57,7 +57,7 @@ pub fn run(args: ReproduceArgs) -> Result<(), LabError> {
             .collect::<Vec<_>>()
             .join(" ");
         let page = reproduce::docs::write(dir, &target, &run.report, &run.ids(), &command)?;
-        println!("reproduce: results page in {}", page.display());
+        outln!("reproduce: results page in {}", page.display());
     }
     run.require_all_ok(&target)
 }

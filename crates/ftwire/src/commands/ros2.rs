@@ -25,7 +25,7 @@ use crate::cli::ros2::{
 /// Runs the chosen node until `--duration` ends or Ctrl-C.
 pub fn run(args: Ros2Args) -> Result<(), LabError> {
     let stop = stop_on_signals();
-    let mut log = |line: &str| eprintln!("{line}");
+    let mut log = |line: &str| errln!("{line}");
     match args.node {
         Ros2Node::Sim(a) => {
             let (settings, params) = (settings(&a.node)?, sim_params(&a)?);
@@ -67,7 +67,7 @@ fn stop_on_signals() -> Arc<AtomicBool> {
         signal_hook::consts::SIGHUP,
     ] {
         if let Err(e) = signal_hook::flag::register(signal, Arc::clone(&stop)) {
-            eprintln!("warning: cannot catch signal {signal} ({e}): Ctrl-C ends without a summary");
+            errln!("warning: cannot catch signal {signal} ({e}): Ctrl-C ends without a summary");
         }
     }
     stop
@@ -85,7 +85,7 @@ fn from_node(error: NodeError) -> LabError {
 fn print_line(summary: Result<impl Serialize, NodeError>) -> Result<(), LabError> {
     let line = serde_json::to_string(&summary.map_err(from_node)?)
         .map_err(|e| LabError::no_answer(format!("the summary: {e}")))?;
-    println!("{line}");
+    outln!("{line}");
     Ok(())
 }
 

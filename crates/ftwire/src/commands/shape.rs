@@ -78,11 +78,11 @@ fn write_folder(args: &ShapeArgs, params: &ShapeLogParams) -> Result<(), LabErro
         .input_opt("--sensor", args.sensor.as_ref());
     let folder = args.results.open("shape-log", guard)?;
     let header = RunHeader::new("shape", None, args)?;
-    let run = log.write(&folder, &mut |line| eprintln!("{line}"))?;
+    let run = log.write(&folder, &mut |line| errln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
     output::print_display(&run.summary, args.output.json)?;
     if !args.output.json {
-        println!(
+        outln!(
             "{:.0} records/s; results in {}",
             run.timings.records_per_s,
             target.display()

@@ -31,8 +31,8 @@ pub fn run(args: CalibrateExperimentArgs) -> Result<(), LabError> {
     params.check()?;
     let folder = args.common.open_results("calibrate", OutGuard::default())?;
     let header = RunHeader::new("experiment calibrate", Some(args.common.seed.seed), &args)?;
-    let run = calibrate::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = calibrate::run(&params, &folder, &mut |line| errln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    print!("{}", run.text(&target));
+    out!("{}", run.text(&target));
     Ok(())
 }

@@ -37,8 +37,8 @@ pub fn run(args: GoalExperimentArgs) -> Result<(), LabError> {
         OutGuard::default().input_opt("--calibration", args.closed_loop.calibration.path()),
     )?;
     let header = RunHeader::new("experiment goal", Some(args.common.seed.seed), &args)?;
-    let run = goal::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = goal::run(&params, &folder, &mut |line| errln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    print!("{}", run.text(&target));
+    out!("{}", run.text(&target));
     Ok(())
 }

@@ -60,9 +60,9 @@ pub fn run(args: IdentifyExperimentArgs) -> Result<(), LabError> {
         "identify",
         OutGuard::default().input_opt("--calibration", args.calibration.path()),
     )?;
-    let run = identify::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = identify::run(&params, &folder, &mut |line| errln!("{line}"))?;
     let header = RunHeader::new("experiment identify", Some(args.common.seed.seed), &args)?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    print!("{}", run.text(&target));
+    out!("{}", run.text(&target));
     Ok(())
 }

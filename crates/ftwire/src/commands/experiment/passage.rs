@@ -44,10 +44,10 @@ pub fn run(args: PassageExperimentArgs) -> Result<(), LabError> {
             .input_opt("--calibration", args.rollout.closed_loop.calibration.path()),
     )?;
     let header = RunHeader::new("experiment passage", Some(args.common.seed.seed), &args)?;
-    let run = passage::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = passage::run(&params, &folder, &mut |line| errln!("{line}"))?;
     folder.write_json("timings.json", &run.timings)?;
     let target = folder.finish(&header, &run.summary)?;
-    println!("results in {}", target.display());
+    outln!("results in {}", target.display());
     Ok(())
 }
 

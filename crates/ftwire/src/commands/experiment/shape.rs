@@ -34,8 +34,8 @@ pub fn run(args: ShapeExperimentArgs) -> Result<(), LabError> {
         OutGuard::default().input_opt("--calibration", args.calibration.path()),
     )?;
     let header = RunHeader::new("experiment shape", Some(args.common.seed.seed), &args)?;
-    let run = shape::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = shape::run(&params, &folder, &mut |line| errln!("{line}"))?;
     let target = folder.finish_run(&header, &run.summary, &run.timings)?;
-    print!("{}", run.text(&target));
+    out!("{}", run.text(&target));
     Ok(())
 }

@@ -43,9 +43,9 @@ pub fn run(args: TrackExperimentArgs) -> Result<(), LabError> {
         OutGuard::default().input_opt("--calibration", args.rollout.closed_loop.calibration.path()),
     )?;
     let header = RunHeader::new("experiment track", Some(args.common.seed.seed), &args)?;
-    let run = track::run(&params, &folder, &mut |line| eprintln!("{line}"))?;
+    let run = track::run(&params, &folder, &mut |line| errln!("{line}"))?;
     folder.write_json("timings.json", &run.timings)?;
     let target = folder.finish(&header, &run.summary)?;
-    println!("results in {}", target.display());
+    outln!("results in {}", target.display());
     Ok(())
 }
