@@ -86,10 +86,27 @@ impl OutGuard {
                 "--out {shown}: cannot resolve the folder"
             )));
         };
+        // A path is inside when it resolves inside, or when the link it names is: a symbolic
+        // link the user put in the folder goes with the folder, wherever it points.
         let holds = |path: &Path| {
-            path.canonicalize()
+            let resolved = path
+                .canonicalize()
                 .or_else(|_| std::path::absolute(path))
-                .is_ok_and(|p| p.starts_with(&inside))
+                .is_ok_and(|p| p.starts_with(&inside));
+            let named = match (path.parent(), path.file_name()) {
+                (Some(parent), Some(name)) => {
+                    let parent = if parent.as_os_str().is_empty() {
+                        Path::new(".")
+                    } else {
+                        parent
+                    };
+                    parent
+                        .canonicalize()
+                        .is_ok_and(|p| p.join(name).starts_with(&inside))
+                }
+                _ => false,
+            };
+            resolved || named
         };
         for (option, path) in &self.inputs {
             if holds(path) {
@@ -175,6 +192,33 @@ mod tests {
         assert!(
             refused.to_string().contains("holds the run's input --log"),
             "{refused}"
+        );
+    }
+
+    /// A symbolic link inside the folder is an input inside it, wherever it points: replacing
+    /// the folder would remove the user's link.
+    #[cfg(unix)]
+    #[test]
+    fn a_link_inside_the_folder_to_a_file_outside_is_inside() {
+        let dir =
+            TempDir(std::env::temp_dir().join(format!("ftwire-guard-link-{}", std::process::id())));
+        let out = dir.0.join("out");
+        fs::create_dir_all(&out).expect("creates a temporary folder");
+        fs::write(out.join(MARK), "").expect("an earlier run's folder");
+        let target = dir.0.join("wire.toml");
+        fs::write(&target, "x").expect("writes");
+        let link = out.join("wlink.toml");
+        std::os::unix::fs::symlink(&target, &link).expect("a link");
+        let refused = OutGuard::default()
+            .input("--wire", &link)
+            .check(&out)
+            .expect_err("the link is inside");
+        assert!(refused.to_string().contains("--wire"), "{refused}");
+        assert!(
+            OutGuard::default()
+                .input("--wire", &target)
+                .check(&out)
+                .is_ok()
         );
     }
 }
