@@ -58,7 +58,7 @@ pub enum EstimateError {
         min: usize,
     },
     /// A shape fitting or estimation setting is out of its range.
-    #[error("shape setting {name} = {value} is invalid; allowed: {allowed}")]
+    #[error("shape setting {name} = {} is invalid; allowed: {allowed}", ftwire_core::text::Number(*value))]
     BadShapeSetting {
         /// The setting's name.
         name: &'static str,
@@ -264,7 +264,10 @@ pub enum EstimateError {
         tool_mass: f64,
     },
     /// A calibration training setting is out of its allowed range.
-    #[error("calibration setting {field} = {value} is out of range; allowed: {allowed}")]
+    #[error(
+        "calibration setting {field} = {} is out of range; allowed: {allowed}",
+        ftwire_core::text::Number(*value)
+    )]
     InvalidSetting {
         /// Name of the setting.
         field: &'static str,

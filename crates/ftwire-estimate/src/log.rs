@@ -17,8 +17,8 @@
 //! | `gravity` | the gravity vector in the sensor frame at this record, m/s² (it turns with the wrist); needed with `raw` when the mounting has a tool whose weight is taken out | no |
 //!
 //! Values must be plausible: `time` at most 1e10 s in size, forces at most 1e4 N, torques 1e3
-//! N·m, gravity 100 m/s², positions (of `b` and the markers) 1e3 m, and a line at most 16 MiB
-//! ([`MAX_FORCE`] and the constants beside it). Unknown keys are errors (a typo never passes
+//! N·m, gravity 100 m/s², positions (of `b` and the markers) 1e3 m, at most 1000 markers, and a
+//! line at most 16 MiB ([`MAX_FORCE`] and the constants beside it). Unknown keys are errors (a typo never passes
 //! silently). Blank lines and lines starting with
 //! `#` are skipped. A rotation vector's angle is at most `ftwire_core::MAX_ROTATION_ANGLE`. The
 //! log is UTF-8 text; a leading byte-order mark is dropped. Every error names the line and the
@@ -50,6 +50,10 @@ pub const MAX_POSITION: f64 = 1e3;
 
 /// Largest time a log may hold \[s\]: Unix time is 1.7e9 s.
 pub const MAX_TIME: f64 = 1e10;
+
+/// Most markers a record may hold: a motion-capture session tracks tens (the paper's 11), and
+/// each marker costs a closest-point search in every shape fit of `calibrate --log`.
+pub const MAX_MARKERS: usize = 1000;
 
 /// Longest line a log may hold \[bytes\]: a record with a few hundred markers is tens of kB.
 pub const MAX_LINE_BYTES: usize = 16 << 20;
@@ -219,6 +223,17 @@ impl LogRecord {
                     ),
                 });
             }
+        }
+        if let Some(markers) = &self.markers
+            && markers.len() > MAX_MARKERS
+        {
+            return Err(EstimateError::BadLogLine {
+                line,
+                message: format!(
+                    "markers holds {} markers, more than the {MAX_MARKERS} a record may hold",
+                    markers.len()
+                ),
+            });
         }
         for (k, marker) in self.markers.iter().flatten().enumerate() {
             if let Some(p) = marker
@@ -571,6 +586,15 @@ mod tests {
                 "{message}"
             );
         }
+        let many = vec!["[0, 0, 0]"; MAX_MARKERS + 1].join(", ");
+        let text = format!(r#"{{"time": 1, "a": [0, 0, 0.01, 0, 0, 0], "markers": [{many}]}}"#);
+        let error = read_log(format!("{ok}\n{text}\n").as_bytes()).expect_err("too many markers");
+        assert!(
+            error
+                .to_string()
+                .contains("line 2: markers holds 1001 markers"),
+            "{error}"
+        );
         let endless = vec![b'x'; MAX_LINE_BYTES + 10];
         let error = read_log(&endless[..]).expect_err("an endless line");
         assert!(error.to_string().contains("16 MiB"), "{error}");

@@ -298,11 +298,12 @@ fn the_label_model_and_the_input_round_trip_and_default_to_weightless_raw() {
 }
 
 /// A file whose numbers load but whose every answer would overflow (an affine weight, a
-/// layer weight or a drift rate of 1e308, a std of 1e-300) is refused at load naming the key.
+/// layer weight or a drift rate of 1e308, a std of 1e-300, a test error wider than any
+/// reading) is refused at load naming the key.
 #[test]
 fn damaged_numbers_are_refused_at_load_naming_the_key() {
     type Edit = Box<dyn Fn(&mut serde_json::Value)>;
-    let cases: [(&str, Edit); 4] = [
+    let cases: [(&str, Edit); 6] = [
         (
             "affine.matrix[0]",
             Box::new(|v| v["affine"]["matrix"][0][0] = 1e308.into()),
@@ -322,6 +323,16 @@ fn damaged_numbers_are_refused_at_load_naming_the_key() {
                     "reference_time": 0.0, "rate": [0, 0, 1e308, 0, 0, 0], "span": [0.0, 1.0]
                 })
             }),
+        ),
+        // The test error is every shape's error bar: wider than any reading, or negative,
+        // it would give error bars of NaN.
+        (
+            "training.test_rmse",
+            Box::new(|v| v["training"]["test_rmse"] = serde_json::json!([1e308, 0, 0, 0, 0, 0])),
+        ),
+        (
+            "training.test_rmse",
+            Box::new(|v| v["training"]["test_rmse"] = serde_json::json!([0, 0, 0, 0, -0.1, 0])),
         ),
     ];
     for (key, edit) in cases {

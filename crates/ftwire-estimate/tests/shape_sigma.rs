@@ -117,15 +117,18 @@ fn the_estimator_carries_sigma_only_when_given_the_standard_deviations() -> Resu
 
 #[test]
 fn bad_standard_deviations_are_refused_by_name() {
-    for (i, bad) in [f64::NAN, -1e-3, f64::INFINITY].into_iter().enumerate() {
+    for (i, bad) in [f64::NAN, -1e-3, f64::INFINITY, 1e308]
+        .into_iter()
+        .enumerate()
+    {
         let mut std = [0.0; 6];
-        std[i + 2] = bad;
+        std[i + 1] = bad;
         let message = ConfigurationStd::new(std)
             .err()
             .map(|e| e.to_string())
             .unwrap_or_default();
         assert!(message.contains("a_std"), "{message}");
-        assert!(message.contains(">= 0"), "{message}");
+        assert!(message.contains("from 0 to"), "{message}");
     }
     assert!(ConfigurationStd::new([0.0; 6]).is_ok());
 }

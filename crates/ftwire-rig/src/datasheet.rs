@@ -58,9 +58,19 @@ impl DataSheet {
             ("noise_std", self.noise_std),
             ("bias_random_walk", self.bias_random_walk),
         ] {
-            if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+            // At most a reading's size (1e4 N, 1e3 N·m): a wider σ squares past `f64`.
+            let limits = [ftwire_estimate::log::MAX_FORCE; 3]
+                .into_iter()
+                .chain([ftwire_estimate::log::MAX_TORQUE; 3]);
+            if let Some((v, _)) = values
+                .iter()
+                .zip(limits)
+                .find(|(v, max)| !(v.is_finite() && (0.0..=*max).contains(*v)))
+            {
                 return Err(RigError::Setting(format!(
-                    "{key} holds {v}: each entry is finite and ≥ 0"
+                    "{key} holds {}: each entry is finite, ≥ 0 and at most 1e4 N (force) or \
+                     1e3 N·m (torque)",
+                    ftwire_core::text::Number(*v)
                 )));
             }
         }

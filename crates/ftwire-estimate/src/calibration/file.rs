@@ -333,6 +333,24 @@ impl Calibration {
                 Some(Polynomial::new(p.degree, p.weights)?)
             }
         };
+        if let Some(rmse) = &file.training.test_rmse {
+            // The test error becomes every shape's error bar: a reading's size at most.
+            let torque_force = "from 0 to 1e3 N·m for a torque, to 1e4 N for a force";
+            for (index, (&value, max)) in rmse
+                .iter()
+                .zip([MAX_RMSE_TORQUE; 3].into_iter().chain([MAX_RMSE_FORCE; 3]))
+                .enumerate()
+            {
+                if !(value.is_finite() && (0.0..=max).contains(&value)) {
+                    return Err(EstimateError::CalibrationValue {
+                        what: "training.test_rmse".into(),
+                        index,
+                        value,
+                        allowed: torque_force,
+                    });
+                }
+            }
+        }
         let calibration = Self::from_parts(input, output, affine, mlp, file.training)
             .with_polynomial(polynomial)
             .with_provenance(file.model, file.input)?;
@@ -397,6 +415,14 @@ fn check_len(what: &str, expected: usize, found: usize) -> Result<(), EstimateEr
 /// part, the drift rate): a trained map's are of order 1 (normalised units) or of the
 /// readings' (N, N·m); one above this is a damaged file whose every answer would overflow.
 pub const MAX_VALUE: f64 = 1e6;
+
+/// Largest test error of a torque channel in a calibration file \[N·m\]
+/// (`training.test_rmse`): the largest plausible torque reading ([`crate::log::MAX_TORQUE`]).
+pub const MAX_RMSE_TORQUE: f64 = crate::log::MAX_TORQUE;
+
+/// Largest test error of a force channel in a calibration file \[N\]
+/// (`training.test_rmse`): the largest plausible force reading ([`crate::log::MAX_FORCE`]).
+pub const MAX_RMSE_FORCE: f64 = crate::log::MAX_FORCE;
 
 /// Largest time of a calibration file \[s\] (`drift.reference_time`, `drift.span`).
 pub const MAX_TIME: f64 = 1e10;

@@ -80,7 +80,14 @@ impl MountingSpec {
             ("clamp_position_in_sensor", self.clamp_position_in_sensor),
             ("tool_centre_of_mass", self.tool_centre_of_mass),
         ] {
-            let distance = Vector3::from(point).norm();
+            // The largest component first, so that a huge one is named as given, not as the
+            // infinite norm it would make.
+            let largest = point.iter().copied().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let distance = if largest > MAX_LEVER {
+                largest
+            } else {
+                Vector3::from(point).norm()
+            };
             if distance > MAX_LEVER {
                 return Err(EstimateError::InvalidSetting {
                     field,
@@ -220,6 +227,26 @@ mod tests {
                 .to_string()
                 .contains("tool_mass")
         );
+        // A huge value is named as given, not as an infinite distance or in 309 digits.
+        for (bad, shown) in [
+            (
+                MountingSpec {
+                    clamp_position_in_sensor: [0.0, 0.0, 1e308],
+                    ..MountingSpec::default()
+                },
+                "clamp_position_in_sensor = 1e308 ",
+            ),
+            (
+                MountingSpec {
+                    tool_mass: 1e308,
+                    ..MountingSpec::default()
+                },
+                "tool_mass = 1e308 ",
+            ),
+        ] {
+            let message = bad.validate().expect_err("refused").to_string();
+            assert!(message.contains(shown), "{message}");
+        }
         let bad = MountingSpec {
             clamp_position_in_sensor: [0.0, f64::NAN, 0.0],
             ..MountingSpec::default()

@@ -69,7 +69,8 @@ const CHANNELS: [&str; 6] = [
 ];
 
 /// Per-channel standard deviations of `ã` \[N·m, N·m, N·m, N, N, N\], torque first, base
-/// clamp frame: a diagonal `Σ_ã`. Each is finite and `≥ 0`.
+/// clamp frame: a diagonal `Σ_ã`. Each is finite, `≥ 0` and at most the largest plausible
+/// reading (1e3 N·m, 1e4 N).
 ///
 /// # Example
 /// ```
@@ -79,6 +80,8 @@ const CHANNELS: [&str; 6] = [
 /// let both = sensor.combined(&calibration);
 /// assert!((both.std()[3] - 0.05_f64.sqrt() * 0.1).abs() < 1e-12);
 /// assert!(ConfigurationStd::new([0.0, 0.0, 0.0, -0.01, 0.0, 0.0]).is_err());
+/// let wide = ConfigurationStd::new([1e308, 0.0, 0.0, 0.0, 0.0, 0.0]).expect_err("beyond any reading");
+/// assert!(wide.to_string().contains("= 1e308 is invalid"), "{wide}");
 /// # Ok::<(), ftwire_estimate::EstimateError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,15 +93,21 @@ impl ConfigurationStd {
     /// The standard deviations `std` \[N·m ×3, N ×3\], torque first.
     ///
     /// # Errors
-    /// [`EstimateError::BadShapeSetting`] naming the first component that is not finite or is
-    /// negative.
+    /// [`EstimateError::BadShapeSetting`] naming the first component that is not finite, is
+    /// negative, or exceeds the largest plausible reading ([`crate::log::MAX_TORQUE`],
+    /// [`crate::log::MAX_FORCE`]): an error bar wider than any reading squares past `f64`.
     pub fn new(std: [f64; 6]) -> Result<Self, EstimateError> {
-        for (name, value) in CHANNELS.iter().zip(std) {
-            if !(value.is_finite() && value >= 0.0) {
+        for (k, (name, value)) in CHANNELS.iter().zip(std).enumerate() {
+            let max = if k < 3 {
+                crate::log::MAX_TORQUE
+            } else {
+                crate::log::MAX_FORCE
+            };
+            if !(value.is_finite() && (0.0..=max).contains(&value)) {
                 return Err(EstimateError::BadShapeSetting {
                     name,
                     value,
-                    allowed: "finite and >= 0 (N·m for a torque, N for a force)",
+                    allowed: "from 0 to 1e3 N·m for a torque, to 1e4 N for a force",
                 });
             }
         }
