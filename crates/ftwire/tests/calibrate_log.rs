@@ -74,6 +74,23 @@ fn recording(
     Ok(())
 }
 
+/// `calibrate --log LOG --wire nitinol-3mm-820 --mounting MOUNTING --hidden 0 --out OUT`.
+fn calibrate_affine(log: &Path, mounting: &Path, out: &Path) -> std::process::Output {
+    ftwire(&[
+        "calibrate",
+        "--log",
+        text(log),
+        "--wire",
+        "nitinol-3mm-820",
+        "--mounting",
+        text(mounting),
+        "--hidden",
+        "0",
+        "--out",
+        text(out),
+    ])
+}
+
 #[test]
 fn a_recording_gives_a_calibration_and_the_summary_keys() -> Result<(), Box<dyn std::error::Error>>
 {
@@ -83,19 +100,7 @@ fn a_recording_gives_a_calibration_and_the_summary_keys() -> Result<(), Box<dyn 
     let mounting = tmp.0.join("mounting.toml");
     std::fs::write(&mounting, "clamp_position_in_sensor = [0.0, 0.0, 0.11]\n")?;
     let out = tmp.0.join("cal");
-    let output = ftwire(&[
-        "calibrate",
-        "--log",
-        text(&log),
-        "--wire",
-        "nitinol-3mm-820",
-        "--mounting",
-        text(&mounting),
-        "--hidden",
-        "0",
-        "--out",
-        text(&out),
-    ]);
+    let output = calibrate_affine(&log, &mounting, &out);
     assert_success(&output, "calibrate --log");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json"))?)?;
@@ -143,6 +148,42 @@ fn a_recording_gives_a_calibration_and_the_summary_keys() -> Result<(), Box<dyn 
     assert!(raw > 10.0 && calibrated < 1.0, "{raw} {calibrated}");
     // The weights load as every --calibration does.
     ftwire_estimate::calibration::Calibration::load(&out.join("calibration.json"))?;
+    Ok(())
+}
+
+/// One glitch of 5000 N (inside the plausible range, so not refused) among the readings is
+/// left out and said, not let decide the map: the calibration is as good as without it.
+#[test]
+fn an_outlier_reading_is_left_out_and_said() -> Result<(), Box<dyn std::error::Error>> {
+    let tmp = TempDir::new("calibrate-log-outlier");
+    let log = tmp.0.join("recording.jsonl");
+    synthetic_log(&log)?;
+    let mut lines: Vec<serde_json::Value> = std::fs::read_to_string(&log)?
+        .lines()
+        .map(serde_json::from_str)
+        .collect::<Result<_, _>>()?;
+    lines[10]["raw"][2] = 5000.0.into();
+    let text_of =
+        |lines: &[serde_json::Value]| lines.iter().map(|l| format!("{l}\n")).collect::<String>();
+    std::fs::write(&log, text_of(&lines))?;
+    let mounting = tmp.0.join("mounting.toml");
+    std::fs::write(&mounting, "clamp_position_in_sensor = [0.0, 0.0, 0.11]\n")?;
+    let out = tmp.0.join("cal");
+    let output = calibrate_affine(&log, &mounting, &out);
+    assert_success(&output, "calibrate --log");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("1 of 40 readings") && stderr.contains("outlier"),
+        "{stderr}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json"))?)?;
+    let s = &summary["summary"];
+    assert_eq!(s["labels"]["outlier_readings"], 1, "{}", s["labels"]);
+    let calibrated = s["test"]["calibrated_marker_mean_mm"]
+        .as_f64()
+        .ok_or("calibrated")?;
+    assert!(calibrated < 1.0, "{calibrated} mm");
     Ok(())
 }
 

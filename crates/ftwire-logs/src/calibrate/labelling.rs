@@ -24,6 +24,40 @@ use super::summary::Labels;
 /// Records between two progress lines.
 const PROGRESS_EVERY: usize = 100;
 
+/// A reading further than this many robust standard deviations (1.4826 × the median absolute
+/// deviation) from the session's median in any channel is an outlier: a glitch of the sensor
+/// or the logger, not a load the wire put on it. Its label is not fitted and it never teaches
+/// the map, whose least-squares start one such reading would decide.
+pub const OUTLIER_SCALES: f64 = 25.0;
+
+/// The smallest robust spread of a channel the screen assumes \[N ×3, N·m ×3\], force first:
+/// a channel the session hardly loads still scatters by a sensor's noise.
+const SPREAD_FLOOR: [f64; 6] = [0.05, 0.05, 0.05, 0.005, 0.005, 0.005];
+
+/// Whether each record's reading is an outlier of the session ([`OUTLIER_SCALES`]).
+fn outlier_readings(records: &[LogRecord]) -> Vec<bool> {
+    let median = ftwire_core::stats::median;
+    let channels: Vec<(f64, f64)> = (0..6)
+        .map(|i| {
+            let values: Vec<f64> = records.iter().filter_map(|r| r.raw.map(|x| x[i])).collect();
+            let centre = median(&values);
+            let deviations: Vec<f64> = values.iter().map(|v| (v - centre).abs()).collect();
+            (centre, (1.4826 * median(&deviations)).max(SPREAD_FLOOR[i]))
+        })
+        .collect();
+    records
+        .iter()
+        .map(|r| {
+            r.raw.is_some_and(|x| {
+                channels
+                    .iter()
+                    .enumerate()
+                    .any(|(i, &(centre, spread))| (x[i] - centre).abs() > OUTLIER_SCALES * spread)
+            })
+        })
+        .collect()
+}
+
 /// Reads the log; refuses one without raw readings or markers.
 pub(super) fn read(path: &std::path::Path) -> Result<(Vec<LogRecord>, Vec<usize>), LabError> {
     let (lines, records): (Vec<usize>, Vec<LogRecord>) = crate::read_log(path)?
@@ -49,6 +83,7 @@ pub(super) fn read(path: &std::path::Path) -> Result<(Vec<LogRecord>, Vec<usize>
 /// Why a record got no label.
 enum Rejection {
     NoRaw,
+    OutlierReading,
     FewMarkers,
     FitFailed,
     OffMarkers(f64),
@@ -63,6 +98,7 @@ pub(super) fn label_all(
 ) -> Result<(Vec<Labelled>, Labels, Vec<u8>), LabError> {
     let fitter = fitter(model, params.marker_fractions.is_some())?;
     let outcomes = fit_in_parallel(params, &fitter, records, progress)?;
+    let outliers = outlier_readings(records);
     let mut counts = Labels {
         records: records.len(),
         ..Labels::default()
@@ -74,7 +110,14 @@ pub(super) fn label_all(
         ],
     )?;
     let mut labelled = Vec::new();
-    for ((record, &line), outcome) in records.iter().zip(lines).zip(outcomes) {
+    for (((record, &line), outcome), outlier) in
+        records.iter().zip(lines).zip(outcomes).zip(outliers)
+    {
+        let outcome = if outlier {
+            Err(Rejection::OutlierReading)
+        } else {
+            outcome
+        };
         match outcome {
             Ok(l) => {
                 let mut cells = vec![value(line), value(record.time), text("fitted")];
@@ -86,6 +129,9 @@ pub(super) fn label_all(
             Err(why) => {
                 let (status, rms, count) = match why {
                     Rejection::NoRaw => ("no_raw", None, &mut counts.no_raw),
+                    Rejection::OutlierReading => {
+                        ("outlier_reading", None, &mut counts.outlier_readings)
+                    }
                     Rejection::FewMarkers => ("few_markers", None, &mut counts.few_markers),
                     Rejection::FitFailed => ("fit_failed", None, &mut counts.fit_failed),
                     Rejection::OffMarkers(rms) => {
@@ -102,13 +148,22 @@ pub(super) fn label_all(
     }
     counts.fitted = labelled.len();
     counts.rejected = counts.records - counts.fitted;
+    if counts.outlier_readings > 0 {
+        progress(&format!(
+            "warning: {} of {} readings lie more than {OUTLIER_SCALES} robust standard \
+             deviations from the session's median in some channel (a sensor's or a logger's \
+             glitch) and are left out (labels.csv: outlier_reading)",
+            counts.outlier_readings, counts.records
+        ));
+    }
     if labelled.is_empty() {
         return Err(LabError::bad_input(format!(
-            "--log {}: every record was rejected ({} without raw, {} with fewer than \
-             {MIN_MARKERS} markers, {} fits failed, {} fits more than {:.1} mm RMS off their \
-             markers): nothing to learn from",
+            "--log {}: every record was rejected ({} without raw, {} outlier readings, {} with \
+             fewer than {MIN_MARKERS} markers, {} fits failed, {} fits more than {:.1} mm RMS \
+             off their markers): nothing to learn from",
             params.log.display(),
             counts.no_raw,
+            counts.outlier_readings,
             counts.few_markers,
             counts.fit_failed,
             counts.off_markers,

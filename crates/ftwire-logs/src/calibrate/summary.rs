@@ -23,6 +23,9 @@ pub struct Labels {
     pub marker_rms_mm: f64,
     /// Rejected: no `raw` reading.
     pub no_raw: usize,
+    /// Rejected: a reading far outside the session's (`labelling::OUTLIER_SCALES` robust
+    /// standard deviations from its median in some channel).
+    pub outlier_readings: usize,
     /// Rejected: fewer than [`MIN_MARKERS`](super::MIN_MARKERS) markers.
     pub few_markers: usize,
     /// Rejected: the fit failed.
