@@ -94,8 +94,27 @@ pub fn parse_toml<T: DeserializeOwned>(
     toml::from_str(text).map_err(|e| SetupError::Bad {
         kind,
         path: path.to_owned(),
-        message: e.to_string().trim_end().to_owned(),
+        message: short_lines(e.to_string().trim_end()),
     })
+}
+
+/// `message` with each line cut to its first [`crate::output::ECHO_CHARS`] characters: the
+/// TOML parser quotes the offending line whole, which may be a file's every byte.
+fn short_lines(message: &str) -> String {
+    let limit = crate::output::ECHO_CHARS;
+    message
+        .lines()
+        .map(|line| {
+            let count = line.chars().count();
+            if count <= limit {
+                line.to_owned()
+            } else {
+                let head: String = line.chars().take(limit).collect();
+                format!("{head}… ({count} characters)")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// A value error of a file of `kind`: the library's `message` names the key; the key is the
@@ -173,5 +192,18 @@ mod tests {
         assert_eq!(line_of(text, "noise_std"), Some(3));
         assert_eq!(line_of(text, "rate"), Some(2));
         assert_eq!(line_of(text, "gain"), None);
+    }
+
+    /// A malformed line of 200 kB is quoted by its first characters, not whole.
+    #[test]
+    fn a_long_bad_line_is_quoted_short() {
+        let text = format!("c = [{}\n", "1, ".repeat(70_000));
+        let error = parse_toml::<toml::Table>("wire", &text, "w.toml").expect_err("malformed");
+        let message = error.to_string();
+        assert!(
+            message.len() < 2000 && message.contains("characters)"),
+            "{} bytes",
+            message.len()
+        );
     }
 }

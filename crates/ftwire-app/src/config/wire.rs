@@ -100,7 +100,10 @@ pub enum WireSpecError {
         message: String,
     },
     /// A value is out of range.
-    #[error("wire {name:?}: {key} = {value} is not allowed: {allowed}")]
+    #[error(
+        "wire {name:?}: {key} = {} is not allowed: {allowed}",
+        ftwire_core::text::Number(*value)
+    )]
     Value {
         /// The wire.
         name: String,
@@ -112,6 +115,13 @@ pub enum WireSpecError {
         allowed: &'static str,
     },
 }
+
+/// Smallest stiffness of a wire file \[N·m²\].
+pub const MIN_STIFFNESS: f64 = 1e-8;
+/// Largest stiffness of a wire file \[N·m²\].
+pub const MAX_STIFFNESS: f64 = 1e4;
+/// Largest rest curvature of a wire file \[1/m\] (a bend of 1 mm radius).
+pub const MAX_CURVATURE: f64 = 1e3;
 
 impl WireSpec {
     /// A preset wire by name, if there is one.
@@ -214,18 +224,36 @@ impl WireSpec {
             value,
             allowed,
         };
+        // Plausible ranges, far beyond any wire or cable (a 2 mm nitinol wire bends with
+        // 0.05 N·m², a 10 mm steel rod with 100): a value outside is a unit slip or a
+        // damaged file, and the model has no answer there.
         for (key, v) in ["c1", "c2", "c3"].into_iter().zip(self.c) {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(value(key, v, "a finite stiffness > 0 [N·m²]"));
+            if !(v.is_finite() && (MIN_STIFFNESS..=MAX_STIFFNESS).contains(&v)) {
+                return Err(value(key, v, "a stiffness from 1e-8 to 1e4 N·m²"));
             }
         }
-        let positive = [
-            ("length", self.length, "a finite length > 0 [m]"),
-            ("radius", self.radius, "a finite radius > 0 [m]"),
-            ("density", self.density, "a finite density > 0 [kg/m³]"),
+        let ranges = [
+            (
+                "length",
+                self.length,
+                (1e-3, 100.0),
+                "a length from 1 mm to 100 m",
+            ),
+            (
+                "radius",
+                self.radius,
+                (0.0, 1.0),
+                "a radius > 0 and at most 1 m",
+            ),
+            (
+                "density",
+                self.density,
+                (0.0, 1e5),
+                "a density > 0 and at most 1e5 kg/m³",
+            ),
         ];
-        for (key, v, allowed) in positive {
-            if !(v.is_finite() && v > 0.0) {
+        for (key, v, (low, high), allowed) in ranges {
+            if !(v.is_finite() && v > 0.0 && v >= low && v <= high) {
                 return Err(value(key, v, allowed));
             }
         }
@@ -244,8 +272,8 @@ impl WireSpec {
         .into_iter()
         .zip(self.natural_curvature)
         {
-            if !v.is_finite() {
-                return Err(value(key, v, "a finite curvature [1/m]"));
+            if !(v.is_finite() && v.abs() <= MAX_CURVATURE) {
+                return Err(value(key, v, "a curvature of at most 1e3 1/m in size"));
             }
         }
         Ok(())
@@ -327,5 +355,41 @@ mod tests {
             WireSpec::load("no-such-wire"),
             Err(WireSpecError::Unknown { .. })
         ));
+    }
+
+    /// Numbers beyond any wire (a stiffness of 1e308, a length of 1e300, a tiny stiffness) are
+    /// refused at load, named as given, not left for the model to find no answer at.
+    #[test]
+    fn implausible_numbers_are_refused_at_load() {
+        let text =
+            "name = \"w\"\nc = [0.1, 0.1, 0.1]\nlength = 0.5\nradius = 0.001\ndensity = 6450\n";
+        for (from, to, shown) in [
+            (
+                "c = [0.1, 0.1, 0.1]",
+                "c = [1e308, 0.1, 0.1]",
+                "c1 = 1e308 ",
+            ),
+            (
+                "c = [0.1, 0.1, 0.1]",
+                "c = [0.1, 1e-300, 0.1]",
+                "c2 = 1e-300 ",
+            ),
+            ("length = 0.5", "length = 1e300", "length = 1e300 "),
+            ("density = 6450", "density = 1e9", "density = 1000000000 "),
+            (
+                "\n",
+                "\nnatural_curvature = [0.0, 1e308, 0.0]\n",
+                "natural_curvature[1] = 1e308 ",
+            ),
+        ] {
+            let message = match WireSpec::from_toml(&text.replacen(from, to, 1), "w.toml") {
+                Err(e) => e.to_string(),
+                Ok(w) => panic!("accepted {w:?}"),
+            };
+            assert!(
+                message.contains(shown) && message.contains("w.toml"),
+                "{message}"
+            );
+        }
     }
 }
