@@ -39,6 +39,6 @@ pub mod markers;
 pub mod rig;
 pub mod sensor;
 pub use execution::{ExecutionErrorModel, ExecutionErrorParams};
-pub use markers::{MarkerFrame, MarkerParams, MotionCapture, point_at_arc_length};
+pub use markers::{MarkerFrame, MarkerParams, MotionCapture, SectionFrames, point_at_arc_length};
 pub use rig::{RigParams, SimRig};
 pub use sensor::{FtSensor, FtSensorParams, SensingError};

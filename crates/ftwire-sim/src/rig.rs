@@ -17,7 +17,7 @@ use ftwire_core::{Command, FtSample, GripperPoses, Pose, Rig, ensure_finite};
 use crate::equilibrium::Equilibrium;
 use crate::error::SimError;
 use crate::execution::{ExecutionErrorModel, ExecutionErrorParams};
-use crate::markers::{MarkerFrame, MarkerParams, MotionCapture};
+use crate::markers::{MarkerFrame, MarkerParams, MotionCapture, SectionFrames};
 use crate::motion::Motion;
 use crate::sensor::{FtSensor, FtSensorParams};
 use crate::simulator::Simulator;
@@ -42,7 +42,7 @@ pub struct RigParams {
     /// The F/T sensor on the base gripper (default: [`FtSensorParams::default`], the character
     /// of a SensONE-class sensor; [`FtSensorParams::ideal`] switches distortions off).
     pub sensor: FtSensorParams,
-    /// Motion capture (default: 11 markers, σ = 0.3 mm, 2 % dropouts).
+    /// Motion capture (default: 11 markers on the centreline, σ = 0.3 mm, 2 % dropouts).
     pub markers: MarkerParams,
     /// Robot execution error (default: none; [`ExecutionErrorParams::paper`] is 10 mm and 3°).
     pub execution: ExecutionErrorParams,
@@ -53,7 +53,8 @@ pub struct RigParams {
     /// Time to settle after each move \[s\], in [`SETTLE_TIME_RANGE`] (default `0.1`).
     pub settle_time: f64,
     /// Seed of every random choice of the rig: sensor noise, drift and dropouts, marker noise
-    /// and dropouts, execution error (default `0`). Same seed, same run.
+    /// and dropouts, execution error (default `0`). Same seed, same run. The markers' mounting
+    /// offsets have a seed of their own ([`MarkerParams::mount_seed`]).
     pub seed: u64,
 }
 
@@ -204,7 +205,8 @@ impl SimRig {
     }
 
     /// Observes the motion-capture markers at the current time, in the world frame
-    /// (ground truth with marker noise and dropouts).
+    /// (ground truth with marker noise and dropouts, each marker off the centreline by its
+    /// mounting offset in the material frame at its arc length).
     ///
     /// # Errors
     /// [`SimError::Sensing`] if the marker model rejects the centreline.
@@ -212,11 +214,19 @@ impl SimRig {
         let equilibrium = self.sim.equilibrium();
         let rod = self.sim.world().rod();
         let arc_lengths: Vec<f64> = (0..rod.nodes()).map(|k| rod.node_arc_length(k)).collect();
-        let frame = self.markers.observe(
+        // Mounting offsets turn with the edges' material frames, at the edges' midpoints.
+        let frames = equilibrium.material_frames();
+        let frame_arc_lengths: Vec<f64> =
+            (0..rod.edges()).map(|j| rod.edge_arc_length(j)).collect();
+        let frame = self.markers.observe_mounted(
             self.time,
             &equilibrium.centreline(),
             &arc_lengths,
             rod.params().length,
+            &SectionFrames {
+                frames: &frames,
+                arc_lengths: &frame_arc_lengths,
+            },
         )?;
         Ok(frame)
     }

@@ -331,3 +331,74 @@ fn the_empty_gripper_reads_only_the_sensor_offset_and_keeps_the_wire() {
     assert_eq!(rig.equilibrium(), &equilibrium);
     assert!((rig.time() - last).abs() < 1e-12);
 }
+
+/// Markers glued off the centreline sit at their offset from where ideal markers sit, across
+/// the cross-section of the simulated wire, and keep that offset in the wire's material frame
+/// when the wire bends and twists anew: rolling the tip turns the inner markers' offsets.
+#[test]
+fn mounted_markers_turn_with_the_simulated_wire() {
+    let mounted = RigParams {
+        markers: ftwire_sim::MarkerParams {
+            mount_offset: 0.002,
+            mount_seed: 4,
+            ..ftwire_sim::MarkerParams::ideal()
+        },
+        ..RigParams::ideal()
+    };
+    let (mut ideal, mut glued) = (rig(RigParams::ideal()), rig(mounted.clone()));
+    let offsets = ftwire_sim::MotionCapture::new(mounted.markers, 0)
+        .expect("valid markers")
+        .mount_offsets()
+        .to_vec();
+    let roll = Command {
+        base: Pose::identity(),
+        tip: start().tip * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 1.2),
+    };
+    let mut before = Vec::new();
+    for step in 0..2 {
+        let on_line = ideal.observe_markers().expect("markers");
+        let centres = glued.observe_markers().expect("markers");
+        let nodes = glued.equilibrium().centreline();
+        let h = 0.63 / 39.0;
+        let mut moved = Vec::new();
+        for (i, ((p, c), o)) in on_line
+            .positions
+            .iter()
+            .zip(&centres.positions)
+            .zip(&offsets)
+            .enumerate()
+        {
+            let (Some(p), Some(c)) = (p, c) else {
+                panic!("no dropouts in the ideal configuration")
+            };
+            let d = c - p;
+            assert!(
+                (d.norm() - o.norm()).abs() < 1e-12,
+                "marker {i}: {d} for {o}"
+            );
+            // Across the wire: normal to the edge the marker sits on, up to the turn of the
+            // material frame over half an edge.
+            let k = ((i as f64 * 0.063 / h + 0.5).floor() as usize).min(nodes.len() - 2);
+            let t = (nodes[k + 1] - nodes[k]).normalize();
+            assert!(
+                d.dot(&t).abs() < 0.1 * o.norm(),
+                "marker {i}: {}",
+                d.dot(&t)
+            );
+            moved.push(d);
+        }
+        if step == 0 {
+            before = moved;
+            ideal.command(&roll).expect("the roll has an equilibrium");
+            glued.command(&roll).expect("the roll has an equilibrium");
+        } else {
+            let turned = (1..10)
+                .map(|i| before[i].angle(&moved[i]))
+                .fold(0.0, f64::max);
+            assert!(
+                turned > 0.3,
+                "the inner offsets turned by at most {turned} rad"
+            );
+        }
+    }
+}

@@ -3,8 +3,10 @@
 use approx::assert_abs_diff_eq;
 use ftwire_core::CoreError;
 use ftwire_sim::markers::uniform_arc_lengths;
-use ftwire_sim::{MarkerFrame, MarkerParams, MotionCapture, SensingError, point_at_arc_length};
-use nalgebra::{Point3, Vector3};
+use ftwire_sim::{
+    MarkerFrame, MarkerParams, MotionCapture, SectionFrames, SensingError, point_at_arc_length,
+};
+use nalgebra::{Matrix3, Point3, Rotation3, Vector2, Vector3};
 
 fn mocap(config: MarkerParams, seed: u64) -> MotionCapture {
     match MotionCapture::new(config, seed) {
@@ -278,4 +280,277 @@ fn bad_inputs_give_clear_errors() {
     assert!(m.observe(f64::NAN, &line, &[0.0, 1.0], 1.0).is_err());
     assert!(point_at_arc_length(&line, &[0.0, 1.0], 1.5).is_err());
     assert!(point_at_arc_length(&line, &[0.0, 1.0], f64::NAN).is_err());
+}
+
+/// A wire with its material frames at its nodes.
+struct FramedWire {
+    nodes: Vec<Point3<f64>>,
+    /// World from body, columns `(t, m1, m2)`.
+    frames: Vec<Rotation3<f64>>,
+    arc_lengths: Vec<f64>,
+    length: f64,
+}
+
+impl FramedWire {
+    fn sections(&self) -> SectionFrames<'_> {
+        SectionFrames {
+            frames: &self.frames,
+            arc_lengths: &self.arc_lengths,
+        }
+    }
+}
+
+/// A quarter circle of radius 0.4 m in the xy plane, twisted at `twist` \[rad/m\] about its
+/// tangent, with `edges + 1` nodes evenly spaced in arc length.
+fn twisted_arc(edges: usize, twist: f64) -> FramedWire {
+    let radius = 0.4;
+    let length = std::f64::consts::FRAC_PI_2 * radius;
+    let arc_lengths = uniform_arc_lengths(edges + 1, length);
+    let nodes = arc_lengths.iter().map(|&s| arc_point(radius, s)).collect();
+    let frames = arc_lengths
+        .iter()
+        .map(|&s| {
+            let theta = s / radius;
+            let t = Vector3::new(theta.cos(), theta.sin(), 0.0);
+            let n = Vector3::new(-theta.sin(), theta.cos(), 0.0);
+            let (sin, cos) = (twist * s).sin_cos();
+            let m1 = cos * n + sin * Vector3::z();
+            Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[t, m1, t.cross(&m1)]))
+        })
+        .collect();
+    FramedWire {
+        nodes,
+        frames,
+        arc_lengths,
+        length,
+    }
+}
+
+/// A straight untwisted wire of the same length along x, in the same layout.
+fn straight_untwisted(edges: usize) -> FramedWire {
+    let length = std::f64::consts::FRAC_PI_2 * 0.4;
+    let arc_lengths = uniform_arc_lengths(edges + 1, length);
+    FramedWire {
+        nodes: arc_lengths
+            .iter()
+            .map(|&s| Point3::new(s, 0.0, 0.0))
+            .collect(),
+        frames: vec![Rotation3::identity(); edges + 1],
+        arc_lengths,
+        length,
+    }
+}
+
+fn mounted(mount_offset: f64, mount_seed: u64) -> MarkerParams {
+    MarkerParams {
+        mount_offset,
+        mount_seed,
+        ..MarkerParams::default()
+    }
+}
+
+fn bits(v: &[Vector2<f64>]) -> Vec<[u64; 2]> {
+    v.iter().map(|o| [o.x.to_bits(), o.y.to_bits()]).collect()
+}
+
+/// A marker glued on the wire keeps its offset in the wire's cross-section frame from frame to
+/// frame, whatever the wire's shape and twist; its noise comes on top.
+#[test]
+fn mounting_offsets_are_fixed_per_marker_and_turn_with_the_wire() {
+    let config = mounted(0.002, 17);
+    let mut m = mocap(config.clone(), 4);
+    let offsets = m.mount_offsets().to_vec();
+    assert_eq!(offsets.len(), 11);
+    assert!(offsets.iter().all(|o| o.norm() > 0.0), "{offsets:?}");
+    // The same markers in another rig (another noise seed); another set glued, other offsets.
+    assert_eq!(
+        bits(mocap(config.clone(), 99).mount_offsets()),
+        bits(&offsets)
+    );
+    assert_ne!(
+        bits(mocap(mounted(0.002, 18), 4).mount_offsets()),
+        bits(&offsets)
+    );
+
+    // Fractions k/10 fall on nodes 10k, where the frames are exact.
+    for FramedWire {
+        nodes,
+        frames,
+        arc_lengths,
+        length,
+    } in [straight_untwisted(100), twisted_arc(100, 9.0)]
+    {
+        let sections = SectionFrames {
+            frames: &frames,
+            arc_lengths: &arc_lengths,
+        };
+        let on_line = ok(m.true_positions(&nodes, &arc_lengths, length));
+        let centres = ok(m.mounted_positions(&nodes, &arc_lengths, length, &sections));
+        let mut sums = vec![(Vector3::zeros(), 0_u32); 11];
+        for k in 0..400 {
+            let frame =
+                ok(m.observe_mounted(k as f64 * 0.01, &nodes, &arc_lengths, length, &sections));
+            for ((p, (sum, n)), q) in frame.positions.iter().zip(&mut sums).zip(&on_line) {
+                if let Some(p) = p {
+                    *sum += p - q;
+                    *n += 1;
+                }
+            }
+        }
+        for (i, (o, (sum, n))) in offsets.iter().zip(&sums).enumerate() {
+            let frame = frames[10 * i];
+            let body = Vector3::new(0.0, o.x, o.y);
+            // Exactly the offset in the frame at the marker, without noise...
+            assert_abs_diff_eq!(centres[i] - on_line[i], frame * body, epsilon = 1e-12);
+            // ... and on average over noisy frames (σ 0.3 mm, 400 frames: 0.015 mm).
+            let mean = frame.inverse() * (sum / f64::from(*n));
+            assert_abs_diff_eq!(mean, body, epsilon = 1e-4);
+        }
+    }
+}
+
+/// Every marker's centre sits the distance asked for off the centreline, so their RMS is that
+/// distance exactly, in directions spread evenly about the wire.
+#[test]
+fn mounting_offsets_have_the_rms_asked_for() {
+    let offset = 0.00175;
+    let count = 4001;
+    let m = mocap(
+        MarkerParams {
+            fractions: uniform_arc_lengths(count, 1.0),
+            mount_offset: offset,
+            mount_seed: 3,
+            ..MarkerParams::ideal()
+        },
+        0,
+    );
+    // Frames between the markers: their centres come from interpolated frames.
+    let wire = twisted_arc(1000, 4.0);
+    let (nodes, arc_lengths, length) = (&wire.nodes[..], &wire.arc_lengths[..], wire.length);
+    let sections = wire.sections();
+    let on_line = ok(m.true_positions(nodes, arc_lengths, length));
+    let centres = ok(m.mounted_positions(nodes, arc_lengths, length, &sections));
+    let squares: Vec<f64> = centres
+        .iter()
+        .zip(&on_line)
+        .map(|(c, p)| (c - p).norm_squared())
+        .collect();
+    let rms = (squares.iter().sum::<f64>() / count as f64).sqrt();
+    assert_abs_diff_eq!(rms, offset, epsilon = 1e-9 * offset);
+    let worst = squares
+        .iter()
+        .map(|d| (d.sqrt() - offset).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-9 * offset,
+        "a marker {worst} m from the others' distance"
+    );
+    // Uniform directions: per cross-section axis the RMS is offset/√2, the mean 0 (4001
+    // draws: standard errors 0.6 % and 1.1 % of the offset).
+    let n = count as f64;
+    for axis in [0, 1] {
+        let values = m.mount_offsets().iter().map(|o| o[axis] / offset);
+        let (sum, sum_sq) = values.fold((0.0, 0.0), |(s, q), v| (s + v, q + v * v));
+        assert!((sum / n).abs() < 0.04, "axis {axis}: mean {}", sum / n);
+        let axis_rms = (sum_sq / n).sqrt();
+        assert!(
+            (axis_rms * std::f64::consts::SQRT_2 - 1.0).abs() < 0.04,
+            "axis {axis}: RMS {axis_rms}"
+        );
+    }
+}
+
+/// Without a mounting offset the frames are the old ones bit for bit: the points on the
+/// centreline, then per marker three normal draws of noise and one uniform for the dropout
+/// from the rig's stream, whatever the mount seed and the frames.
+#[test]
+fn no_mounting_offset_reproduces_the_centreline_markers_bit_for_bit() {
+    use rand::{RngExt, SeedableRng};
+    use rand_distr::StandardNormal;
+
+    let wire = twisted_arc(100, 9.0);
+    let (nodes, arc_lengths, length) = (&wire.nodes[..], &wire.arc_lengths[..], wire.length);
+    let sections = wire.sections();
+    let config = MarkerParams {
+        fractions: vec![0.0, 0.0123, 0.2345, 0.5, 0.5555, 0.7891, 0.999, 1.0],
+        dropout_probability: 0.3,
+        ..mounted(0.0, 12345)
+    };
+    let mut plain = mocap(config.clone(), 8);
+    let mut with_frames = mocap(config.clone(), 8);
+    assert!(with_frames.mount_offsets().iter().all(|o| o.norm() == 0.0));
+    let truth = ok(plain.true_positions(nodes, arc_lengths, length));
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+    let key = |p: &Option<Point3<f64>>| p.map(|p| p.coords.map(f64::to_bits));
+    for k in 0..50 {
+        let time = k as f64 * 0.1;
+        let expected: Vec<_> = truth
+            .iter()
+            .map(|p| {
+                let noise = Vector3::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal));
+                let dropped = rng.random::<f64>() < config.dropout_probability;
+                (!dropped).then(|| p + config.noise_std * noise)
+            })
+            .collect();
+        let a = ok(plain.observe(time, nodes, arc_lengths, length));
+        let b = ok(with_frames.observe_mounted(time, nodes, arc_lengths, length, &sections));
+        let expected: Vec<_> = expected.iter().map(key).collect();
+        assert_eq!(a.positions.iter().map(key).collect::<Vec<_>>(), expected);
+        assert_eq!(b.positions.iter().map(key).collect::<Vec<_>>(), expected);
+    }
+}
+
+#[test]
+fn a_bad_mounting_is_rejected_with_what_is_allowed() {
+    for bad in [-1e-3, 0.0501, f64::NAN, f64::INFINITY] {
+        match MotionCapture::new(mounted(bad, 0), 0) {
+            Err(e @ SensingError::OutOfRange { field, .. }) => {
+                assert_eq!(field, "mount_offset");
+                assert!(e.to_string().contains("0 ..= 0.05"), "{e}");
+            }
+            other => panic!("{bad} accepted: {other:?}"),
+        }
+    }
+    assert!(MotionCapture::new(mounted(0.05, u64::MAX), 0).is_ok());
+    // Offsets need the cross-section frames they turn with.
+    let FramedWire {
+        nodes,
+        frames,
+        arc_lengths,
+        length,
+    } = twisted_arc(10, 0.0);
+    let mut m = mocap(mounted(0.002, 1), 0);
+    assert!(matches!(
+        m.observe(0.0, &nodes, &arc_lengths, length),
+        Err(SensingError::MountingWithoutFrames { .. })
+    ));
+    let short = SectionFrames {
+        frames: &frames[..3],
+        arc_lengths: &arc_lengths,
+    };
+    assert!(matches!(
+        m.observe_mounted(0.0, &nodes, &arc_lengths, length, &short),
+        Err(SensingError::SectionFrames {
+            frames: 3,
+            arc_lengths: 11
+        })
+    ));
+    let partial = SectionFrames {
+        frames: &frames[..3],
+        arc_lengths: &arc_lengths[..3],
+    };
+    assert!(matches!(
+        m.observe_mounted(0.0, &nodes, &arc_lengths, length, &partial),
+        Err(SensingError::MarkerOutsideCentreline { .. })
+    ));
+    let mut bad = frames.clone();
+    bad[4] = Rotation3::from_matrix_unchecked(Matrix3::from_element(f64::NAN));
+    let bad = SectionFrames {
+        frames: &bad,
+        arc_lengths: &arc_lengths,
+    };
+    assert!(matches!(
+        m.observe_mounted(0.0, &nodes, &arc_lengths, length, &bad),
+        Err(SensingError::Core(CoreError::NonFinite { index: 4, .. }))
+    ));
 }

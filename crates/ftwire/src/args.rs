@@ -257,7 +257,8 @@ pub struct SimSetupArgs {
     /// reading averaged at rest (the paper's), or `single-readings`, as a real rig logs one:
     /// the gripper stepping about 17 mm from rest to rest through one region it sweeps again
     /// and again, one reading per record at 4 Hz, 2–3 records at some rests, the sensor tared
-    /// once and its hysteresis carried along [default: rests].
+    /// once and its hysteresis carried along, the markers glued off the centreline
+    /// [default: rests].
     #[arg(long, value_name = "PROTOCOL",
           value_parser = clap::builder::PossibleValuesParser::new(ftwire_lab::setup::Protocol::NAMES))]
     #[serde(skip_serializing_if = "Option::is_none")]

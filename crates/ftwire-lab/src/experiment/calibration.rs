@@ -23,8 +23,9 @@
 //! With [`Protocol::SingleReadings`] the session is recorded as a real rig logs it instead:
 //! a walk through `A_free` in steps of the second gripper of about 17 mm that sweeps one
 //! region again and again ([`WALK_RADIUS`]), tared once, one reading per record at 4 Hz, two
-//! or three records at some rests, the sensor's hysteresis carried from rest to rest. The label check above needs a reading tared just before it, so
-//! it is left out there.
+//! or three records at some rests, the sensor's hysteresis carried from rest to rest, and the
+//! markers glued off the centreline ([`RECORDING_MOUNT_OFFSET`]). The label check above
+//! needs a reading tared just before it, so it is left out there.
 //!
 //! **Labels.** `ShapeFitter` with the known wire's model fits the markers (eq. 15). With the
 //! paper's weight-free model (`--model kirchhoff`) and gravity on, the model cannot follow the
@@ -270,7 +271,10 @@ pub fn collect(
                 .map_err(|e| from_rod(e, "sampling A_free of the known wire"))?
         };
         progress(k);
-        let config = session_config(setup.rig_config(rig_seed(seed, k)), k);
+        let mut config = session_config(setup.rig_config(rig_seed(seed, k)), k);
+        if single {
+            config.markers = recording_markers(config.markers, seed);
+        }
         let Ok(mut rig) = place_wire(wire, gravity, &placed, config.clone()) else {
             walk.lost();
             skipped.placement += 1;
@@ -364,6 +368,28 @@ fn observe(
         truth: true_centreline(rig),
     };
     Ok((rest, frame))
+}
+
+/// The markers' mounting offset \[m\] in a [`Protocol::SingleReadings`] recording
+/// (`ftwire_sim::MarkerParams::mount_offset`): how far each marker's centre sits from the
+/// wire's centreline.
+///
+/// A real rig's marker is a reflective ball glued on the side of the wire, so its centre sits
+/// `r + D/2` from the wire's axis, in a direction of its own. For a ball of `D = 1.5` mm on the
+/// 2 mm wire (`r = 1` mm) that is 1.75 mm. A shape fit absorbs little of it (the offsets point
+/// every way) and leaves, with the cameras' noise, the real recording's label residual,
+/// 1.5–1.8 mm RMS (`shared/DESIGN.md`, "Real recordings"); a 3 mm ball (2.5 mm) leaves 2.4 mm.
+pub const RECORDING_MOUNT_OFFSET: f64 = 0.00175;
+
+/// The markers of a [`Protocol::SingleReadings`] recording: the rig's, glued off the
+/// centreline by [`RECORDING_MOUNT_OFFSET`] unless the rig file sets an offset of its own, one
+/// marker set for the whole session (drawn from the run's `seed`, not from each rest's rig).
+fn recording_markers(mut markers: ftwire_sim::MarkerParams, seed: u64) -> ftwire_sim::MarkerParams {
+    if markers.mount_offset <= 0.0 {
+        markers.mount_offset = RECORDING_MOUNT_OFFSET;
+        markers.mount_seed = seed;
+    }
+    markers
 }
 
 /// Records per second of [`Protocol::SingleReadings`] \[Hz\]: a real rig's log rate.

@@ -45,7 +45,8 @@ pub enum Protocol {
     /// gripper steps about 17 mm (sometimes twice that) from one rest to the next, the
     /// sensor is tared once, each record holds one reading of the sensor at 4 Hz, and some
     /// rests have 2 or 3 records. The sensor's load history (its hysteresis) carries over
-    /// from rest to rest.
+    /// from rest to rest. The markers are balls glued off the centreline, one set for the
+    /// session (`experiment::calibration::RECORDING_MOUNT_OFFSET`).
     SingleReadings,
 }
 

@@ -11,6 +11,7 @@
 //!
 //! [markers]                 # motion capture
 //! noise_std = 0.0003        # σ per axis [m]
+//! mount_offset = 0.0        # each marker's centre off the centreline [m]
 //!
 //! [execution]               # the simulator's own gripper error (default none)
 //! position_std = 0.0        # σ per axis [m]
@@ -36,8 +37,8 @@ pub struct RigSpec {
     pub angular_speed: f64,
     /// Time to settle after each move \[s\] (default: the library's, `0.1`).
     pub settle_time: f64,
-    /// Motion capture: marker arc-length fractions, noise and dropouts (default: the
-    /// library's, 11 markers, 0.3 mm, 2 %).
+    /// Motion capture: marker arc-length fractions, noise, dropouts and mounting offsets
+    /// (default: the library's, 11 markers on the centreline, 0.3 mm, 2 %).
     pub markers: MarkerParams,
     /// The simulator's own execution error of the grippers (default: none).
     pub execution: ExecutionErrorParams,

@@ -102,6 +102,30 @@ pub enum SensingError {
         value: f64,
     },
 
+    /// The cross-section frames given do not match their arc lengths one to one, or there are
+    /// none.
+    #[error(
+        "{frames} cross-section frames given with {arc_lengths} arc lengths; at least one frame \
+         and one arc length per frame are needed"
+    )]
+    SectionFrames {
+        /// Number of frames.
+        frames: usize,
+        /// Number of arc lengths.
+        arc_lengths: usize,
+    },
+
+    /// Markers with a mounting offset observed without the wire's cross-section frames, which
+    /// the offsets turn with.
+    #[error(
+        "the markers sit off the centreline (mount_offset = {mount_offset} m), so the \
+         wire's cross-section frames are needed to place them (observe_mounted)"
+    )]
+    MountingWithoutFrames {
+        /// The markers' mounting offset \[m\].
+        mount_offset: f64,
+    },
+
     /// A marker lies beyond the ends of the centreline given.
     #[error(
         "marker {marker} at arc length {arc_length} m lies outside the centreline, which covers \
