@@ -156,15 +156,24 @@ def test_fortran_ordered_and_strided_arrays_are_read_by_their_strides(recording)
 
 
 def test_a_log_whose_markers_multiply_its_size_is_a_value_error(tmp_path):
-    # 1000 records of one marker and one of 200 000: (1000, 200000, 3) would be 4.8 GB.
+    # 200 000 records of one marker and one of 1000 (the most a record may hold):
+    # (200000, 1000, 3) would be 4.8 GB.
     small = '{"time": %d, "a": [0, 0.01, 0, 0, 0.1, 0], "markers": [[0, 0, 0]]}\n'
     path = tmp_path / "log.jsonl"
+    n = 200_000
     with open(path, "w") as f:
-        f.writelines(small % t for t in range(999))
-        f.write('{"time": 999, "a": [0, 0.01, 0, 0, 0.1, 0], "markers": [')
-        f.write(",".join(["[0,0,0]"] * 200_000))
+        f.writelines(small % t for t in range(n - 1))
+        f.write('{"time": %d, "a": [0, 0.01, 0, 0, 0.1, 0], "markers": [' % (n - 1))
+        f.write(",".join(["[0,0,0]"] * 1000))
         f.write("]}\n")
-    with pytest.raises(ValueError, match="1000 records of up to 200000 markers"):
+    with pytest.raises(ValueError, match="200000 records of up to 1000 markers"):
+        ftwire.read_log(path)
+    # One record of more markers than a record may hold is refused by its line.
+    with open(path, "w") as f:
+        f.write('{"time": 0, "a": [0, 0.01, 0, 0, 0.1, 0], "markers": [')
+        f.write(",".join(["[0,0,0]"] * 1001))
+        f.write("]}\n")
+    with pytest.raises(ValueError, match="line 1: markers holds 1001 markers"):
         ftwire.read_log(path)
 
 
