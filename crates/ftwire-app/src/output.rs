@@ -184,7 +184,7 @@ fn closing_quote(inner: &str, quote: char) -> Option<usize> {
 }
 
 /// `value` cut to its first [`ECHO_CHARS`] characters and `… (N characters)` if longer.
-fn cut(value: &str) -> String {
+pub(crate) fn cut(value: &str) -> String {
     let count = value.chars().count();
     if count <= ECHO_CHARS {
         return value.to_owned();

@@ -101,18 +101,9 @@ pub fn parse_toml<T: DeserializeOwned>(
 /// `message` with each line cut to its first [`crate::output::ECHO_CHARS`] characters: the
 /// TOML parser quotes the offending line whole, which may be a file's every byte.
 fn short_lines(message: &str) -> String {
-    let limit = crate::output::ECHO_CHARS;
     message
         .lines()
-        .map(|line| {
-            let count = line.chars().count();
-            if count <= limit {
-                line.to_owned()
-            } else {
-                let head: String = line.chars().take(limit).collect();
-                format!("{head}… ({count} characters)")
-            }
-        })
+        .map(crate::output::cut)
         .collect::<Vec<_>>()
         .join("\n")
 }
