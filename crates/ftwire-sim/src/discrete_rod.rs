@@ -45,6 +45,14 @@ pub struct RodParams {
     /// Axial stiffness `EA` \[N\] (default `None`: `4·max(c2, c3)/radius²`, that of a solid round
     /// wire). Large enough to make the wire practically inextensible.
     pub axial_stiffness: Option<f64>,
+    /// The curvature `κs` \[1/m\] at which the wire's bending softens (default `None`: linear
+    /// bending, the Kirchhoff rod's). With it the bending moment is `c κ / √(1 + (κ/κs)²)`,
+    /// from the energy density `c̄ κs² (√(1 + (c2 u2² + c3 u3²)/(c̄ κs²)) − 1)`, `c̄ = (c2 +
+    /// c3)/2`: the secant stiffness `c/√2` at `κ = κs`, and `c` to within `(κ/κs)²/2` below.
+    /// It is what a superelastic nitinol wire does near 1 % surface strain (`κ·radius`), where
+    /// its austenite starts to transform; the twist stays linear. No model of `ftwire-rod`
+    /// knows it: a wire of the simulator that a linear model does not describe.
+    pub bending_softening: Option<f64>,
 }
 
 impl Default for RodParams {
@@ -65,6 +73,7 @@ impl RodParams {
             rest_strain: Vector3::zeros(),
             edges: 100,
             axial_stiffness: None,
+            bending_softening: None,
         }
     }
 
@@ -160,6 +169,9 @@ impl DiscreteRod {
         ensure_positive("density", params.density)?;
         ensure_finite("gravity", params.gravity.as_slice())?;
         ensure_finite("rest_strain", params.rest_strain.as_slice())?;
+        if let Some(curvature) = params.bending_softening {
+            ensure_positive("bending_softening", curvature)?;
+        }
         if params.edges < Self::MIN_EDGES {
             return Err(SimError::TooFewEdges {
                 edges: params.edges,

@@ -67,6 +67,39 @@ fn pure_bending_to_an_arc_gives_moment_ei_over_r() {
     );
 }
 
+/// The same arc on a wire whose bending softens at `κs`: the moment is
+/// `c3 κ / √(1 + c3 κ²/(c̄ κs²))`, `c̄ = (c2 + c3)/2` (`c κ / √(1 + (κ/κs)²)` on a round wire).
+#[test]
+fn softened_bending_to_an_arc_gives_the_softened_moment() {
+    let r = 0.4;
+    for softening in [1.0 / r, 3.0 / r] {
+        let p = RodParams {
+            bending_softening: Some(softening),
+            ..params(100)
+        };
+        let (l, c) = (p.length, p.stiffness);
+        let world = World::new(p).expect("valid");
+        let phi = l / r;
+        let tip = pose([r * phi.sin(), r * (1.0 - phi.cos()), 0.0], [0.0, 0.0, phi]);
+        let eq = world
+            .solve_cold(&Isometry3::identity(), &tip)
+            .expect("solves")
+            .equilibrium;
+        let a = eq.base_wrench.to_vector();
+        let kappa = 1.0 / r;
+        let mean = 0.5 * (c[1] + c[2]);
+        let expected =
+            c[2] * kappa / (1.0 + c[2] * kappa.powi(2) / (mean * softening.powi(2))).sqrt();
+        println!("softening {softening}: τ3 = {}, expected {expected}", a[2]);
+        assert!(
+            rel(a[2], expected, expected) < 2e-3,
+            "τ3 {} vs {expected}",
+            a[2]
+        );
+        assert!(eq.stable_minimum);
+    }
+}
+
 #[test]
 fn pure_twist_gives_moment_gj_phi_over_l() {
     let p = params(100);

@@ -14,7 +14,9 @@
 //!   `g(φ) = (φ/2)/tan(φ/2)`; with `R' = R û` (DESIGN.md) these are the Kirchhoff bending
 //!   strains about body y and z;
 //! - energy `ℓ/2·[c1 (u1 − ū1)² + c2 (u2 − ū2)² + c3 (u3 − ū3)²]` (Bergou 2008, eq. 3 and 4
-//!   with anisotropic bending and natural strains).
+//!   with anisotropic bending and natural strains); with a softening curvature `κs`
+//!   (`RodParams::bending_softening`) the bending part `ℓ/2·e`, `e = c2 (u2 − ū2)² + c3 (u3 −
+//!   ū3)²`, becomes `ℓ·s·(√(1 + e/s) − 1)`, `s = (c2 + c3)/2·κs²`.
 //!
 //! The two factors remove the largest `O(h²)` errors of the plain DER (measured against the
 //! Kirchhoff model in `crates/ftwire/tests/model_vs_sim.rs`; numbers in `docs/model.md`):
@@ -61,6 +63,8 @@ pub(crate) struct Stencil<'a> {
     pub c: &'a [f64; 3],
     /// Rest strains `(ū1, ū2, ū3)` \[1/m\].
     pub rest: &'a Vector3<f64>,
+    /// The curvature `κs` \[1/m\] of softening bending (`RodParams::bending_softening`).
+    pub softening: Option<f64>,
     /// Rest Voronoi length ℓ \[m\].
     pub voronoi: f64,
     /// The vertex's last reference twist \[rad\] (`RodState::ref_twist`): of the values of
@@ -227,7 +231,15 @@ pub(crate) fn energy<S: Scalar>(dots: &[S; 7], th0: S, th1: S, st: &Stencil<'_>)
     let d1 = u1 - st.rest.x;
     let d2 = u2 - st.rest.y;
     let d3 = u3 - st.rest.z;
-    let bend = (d2 * d2 * st.c[1] + d3 * d3 * st.c[2]) * half;
+    let linear = d2 * d2 * st.c[1] + d3 * d3 * st.c[2];
+    let bend = match st.softening {
+        None => linear * half,
+        // `c̄ κs² (√(1 + e/(c̄ κs²)) − 1)` per unit length, `e` twice the linear density.
+        Some(kappa) => {
+            let scale = 0.5 * (st.c[1] + st.c[2]) * kappa * kappa;
+            ((linear * (1.0 / scale) + 1.0).sqrt() - 1.0) * (scale * st.voronoi)
+        }
+    };
     let twist = d1 * d1 * (st.c[0] * half);
     (bend, twist)
 }
@@ -298,6 +310,7 @@ mod tests {
         let st = Stencil {
             c: &[1.0, 1.0, 1.0],
             rest: &Vector3::zeros(),
+            softening: None,
             voronoi: 0.01,
             ref_twist: 0.0,
         };
@@ -327,6 +340,7 @@ mod tests {
         let stencil = |ref_twist| Stencil {
             c: &c,
             rest: &rest,
+            softening: None,
             voronoi: 0.01,
             ref_twist,
         };

@@ -128,6 +128,7 @@ fn vertex_stencil<'a>(world: &'a World, state: &RodState, i: usize) -> bend_twis
     bend_twist::Stencil {
         c: &p.stiffness,
         rest: &p.rest_strain,
+        softening: p.bending_softening,
         voronoi: rod.edge_length(),
         ref_twist: state.ref_twist[i],
     }
@@ -491,6 +492,33 @@ mod tests {
         };
         let world = World::new(params).expect("valid");
         for seed in 1..=6 {
+            check_world(&world, seed);
+        }
+    }
+
+    #[test]
+    fn softened_bending_derivatives_match_finite_differences() {
+        let params = RodParams {
+            stiffness: [0.03, 0.05, 0.08],
+            rest_strain: Vector3::new(0.7, -1.5, 2.5),
+            axial_stiffness: Some(50.0),
+            bending_softening: Some(2.0),
+            ..RodParams::default().with_edges(7)
+        };
+        let world = World::new(params).expect("valid");
+        for seed in 21..=26 {
+            let state = random_state(&world, &mut Rng(seed));
+            let linear = World::new(RodParams {
+                bending_softening: None,
+                ..params
+            })
+            .expect("valid");
+            let soft = evaluate(&world, &state, Order::Energy).energies.bend;
+            let hard = evaluate(&linear, &state, Order::Energy).energies.bend;
+            assert!(
+                soft < 0.95 * hard,
+                "seed {seed}: {soft} vs {hard}: must soften"
+            );
             check_world(&world, seed);
         }
     }
