@@ -39,8 +39,9 @@ pub fn report(dir: &Path, statuses: &[(&str, &str)], quick: bool, sensor: &str) 
          summary, figures and log.\n\nWhat to expect on a real rig: the columns and rows marked \
          *real-like* repeat an experiment with the `real-like` recording preset (`--sensor \
          real-like --protocol single-readings`: the sensor as a real recording shows it, offsets, \
-         drift, a weak torsion channel, one reading's scatter and hysteresis, and its calibration \
-         session recorded as single readings; `docs/real-rig.md`){}.\n",
+         a weak torsion channel, one reading's scatter and hysteresis, and its calibration \
+         session recorded as single readings on a wire that softens as nitinol does; \
+         `docs/real-rig.md`){}.\n",
         if quick {
             "; **quick run** (reduced trial counts)"
         } else {

@@ -184,13 +184,13 @@ fn a_recording_of_the_default_sensor_calibrates_to_within_a_millimetre() {
 }
 
 #[test]
-fn a_real_like_sensor_with_creeping_offsets_calibrates() {
+fn a_real_like_sensor_with_offsets_calibrates() {
     let dir = TempDir::new("log-calibrate-real");
     let (log, truth) = record(&dir, "real-like", 120, 4);
     let (summary, calibration) = run(&dir, &log, 4);
     let test = summary.test;
-    // Offsets of 1–2 N put the uncalibrated shapes far off; the calibration with its drift
-    // term brings them within a few millimetres. The sensor's hysteresis (loaded from the
+    // Offsets of 1–2 N put the uncalibrated shapes far off; the calibration brings them
+    // within a few millimetres. The sensor's hysteresis (loaded from the
     // tare's zero at every rest) is what no static map removes.
     assert!(test.raw_marker_mean_mm > 20.0, "{test:?}");
     assert!(test.calibrated_marker_mean_mm < 5.0, "{test:?}");

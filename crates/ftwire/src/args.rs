@@ -242,8 +242,9 @@ pub struct SimSetupArgs {
     /// nonlinearity of about 1 %, noise, bias, drift and dropouts), `undistorted` (the same
     /// without gain, cross-talk and nonlinearity: what a perfect calibration gives),
     /// `real-like` (as a real recording shows a sensor: the clamp 0.11 m out, offsets of
-    /// 1–2 N and 0.1–0.4 N·m no tare removes, a creeping torque offset, a weak torsion
-    /// channel, one reading's scatter, a hysteresis of 0.12–0.15 N and 0.012 N·m), or a sensor file (TOML; `ftwire init` writes an example) [default: distorted].
+    /// 1–2 N and 0.1–0.4 N·m no tare removes, a weak torsion channel, one reading's scatter,
+    /// a hysteresis of 0.12–0.15 N and 0.012 N·m, no drift), or a sensor file (TOML;
+    /// `ftwire init` writes an example) [default: distorted].
     #[arg(long, value_name = "PRESET|FILE.toml")]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensor: Option<String>,
@@ -257,8 +258,8 @@ pub struct SimSetupArgs {
     /// reading averaged at rest (the paper's), or `single-readings`, as a real rig logs one:
     /// the gripper stepping about 17 mm from rest to rest through one region it sweeps again
     /// and again, one reading per record at 4 Hz, 2–3 records at some rests, the sensor tared
-    /// once and its hysteresis carried along, the markers glued off the centreline
-    /// [default: rests].
+    /// once and its hysteresis carried along, the markers glued off the centreline, the wire
+    /// softening in bending as nitinol does (no model knows it) [default: rests].
     #[arg(long, value_name = "PROTOCOL",
           value_parser = clap::builder::PossibleValuesParser::new(ftwire_lab::setup::Protocol::NAMES))]
     #[serde(skip_serializing_if = "Option::is_none")]

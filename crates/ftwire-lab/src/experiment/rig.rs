@@ -39,6 +39,31 @@ pub fn place_wire(
     place_among(wire, gravity, ModelKind::Weightless, a0, config, &[])
 }
 
+/// As [`place_wire`], on a simulated wire whose bending softens at the curvature `softening`
+/// \[1/m\] (`ftwire_sim::RodParams::bending_softening`): a wire that the models, all linear
+/// in bending, do not describe. The second gripper is at the weightless model's `Γ(a0)`.
+///
+/// # Errors
+/// As [`place_wire`]; bad input for a softening that is not positive.
+pub fn place_softened_wire(
+    wire: &WireSpec,
+    gravity: Gravity,
+    a0: &Vector6<f64>,
+    config: RigParams,
+    softening: f64,
+) -> Result<SimRig, LabError> {
+    let params = ftwire_sim::RodParams {
+        bending_softening: Some(softening),
+        ..crate::wire::rod_params(wire, gravity.vector(), SIM_EDGES)
+    };
+    let world = World::new(params).map_err(|e| from_sim(e, "building the simulated wire"))?;
+    let rod = Rod::new(
+        wire.wire_params()
+            .map_err(|e| LabError::bad_input(format!("wire {}: {e}", wire.name)))?,
+    );
+    place_in_world(world, &rod, &Pose::identity(), a0, config)
+}
+
 /// As [`place_wire`], in a world with box `obstacles` (world frame = base clamp frame), with
 /// the second gripper at `Γ(a0)` of the true wire's `model`:
 /// - [`ModelKind::Weightless`]: the weightless rod's `Γ(a0)`, the paper's placement; with

@@ -46,7 +46,9 @@ pub enum Protocol {
     /// sensor is tared once, each record holds one reading of the sensor at 4 Hz, and some
     /// rests have 2 or 3 records. The sensor's load history (its hysteresis) carries over
     /// from rest to rest. The markers are balls glued off the centreline, one set for the
-    /// session (`experiment::calibration::RECORDING_MOUNT_OFFSET`).
+    /// session (`experiment::calibration::RECORDING_MOUNT_OFFSET`). The wire softens in
+    /// bending as nitinol does (`experiment::calibration::RECORDING_SOFTENING_STRAIN`),
+    /// which the models, linear in bending, do not describe.
     SingleReadings,
 }
 

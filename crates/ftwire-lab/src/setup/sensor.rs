@@ -25,11 +25,6 @@ pub const PRESETS: [&str; 3] = ["distorted", "undistorted", "real-like"];
 /// and of the sensor's deterministic drift.
 pub const REST_INTERVAL: f64 = 3.0;
 
-/// The deterministic torque drift of the `real-like` preset \[N·m/s\] on the sensor's τx:
-/// 0.14 N·m over a session of 600 rests of [`REST_INTERVAL`] (the size of the drift
-/// `shared/DESIGN.md` records on a real recording).
-pub const REAL_LIKE_TORQUE_DRIFT: f64 = -0.14 / (600.0 * REST_INTERVAL);
-
 /// The white noise of one reading of the `real-like` preset \[N, N·m\], force first: the
 /// scatter of a real rig's readings at one rest (`shared/DESIGN.md`, "Real recordings"),
 /// 0.025 / 0.05 / 0.065 N and 0.007 N·m on the bending torques (sensor τx, τy).
@@ -66,10 +61,11 @@ impl SensorSpec {
     /// same without gain, cross-talk and nonlinearity (what a perfect calibration gives);
     /// `real-like`, a sensor as a real recording shows it (`shared/DESIGN.md`, "Real
     /// recordings"): the clamp 0.11 m along the sensor's z, offsets of 1–2 N and 0.1–0.4 N·m
-    /// that no tare removes (a rig's log carries them), a torque offset creeping by
-    /// [`REAL_LIKE_TORQUE_DRIFT`], a torsion channel (sensor τz, the wire's axis) that
-    /// reads a fifth of the torque about it, one reading's scatter as a real rig's
-    /// ([`REAL_LIKE_NOISE`]) and a hysteresis ([`REAL_LIKE_HYSTERESIS`]).
+    /// that no tare removes (a rig's log carries them), a torsion channel (sensor τz, the
+    /// wire's axis) that reads a fifth of the torque about it, one reading's scatter as a real
+    /// rig's ([`REAL_LIKE_NOISE`]) and a hysteresis ([`REAL_LIKE_HYSTERESIS`]). No
+    /// deterministic drift: a real recording's residual is uncorrelated beyond two records,
+    /// and a map fitted on its first half in time does as well on an interleaved split.
     ///
     /// # Example
     /// ```
@@ -166,14 +162,11 @@ fn real_like(default: FtSensorParams) -> FtSensorParams {
     let mut gain = default.gain;
     // Sensor τz is the torque about the clamp's x, the wire's axis (default rotation).
     gain[5][5] = 0.2;
-    let mut drift = [0.0; 6];
-    drift[3] = REAL_LIKE_TORQUE_DRIFT;
     FtSensorParams {
         clamp_position_in_sensor: [0.0, 0.0, 0.11],
         gain,
         hysteresis: REAL_LIKE_HYSTERESIS,
         initial_bias: [-1.8, 1.3, 1.8, -0.25, 0.12, 0.35],
-        bias_drift_rate: drift,
         noise_std: REAL_LIKE_NOISE,
         ..default
     }
