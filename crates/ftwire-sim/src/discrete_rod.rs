@@ -46,9 +46,10 @@ pub struct RodParams {
     /// wire). Large enough to make the wire practically inextensible.
     pub axial_stiffness: Option<f64>,
     /// The curvature `κs` \[1/m\] at which the wire's bending softens (default `None`: linear
-    /// bending, the Kirchhoff rod's). With it the bending moment is `c κ / √(1 + (κ/κs)²)`,
-    /// from the energy density `c̄ κs² (√(1 + (c2 u2² + c3 u3²)/(c̄ κs²)) − 1)`, `c̄ = (c2 +
-    /// c3)/2`: the secant stiffness `c/√2` at `κ = κs`, and `c` to within `(κ/κs)²/2` below.
+    /// bending, the Kirchhoff rod's). With it the energy density of bending is
+    /// `c̄ κs² (√(1 + (c2 u2² + c3 u3²)/(c̄ κs²)) − 1)`, `c̄ = (c2 + c3)/2`, so that a round
+    /// wire's bending moment is `c κ / √(1 + (κ/κs)²)`: the secant stiffness `c/√2` at
+    /// `κ = κs`, and `c` to within `(κ/κs)²/2` below.
     /// It is what a superelastic nitinol wire does near 1 % surface strain (`κ·radius`), where
     /// its austenite starts to transform; the twist stays linear. No model of `ftwire-rod`
     /// knows it: a wire of the simulator that a linear model does not describe.

@@ -25,8 +25,8 @@
 //! region again and again ([`WALK_RADIUS`]), tared once, one reading per record at 4 Hz, two
 //! or three records at some rests, the sensor's hysteresis carried from rest to rest, the
 //! markers glued off the centreline ([`RECORDING_MOUNT_OFFSET`]), and a wire whose bending
-//! softens as nitinol's does ([`RECORDING_SOFTENING_STRAIN`]), which no model knows. The label check above
-//! needs a reading tared just before it, so it is left out there.
+//! softens as nitinol's does ([`RECORDING_SOFTENING_STRAIN`]), which no model knows. The
+//! label check above needs a reading tared just before it, so it is left out there.
 //!
 //! **Labels.** `ShapeFitter` with the known wire's model fits the markers (eq. 15). With the
 //! paper's weight-free model (`--model kirchhoff`) and gravity on, the model cannot follow the
