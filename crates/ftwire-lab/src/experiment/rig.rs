@@ -364,6 +364,31 @@ pub fn touches(contact_forces: &[Vector3<f64>]) -> bool {
 mod tests {
     use super::*;
 
+    /// The softened wire, placed where the linear one is, bends with a smaller moment at the
+    /// base: the softening reaches the simulated rig, and a softening of 0 is refused.
+    #[test]
+    fn a_softened_wire_bends_with_a_smaller_moment() -> Result<(), Box<dyn std::error::Error>> {
+        let wire = WireSpec::preset("nitinol-2mm-630").ok_or("no preset")?;
+        let a0 = Vector6::new(0.0, 0.0, 0.15, 0.0, 0.1, 0.0);
+        let linear = place_wire(&wire, Gravity::Off, &a0, RigParams::ideal())?;
+        let soft = place_softened_wire(&wire, Gravity::Off, &a0, RigParams::ideal(), 5.0)?;
+        let moment = |rig: &SimRig| {
+            rig.equilibrium()
+                .base_wrench
+                .to_vector()
+                .fixed_rows::<3>(0)
+                .norm()
+        };
+        let (hard, softer) = (moment(&linear), moment(&soft));
+        assert!(
+            softer < 0.97 * hard && softer > 0.5 * hard,
+            "{softer} vs {hard} N·m"
+        );
+        let bad = place_softened_wire(&wire, Gravity::Off, &a0, RigParams::ideal(), 0.0);
+        assert!(bad.is_err(), "a softening of 0 must be refused");
+        Ok(())
+    }
+
     #[test]
     fn a_touch_is_a_contact_force_above_the_threshold_on_some_node() {
         assert!(!touches(&[]));
