@@ -406,8 +406,8 @@ fn recording_markers(mut markers: ftwire_sim::MarkerParams, seed: u64) -> ftwire
 /// stiffness `c/√2` at `κs`). A real nitinol wire of a recording bends to 0.6–1.1 % surface
 /// strain (curvatures of 6–11 1/m on the 2 mm wire), where its austenite starts to transform
 /// and a linear model's stiffness is an average: what a static map must learn beside the
-/// sensor's. At 2.5 % the weight-free model still fits the markers to the real recording's
-/// 1.5–1.8 mm RMS; at 1.5 % it leaves 2.0 mm.
+/// sensor's. It is bounded by the labels: the weight-free model must still fit the markers to
+/// a real recording's 1.5–1.8 mm RMS (`shared/DESIGN.md`, "Real recordings").
 pub const RECORDING_SOFTENING_STRAIN: f64 = 0.025;
 
 /// Records per second of [`Protocol::SingleReadings`] \[Hz\]: a real rig's log rate.
